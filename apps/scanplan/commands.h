@@ -1,0 +1,20 @@
+#pragma once
+// The subcommands of the scanplan tool. Each registers its subcommand and options on the
+// CLI11 app; when that subcommand is parsed, it sets `selected` to the action to run.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace scanplan::cli {
+
+struct GlobalOptions {
+  bool quiet = false;
+};
+
+using Action = std::function<int()>;
+
+// scanplan info FILE [--json]
+void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
+}  // namespace scanplan::cli

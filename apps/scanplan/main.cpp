@@ -1,0 +1,47 @@
+// scanplan: plans the views of a robot-mounted 3D scanner for inspecting a part.
+// This file wires the subcommands; the work is in the library.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/errors.h>
+
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  using namespace scanplan;
+  // OCCT's readers print their statistics on stdout; the tool speaks for itself.
+  Message::DefaultMessenger()->ChangePrinters().Clear();
+
+  CLI::App app{"scanplan: view planning for robotic 3D scanning inspection"};
+  app.require_subcommand(1);
+  cli::GlobalOptions global;
+  app.fallthrough();
+  app.add_flag("-q,--quiet", global.quiet, "Show no progress");
+  cli::Action action;
+  cli::addInfoCommand(app, global, action);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  try {
+    int code = action();
+    cli::clearProgress();
+    return code;
+  } catch (const Error& e) {
+    cli::clearProgress();
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return e.exitCode();
+  } catch (const std::exception& e) {
+    cli::clearProgress();
+    std::fprintf(stderr, "error: internal: %s\n", e.what());
+    return kExitPlanning;
+  }
+}

@@ -1,0 +1,35 @@
+# Every third-party dependency, found once. Each comes from a Debian package installed by
+# scripts/install-deps.sh; the message says which package to install when one is missing.
+
+macro(scanplan_require name package)
+  find_package(${name} ${ARGN})
+  if(NOT ${name}_FOUND)
+    message(FATAL_ERROR "scanplan needs ${name}: install the Debian package '${package}' "
+                        "(scripts/install-deps.sh installs every dependency)")
+  endif()
+endmacro()
+
+scanplan_require(OpenCASCADE libocct-data-exchange-dev CONFIG
+                 COMPONENTS FoundationClasses ModelingData ModelingAlgorithms
+                            Visualization ApplicationFramework DataExchange)
+scanplan_require(embree libembree-dev 3 CONFIG)
+scanplan_require(Eigen3 libeigen3-dev 3.3 CONFIG NO_MODULE)
+scanplan_require(TBB libtbb-dev CONFIG)
+scanplan_require(nlohmann_json nlohmann-json3-dev 3 CONFIG)
+scanplan_require(CLI11 libcli11-dev CONFIG)
+scanplan_require(fmt libfmt-dev CONFIG)
+
+if(SCANPLAN_BUILD_TESTS)
+  scanplan_require(GTest libgtest-dev CONFIG)
+endif()
+if(SCANPLAN_BUILD_BENCH)
+  scanplan_require(benchmark libbenchmark-dev CONFIG)
+endif()
+
+# OCCT's exported targets carry no include directory.
+add_library(scanplan_occt INTERFACE)
+target_include_directories(scanplan_occt SYSTEM INTERFACE ${OpenCASCADE_INCLUDE_DIR})
+target_link_libraries(scanplan_occt INTERFACE
+  TKernel TKMath TKG2d TKG3d TKGeomBase TKBRep TKGeomAlgo TKTopAlgo TKPrim TKBO
+  TKShHealing TKMesh TKLCAF TKCAF TKXSBase TKSTEPBase TKSTEP TKIGES TKXCAF TKXDESTEP
+  TKXDEIGES TKSTL TKRWMesh)

@@ -1,0 +1,42 @@
+#pragma once
+// Geometric dimensioning and tolerancing read from AP242 semantic PMI (ISO 10303-242),
+// as OpenCASCADE's XDE exposes it. These are the `gdt` task's targets.
+
+#include <string>
+#include <vector>
+
+namespace scanplan {
+
+// A geometric tolerance (ASME Y14.5 / ISO 1101 characteristic) on one or more faces.
+struct GeometricTolerance {
+  std::string type;                 // "flatness", "position", "profile_of_surface", ...
+  double value = 0;                 // tolerance zone size, mm (or degrees for angularity)
+  std::vector<std::string> datums;  // datum references in order of precedence: "A", "B"
+  std::vector<int> faces;           // 1-based ids of the toleranced faces
+};
+
+// A dimension with its tolerance (size or location).
+struct Dimension {
+  std::string type;                 // "diameter", "linear_distance", "radius", ...
+  double value = 0;                 // nominal value, mm (degrees for angular dimensions)
+  double lower = 0, upper = 0;      // tolerance limits relative to the value; 0 if none
+  std::vector<int> faces;           // faces of the dimensioned features, both ends
+};
+
+// A datum feature: the faces that establish datum `name`.
+struct Datum {
+  std::string name;                 // "A", "B", ...
+  std::vector<int> faces;
+};
+
+struct Gdt {
+  std::vector<GeometricTolerance> tolerances;
+  std::vector<Dimension> dimensions;
+  std::vector<Datum> datums;        // one per datum letter, faces merged
+  std::size_t datum_labels = 0;     // datum entries in the file (AP242 repeats a datum
+                                    // for each tolerance frame that references it)
+
+  bool empty() const { return tolerances.empty() && dimensions.empty() && datums.empty(); }
+};
+
+}  // namespace scanplan

@@ -1,0 +1,65 @@
+#pragma once
+// The library's error policy: every failure a user can cause is one of these typed
+// exceptions. The CLI catches them once, prints `error: <file>: <reason>` and exits with
+// the class's code (DESIGN.md §8). Internal invariants use assertions, not exceptions.
+
+#include <stdexcept>
+#include <string>
+
+namespace scanplan {
+
+// Exit codes of the command-line tool, one per error class.
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitUsage = 1,        // bad command line
+  kExitInput = 2,        // unreadable or invalid input (file, spec, parameter)
+  kExitPlanning = 3,     // planning failed
+  kExitOutput = 4,       // an output could not be written
+};
+
+// Base of all scanplan errors. `file()` names the input or output concerned (may be
+// empty), `reason()` says what is wrong with it; `what()` is "<file>: <reason>".
+class Error : public std::runtime_error {
+ public:
+  Error(std::string file, std::string reason)
+      : std::runtime_error(file.empty() ? reason : file + ": " + reason),
+        file_(std::move(file)),
+        reason_(std::move(reason)) {}
+  const std::string& file() const noexcept { return file_; }
+  const std::string& reason() const noexcept { return reason_; }
+  virtual ExitCode exitCode() const noexcept = 0;
+
+ private:
+  std::string file_;
+  std::string reason_;
+};
+
+// A missing, unreadable or invalid input: CAD file, mesh, spec, parameter, face id.
+class InputError : public Error {
+ public:
+  using Error::Error;
+  ExitCode exitCode() const noexcept override { return kExitInput; }
+};
+
+// The planner could not produce a result from valid input.
+class PlanningError : public Error {
+ public:
+  using Error::Error;
+  ExitCode exitCode() const noexcept override { return kExitPlanning; }
+};
+
+// An output file could not be written.
+class OutputError : public Error {
+ public:
+  using Error::Error;
+  ExitCode exitCode() const noexcept override { return kExitOutput; }
+};
+
+// A failure inside a third-party library (OCCT, Embree) that is not the input's fault.
+class LibraryError : public Error {
+ public:
+  using Error::Error;
+  ExitCode exitCode() const noexcept override { return kExitPlanning; }
+};
+
+}  // namespace scanplan

@@ -1,0 +1,34 @@
+#pragma once
+// Basic geometric value types shared by every stage. Millimetres throughout.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <limits>
+
+namespace scanplan {
+
+using Vec3 = Eigen::Vector3d;
+using Vec3i = Eigen::Vector3i;
+
+// Axis-aligned bounding box; empty until a point is added.
+struct Box {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+
+  bool empty() const { return (min.array() > max.array()).any(); }
+  void add(const Vec3& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void add(const Box& b) {
+    if (!b.empty()) {
+      add(b.min);
+      add(b.max);
+    }
+  }
+  Vec3 size() const { return empty() ? Vec3::Zero() : Vec3(max - min); }
+  Vec3 center() const { return 0.5 * (min + max); }
+  double diagonal() const { return size().norm(); }
+};
+
+}  // namespace scanplan

@@ -1,0 +1,168 @@
+#include "cad/xde.h"
+
+#include <TCollection_HAsciiString.hxx>
+#include <TDF_LabelSequence.hxx>
+#include <XCAFDimTolObjects_DatumObject.hxx>
+#include <XCAFDimTolObjects_DimensionObject.hxx>
+#include <XCAFDimTolObjects_GeomToleranceObject.hxx>
+#include <XCAFDoc_Datum.hxx>
+#include <XCAFDoc_DimTolTool.hxx>
+#include <XCAFDoc_Dimension.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_GeomTolerance.hxx>
+
+#include <algorithm>
+
+namespace scanplan::detail {
+namespace {
+
+std::string toleranceType(XCAFDimTolObjects_GeomToleranceType type) {
+  switch (type) {
+    case XCAFDimTolObjects_GeomToleranceType_Angularity: return "angularity";
+    case XCAFDimTolObjects_GeomToleranceType_CircularRunout: return "circular_runout";
+    case XCAFDimTolObjects_GeomToleranceType_CircularityOrRoundness: return "circularity";
+    case XCAFDimTolObjects_GeomToleranceType_Coaxiality: return "coaxiality";
+    case XCAFDimTolObjects_GeomToleranceType_Concentricity: return "concentricity";
+    case XCAFDimTolObjects_GeomToleranceType_Cylindricity: return "cylindricity";
+    case XCAFDimTolObjects_GeomToleranceType_Flatness: return "flatness";
+    case XCAFDimTolObjects_GeomToleranceType_Parallelism: return "parallelism";
+    case XCAFDimTolObjects_GeomToleranceType_Perpendicularity: return "perpendicularity";
+    case XCAFDimTolObjects_GeomToleranceType_Position: return "position";
+    case XCAFDimTolObjects_GeomToleranceType_ProfileOfLine: return "profile_of_line";
+    case XCAFDimTolObjects_GeomToleranceType_ProfileOfSurface: return "profile_of_surface";
+    case XCAFDimTolObjects_GeomToleranceType_Straightness: return "straightness";
+    case XCAFDimTolObjects_GeomToleranceType_Symmetry: return "symmetry";
+    case XCAFDimTolObjects_GeomToleranceType_TotalRunout: return "total_runout";
+    default: return "unknown";
+  }
+}
+
+std::string dimensionType(XCAFDimTolObjects_DimensionType type) {
+  switch (type) {
+    case XCAFDimTolObjects_DimensionType_Location_CurvedDistance: return "curved_distance";
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromCenterToOuter:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromCenterToInner:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromOuterToCenter:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromOuterToOuter:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromOuterToInner:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromInnerToCenter:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromInnerToOuter:
+    case XCAFDimTolObjects_DimensionType_Location_LinearDistance_FromInnerToInner:
+      return "linear_distance";
+    case XCAFDimTolObjects_DimensionType_Location_Angular: return "angular_location";
+    case XCAFDimTolObjects_DimensionType_Location_Oriented: return "oriented_location";
+    case XCAFDimTolObjects_DimensionType_Location_WithPath: return "location_with_path";
+    case XCAFDimTolObjects_DimensionType_Size_CurveLength: return "curve_length";
+    case XCAFDimTolObjects_DimensionType_Size_Diameter: return "diameter";
+    case XCAFDimTolObjects_DimensionType_Size_SphericalDiameter: return "spherical_diameter";
+    case XCAFDimTolObjects_DimensionType_Size_Radius: return "radius";
+    case XCAFDimTolObjects_DimensionType_Size_SphericalRadius: return "spherical_radius";
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalMinorDiameter:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalMajorDiameter:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalHighMajorDiameter:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorDiameter:
+      return "toroidal_diameter";
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalMinorRadius:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalMajorRadius:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalHighMajorRadius:
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorRadius:
+      return "toroidal_radius";
+    case XCAFDimTolObjects_DimensionType_Size_Thickness: return "thickness";
+    case XCAFDimTolObjects_DimensionType_Size_Angular: return "angular_size";
+    case XCAFDimTolObjects_DimensionType_Size_WithPath: return "size_with_path";
+    case XCAFDimTolObjects_DimensionType_CommonLabel: return "common_label";
+    case XCAFDimTolObjects_DimensionType_DimensionPresentation: return "presentation";
+    default: return "other";
+  }
+}
+
+// Faces of all shapes a GD&T label is attached to (both ends of a dimension).
+std::vector<int> attachedFaces(const Handle(XCAFDoc_DimTolTool)& tool, const TDF_Label& label,
+                               const XdeFaceLookup& lookup) {
+  TDF_LabelSequence first, second;
+  tool->GetRefShapeLabel(label, first, second);
+  std::vector<int> ids;
+  for (const TDF_LabelSequence* seq : {&first, &second})
+    for (const TDF_Label& shape_label : *seq) {
+      std::vector<int> more = lookup.faceIds(shape_label);
+      ids.insert(ids.end(), more.begin(), more.end());
+    }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+std::string datumName(const TDF_Label& label) {
+  Handle(XCAFDoc_Datum) datum;
+  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
+  Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
+  if (object.IsNull() || object->GetName().IsNull()) return {};
+  return object->GetName()->String().ToCString();
+}
+
+}  // namespace
+
+Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup) {
+  Gdt gdt;
+  Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());
+  if (tool.IsNull()) return gdt;
+
+  TDF_LabelSequence labels;
+  tool->GetGeomToleranceLabels(labels);
+  for (const TDF_Label& label : labels) {
+    GeometricTolerance tolerance;
+    Handle(XCAFDoc_GeomTolerance) attribute;
+    if (label.FindAttribute(XCAFDoc_GeomTolerance::GetID(), attribute)) {
+      Handle(XCAFDimTolObjects_GeomToleranceObject) object = attribute->GetObject();
+      if (!object.IsNull()) {
+        tolerance.type = toleranceType(object->GetType());
+        tolerance.value = object->GetValue();
+      }
+    }
+    TDF_LabelSequence datums;
+    tool->GetDatumWithObjectOfTolerLabels(label, datums);
+    for (const TDF_Label& datum : datums) tolerance.datums.push_back(datumName(datum));
+    tolerance.faces = attachedFaces(tool, label, lookup);
+    gdt.tolerances.push_back(std::move(tolerance));
+  }
+
+  labels.Clear();
+  tool->GetDimensionLabels(labels);
+  for (const TDF_Label& label : labels) {
+    Dimension dimension;
+    Handle(XCAFDoc_Dimension) attribute;
+    if (label.FindAttribute(XCAFDoc_Dimension::GetID(), attribute)) {
+      Handle(XCAFDimTolObjects_DimensionObject) object = attribute->GetObject();
+      if (!object.IsNull()) {
+        dimension.type = dimensionType(object->GetType());
+        if (!object->GetValues().IsNull()) dimension.value = object->GetValue();
+        if (object->IsDimWithPlusMinusTolerance()) {
+          dimension.lower = object->GetLowerTolValue();
+          dimension.upper = object->GetUpperTolValue();
+        }
+      }
+    }
+    dimension.faces = attachedFaces(tool, label, lookup);
+    gdt.dimensions.push_back(std::move(dimension));
+  }
+
+  labels.Clear();
+  tool->GetDatumLabels(labels);
+  gdt.datum_labels = static_cast<std::size_t>(labels.Length());
+  for (const TDF_Label& label : labels) {
+    std::string name = datumName(label);
+    auto same = std::find_if(gdt.datums.begin(), gdt.datums.end(),
+                             [&](const Datum& d) { return d.name == name; });
+    if (same == gdt.datums.end()) same = gdt.datums.insert(gdt.datums.end(), Datum{name, {}});
+    std::vector<int> faces = attachedFaces(tool, label, lookup);
+    same->faces.insert(same->faces.end(), faces.begin(), faces.end());
+    std::sort(same->faces.begin(), same->faces.end());
+    same->faces.erase(std::unique(same->faces.begin(), same->faces.end()), same->faces.end());
+  }
+  std::sort(gdt.datums.begin(), gdt.datums.end(),
+            [](const Datum& a, const Datum& b) { return a.name < b.name; });
+  return gdt;
+}
+
+}  // namespace scanplan::detail

@@ -1,0 +1,152 @@
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+
+#include "cad/brep_import.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+namespace scanplan {
+
+std::string_view toString(SurfaceType type) {
+  switch (type) {
+    case SurfaceType::Plane: return "Plane";
+    case SurfaceType::Cylinder: return "Cylinder";
+    case SurfaceType::Cone: return "Cone";
+    case SurfaceType::Sphere: return "Sphere";
+    case SurfaceType::Torus: return "Torus";
+    case SurfaceType::BSpline: return "BSpline";
+    case SurfaceType::Bezier: return "Bezier";
+    case SurfaceType::Revolution: return "Revolution";
+    case SurfaceType::Extrusion: return "Extrusion";
+    case SurfaceType::Offset: return "Offset";
+    case SurfaceType::Mesh: return "Mesh";
+    case SurfaceType::Other: break;
+  }
+  return "Other";
+}
+
+Box Part::bounds() const {
+  Box box;
+  for (const Face& face : faces) box.add(face.bounds);
+  return box;
+}
+
+double Part::area() const {
+  double total = 0;
+  for (const Face& face : faces) total += face.area;
+  return total;
+}
+
+double Part::volume() const {
+  double total = 0;
+  for (const Solid& solid : solids) total += solid.volume;
+  return total;
+}
+
+const Face& Part::face(int id) const {
+  if (id < 1 || id > static_cast<int>(faces.size()))
+    throw InputError(file, "unknown face id " + std::to_string(id) + " (the part has " +
+                               std::to_string(faces.size()) + " faces)");
+  return faces[id - 1];
+}
+
+TriangleMesh Part::meshOf(const std::vector<int>& face_ids) const {
+  TriangleMesh result;
+  result.vertices = mesh.vertices;
+  for (int id : face_ids) {
+    const Face& f = face(id);
+    for (int t = f.first_triangle; t < f.first_triangle + f.triangle_count; ++t) {
+      result.triangles.push_back(mesh.triangles[t]);
+      result.triangle_faces.push_back(id);
+    }
+  }
+  return result;
+}
+
+namespace {
+
+std::string formatOf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".step" || ext == ".stp" || ext == ".p21") return "STEP";
+  if (ext == ".iges" || ext == ".igs") return "IGES";
+  if (ext == ".brep" || ext == ".brp") return "BREP";
+  if (ext == ".stl") return "STL";
+  if (ext == ".obj") return "OBJ";
+  if (ext == ".ply") return "PLY";
+  if (ext == ".off") return "OFF";
+  throw InputError(path, "unsupported file type '" + ext +
+                             "' (expected .step/.stp, .iges/.igs, .brep, .stl, .obj, .ply or .off)");
+}
+
+// The first and last `n` bytes of a file, to check its framing cheaply.
+std::pair<std::string, std::string> headAndTail(const std::string& path, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(0, std::ios::end);
+  auto size = static_cast<std::size_t>(in.tellg());
+  std::string head(std::min(n, size), '\0'), tail(std::min(n, size), '\0');
+  in.seekg(0);
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  in.seekg(static_cast<std::streamoff>(size - tail.size()));
+  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
+  return {head, tail};
+}
+
+// STEP (ISO 10303-21) files open with ISO-10303-21; and close with END-ISO-10303-21;.
+// OCCT's parser accepts a file cut at an entity boundary and silently loses the rest.
+void checkStepFraming(const std::string& path) {
+  auto [head, tail] = headAndTail(path, 4096);
+  if (head.find("ISO-10303-21") == std::string::npos)
+    throw InputError(path, "not a STEP file: it does not begin with ISO-10303-21;");
+  if (tail.find("END-ISO-10303-21") == std::string::npos)
+    throw InputError(path, "truncated STEP file: it does not end with END-ISO-10303-21;");
+}
+
+// IGES files end with the one-line Terminate section, marked 'T' in column 73.
+void checkIgesFraming(const std::string& path) {
+  auto [head, tail] = headAndTail(path, 1024);
+  std::size_t end = tail.find_last_not_of(" \r\n\t");
+  std::size_t start = end == std::string::npos ? std::string::npos : tail.rfind('\n', end);
+  std::string last = tail.substr(start == std::string::npos ? 0 : start + 1,
+                                 end == std::string::npos ? 0 : end - start);
+  if (last.size() < 73 || last[72] != 'T')
+    throw InputError(path, "truncated IGES file: its last line is not the Terminate section");
+}
+
+}  // namespace
+
+Part importPart(const std::string& path, const ImportOptions& options, const Progress& progress) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path, "no such file");
+  if (!fs::is_regular_file(path, ec)) throw InputError(path, "not a regular file");
+  if (!std::ifstream(path).good()) throw InputError(path, "cannot be opened for reading");
+  if (fs::file_size(path, ec) == 0) throw InputError(path, "empty file");
+  if (!(options.linear_deflection >= 0) || !(options.relative_deflection > 0) ||
+      !(options.angular_deflection > 0 && options.angular_deflection < 90) ||
+      !(options.sharp_angle >= 0 && options.sharp_angle <= 180) || !(options.mesh_unit > 0))
+    throw InputError(path, "invalid import options (deflections and mesh unit must be positive, "
+                           "the angular deflection within (0, 90) degrees, the sharp-edge angle "
+                           "within [0, 180] degrees)");
+
+  std::string format = formatOf(path);
+  if (format == "STEP") checkStepFraming(path);
+  if (format == "IGES") checkIgesFraming(path);
+
+  Part part = format == "STEP" || format == "IGES" || format == "BREP"
+                  ? detail::importBRep(path, format, options, progress)
+                  : detail::importMesh(path, format, options, progress);
+  if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
+  double extent = part.bounds().size().maxCoeff();
+  if (extent < 1.0)
+    part.warnings.push_back("the part is only " + std::to_string(extent) +
+                            " mm across: check the length unit the file declares (" +
+                            (part.file_unit.empty() ? "none" : part.file_unit) + ")");
+  return part;
+}
+
+}  // namespace scanplan

@@ -1,0 +1,417 @@
+// Triangle-mesh import (STL, OBJ, PLY, OFF) and the split of a mesh into faces: by its
+// groups where the file has them, otherwise by sharp edges.
+
+#include "cad/brep_import.h"
+
+#include <scanplan/errors.h>
+
+#include <OSD_Path.hxx>
+#include <Poly_Triangulation.hxx>
+#include <RWStl.hxx>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace scanplan::detail {
+namespace {
+
+// A mesh as read from a file: polygons already fanned into triangles; a group per
+// triangle (-1 where the file has none) and the groups' names.
+struct RawMesh {
+  std::vector<Vec3> vertices;
+  std::vector<Vec3i> triangles;
+  std::vector<int> groups;
+  std::vector<std::string> group_names;
+};
+
+void addPolygon(RawMesh& mesh, const std::vector<int>& polygon, int group,
+                const std::string& path) {
+  const int n = static_cast<int>(mesh.vertices.size());
+  for (int index : polygon)
+    if (index < 0 || index >= n)
+      throw InputError(path, "a face refers to vertex " + std::to_string(index + 1) +
+                                 " but the file has " + std::to_string(n) + " vertices");
+  for (std::size_t k = 2; k < polygon.size(); ++k) {
+    mesh.triangles.emplace_back(polygon[0], polygon[k - 1], polygon[k]);
+    mesh.groups.push_back(group);
+  }
+}
+
+RawMesh readStl(const std::string& path) {
+  Handle(Poly_Triangulation) tri = RWStl::ReadFile(path.c_str());
+  RawMesh mesh;
+  if (tri.IsNull()) return mesh;
+  for (int i = 1; i <= tri->NbNodes(); ++i) {
+    gp_Pnt p = tri->Node(i);
+    mesh.vertices.emplace_back(p.X(), p.Y(), p.Z());
+  }
+  for (int i = 1; i <= tri->NbTriangles(); ++i) {
+    int a, b, c;
+    tri->Triangle(i).Get(a, b, c);
+    mesh.triangles.emplace_back(a - 1, b - 1, c - 1);
+    mesh.groups.push_back(-1);
+  }
+  return mesh;
+}
+
+RawMesh readObj(const std::string& path) {
+  std::ifstream in(path);
+  RawMesh mesh;
+  int group = -1;
+  std::map<std::string, int> group_ids;
+  std::string line;
+  std::vector<int> polygon;
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "v") {
+      Vec3 p;
+      if (!(words >> p.x() >> p.y() >> p.z()))
+        throw InputError(path, "line " + std::to_string(line_no) + ": malformed vertex");
+      mesh.vertices.push_back(p);
+    } else if (tag == "f") {
+      polygon.clear();
+      std::string corner;
+      while (words >> corner) {
+        int index = 0;
+        try {
+          index = std::stoi(corner.substr(0, corner.find('/')));
+        } catch (const std::exception&) {
+          throw InputError(path, "line " + std::to_string(line_no) + ": malformed face");
+        }
+        // OBJ indices are 1-based; negative ones count back from the last vertex.
+        polygon.push_back(index < 0 ? static_cast<int>(mesh.vertices.size()) + index : index - 1);
+      }
+      addPolygon(mesh, polygon, group, path);
+    } else if (tag == "g" || tag == "o") {
+      std::string name;
+      std::getline(words >> std::ws, name);
+      if (name.empty()) name = tag == "g" ? "default" : "object";
+      auto [it, inserted] = group_ids.emplace(name, static_cast<int>(mesh.group_names.size()));
+      if (inserted) mesh.group_names.push_back(name);
+      group = it->second;
+    }
+  }
+  return mesh;
+}
+
+RawMesh readOff(const std::string& path) {
+  std::ifstream in(path);
+  RawMesh mesh;
+  // Comments start with '#'; the header is OFF (optionally with C/N/ST prefixes).
+  std::stringstream body;
+  for (std::string line; std::getline(in, line);) body << line.substr(0, line.find('#')) << '\n';
+  std::string header;
+  body >> header;
+  if (header.size() < 3 || header.compare(header.size() - 3, 3, "OFF") != 0)
+    throw InputError(path, "not an OFF file: it does not begin with OFF");
+  long vertices = -1, faces = -1, edges = 0;
+  if (!(body >> vertices >> faces >> edges) || vertices < 0 || faces < 0)
+    throw InputError(path, "malformed OFF header: expected vertex, face and edge counts");
+  bool colored = header.find('C') != std::string::npos;
+  std::string rest;
+  for (long i = 0; i < vertices; ++i) {
+    Vec3 p;
+    if (!(body >> p.x() >> p.y() >> p.z()))
+      throw InputError(path, "truncated OFF file: vertex " + std::to_string(i + 1) + " of " +
+                                 std::to_string(vertices) + " is missing");
+    if (colored) std::getline(body, rest);
+    mesh.vertices.push_back(p);
+  }
+  std::vector<int> polygon;
+  for (long i = 0; i < faces; ++i) {
+    int n = 0;
+    if (!(body >> n) || n < 0)
+      throw InputError(path, "truncated OFF file: face " + std::to_string(i + 1) + " of " +
+                                 std::to_string(faces) + " is missing");
+    polygon.resize(n);
+    for (int& index : polygon)
+      if (!(body >> index)) throw InputError(path, "truncated OFF file in face " + std::to_string(i + 1));
+    std::getline(body, rest);  // optional face colour
+    addPolygon(mesh, polygon, -1, path);
+  }
+  return mesh;
+}
+
+// PLY (ascii, binary_little_endian, binary_big_endian): vertices x, y, z and a face list
+// vertex_indices; a face scalar named group, face_id or segment becomes the group.
+class PlyReader {
+ public:
+  explicit PlyReader(const std::string& path) : path_(path), in_(path, std::ios::binary) {}
+
+  RawMesh read() {
+    readHeader();
+    RawMesh mesh;
+    std::map<long, int> group_ids;
+    for (const Element& element : elements_) {
+      for (long i = 0; i < element.count; ++i) {
+        Vec3 p = Vec3::Zero();
+        std::vector<int> polygon;
+        long group = -1;
+        bool has_group = false;
+        for (const Property& property : element.properties) {
+          if (property.is_list) {
+            auto n = static_cast<long>(value(property.count_type));
+            if (n < 0 || n > 1 << 20) fail("a face has an invalid vertex count");
+            std::vector<int> items(n);
+            for (int& item : items) item = static_cast<int>(value(property.type));
+            if (property.name == "vertex_indices" || property.name == "vertex_index")
+              polygon = std::move(items);
+            continue;
+          }
+          double v = value(property.type);
+          if (element.name == "vertex") {
+            if (property.name == "x") p.x() = v;
+            if (property.name == "y") p.y() = v;
+            if (property.name == "z") p.z() = v;
+          } else if (element.name == "face" &&
+                     (property.name == "group" || property.name == "face_id" ||
+                      property.name == "segment")) {
+            group = std::lround(v);
+            has_group = true;
+          }
+        }
+        if (element.name == "vertex") mesh.vertices.push_back(p);
+        if (element.name == "face") {
+          int g = -1;
+          if (has_group) {
+            auto [it, inserted] = group_ids.emplace(group, static_cast<int>(group_ids.size()));
+            if (inserted) mesh.group_names.push_back("group " + std::to_string(group));
+            g = it->second;
+          }
+          addPolygon(mesh, polygon, g, path_);
+        }
+      }
+    }
+    return mesh;
+  }
+
+ private:
+  struct Property {
+    std::string name, type, count_type;
+    bool is_list = false;
+  };
+  struct Element {
+    std::string name;
+    long count = 0;
+    std::vector<Property> properties;
+  };
+
+  [[noreturn]] void fail(const std::string& why) { throw InputError(path_, why); }
+
+  void readHeader() {
+    std::string line;
+    if (!std::getline(in_, line) || line.substr(0, 3) != "ply")
+      fail("not a PLY file: it does not begin with 'ply'");
+    while (std::getline(in_, line)) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      std::istringstream words(line);
+      std::string keyword;
+      words >> keyword;
+      if (keyword == "format") {
+        words >> format_;
+        if (format_ != "ascii" && format_ != "binary_little_endian" &&
+            format_ != "binary_big_endian")
+          fail("unknown PLY format '" + format_ + "'");
+      } else if (keyword == "element") {
+        Element element;
+        if (!(words >> element.name >> element.count) || element.count < 0)
+          fail("malformed PLY element line: " + line);
+        elements_.push_back(element);
+      } else if (keyword == "property") {
+        if (elements_.empty()) fail("PLY property before any element");
+        Property property;
+        words >> property.type;
+        if (property.type == "list") {
+          property.is_list = true;
+          words >> property.count_type >> property.type;
+        }
+        words >> property.name;
+        for (const std::string& t : {property.type, property.count_type})
+          if (!t.empty() && typeSize(t) == 0) fail("unknown PLY property type '" + t + "'");
+        elements_.back().properties.push_back(property);
+      } else if (keyword == "end_header") {
+        return;
+      }
+    }
+    fail("truncated PLY file: no end_header");
+  }
+
+  static std::size_t typeSize(const std::string& type) {
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
+        type == "float" || type == "float32")
+      return 4;
+    if (type == "double" || type == "float64") return 8;
+    return 0;
+  }
+
+  double value(const std::string& type) {
+    if (format_ == "ascii") {
+      double v;
+      if (!(in_ >> v)) fail("truncated or malformed PLY data");
+      return v;
+    }
+    unsigned char bytes[8];
+    std::size_t size = typeSize(type);
+    if (!in_.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(size)))
+      fail("truncated PLY file: the data ends before the header's counts");
+    bool big = format_ == "binary_big_endian";
+    if (big != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
+    auto as = [&](auto v) {
+      std::memcpy(&v, bytes, sizeof v);
+      return static_cast<double>(v);
+    };
+    if (type == "char" || type == "int8") return as(std::int8_t{});
+    if (type == "uchar" || type == "uint8") return as(std::uint8_t{});
+    if (type == "short" || type == "int16") return as(std::int16_t{});
+    if (type == "ushort" || type == "uint16") return as(std::uint16_t{});
+    if (type == "int" || type == "int32") return as(std::int32_t{});
+    if (type == "uint" || type == "uint32") return as(std::uint32_t{});
+    if (type == "float" || type == "float32") return as(float{});
+    return as(double{});
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  std::string format_ = "ascii";
+  std::vector<Element> elements_;
+};
+
+// Splits the triangles into faces: connected regions of one group, or, without groups,
+// regions whose neighbouring triangles meet at less than `sharp_angle` (radians).
+std::vector<int> regionOfTriangles(const TriangleMesh& mesh, const std::vector<int>& groups,
+                                   bool by_group, double sharp_angle) {
+  const std::size_t n = mesh.triangles.size();
+  std::unordered_map<std::uint64_t, std::vector<int>> edge_triangles;
+  edge_triangles.reserve(n * 2);
+  for (std::size_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) {
+      auto a = static_cast<std::uint64_t>(mesh.triangles[t][k]);
+      auto b = static_cast<std::uint64_t>(mesh.triangles[t][(k + 1) % 3]);
+      if (a != b) edge_triangles[(std::min(a, b) << 32) | std::max(a, b)].push_back(static_cast<int>(t));
+    }
+  std::vector<Vec3> normals(n);
+  for (std::size_t t = 0; t < n; ++t) normals[t] = mesh.normal(t);
+  const double min_cos = std::cos(sharp_angle);
+  auto joins = [&](int t, int u) {
+    if (by_group) return groups[t] == groups[u];
+    if (normals[t].isZero() || normals[u].isZero()) return true;  // degenerate: no edge
+    return normals[t].dot(normals[u]) >= min_cos;
+  };
+  // Union-find over triangles joined across their shared edges.
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& [edge, triangles] : edge_triangles)
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+      for (std::size_t j = i + 1; j < triangles.size(); ++j)
+        if (joins(triangles[i], triangles[j]))
+          parent[find(triangles[i])] = find(triangles[j]);
+  std::vector<int> region(n);
+  for (std::size_t t = 0; t < n; ++t) region[t] = find(static_cast<int>(t));
+  return region;
+}
+
+}  // namespace
+
+Part importMesh(const std::string& path, const std::string& format,
+                const ImportOptions& options, const Progress& progress) {
+  report(progress, "reading " + format, 0);
+  RawMesh raw = format == "STL"   ? readStl(path)
+                : format == "OBJ" ? readObj(path)
+                : format == "PLY" ? PlyReader(path).read()
+                                  : readOff(path);
+  if (raw.triangles.empty()) throw InputError(path, "no triangles: the mesh is empty");
+  for (const Vec3& p : raw.vertices)
+    if (!p.allFinite()) throw InputError(path, "a vertex has a non-finite coordinate");
+
+  Part part;
+  part.file = path;
+  part.format = format;
+  part.unit_scale = options.mesh_unit;
+  part.file_unit = options.mesh_unit == 1 ? "mm" : "";
+
+  // Weld coincident vertices so that neighbouring triangles share their edges.
+  TriangleMesh welded;
+  std::vector<int> rep = weldVertices(raw.vertices, 0);
+  std::vector<int> index(raw.vertices.size(), -1);
+  for (std::size_t i = 0; i < raw.vertices.size(); ++i)
+    if (rep[i] == static_cast<int>(i)) {
+      index[i] = static_cast<int>(welded.vertices.size());
+      welded.vertices.push_back(raw.vertices[i] * options.mesh_unit);
+    }
+  for (const Vec3i& tri : raw.triangles)
+    welded.triangles.emplace_back(index[rep[tri[0]]], index[rep[tri[1]]], index[rep[tri[2]]]);
+
+  report(progress, "splitting mesh into faces", 0);
+  bool by_group = std::any_of(raw.groups.begin(), raw.groups.end(), [](int g) { return g >= 0; });
+  std::vector<int> region =
+      regionOfTriangles(welded, raw.groups, by_group, options.sharp_angle * M_PI / 180.0);
+
+  // Faces numbered by their first triangle; triangles reordered so each face is contiguous.
+  std::unordered_map<int, int> face_of_region;
+  for (int r : region) face_of_region.emplace(r, static_cast<int>(face_of_region.size()) + 1);
+  std::vector<int> order(welded.triangles.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return face_of_region[region[a]] < face_of_region[region[b]];
+  });
+  part.mesh.vertices = welded.vertices;
+  part.faces.resize(face_of_region.size());
+  for (int t : order) {
+    int id = face_of_region[region[t]];
+    Face& face = part.faces[id - 1];
+    if (face.triangle_count == 0) {
+      face.id = id;
+      face.type = SurfaceType::Mesh;
+      face.first_triangle = static_cast<int>(part.mesh.triangles.size());
+      if (by_group && raw.groups[t] >= 0) face.name = raw.group_names[raw.groups[t]];
+    }
+    part.mesh.triangles.push_back(welded.triangles[t]);
+    part.mesh.triangle_faces.push_back(id);
+    std::size_t added = part.mesh.triangles.size() - 1;
+    face.area += part.mesh.area(added);
+    for (int k = 0; k < 3; ++k) face.bounds.add(part.mesh.vertices[welded.triangles[t][k]]);
+    ++face.triangle_count;
+  }
+
+  // A closed mesh is one solid; wound inward, it is turned outward.
+  EdgeReport edges = edgeReport(part.mesh, 0);
+  if (edges.boundary == 0 && edges.non_manifold == 0 && edges.misoriented == 0) {
+    double volume = signedVolume(part.mesh);
+    if (volume < 0) {
+      for (Vec3i& tri : part.mesh.triangles) std::swap(tri[1], tri[2]);
+      for (Face& face : part.faces) face.reoriented = true;
+      part.warnings.push_back("the mesh was wound inward; its triangles were turned outward");
+    }
+    Solid solid;
+    solid.volume = std::abs(volume);
+    for (Face& face : part.faces) {
+      face.solid = 0;
+      solid.faces.push_back(face.id);
+    }
+    part.solids.push_back(std::move(solid));
+  } else {
+    part.warnings.push_back("the mesh is not closed (" + std::to_string(edges.boundary) +
+                            " boundary, " + std::to_string(edges.non_manifold) +
+                            " non-manifold, " + std::to_string(edges.misoriented) +
+                            " inconsistently wound edges): inside and outside are not checked");
+  }
+  report(progress, "splitting mesh into faces", 1);
+  return part;
+}
+
+}  // namespace scanplan::detail

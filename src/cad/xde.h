@@ -1,0 +1,33 @@
+#pragma once
+// Helpers over an OCCT XDE document (private to the library): resolving shape labels to
+// the part's face ids, and reading GD&T.
+
+#include "cad/brep_model.h"
+
+#include <TDF_Label.hxx>
+#include <TDocStd_Document.hxx>
+#include <TopLoc_Location.hxx>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace scanplan::detail {
+
+// Where each XDE shape label lands in the part: the placements of every instance of a
+// part label in the assembly, so that a label's faces can be found in the face map.
+struct XdeFaceLookup {
+  const BRepModel* model = nullptr;
+  std::map<std::string, std::vector<TopLoc_Location>> placements;  // label entry → instances
+
+  // Sorted, unique 1-based ids of the faces under `label` (a shape or sub-shape label).
+  std::vector<int> faceIds(const TDF_Label& label) const;
+};
+
+std::string labelEntry(const TDF_Label& label);
+std::string labelName(const TDF_Label& label);  // TDataStd_Name, or ""
+
+// Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI.
+Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup);
+
+}  // namespace scanplan::detail

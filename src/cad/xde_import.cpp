@@ -1,0 +1,271 @@
+// STEP, IGES and BREP import through OCCT's XDE document, which keeps names, colours,
+// assembly structure and (for STEP AP242) semantic PMI.
+
+#include "cad/brep_import.h"
+#include "cad/xde.h"
+
+#include <scanplan/errors.h>
+
+#include <BRepBndLib.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <Bnd_Box.hxx>
+#include <IGESCAFControl_Reader.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Interface_Static.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPCAFControl_Controller.hxx>
+#include <STEPCAFControl_Reader.hxx>
+#include <STEPControl_Reader.hxx>
+#include <TCollection_AsciiString.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TDF_LabelSequence.hxx>
+#include <TDF_Tool.hxx>
+#include <TDataStd_Name.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Compound.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_ColorTool.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+namespace scanplan::detail {
+
+std::string labelEntry(const TDF_Label& label) {
+  TCollection_AsciiString entry;
+  TDF_Tool::Entry(label, entry);
+  return entry.ToCString();
+}
+
+std::string labelName(const TDF_Label& label) {
+  Handle(TDataStd_Name) name;
+  if (!label.FindAttribute(TDataStd_Name::GetID(), name)) return {};
+  TCollection_AsciiString text(name->Get());
+  return text.ToCString();
+}
+
+std::vector<int> XdeFaceLookup::faceIds(const TDF_Label& label) const {
+  std::vector<int> ids;
+  TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(label);
+  if (shape.IsNull()) return ids;
+  // A sub-shape label lives under its part's label; the part may be placed several times.
+  TDF_Label part = XCAFDoc_ShapeTool::IsSubShape(label) ? label.Father() : label;
+  auto found = placements.find(labelEntry(part));
+  std::vector<TopLoc_Location> locations =
+      found != placements.end() ? found->second : std::vector<TopLoc_Location>{TopLoc_Location()};
+  for (const TopLoc_Location& location : locations)
+    for (TopExp_Explorer it(shape.Moved(location), TopAbs_FACE); it.More(); it.Next()) {
+      int id = model->faces.FindIndex(it.Current());
+      if (id > 0) ids.push_back(id);
+    }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+namespace {
+
+std::string lowercase(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// Millimetres per unit for the length unit names STEP and IGES use.
+double millimetresPer(const std::string& unit) {
+  std::string u = lowercase(unit);
+  if (u == "mm" || u == "millimetre" || u == "millimeter") return 1;
+  if (u == "cm" || u == "centimetre" || u == "centimeter") return 10;
+  if (u == "m" || u == "metre" || u == "meter") return 1000;
+  if (u == "in" || u == "inch") return 25.4;
+  if (u == "ft" || u == "foot") return 304.8;
+  if (u == "um" || u == "micron" || u == "micrometre") return 1e-3;
+  return 0;
+}
+
+// Walks the XDE assembly tree: records where every part label is placed, the name of
+// each solid, and the names and colours attached to shapes and sub-shapes.
+class XdeWalker {
+ public:
+  XdeWalker(const Handle(TDocStd_Document)& doc, Part& part, const BRepModel& model,
+            XdeFaceLookup& lookup)
+      : shapes_(XCAFDoc_DocumentTool::ShapeTool(doc->Main())),
+        colors_(XCAFDoc_DocumentTool::ColorTool(doc->Main())),
+        part_(part),
+        model_(model),
+        lookup_(lookup) {
+    TopExp::MapShapes(model.shape, TopAbs_SOLID, solids_);
+  }
+
+  void walk(const TDF_Label& label, const TopLoc_Location& location) {
+    if (XCAFDoc_ShapeTool::IsAssembly(label)) {
+      TDF_LabelSequence components;
+      XCAFDoc_ShapeTool::GetComponents(label, components);
+      for (const TDF_Label& component : components) {
+        TDF_Label referred;
+        if (!XCAFDoc_ShapeTool::GetReferredShape(component, referred)) continue;
+        walk(referred, location * XCAFDoc_ShapeTool::GetLocation(component));
+      }
+      return;
+    }
+    lookup_.placements[labelEntry(label)].push_back(location);
+    TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(label).Moved(location);
+    std::string name = labelName(label);
+    for (TopExp_Explorer it(shape, TopAbs_SOLID); it.More(); it.Next()) {
+      int s = solids_.FindIndex(it.Current());
+      if (s > 0 && part_.solids[s - 1].name.empty()) part_.solids[s - 1].name = name;
+    }
+    annotate(label, shape, /*name_faces=*/false);
+    TDF_LabelSequence subs;
+    XCAFDoc_ShapeTool::GetSubShapes(label, subs);
+    for (const TDF_Label& sub : subs)
+      annotate(sub, XCAFDoc_ShapeTool::GetShape(sub).Moved(location), /*name_faces=*/true);
+  }
+
+ private:
+  // Gives the faces of `shape` the colour (and, for sub-shapes, the name) of `label`.
+  void annotate(const TDF_Label& label, const TopoDS_Shape& shape, bool name_faces) {
+    Quantity_Color color;
+    bool has_color = !colors_.IsNull() && (colors_->GetColor(label, XCAFDoc_ColorSurf, color) ||
+                                          colors_->GetColor(label, XCAFDoc_ColorGen, color));
+    std::string name = name_faces ? labelName(label) : std::string();
+    if (!has_color && name.empty()) return;
+    for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next()) {
+      int id = model_.faces.FindIndex(it.Current());
+      if (id <= 0) continue;
+      Face& face = part_.faces[id - 1];
+      if (has_color)
+        face.color = Color{static_cast<float>(color.Red()), static_cast<float>(color.Green()),
+                           static_cast<float>(color.Blue())};
+      if (!name.empty()) face.name = name;
+    }
+  }
+
+  Handle(XCAFDoc_ShapeTool) shapes_;
+  Handle(XCAFDoc_ColorTool) colors_;
+  Part& part_;
+  const BRepModel& model_;
+  XdeFaceLookup& lookup_;
+  TopTools_IndexedMapOfShape solids_;
+};
+
+Handle(TDocStd_Document) newDocument() {
+  Handle(TDocStd_Document) doc;
+  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+  return doc;
+}
+
+// Reads a STEP or IGES file into a new XDE document, filling the file's declared unit.
+Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::string& format,
+                                          const ImportOptions& options, Part& part,
+                                          const Progress& progress) {
+  Handle(TDocStd_Document) doc = newDocument();
+  // Shapes are converted to millimetres on transfer, whatever the file declares. The
+  // controllers declare the static parameter; setting it before they run is a no-op.
+  STEPCAFControl_Controller::Init();
+  IGESControl_Controller::Init();
+  Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  report(progress, "reading " + format, 0);
+  if (format == "STEP") {
+    STEPCAFControl_Reader reader;
+    reader.SetColorMode(true);
+    reader.SetNameMode(true);
+    reader.SetLayerMode(false);
+    reader.SetPropsMode(false);
+    reader.SetGDTMode(options.read_gdt);
+    reader.SetMatMode(false);
+    reader.SetViewMode(false);
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      throw InputError(path, "not a readable STEP file: the STEP parser rejected it");
+    TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
+    reader.ChangeReader().FileUnits(lengths, angles, solid_angles);
+    if (!lengths.IsEmpty()) part.file_unit = lowercase(lengths.First().ToCString());
+    report(progress, "transferring STEP entities", 0);
+    if (!reader.Transfer(doc))
+      throw InputError(path, "no geometry could be transferred from the STEP file");
+  } else {
+    IGESCAFControl_Reader reader;
+    reader.SetColorMode(true);
+    reader.SetNameMode(true);
+    reader.SetLayerMode(false);
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      throw InputError(path, "not a readable IGES file: the IGES parser rejected it");
+    Handle(IGESData_IGESModel) model = Handle(IGESData_IGESModel)::DownCast(reader.Model());
+    if (!model.IsNull() && !model->GlobalSection().UnitName().IsNull())
+      part.file_unit = lowercase(model->GlobalSection().UnitName()->ToCString());
+    report(progress, "transferring IGES entities", 0);
+    if (!reader.Transfer(doc))
+      throw InputError(path, "no geometry could be transferred from the IGES file");
+  }
+  part.unit_scale = millimetresPer(part.file_unit);
+  return doc;
+}
+
+TopoDS_Shape freeShapes(const Handle(TDocStd_Document)& doc) {
+  Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  TDF_LabelSequence roots;
+  shapes->GetFreeShapes(roots);
+  if (roots.Length() == 1) return XCAFDoc_ShapeTool::GetShape(roots.First());
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  for (const TDF_Label& root : roots) {
+    TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(root);
+    if (!shape.IsNull()) builder.Add(compound, shape);
+  }
+  return compound;
+}
+
+double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options) {
+  if (options.linear_deflection > 0) return options.linear_deflection;
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box, false);
+  double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  return std::max(options.relative_deflection * diagonal, 1e-4);
+}
+
+}  // namespace
+
+Part importBRep(const std::string& path, const std::string& format,
+                const ImportOptions& options, const Progress& progress) {
+  Part part;
+  part.file = path;
+  part.format = format;
+  const double angle = options.angular_deflection * M_PI / 180.0;
+
+  if (format == "BREP") {
+    TopoDS_Shape shape;
+    BRep_Builder builder;
+    report(progress, "reading BREP", 0);
+    if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
+      throw InputError(path, "not a readable OCCT BREP file");
+    part.file_unit = "mm";  // BREP carries no unit; OCCT's convention is millimetres
+    buildFromShape(part, shape, chooseDeflection(shape, options), angle, progress);
+    return part;
+  }
+
+  Handle(TDocStd_Document) doc = readExchangeFile(path, format, options, part, progress);
+  TopoDS_Shape shape = freeShapes(doc);
+  if (shape.IsNull())
+    throw InputError(path, "no geometry: the file holds no shape that could be read");
+  buildFromShape(part, shape, chooseDeflection(shape, options), angle, progress);
+
+  XdeFaceLookup lookup;
+  lookup.model = part.brep.get();
+  XdeWalker walker(doc, part, *part.brep, lookup);
+  Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  TDF_LabelSequence roots;
+  shapes->GetFreeShapes(roots);
+  for (const TDF_Label& root : roots) walker.walk(root, TopLoc_Location());
+  if (format == "STEP" && options.read_gdt) part.gdt = readGdt(doc, lookup);
+  XCAFApp_Application::GetApplication()->Close(doc);
+  return part;
+}
+
+}  // namespace scanplan::detail

@@ -1,0 +1,92 @@
+// The scanplan tool run as a user runs it: output, exit codes, error messages.
+
+#include "support.h"
+
+#include <array>
+#include <cstdio>
+#include <sys/wait.h>
+
+namespace scanplan {
+namespace {
+
+struct CommandResult {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+CommandResult run(const std::string& arguments) {
+  CommandResult result;
+  std::string command = std::string(SCANPLAN_EXE) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer;
+  while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) result.out.append(buffer.data(), n);
+  int status = pclose(pipe);
+  result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+TEST(Cli, InfoOnTheExamplePart) {
+  std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  CommandResult r = run("info " + part);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("faces        117"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("6 tolerances, 12 dimensions"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("flatness"), std::string::npos) << r.out;
+}
+
+TEST(Cli, InfoJsonIsOneObject) {
+  std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r = run("info --json --quiet " + part);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.front(), '{');
+  EXPECT_NE(r.out.find("\"faces\": 8"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"tolerances\""), std::string::npos) << r.out;
+}
+
+TEST(Cli, Ftc06PrintsItsFacesAndTolerances) {
+  SHARED_DATA_OR_SKIP(part, "nist/nist_ftc_06_asme1_ap242-e1.stp");
+  CommandResult r = run("info " + part);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("faces        187"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("27 tolerances"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("position             0.381 | E | A | B  faces 164"), std::string::npos) << r.out;
+}
+
+TEST(Cli, MissingFileIsExitCodeTwo) {
+  CommandResult r = run("info /nonexistent/part.step");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out, "error: /nonexistent/part.step: no such file\n");
+}
+
+TEST(Cli, UnsupportedExtensionIsExitCodeTwo) {
+  test::TempDir dir;
+  test::writeText(dir.file("part.dwg"), "x");
+  CommandResult r = run("info " + dir.file("part.dwg"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out.rfind("error: " + dir.file("part.dwg") + ": unsupported file type", 0), 0u) << r.out;
+}
+
+TEST(Cli, EmptyMeshIsExitCodeTwo) {
+  test::TempDir dir;
+  test::writeText(dir.file("empty.stl"), "solid empty\nendsolid empty\n");
+  CommandResult r = run("info " + dir.file("empty.stl"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("no triangles"), std::string::npos) << r.out;
+}
+
+TEST(Cli, BadUsageIsExitCodeOne) {
+  EXPECT_EQ(run("").code, 1);
+  EXPECT_EQ(run("frobnicate").code, 1);
+  EXPECT_EQ(run("info").code, 1);
+  EXPECT_EQ(run("info x.step --deflection nonsense").code, 1);
+}
+
+TEST(Cli, HelpIsExitCodeZero) {
+  CommandResult r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("info"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scanplan

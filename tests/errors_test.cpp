@@ -1,0 +1,143 @@
+// Every kind of bad input gives an InputError that names the file and the problem.
+
+#include "support.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+
+namespace scanplan {
+namespace {
+
+// Imports `path` and returns the error's reason; fails the test if nothing is thrown.
+std::string importError(const std::string& path, const ImportOptions& options = {}) {
+  try {
+    importPart(path, options);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.exitCode(), kExitInput);
+    EXPECT_EQ(std::string(e.what()), path + ": " + e.reason());
+    return e.reason();
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return {};
+}
+
+std::string truncatedCopy(const std::string& from, const std::string& to, double fraction) {
+  std::ifstream in(from, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  test::writeText(to, text.substr(0, static_cast<std::size_t>(static_cast<double>(text.size()) * fraction)));
+  return to;
+}
+
+TEST(ImportErrors, MissingFile) {
+  EXPECT_EQ(importError("/nonexistent/part.step"), "no such file");
+}
+
+TEST(ImportErrors, Directory) {
+  test::TempDir dir;
+  std::filesystem::create_directory(dir.file("part.step"));
+  EXPECT_EQ(importError(dir.file("part.step")), "not a regular file");
+}
+
+TEST(ImportErrors, EmptyFile) {
+  test::TempDir dir;
+  test::writeText(dir.file("empty.step"), "");
+  EXPECT_EQ(importError(dir.file("empty.step")), "empty file");
+}
+
+TEST(ImportErrors, UnsupportedExtension) {
+  test::TempDir dir;
+  test::writeText(dir.file("part.xyz"), "1 2 3\n");
+  EXPECT_NE(importError(dir.file("part.xyz")).find("unsupported file type '.xyz'"), std::string::npos);
+}
+
+TEST(ImportErrors, TruncatedStep) {
+  test::TempDir dir;
+  std::string path = truncatedCopy(test::testData("nist_ftc_11_asme1_ap242-e1.stp"),
+                                   dir.file("truncated.stp"), 0.5);
+  EXPECT_NE(importError(path).find("truncated STEP file"), std::string::npos);
+}
+
+TEST(ImportErrors, NotAStepFile) {
+  test::TempDir dir;
+  test::writeText(dir.file("text.step"), "this is not STEP\n");
+  EXPECT_NE(importError(dir.file("text.step")).find("not a STEP file"), std::string::npos);
+}
+
+TEST(ImportErrors, CorruptStepBody) {
+  test::TempDir dir;
+  test::writeText(dir.file("corrupt.step"),
+                  "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\n"
+                  "FILE_NAME('x','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\n"
+                  "ENDSEC;\nDATA;\n#1=CARTESIAN_POINT('',(0.,0.,0.);\n#2=(((garbage\nENDSEC;\n"
+                  "END-ISO-10303-21;\n");
+  std::string reason = importError(dir.file("corrupt.step"));
+  EXPECT_FALSE(reason.empty());
+}
+
+TEST(ImportErrors, StepWithoutGeometry) {
+  test::TempDir dir;
+  test::writeText(dir.file("nogeometry.step"),
+                  "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('x'),'2;1');\n"
+                  "FILE_NAME('x','',(''),(''),'','','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN'));\n"
+                  "ENDSEC;\nDATA;\n#1=CARTESIAN_POINT('',(0.,0.,0.));\nENDSEC;\n"
+                  "END-ISO-10303-21;\n");
+  std::string reason = importError(dir.file("nogeometry.step"));
+  EXPECT_NE(reason.find("geometry"), std::string::npos) << reason;
+}
+
+TEST(ImportErrors, TruncatedIges) {
+  SHARED_DATA_OR_SKIP(source, "mech/occt_bearing.iges");
+  test::TempDir dir;
+  std::string path = truncatedCopy(source, dir.file("truncated.iges"), 0.5);
+  EXPECT_NE(importError(path).find("truncated IGES file"), std::string::npos);
+}
+
+TEST(ImportErrors, CorruptBrep) {
+  test::TempDir dir;
+  test::writeText(dir.file("corrupt.brep"), "DBRep_DrawableShape\nnot really\n");
+  EXPECT_NE(importError(dir.file("corrupt.brep")).find("BREP"), std::string::npos);
+}
+
+TEST(ImportErrors, StlWithoutTriangles) {
+  test::TempDir dir;
+  test::writeText(dir.file("empty.stl"), "solid empty\nendsolid empty\n");
+  EXPECT_NE(importError(dir.file("empty.stl")).find("no triangles"), std::string::npos);
+}
+
+TEST(ImportErrors, OffWithoutTriangles) {
+  test::TempDir dir;
+  test::writeText(dir.file("points.off"), "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n");
+  EXPECT_NE(importError(dir.file("points.off")).find("no triangles"), std::string::npos);
+}
+
+TEST(ImportErrors, TruncatedOff) {
+  test::TempDir dir;
+  test::writeText(dir.file("cut.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n");
+  EXPECT_NE(importError(dir.file("cut.off")).find("truncated OFF file"), std::string::npos);
+}
+
+TEST(ImportErrors, TruncatedBinaryPly) {
+  test::TempDir dir;
+  test::writeText(dir.file("cut.ply"),
+                  "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                  "property float y\nproperty float z\nelement face 1\n"
+                  "property list uchar int vertex_indices\nend_header\n\x01\x02");
+  EXPECT_NE(importError(dir.file("cut.ply")).find("truncated PLY file"), std::string::npos);
+}
+
+TEST(ImportErrors, FaceIndexOutOfRange) {
+  test::TempDir dir;
+  test::writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  EXPECT_NE(importError(dir.file("bad.obj")).find("refers to vertex 9"), std::string::npos);
+}
+
+TEST(ImportErrors, NonsenseOptions) {
+  ImportOptions options;
+  options.angular_deflection = -5;
+  std::string path = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  EXPECT_NE(importError(path, options).find("invalid import options"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scanplan

@@ -1,0 +1,166 @@
+// Import of parts with known geometry, made with OCCT in the test: exact counts, areas and
+// volumes; unit conversion; repair of inward and inconsistently oriented shells.
+
+#include "support.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+
+namespace scanplan {
+namespace {
+
+// A 100 x 60 x 40 mm box with a through hole of radius 10 mm along z.
+constexpr double kA = 100, kB = 60, kC = 40, kR = 10;
+const double kArea = 2 * (kA * kB + kB * kC + kA * kC) - 2 * M_PI * kR * kR + 2 * M_PI * kR * kC;
+const double kVolume = kA * kB * kC - M_PI * kR * kR * kC;
+
+TopoDS_Shape boxWithHole() {
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(kA, kB, kC).Shape();
+  TopoDS_Shape hole =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(kA / 2, kB / 2, -1), gp::DZ()), kR, kC + 2).Shape();
+  return BRepAlgoAPI_Cut(box, hole).Shape();
+}
+
+std::string writeBrep(const TopoDS_Shape& shape, const std::string& path) {
+  EXPECT_TRUE(BRepTools::Write(shape, path.c_str()));
+  return path;
+}
+
+std::string writeStep(const TopoDS_Shape& shape, const std::string& path, const char* unit) {
+  STEPControl_Controller::Init();  // declares the static parameters set below
+  Interface_Static::SetCVal("write.step.unit", unit);
+  STEPControl_Writer writer;
+  writer.Transfer(shape, STEPControl_AsIs);
+  EXPECT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
+  Interface_Static::SetCVal("write.step.unit", "MM");
+  return path;
+}
+
+void expectBoxWithHole(const Part& part) {
+  ASSERT_EQ(part.faces.size(), 7u);
+  EXPECT_NEAR(part.area(), kArea, 1e-6 * kArea);
+  EXPECT_NEAR(part.volume(), kVolume, 1e-6 * kVolume);
+  int planes = 0, cylinders = 0;
+  for (const Face& face : part.faces) {
+    planes += face.type == SurfaceType::Plane;
+    cylinders += face.type == SurfaceType::Cylinder;
+  }
+  EXPECT_EQ(planes, 6);
+  EXPECT_EQ(cylinders, 1);
+  EXPECT_TRUE(part.bounds().size().isApprox(Vec3(kA, kB, kC), 1e-3));
+  EdgeReport edges = edgeReport(part.mesh, 1e-6);
+  EXPECT_EQ(edges.boundary + edges.non_manifold + edges.misoriented, 0u);
+  // The mesh's volume is within the chordal error of the exact one: the hole's polygon
+  // is inscribed, so the mesh volume is slightly larger.
+  double mesh_volume = signedVolume(part.mesh);
+  EXPECT_GT(mesh_volume, kVolume);
+  EXPECT_LT(mesh_volume, kVolume + 2 * M_PI * kR * kC * part.linear_deflection);
+}
+
+TEST(GeneratedPart, BoxWithHoleFromBrep) {
+  test::TempDir dir;
+  Part part = importPart(writeBrep(boxWithHole(), dir.file("box.brep")));
+  EXPECT_EQ(part.format, "BREP");
+  expectBoxWithHole(part);
+  for (const Face& face : part.faces) EXPECT_FALSE(face.reoriented);
+}
+
+TEST(GeneratedPart, BoxWithHoleFromStep) {
+  test::TempDir dir;
+  Part part = importPart(writeStep(boxWithHole(), dir.file("box.step"), "MM"));
+  EXPECT_EQ(part.format, "STEP");
+  expectBoxWithHole(part);
+}
+
+TEST(GeneratedPart, InchStepIsConvertedToMillimetres) {
+  test::TempDir dir;
+  Part part = importPart(writeStep(boxWithHole(), dir.file("box_inch.step"), "INCH"));
+  EXPECT_EQ(part.file_unit, "inch");
+  EXPECT_DOUBLE_EQ(part.unit_scale, 25.4);
+  expectBoxWithHole(part);
+}
+
+TEST(GeneratedPart, BoxWithHoleFromIges) {
+  test::TempDir dir;
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 1);  // B-Rep mode
+  writer.AddShape(boxWithHole());
+  writer.ComputeModel();
+  std::string path = dir.file("box.igs");
+  ASSERT_TRUE(writer.Write(path.c_str()));
+  Part part = importPart(path);
+  EXPECT_EQ(part.format, "IGES");
+  EXPECT_EQ(part.faces.size(), 7u);
+  EXPECT_NEAR(part.area(), kArea, 1e-6 * kArea);
+}
+
+TEST(GeneratedPart, ChosenDeflectionIsUsed) {
+  test::TempDir dir;
+  std::string path = writeBrep(boxWithHole(), dir.file("box.brep"));
+  ImportOptions coarse, fine;
+  coarse.linear_deflection = 1.0;
+  fine.linear_deflection = 0.01;
+  Part a = importPart(path, coarse), b = importPart(path, fine);
+  EXPECT_DOUBLE_EQ(a.linear_deflection, 1.0);
+  EXPECT_LT(a.mesh.triangles.size(), b.mesh.triangles.size());
+  // The automatic tolerance follows the part size.
+  Part automatic = importPart(path);
+  EXPECT_NEAR(automatic.linear_deflection,
+              ImportOptions{}.relative_deflection * std::sqrt(kA * kA + kB * kB + kC * kC), 0.01);
+}
+
+TEST(GeneratedPart, InwardSolidIsTurnedOutward) {
+  test::TempDir dir;
+  Part part = importPart(writeBrep(boxWithHole().Reversed(), dir.file("inward.brep")));
+  expectBoxWithHole(part);
+  for (const Face& face : part.faces) EXPECT_TRUE(face.reoriented) << face.id;
+}
+
+TEST(GeneratedPart, InconsistentShellIsRepaired) {
+  // A box whose shell has one face turned the wrong way round.
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(kA, kB, kC).Shape();
+  BRep_Builder builder;
+  TopoDS_Shell shell;
+  builder.MakeShell(shell);
+  int index = 0;
+  for (TopExp_Explorer it(box, TopAbs_FACE); it.More(); it.Next(), ++index)
+    builder.Add(shell, index == 3 ? it.Current().Reversed() : it.Current());
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  test::TempDir dir;
+  Part part = importPart(writeBrep(solid, dir.file("inconsistent.brep")));
+  ASSERT_EQ(part.faces.size(), 6u);
+  int reoriented = 0;
+  for (const Face& face : part.faces) reoriented += face.reoriented;
+  EXPECT_EQ(reoriented, 1);
+  EdgeReport edges = edgeReport(part.mesh, 1e-6);
+  EXPECT_EQ(edges.misoriented, 0u);
+  EXPECT_NEAR(signedVolume(part.mesh), kA * kB * kC, 1e-6 * kA * kB * kC);
+}
+
+TEST(GeneratedPart, FaceLookupRejectsUnknownIds) {
+  test::TempDir dir;
+  Part part = importPart(writeBrep(boxWithHole(), dir.file("box.brep")));
+  EXPECT_EQ(part.face(7).id, 7);
+  EXPECT_THROW(part.face(0), InputError);
+  EXPECT_THROW(part.face(8), InputError);
+}
+
+}  // namespace
+}  // namespace scanplan

@@ -1,0 +1,123 @@
+// Import of the NIST MBE PMI test models against what OCCT's own XDE reports for them
+// (../shared/data/STATS.txt): faces, surface types, GD&T counts; plus the mesh checks
+// every later stage relies on: every face triangulated, closed, outward.
+
+#include "support.h"
+
+#include <scanplan/cad/import.h>
+
+#include <map>
+
+namespace scanplan {
+namespace {
+
+struct NistCase {
+  std::string file;
+  bool committed;  // a copy is in tests/data or examples/parts
+  int faces;
+  std::map<std::string, int> surfaces;
+  std::size_t dimensions, tolerances, datum_labels;
+};
+
+// Expected values: ../shared/data/STATS.txt (OCCT 7.6.3 XDE reader with GD&T mode).
+const std::vector<NistCase> kNistCases = {
+    {"nist_ctc_01_asme1_ap242-e1.stp", true, 117, {{"Cone", 4}, {"Cylinder", 57}, {"Plane", 56}}, 12, 6, 11},
+    {"nist_ctc_02_asme1_ap242-e2.stp", false, 637,
+     {{"BSpline", 34}, {"Cone", 158}, {"Cylinder", 314}, {"Plane", 107}, {"Sphere", 24}}, 7, 22, 87},
+    {"nist_ctc_03_asme1_ap242-e2.stp", true, 120, {{"Cylinder", 58}, {"Plane", 62}}, 10, 12, 26},
+    {"nist_ctc_04_asme1_ap242-e1.stp", false, 484,
+     {{"Cone", 116}, {"Cylinder", 228}, {"Plane", 89}, {"Sphere", 22}, {"Torus", 29}}, 13, 6, 15},
+    {"nist_ftc_06_asme1_ap242-e1.stp", false, 187,
+     {{"Cone", 8}, {"Cylinder", 88}, {"Plane", 71}, {"Sphere", 8}, {"Torus", 12}}, 48, 27, 59},
+    {"nist_ftc_07_asme1_ap242-e2.stp", false, 338,
+     {{"BSpline", 20}, {"Cone", 36}, {"Cylinder", 143}, {"Plane", 97}, {"Sphere", 18}, {"Torus", 24}},
+     21, 24, 56},
+    {"nist_ftc_08_asme1_ap242-e1.stp", false, 248,
+     {{"Cylinder", 134}, {"Plane", 82}, {"Sphere", 20}, {"Torus", 12}}, 13, 33, 76},
+    {"nist_ftc_11_asme1_ap242-e1.stp", true, 8, {{"Cylinder", 2}, {"Plane", 2}, {"Torus", 4}}, 6, 4, 4},
+};
+
+void PrintTo(const NistCase& c, std::ostream* os) { *os << c.file; }
+
+std::string pathOf(const NistCase& c) {
+  if (c.file == "nist_ctc_01_asme1_ap242-e1.stp") return test::example("parts/" + c.file);
+  if (c.committed) return test::testData(c.file);
+  return std::string(SCANPLAN_SHARED_DATA) + "/nist/" + c.file;
+}
+
+class NistImport : public testing::TestWithParam<NistCase> {};
+
+TEST_P(NistImport, MatchesXdeAndMeshIsClosedAndOutward) {
+  const NistCase& c = GetParam();
+  std::string path = pathOf(c);
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  Part part = importPart(path);
+
+  ASSERT_EQ(part.faces.size(), static_cast<std::size_t>(c.faces));
+  std::map<std::string, int> surfaces;
+  for (const Face& face : part.faces) ++surfaces[std::string(toString(face.type))];
+  EXPECT_EQ(surfaces, c.surfaces);
+  EXPECT_EQ(part.gdt.dimensions.size(), c.dimensions);
+  EXPECT_EQ(part.gdt.tolerances.size(), c.tolerances);
+  EXPECT_EQ(part.gdt.datum_labels, c.datum_labels);
+  ASSERT_EQ(part.solids.size(), 1u);
+
+  for (const Face& face : part.faces) {
+    EXPECT_EQ(face.id, &face - part.faces.data() + 1);
+    EXPECT_GT(face.triangle_count, 0) << "face " << face.id << " has no triangles";
+    EXPECT_GT(face.area, 0) << "face " << face.id;
+  }
+  // The solid is closed: after welding coincident nodes every edge of its triangles has
+  // exactly two of them, wound in opposite directions. (Some NIST files add free shells
+  // outside the solid.)
+  TriangleMesh solid = part.meshOf(part.solids.front().faces);
+  EdgeReport edges = edgeReport(solid, 1e-6 * part.bounds().diagonal());
+  EXPECT_EQ(edges.boundary, 0u);
+  EXPECT_EQ(edges.non_manifold, 0u);
+  EXPECT_EQ(edges.misoriented, 0u);
+  // Outward: the mesh encloses the solid's exact volume up to the chordal tolerance.
+  double mesh_volume = signedVolume(solid);
+  EXPECT_GT(mesh_volume, 0);
+  EXPECT_NEAR(mesh_volume, part.volume(), 2 * part.linear_deflection * part.area());
+}
+
+TEST_P(NistImport, ToleranceFacesAreValidIds) {
+  const NistCase& c = GetParam();
+  std::string path = pathOf(c);
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  Part part = importPart(path);
+  std::size_t attached = 0;
+  for (const GeometricTolerance& t : part.gdt.tolerances) {
+    EXPECT_NE(t.type, "unknown");
+    attached += !t.faces.empty();
+    for (int id : t.faces) EXPECT_NO_THROW(part.face(id));
+  }
+  // Every NIST tolerance is attached to geometry.
+  EXPECT_EQ(attached, part.gdt.tolerances.size());
+}
+
+INSTANTIATE_TEST_SUITE_P(Nist, NistImport, testing::ValuesIn(kNistCases),
+                         [](const auto& param_info) {
+                           std::string name = param_info.param.file.substr(0, 11);
+                           for (char& ch : name) if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return name;
+                         });
+
+// The GD&T of FTC 06 as its drawing gives it (NIST FTC definitions): the flatness of
+// datum A is 0.01 in on one face, and datum A is that face.
+TEST(NistGdt, Ftc06FlatnessOfDatumA) {
+  SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_06_asme1_ap242-e1.stp");
+  Part part = importPart(path);
+  const GeometricTolerance& flatness = part.gdt.tolerances.front();
+  EXPECT_EQ(flatness.type, "flatness");
+  EXPECT_NEAR(flatness.value, 0.254, 1e-9);  // 0.01 in
+  ASSERT_EQ(flatness.faces.size(), 1u);
+  auto datum_a = std::find_if(part.gdt.datums.begin(), part.gdt.datums.end(),
+                              [](const Datum& d) { return d.name == "A"; });
+  ASSERT_NE(datum_a, part.gdt.datums.end());
+  EXPECT_EQ(datum_a->faces, flatness.faces);
+  EXPECT_EQ(part.face(flatness.faces.front()).type, SurfaceType::Plane);
+}
+
+}  // namespace
+}  // namespace scanplan
