@@ -89,6 +89,7 @@ TEST_P(NistImport, ToleranceFacesAreValidIds) {
   std::size_t attached = 0;
   for (const GeometricTolerance& t : part.gdt.tolerances) {
     EXPECT_NE(t.type, "unknown");
+    EXPECT_GT(t.value, 0) << t.type << " on faces " << testing::PrintToString(t.faces);
     attached += !t.faces.empty();
     for (int id : t.faces) EXPECT_NO_THROW(part.face(id));
   }
@@ -117,6 +118,33 @@ TEST(NistGdt, Ftc06FlatnessOfDatumA) {
   ASSERT_NE(datum_a, part.gdt.datums.end());
   EXPECT_EQ(datum_a->faces, flatness.faces);
   EXPECT_EQ(part.face(flatness.faces.front()).type, SurfaceType::Plane);
+}
+
+// FTC 06 gives its dimensions in inches as 'nominal value' items; the 12 in distance
+// between faces 22 and 107 (datum B) is the part's width along x.
+TEST(NistGdt, Ftc06DimensionsAreInMillimetres) {
+  SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_06_asme1_ap242-e1.stp");
+  Part part = importPart(path);
+  auto width = std::find_if(part.gdt.dimensions.begin(), part.gdt.dimensions.end(),
+                            [](const Dimension& d) { return d.faces == std::vector<int>{22, 107}; });
+  ASSERT_NE(width, part.gdt.dimensions.end());
+  EXPECT_EQ(width->type, "linear_distance");
+  EXPECT_NEAR(width->value, 12 * 25.4, 1e-9);
+  EXPECT_NEAR(width->value, part.bounds().size().x(), 0.01);
+  EXPECT_NEAR(width->upper, 0.01 * 25.4, 1e-9);  // #16683: 0.01 in, converted by OCCT
+}
+
+// CTC 01 writes every tolerance magnitude as a complex measure entity, which OCCT 7.6
+// reads as 0; the values come from the STEP text. Expected, as the file writes them:
+// #57 FLATNESS_TOLERANCE magnitude #82 = 0.2 mm; #25, #30 position magnitudes #95,
+// #96 = 0.75 mm (unit #4361, SI millimetre).
+TEST(NistGdt, Ctc01ToleranceMagnitudes) {
+  Part part = importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
+  ASSERT_EQ(part.gdt.tolerances.size(), 6u);
+  std::map<std::string, std::vector<double>> values;
+  for (const GeometricTolerance& t : part.gdt.tolerances) values[t.type].push_back(t.value);
+  EXPECT_EQ(values["flatness"], std::vector<double>{0.2});
+  EXPECT_EQ(values["position"], (std::vector<double>{0.75, 0.75}));
 }
 
 }  // namespace

@@ -101,9 +101,14 @@ std::string datumName(const TDF_Label& label) {
   return object->GetName()->String().ToCString();
 }
 
+bool isAngular(const std::string& dimension_type) {
+  return dimension_type == "angular_location" || dimension_type == "angular_size";
+}
+
 }  // namespace
 
-Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup) {
+Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup,
+            const StepPmiMeasures& measures) {
   Gdt gdt;
   Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());
   if (tool.IsNull()) return gdt;
@@ -118,6 +123,11 @@ Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup) {
       if (!object.IsNull()) {
         tolerance.type = toleranceType(object->GetType());
         tolerance.value = object->GetValue();
+        Handle(TCollection_HAsciiString) name = object->GetSemanticName();
+        if (tolerance.value == 0 && !name.IsNull()) {
+          auto found = measures.tolerance_magnitudes.find(name->ToCString());
+          if (found != measures.tolerance_magnitudes.end()) tolerance.value = found->second;
+        }
       }
     }
     TDF_LabelSequence datums;
@@ -137,6 +147,7 @@ Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup) {
       if (!object.IsNull()) {
         dimension.type = dimensionType(object->GetType());
         if (!object->GetValues().IsNull()) dimension.value = object->GetValue();
+        if (!isAngular(dimension.type)) dimension.value *= measures.nominal_value_scale;
         if (object->IsDimWithPlusMinusTolerance()) {
           dimension.lower = object->GetLowerTolValue();
           dimension.upper = object->GetUpperTolValue();

@@ -3,6 +3,7 @@
 // the part's face ids, and reading GD&T.
 
 #include "cad/brep_model.h"
+#include "cad/step_pmi_units.h"
 
 #include <TDF_Label.hxx>
 #include <TDocStd_Document.hxx>
@@ -27,7 +28,9 @@ struct XdeFaceLookup {
 std::string labelEntry(const TDF_Label& label);
 std::string labelName(const TDF_Label& label);  // TDataStd_Name, or ""
 
-// Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI.
-Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup);
+// Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI, with
+// the values OCCT misses taken from `measures`.
+Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup,
+            const StepPmiMeasures& measures);
 
 }  // namespace scanplan::detail

@@ -263,7 +263,8 @@ Part importBRep(const std::string& path, const std::string& format,
   TDF_LabelSequence roots;
   shapes->GetFreeShapes(roots);
   for (const TDF_Label& root : roots) walker.walk(root, TopLoc_Location());
-  if (format == "STEP" && options.read_gdt) part.gdt = readGdt(doc, lookup);
+  if (format == "STEP" && options.read_gdt)
+    part.gdt = readGdt(doc, lookup, scanStepPmiMeasures(path));
   XCAFApp_Application::GetApplication()->Close(doc);
   return part;
 }

@@ -1,0 +1,22 @@
+#pragma once
+// What OCCT 7.6's AP242 PMI reader leaves out, read from the STEP text itself:
+// - tolerance magnitudes written as a complex measure entity
+//   (LENGTH_MEASURE_WITH_UNIT & MEASURE_REPRESENTATION_ITEM), which it reads as 0;
+// - the unit of dimension nominal values written as 'nominal value' measure
+//   representation items, which it leaves unconverted (inches stay inches).
+
+#include <map>
+#include <string>
+
+namespace scanplan::detail {
+
+struct StepPmiMeasures {
+  std::map<std::string, double> tolerance_magnitudes;  // by tolerance name, mm
+  double nominal_value_scale = 1;  // mm per unit of the 'nominal value' items (one unit)
+};
+
+// Scans a STEP Part 21 file. Never throws on content it does not understand: those
+// entries are simply absent from the result.
+StepPmiMeasures scanStepPmiMeasures(const std::string& path);
+
+}  // namespace scanplan::detail
