@@ -6,6 +6,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
 
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -14,12 +15,21 @@
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <Interface_Static.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPCAFControl_Controller.hxx>
+#include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
+#include <TDataStd_Name.hxx>
+#include <TDocStd_Document.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_ColorTool.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
 
 namespace scanplan {
 namespace {
@@ -152,6 +162,52 @@ TEST(GeneratedPart, InconsistentShellIsRepaired) {
   EdgeReport edges = edgeReport(part.mesh, 1e-6);
   EXPECT_EQ(edges.misoriented, 0u);
   EXPECT_NEAR(signedVolume(part.mesh), kA * kB * kC, 1e-6 * kA * kB * kC);
+}
+
+TEST(GeneratedPart, StepNamesAndColoursReachTheFaces) {
+  // An XDE document: the part named HousingBody, its bore named BORE_A and red.
+  Handle(TDocStd_Document) doc;
+  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+  Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  Handle(XCAFDoc_ColorTool) colors = XCAFDoc_DocumentTool::ColorTool(doc->Main());
+  TopoDS_Shape shape = boxWithHole();
+  TDF_Label label = shapes->AddShape(shape, false);
+  TDataStd_Name::Set(label, "HousingBody");
+  TopoDS_Shape bore;
+  for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next())
+    if (BRepAdaptor_Surface(TopoDS::Face(it.Current())).GetType() == GeomAbs_Cylinder) bore = it.Current();
+  TDF_Label bore_label = shapes->AddSubShape(label, bore);
+  TDataStd_Name::Set(bore_label, "BORE_A");
+  colors->SetColor(bore_label, Quantity_Color(1, 0, 0, Quantity_TOC_RGB), XCAFDoc_ColorSurf);
+
+  test::TempDir dir;
+  std::string path = dir.file("named.step");
+  STEPCAFControl_Controller::Init();
+  Interface_Static::SetIVal("write.stepcaf.subshapes.name", 1);
+  STEPCAFControl_Writer writer;
+  ASSERT_TRUE(writer.Transfer(doc, STEPControl_AsIs));
+  ASSERT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
+  Interface_Static::SetIVal("write.stepcaf.subshapes.name", 0);
+  XCAFApp_Application::GetApplication()->Close(doc);
+
+  Part part = importPart(path);
+  ASSERT_EQ(part.faces.size(), 7u);
+  ASSERT_EQ(part.solids.size(), 1u);
+  EXPECT_EQ(part.solids[0].name, "HousingBody");
+  int named = 0;
+  for (const Face& face : part.faces) {
+    if (face.type != SurfaceType::Cylinder) {
+      EXPECT_TRUE(face.name.empty()) << face.name;
+      EXPECT_FALSE(face.color && face.color->g == 0) << "face " << face.id << " is red";
+      continue;
+    }
+    ++named;
+    EXPECT_EQ(face.name, "BORE_A");
+    ASSERT_TRUE(face.color);
+    EXPECT_FLOAT_EQ(face.color->r, 1);
+    EXPECT_FLOAT_EQ(face.color->g, 0);
+  }
+  EXPECT_EQ(named, 1);
 }
 
 TEST(GeneratedPart, FaceLookupRejectsUnknownIds) {

@@ -171,6 +171,7 @@ Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::st
   STEPCAFControl_Controller::Init();
   IGESControl_Controller::Init();
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
+  Interface_Static::SetIVal("read.stepcaf.subshapes.name", 1);  // face names, e.g. DATUM_A
   report(progress, "reading " + format, 0);
   if (format == "STEP") {
     STEPCAFControl_Reader reader;
