@@ -93,8 +93,17 @@ void printInfo(const Part& part) {
     fmt::print("  {:<20} {:g}{}  {}\n", t.type, t.value, datums, faceList(t.faces));
   }
   for (const Datum& d : gdt.datums) fmt::print("  datum {:<14} {}\n", d.name, faceList(d.faces));
-  for (const Dimension& d : gdt.dimensions)
-    fmt::print("  {:<20} {:g}  {}\n", d.type, d.value, faceList(d.faces));
+  std::size_t without_value = 0;
+  for (const Dimension& d : gdt.dimensions) {
+    if (d.value == 0) {
+      ++without_value;
+      continue;
+    }
+    std::string range = d.lower == 0 && d.upper == 0 ? "" : fmt::format(" (-{:g}/+{:g})", d.lower, d.upper);
+    fmt::print("  {:<20} {:g}{}  {}\n", d.type, d.value, range, faceList(d.faces));
+  }
+  if (without_value > 0)
+    fmt::print("  ({} dimension entries without a value: presentation or callout only)\n", without_value);
   for (const std::string& warning : part.warnings) fmt::print("warning: {}\n", warning);
 }
 

@@ -12,6 +12,7 @@
 #include <XCAFDoc_GeomTolerance.hxx>
 
 #include <algorithm>
+#include <cmath>
 
 namespace scanplan::detail {
 namespace {
@@ -149,8 +150,8 @@ Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup,
         if (!object->GetValues().IsNull()) dimension.value = object->GetValue();
         if (!isAngular(dimension.type)) dimension.value *= measures.nominal_value_scale;
         if (object->IsDimWithPlusMinusTolerance()) {
-          dimension.lower = object->GetLowerTolValue();
-          dimension.upper = object->GetUpperTolValue();
+          dimension.lower = std::abs(object->GetLowerTolValue());
+          dimension.upper = std::abs(object->GetUpperTolValue());
         }
       }
     }

@@ -19,7 +19,8 @@ struct GeometricTolerance {
 struct Dimension {
   std::string type;                 // "diameter", "linear_distance", "radius", ...
   double value = 0;                 // nominal value, mm (degrees for angular dimensions)
-  double lower = 0, upper = 0;      // tolerance limits relative to the value; 0 if none
+  double lower = 0, upper = 0;      // allowed deviation below and above the value, as
+                                    // magnitudes (>= 0), mm; both 0 when none is given
   std::vector<int> faces;           // faces of the dimensioned features, both ends
 };
 
