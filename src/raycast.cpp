@@ -1,5 +1,5 @@
-#include <scanplan/raycast.h>
 #include <scanplan/errors.h>
+#include <scanplan/raycast.h>
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -21,7 +21,7 @@ struct RayCaster::Impl {
   std::vector<int> triangle_faces;
   std::vector<Vec3> normals;  // unit outward normal per triangle
   std::mutex error_mutex;
-  std::string error;          // guarded by error_mutex
+  std::string error;  // guarded by error_mutex
   std::atomic<bool> failed{false};
 
   ~Impl() {
@@ -59,9 +59,9 @@ RayCaster::RayCaster(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>())
 
   RTCGeometry geometry = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
   d.check();
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-      std::max<std::size_t>(mesh.vertices.size(), 1)));
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                              3 * sizeof(float), std::max<std::size_t>(mesh.vertices.size(), 1)));
   auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
       std::max<std::size_t>(mesh.triangles.size(), 1)));
@@ -131,29 +131,30 @@ bool RayCaster::occluded(const Ray& ray) const {
 std::vector<std::optional<RayHit>> RayCaster::intersect(std::span<const Ray> rays) const {
   Impl& d = *impl_;
   std::vector<std::optional<RayHit>> hits(rays.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
-    RTCRayHit batch[kPacket];
-    const std::size_t count = range.size();
-    for (std::size_t i = 0; i < count; ++i) {
-      setRay(batch[i].ray, rays[range.begin() + i]);
-      batch[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      batch[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRayHit));
-    for (std::size_t i = 0; i < count; ++i) {
-      if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-      const Ray& ray = rays[range.begin() + i];
-      RayHit hit;
-      hit.t = batch[i].ray.tfar;
-      hit.point = ray.origin + hit.t * ray.direction;
-      hit.triangle = static_cast<int>(batch[i].hit.primID);
-      hit.normal = d.normals[hit.triangle];
-      hit.face = d.triangle_faces[hit.triangle];
-      hits[range.begin() + i] = hit;
-    }
-  });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
+        RTCRayHit batch[kPacket];
+        const std::size_t count = range.size();
+        for (std::size_t i = 0; i < count; ++i) {
+          setRay(batch[i].ray, rays[range.begin() + i]);
+          batch[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          batch[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcIntersect1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRayHit));
+        for (std::size_t i = 0; i < count; ++i) {
+          if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+          const Ray& ray = rays[range.begin() + i];
+          RayHit hit;
+          hit.t = batch[i].ray.tfar;
+          hit.point = ray.origin + hit.t * ray.direction;
+          hit.triangle = static_cast<int>(batch[i].hit.primID);
+          hit.normal = d.normals[hit.triangle];
+          hit.face = d.triangle_faces[hit.triangle];
+          hits[range.begin() + i] = hit;
+        }
+      });
   d.check();
   return hits;
 }
@@ -161,16 +162,17 @@ std::vector<std::optional<RayHit>> RayCaster::intersect(std::span<const Ray> ray
 std::vector<bool> RayCaster::occluded(std::span<const Ray> rays) const {
   Impl& d = *impl_;
   std::vector<char> blocked(rays.size(), 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
-    RTCRay batch[kPacket];
-    const std::size_t count = range.size();
-    for (std::size_t i = 0; i < count; ++i) setRay(batch[i], rays[range.begin() + i]);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    rtcOccluded1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRay));
-    // Embree marks an occluded ray by setting tfar to -inf.
-    for (std::size_t i = 0; i < count; ++i) blocked[range.begin() + i] = batch[i].tfar < 0;
-  });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
+        RTCRay batch[kPacket];
+        const std::size_t count = range.size();
+        for (std::size_t i = 0; i < count; ++i) setRay(batch[i], rays[range.begin() + i]);
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        rtcOccluded1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRay));
+        // Embree marks an occluded ray by setting tfar to -inf.
+        for (std::size_t i = 0; i < count; ++i) blocked[range.begin() + i] = batch[i].tfar < 0;
+      });
   d.check();
   return {blocked.begin(), blocked.end()};
 }

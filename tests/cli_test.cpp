@@ -2,9 +2,9 @@
 
 #include "support.h"
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
-#include <sys/wait.h>
 
 namespace scanplan {
 namespace {
@@ -20,7 +20,8 @@ CommandResult run(const std::string& arguments) {
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer;
-  while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) result.out.append(buffer.data(), n);
+  while (std::size_t n = fread(buffer.data(), 1, buffer.size(), pipe))
+    result.out.append(buffer.data(), n);
   int status = pclose(pipe);
   result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
@@ -50,7 +51,8 @@ TEST(Cli, Ftc06PrintsItsFacesAndTolerances) {
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("faces        187"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("27 tolerances"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("position             0.381 | E | A | B  faces 164"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("position             0.381 | E | A | B  faces 164"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, MissingFileIsExitCodeTwo) {
@@ -64,7 +66,8 @@ TEST(Cli, UnsupportedExtensionIsExitCodeTwo) {
   test::writeText(dir.file("part.dwg"), "x");
   CommandResult r = run("info " + dir.file("part.dwg"));
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.out.rfind("error: " + dir.file("part.dwg") + ": unsupported file type", 0), 0u) << r.out;
+  EXPECT_EQ(r.out.rfind("error: " + dir.file("part.dwg") + ": unsupported file type", 0), 0u)
+      << r.out;
 }
 
 TEST(Cli, EmptyMeshIsExitCodeTwo) {

@@ -25,7 +25,8 @@ std::string importError(const std::string& path, const ImportOptions& options = 
 std::string truncatedCopy(const std::string& from, const std::string& to, double fraction) {
   std::ifstream in(from, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  test::writeText(to, text.substr(0, static_cast<std::size_t>(static_cast<double>(text.size()) * fraction)));
+  test::writeText(
+      to, text.substr(0, static_cast<std::size_t>(static_cast<double>(text.size()) * fraction)));
   return to;
 }
 
@@ -48,7 +49,8 @@ TEST(ImportErrors, EmptyFile) {
 TEST(ImportErrors, UnsupportedExtension) {
   test::TempDir dir;
   test::writeText(dir.file("part.xyz"), "1 2 3\n");
-  EXPECT_NE(importError(dir.file("part.xyz")).find("unsupported file type '.xyz'"), std::string::npos);
+  EXPECT_NE(importError(dir.file("part.xyz")).find("unsupported file type '.xyz'"),
+            std::string::npos);
 }
 
 TEST(ImportErrors, TruncatedStep) {

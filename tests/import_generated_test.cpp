@@ -175,7 +175,8 @@ TEST(GeneratedPart, StepNamesAndColoursReachTheFaces) {
   TDataStd_Name::Set(label, "HousingBody");
   TopoDS_Shape bore;
   for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next())
-    if (BRepAdaptor_Surface(TopoDS::Face(it.Current())).GetType() == GeomAbs_Cylinder) bore = it.Current();
+    if (BRepAdaptor_Surface(TopoDS::Face(it.Current())).GetType() == GeomAbs_Cylinder)
+      bore = it.Current();
   TDF_Label bore_label = shapes->AddSubShape(label, bore);
   TDataStd_Name::Set(bore_label, "BORE_A");
   colors->SetColor(bore_label, Quantity_Color(1, 0, 0, Quantity_TOC_RGB), XCAFDoc_ColorSurf);

@@ -21,20 +21,61 @@ struct NistCase {
 
 // Expected values: ../shared/data/STATS.txt (OCCT 7.6.3 XDE reader with GD&T mode).
 const std::vector<NistCase> kNistCases = {
-    {"nist_ctc_01_asme1_ap242-e1.stp", true, 117, {{"Cone", 4}, {"Cylinder", 57}, {"Plane", 56}}, 12, 6, 11},
-    {"nist_ctc_02_asme1_ap242-e2.stp", false, 637,
-     {{"BSpline", 34}, {"Cone", 158}, {"Cylinder", 314}, {"Plane", 107}, {"Sphere", 24}}, 7, 22, 87},
+    {"nist_ctc_01_asme1_ap242-e1.stp",
+     true,
+     117,
+     {{"Cone", 4}, {"Cylinder", 57}, {"Plane", 56}},
+     12,
+     6,
+     11},
+    {"nist_ctc_02_asme1_ap242-e2.stp",
+     false,
+     637,
+     {{"BSpline", 34}, {"Cone", 158}, {"Cylinder", 314}, {"Plane", 107}, {"Sphere", 24}},
+     7,
+     22,
+     87},
     {"nist_ctc_03_asme1_ap242-e2.stp", true, 120, {{"Cylinder", 58}, {"Plane", 62}}, 10, 12, 26},
-    {"nist_ctc_04_asme1_ap242-e1.stp", false, 484,
-     {{"Cone", 116}, {"Cylinder", 228}, {"Plane", 89}, {"Sphere", 22}, {"Torus", 29}}, 13, 6, 15},
-    {"nist_ftc_06_asme1_ap242-e1.stp", false, 187,
-     {{"Cone", 8}, {"Cylinder", 88}, {"Plane", 71}, {"Sphere", 8}, {"Torus", 12}}, 48, 27, 59},
-    {"nist_ftc_07_asme1_ap242-e2.stp", false, 338,
-     {{"BSpline", 20}, {"Cone", 36}, {"Cylinder", 143}, {"Plane", 97}, {"Sphere", 18}, {"Torus", 24}},
-     21, 24, 56},
-    {"nist_ftc_08_asme1_ap242-e1.stp", false, 248,
-     {{"Cylinder", 134}, {"Plane", 82}, {"Sphere", 20}, {"Torus", 12}}, 13, 33, 76},
-    {"nist_ftc_11_asme1_ap242-e1.stp", true, 8, {{"Cylinder", 2}, {"Plane", 2}, {"Torus", 4}}, 6, 4, 4},
+    {"nist_ctc_04_asme1_ap242-e1.stp",
+     false,
+     484,
+     {{"Cone", 116}, {"Cylinder", 228}, {"Plane", 89}, {"Sphere", 22}, {"Torus", 29}},
+     13,
+     6,
+     15},
+    {"nist_ftc_06_asme1_ap242-e1.stp",
+     false,
+     187,
+     {{"Cone", 8}, {"Cylinder", 88}, {"Plane", 71}, {"Sphere", 8}, {"Torus", 12}},
+     48,
+     27,
+     59},
+    {"nist_ftc_07_asme1_ap242-e2.stp",
+     false,
+     338,
+     {{"BSpline", 20},
+      {"Cone", 36},
+      {"Cylinder", 143},
+      {"Plane", 97},
+      {"Sphere", 18},
+      {"Torus", 24}},
+     21,
+     24,
+     56},
+    {"nist_ftc_08_asme1_ap242-e1.stp",
+     false,
+     248,
+     {{"Cylinder", 134}, {"Plane", 82}, {"Sphere", 20}, {"Torus", 12}},
+     13,
+     33,
+     76},
+    {"nist_ftc_11_asme1_ap242-e1.stp",
+     true,
+     8,
+     {{"Cylinder", 2}, {"Plane", 2}, {"Torus", 4}},
+     6,
+     4,
+     4},
 };
 
 void PrintTo(const NistCase& c, std::ostream* os) { *os << c.file; }
@@ -100,7 +141,8 @@ TEST_P(NistImport, ToleranceFacesAreValidIds) {
 INSTANTIATE_TEST_SUITE_P(Nist, NistImport, testing::ValuesIn(kNistCases),
                          [](const auto& param_info) {
                            std::string name = param_info.param.file.substr(0, 11);
-                           for (char& ch : name) if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           for (char& ch : name)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return name;
                          });
 
@@ -125,8 +167,10 @@ TEST(NistGdt, Ftc06FlatnessOfDatumA) {
 TEST(NistGdt, Ftc06DimensionsAreInMillimetres) {
   SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_06_asme1_ap242-e1.stp");
   Part part = importPart(path);
-  auto width = std::find_if(part.gdt.dimensions.begin(), part.gdt.dimensions.end(),
-                            [](const Dimension& d) { return d.faces == std::vector<int>{22, 107}; });
+  auto width =
+      std::find_if(part.gdt.dimensions.begin(), part.gdt.dimensions.end(), [](const Dimension& d) {
+        return d.faces == std::vector<int>{22, 107};
+      });
   ASSERT_NE(width, part.gdt.dimensions.end());
   EXPECT_EQ(width->type, "linear_distance");
   EXPECT_NEAR(width->value, 12 * 25.4, 1e-9);

@@ -37,7 +37,9 @@ std::string asciiStl(const TriangleMesh& mesh) {
 
 std::string binaryStl(const TriangleMesh& mesh) {
   std::string out(80, ' ');
-  auto put = [&](const void* data, std::size_t size) { out.append(static_cast<const char*>(data), size); };
+  auto put = [&](const void* data, std::size_t size) {
+    out.append(static_cast<const char*>(data), size);
+  };
   auto count = static_cast<std::uint32_t>(mesh.triangles.size());
   put(&count, 4);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -77,7 +79,8 @@ std::string ply(const TriangleMesh& mesh, bool binary, bool with_groups) {
   out << "end_header\n";
   for (const Vec3& p : mesh.vertices) {
     if (binary) {
-      float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+      float xyz[3] = {static_cast<float>(p.x()), static_cast<float>(p.y()),
+                      static_cast<float>(p.z())};
       out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
     } else {
       out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
@@ -91,10 +94,12 @@ std::string ply(const TriangleMesh& mesh, bool binary, bool with_groups) {
     if (binary) {
       unsigned char n = 3;
       out.write(reinterpret_cast<const char*>(&n), 1);
-      for (int k = 0; k < 3; ++k) out.write(reinterpret_cast<const char*>(&mesh.triangles[t][k]), 4);
+      for (int k = 0; k < 3; ++k)
+        out.write(reinterpret_cast<const char*>(&mesh.triangles[t][k]), 4);
       if (with_groups) out.write(reinterpret_cast<const char*>(&group), 4);
     } else {
-      out << "3 " << mesh.triangles[t][0] << ' ' << mesh.triangles[t][1] << ' ' << mesh.triangles[t][2];
+      out << "3 " << mesh.triangles[t][0] << ' ' << mesh.triangles[t][1] << ' '
+          << mesh.triangles[t][2];
       if (with_groups) out << ' ' << group;
       out << '\n';
     }

@@ -5,19 +5,23 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace scanplan::test {
 
-inline std::string testData(const std::string& name) { return std::string(SCANPLAN_TEST_DATA) + "/" + name; }
-inline std::string example(const std::string& name) { return std::string(SCANPLAN_EXAMPLES) + "/" + name; }
+inline std::string testData(const std::string& name) {
+  return std::string(SCANPLAN_TEST_DATA) + "/" + name;
+}
+inline std::string example(const std::string& name) {
+  return std::string(SCANPLAN_EXAMPLES) + "/" + name;
+}
 
 // A file of ../shared/data; the test is skipped when the shared data is not there.
-#define SHARED_DATA_OR_SKIP(var, relative)                                                  \
-  std::string var = std::string(SCANPLAN_SHARED_DATA) + "/" + (relative);                  \
+#define SHARED_DATA_OR_SKIP(var, relative)                                \
+  std::string var = std::string(SCANPLAN_SHARED_DATA) + "/" + (relative); \
   if (!std::filesystem::exists(var)) GTEST_SKIP() << "shared data not found: " << var
 
 // A fresh folder under the system temp dir, removed with the object.

@@ -31,10 +31,14 @@ json infoJson(const Part& part) {
     solids.push_back({{"name", solid.name}, {"volume", solid.volume}, {"faces", solid.faces}});
   json tolerances = json::array(), dimensions = json::array(), datums = json::array();
   for (const GeometricTolerance& t : part.gdt.tolerances)
-    tolerances.push_back({{"type", t.type}, {"value", t.value}, {"datums", t.datums}, {"faces", t.faces}});
+    tolerances.push_back(
+        {{"type", t.type}, {"value", t.value}, {"datums", t.datums}, {"faces", t.faces}});
   for (const Dimension& d : part.gdt.dimensions)
-    dimensions.push_back({{"type", d.type}, {"value", d.value}, {"lower", d.lower},
-                          {"upper", d.upper}, {"faces", d.faces}});
+    dimensions.push_back({{"type", d.type},
+                          {"value", d.value},
+                          {"lower", d.lower},
+                          {"upper", d.upper},
+                          {"faces", d.faces}});
   for (const Datum& d : part.gdt.datums) datums.push_back({{"name", d.name}, {"faces", d.faces}});
   int reoriented = 0, free_faces = 0;
   for (const Face& face : part.faces) {
@@ -46,7 +50,8 @@ json infoJson(const Part& part) {
       {"format", part.format},
       {"units", "mm"},
       {"file_unit", part.file_unit},
-      {"bounds", {{"min", toJson(box.min)}, {"max", toJson(box.max)}, {"size", toJson(box.size())}}},
+      {"bounds",
+       {{"min", toJson(box.min)}, {"max", toJson(box.max)}, {"size", toJson(box.size())}}},
       {"solids", solids},
       {"faces", part.faces.size()},
       {"surface_types", surfaceHistogram(part)},
@@ -55,8 +60,9 @@ json infoJson(const Part& part) {
       {"triangles", part.mesh.triangles.size()},
       {"area", part.area()},
       {"volume", part.volume()},
-      {"mesh", {{"linear_deflection", part.linear_deflection},
-                {"angular_deflection", part.angular_deflection * 180 / M_PI}}},
+      {"mesh",
+       {{"linear_deflection", part.linear_deflection},
+        {"angular_deflection", part.angular_deflection * 180 / M_PI}}},
       {"gdt", {{"tolerances", tolerances}, {"dimensions", dimensions}, {"datums", datums}}},
       {"warnings", part.warnings},
   };
@@ -99,11 +105,13 @@ void printInfo(const Part& part) {
       ++without_value;
       continue;
     }
-    std::string range = d.lower == 0 && d.upper == 0 ? "" : fmt::format(" (-{:g}/+{:g})", d.lower, d.upper);
+    std::string range =
+        d.lower == 0 && d.upper == 0 ? "" : fmt::format(" (-{:g}/+{:g})", d.lower, d.upper);
     fmt::print("  {:<20} {:g}{}  {}\n", d.type, d.value, range, faceList(d.faces));
   }
   if (without_value > 0)
-    fmt::print("  ({} dimension entries without a value: presentation or callout only)\n", without_value);
+    fmt::print("  ({} dimension entries without a value: presentation or callout only)\n",
+               without_value);
   for (const std::string& warning : part.warnings) fmt::print("warning: {}\n", warning);
 }
 
@@ -116,19 +124,24 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected
     ImportOptions import;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* command = app.add_subcommand("info", "Show what scanplan reads from a CAD or mesh file");
-  command->add_option("file", options->file, "STEP, IGES, BREP, STL, OBJ, PLY or OFF file")->required();
+  CLI::App* command =
+      app.add_subcommand("info", "Show what scanplan reads from a CAD or mesh file");
+  command->add_option("file", options->file, "STEP, IGES, BREP, STL, OBJ, PLY or OFF file")
+      ->required();
   command->add_flag("--json", options->json, "Print the information as one JSON object");
   command->add_option("--deflection", options->import.linear_deflection,
                       "Chordal tolerance of the mesh in mm (default: from the part size)");
-  command->add_option("--sharp-angle", options->import.sharp_angle,
-                      "Meshes without groups are split into faces at edges sharper than this (degrees)");
+  command->add_option(
+      "--sharp-angle", options->import.sharp_angle,
+      "Meshes without groups are split into faces at edges sharper than this (degrees)");
   command->callback([options, &global, &selected] {
     selected = [options, &global] {
       Part part = importPart(options->file, options->import, terminalProgress(global.quiet));
       clearProgress();
-      if (options->json) std::cout << infoJson(part).dump(2) << '\n';
-      else printInfo(part);
+      if (options->json)
+        std::cout << infoJson(part).dump(2) << '\n';
+      else
+        printInfo(part);
       return 0;
     };
   });

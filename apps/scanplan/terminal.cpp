@@ -1,9 +1,9 @@
 #include "terminal.h"
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdio>
 #include <mutex>
-#include <unistd.h>
 
 namespace scanplan::cli {
 namespace {

@@ -11,10 +11,10 @@ namespace scanplan {
 // Exit codes of the command-line tool, one per error class.
 enum ExitCode : int {
   kExitOk = 0,
-  kExitUsage = 1,        // bad command line
-  kExitInput = 2,        // unreadable or invalid input (file, spec, parameter)
-  kExitPlanning = 3,     // planning failed
-  kExitOutput = 4,       // an output could not be written
+  kExitUsage = 1,     // bad command line
+  kExitInput = 2,     // unreadable or invalid input (file, spec, parameter)
+  kExitPlanning = 3,  // planning failed
+  kExitOutput = 4,    // an output could not be written
 };
 
 // Base of all scanplan errors. `file()` names the input or output concerned (may be

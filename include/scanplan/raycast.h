@@ -23,11 +23,11 @@ struct Ray {
 };
 
 struct RayHit {
-  double t = 0;            // ray parameter of the hit
+  double t = 0;  // ray parameter of the hit
   Vec3 point = Vec3::Zero();
   Vec3 normal = Vec3::Zero();  // unit outward normal of the triangle hit
-  int triangle = -1;       // index into the mesh's triangles
-  int face = 0;            // 1-based face id of that triangle
+  int triangle = -1;           // index into the mesh's triangles
+  int face = 0;                // 1-based face id of that triangle
 };
 
 // Owns an Embree device and a scene built once from a mesh (or several: the part plus
@@ -60,7 +60,6 @@ class RayCaster {
 };
 
 // One-off closest-hit query for tools and tests; builds a scene for the call.
-std::vector<std::optional<RayHit>> castRays(const TriangleMesh& mesh,
-                                            std::span<const Ray> rays);
+std::vector<std::optional<RayHit>> castRays(const TriangleMesh& mesh, std::span<const Ray> rays);
 
 }  // namespace scanplan

@@ -6,11 +6,11 @@
 namespace scanplan::detail {
 
 // STEP, IGES ("STEP", "IGES") through XDE, or OCCT BREP ("BREP").
-Part importBRep(const std::string& path, const std::string& format,
-                const ImportOptions& options, const Progress& progress);
+Part importBRep(const std::string& path, const std::string& format, const ImportOptions& options,
+                const Progress& progress);
 
 // STL, OBJ, PLY, OFF triangle meshes ("STL", "OBJ", "PLY", "OFF").
-Part importMesh(const std::string& path, const std::string& format,
-                const ImportOptions& options, const Progress& progress);
+Part importMesh(const std::string& path, const std::string& format, const ImportOptions& options,
+                const Progress& progress);
 
 }  // namespace scanplan::detail

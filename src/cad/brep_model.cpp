@@ -2,6 +2,7 @@
 
 #include <scanplan/errors.h>
 
+#include <tbb/parallel_for.h>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepGProp.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
@@ -14,7 +15,6 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
-#include <tbb/parallel_for.h>
 
 #include <cmath>
 

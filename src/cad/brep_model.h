@@ -14,9 +14,9 @@
 namespace scanplan::detail {
 
 struct BRepModel {
-  TopoDS_Shape shape;               // the whole part in millimetres
-  TopTools_IndexedMapOfShape faces; // index i is face id i (1-based), MapShapes order
-  std::vector<bool> reversed;       // per face id - 1: outward is opposite to faces(id)
+  TopoDS_Shape shape;                // the whole part in millimetres
+  TopTools_IndexedMapOfShape faces;  // index i is face id i (1-based), MapShapes order
+  std::vector<bool> reversed;        // per face id - 1: outward is opposite to faces(id)
 
   // Face `id` oriented so that its normal (BRepAdaptor_Surface with orientation) points
   // out of the material.

@@ -62,13 +62,11 @@ std::string dimensionType(XCAFDimTolObjects_DimensionType type) {
     case XCAFDimTolObjects_DimensionType_Size_ToroidalMinorDiameter:
     case XCAFDimTolObjects_DimensionType_Size_ToroidalMajorDiameter:
     case XCAFDimTolObjects_DimensionType_Size_ToroidalHighMajorDiameter:
-    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorDiameter:
-      return "toroidal_diameter";
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorDiameter: return "toroidal_diameter";
     case XCAFDimTolObjects_DimensionType_Size_ToroidalMinorRadius:
     case XCAFDimTolObjects_DimensionType_Size_ToroidalMajorRadius:
     case XCAFDimTolObjects_DimensionType_Size_ToroidalHighMajorRadius:
-    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorRadius:
-      return "toroidal_radius";
+    case XCAFDimTolObjects_DimensionType_Size_ToroidalLowMajorRadius: return "toroidal_radius";
     case XCAFDimTolObjects_DimensionType_Size_Thickness: return "thickness";
     case XCAFDimTolObjects_DimensionType_Size_Angular: return "angular_size";
     case XCAFDimTolObjects_DimensionType_Size_WithPath: return "size_with_path";
@@ -79,7 +77,7 @@ std::string dimensionType(XCAFDimTolObjects_DimensionType type) {
 }
 
 // Faces of all shapes a GD&T label is attached to (both ends of a dimension).
-std::vector<int> attachedFaces(const Handle(XCAFDoc_DimTolTool)& tool, const TDF_Label& label,
+std::vector<int> attachedFaces(const Handle(XCAFDoc_DimTolTool) & tool, const TDF_Label& label,
                                const XdeFaceLookup& lookup) {
   TDF_LabelSequence first, second;
   tool->GetRefShapeLabel(label, first, second);
@@ -108,7 +106,7 @@ bool isAngular(const std::string& dimension_type) {
 
 }  // namespace
 
-Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup,
+Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
             const StepPmiMeasures& measures) {
   Gdt gdt;
   Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());

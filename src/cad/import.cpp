@@ -79,8 +79,9 @@ std::string formatOf(const std::string& path) {
   if (ext == ".obj") return "OBJ";
   if (ext == ".ply") return "PLY";
   if (ext == ".off") return "OFF";
-  throw InputError(path, "unsupported file type '" + ext +
-                             "' (expected .step/.stp, .iges/.igs, .brep, .stl, .obj, .ply or .off)");
+  throw InputError(path,
+                   "unsupported file type '" + ext +
+                       "' (expected .step/.stp, .iges/.igs, .brep, .stl, .obj, .ply or .off)");
 }
 
 // The first and last `n` bytes of a file, to check its framing cheaply.
@@ -129,9 +130,10 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   if (!(options.linear_deflection >= 0) || !(options.relative_deflection > 0) ||
       !(options.angular_deflection > 0 && options.angular_deflection < 90) ||
       !(options.sharp_angle >= 0 && options.sharp_angle <= 180) || !(options.mesh_unit > 0))
-    throw InputError(path, "invalid import options (deflections and mesh unit must be positive, "
-                           "the angular deflection within (0, 90) degrees, the sharp-edge angle "
-                           "within [0, 180] degrees)");
+    throw InputError(path,
+                     "invalid import options (deflections and mesh unit must be positive, "
+                     "the angular deflection within (0, 90) degrees, the sharp-edge angle "
+                     "within [0, 180] degrees)");
 
   std::string format = formatOf(path);
   if (format == "STEP") checkStepFraming(path);

@@ -48,10 +48,12 @@ std::vector<int> weldVertices(const std::vector<Vec3>& vertices, double toleranc
       std::size_t h = std::hash<double>()(p.x()) ^ (std::hash<double>()(p.y()) * 31) ^
                       (std::hash<double>()(p.z()) * 961);
       auto& bucket = buckets[h];
-      auto same = std::find_if(bucket.begin(), bucket.end(),
-                               [&](int j) { return vertices[j] == p; });
-      if (same != bucket.end()) representative[i] = *same;
-      else bucket.push_back(static_cast<int>(i));
+      auto same =
+          std::find_if(bucket.begin(), bucket.end(), [&](int j) { return vertices[j] == p; });
+      if (same != bucket.end())
+        representative[i] = *same;
+      else
+        bucket.push_back(static_cast<int>(i));
     }
     return representative;
   }
@@ -112,9 +114,12 @@ EdgeReport edgeReport(const TriangleMesh& mesh, double weld_tolerance) {
   report.edges = edges.size();
   for (const auto& [key, uses] : edges) {
     int total = uses.forward + uses.backward;
-    if (total == 1) ++report.boundary;
-    else if (total > 2) ++report.non_manifold;
-    else if (uses.forward != 1) ++report.misoriented;
+    if (total == 1)
+      ++report.boundary;
+    else if (total > 2)
+      ++report.non_manifold;
+    else if (uses.forward != 1)
+      ++report.misoriented;
   }
   return report;
 }

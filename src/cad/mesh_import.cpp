@@ -134,7 +134,8 @@ RawMesh readOff(const std::string& path) {
                                  std::to_string(faces) + " is missing");
     polygon.resize(n);
     for (int& index : polygon)
-      if (!(body >> index)) throw InputError(path, "truncated OFF file in face " + std::to_string(i + 1));
+      if (!(body >> index))
+        throw InputError(path, "truncated OFF file in face " + std::to_string(i + 1));
     std::getline(body, rest);  // optional face colour
     addPolygon(mesh, polygon, -1, path);
   }
@@ -248,8 +249,8 @@ class PlyReader {
   static std::size_t typeSize(const std::string& type) {
     if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
     if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
-        type == "float" || type == "float32")
+    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+        type == "float32")
       return 4;
     if (type == "double" || type == "float64") return 8;
     return 0;
@@ -298,7 +299,8 @@ std::vector<int> regionOfTriangles(const TriangleMesh& mesh, const std::vector<i
     for (int k = 0; k < 3; ++k) {
       auto a = static_cast<std::uint64_t>(mesh.triangles[t][k]);
       auto b = static_cast<std::uint64_t>(mesh.triangles[t][(k + 1) % 3]);
-      if (a != b) edge_triangles[(std::min(a, b) << 32) | std::max(a, b)].push_back(static_cast<int>(t));
+      if (a != b)
+        edge_triangles[(std::min(a, b) << 32) | std::max(a, b)].push_back(static_cast<int>(t));
     }
   std::vector<Vec3> normals(n);
   for (std::size_t t = 0; t < n; ++t) normals[t] = mesh.normal(t);
@@ -318,8 +320,7 @@ std::vector<int> regionOfTriangles(const TriangleMesh& mesh, const std::vector<i
   for (const auto& [edge, triangles] : edge_triangles)
     for (std::size_t i = 0; i < triangles.size(); ++i)
       for (std::size_t j = i + 1; j < triangles.size(); ++j)
-        if (joins(triangles[i], triangles[j]))
-          parent[find(triangles[i])] = find(triangles[j]);
+        if (joins(triangles[i], triangles[j])) parent[find(triangles[i])] = find(triangles[j]);
   std::vector<int> region(n);
   for (std::size_t t = 0; t < n; ++t) region[t] = find(static_cast<int>(t));
   return region;
@@ -327,8 +328,8 @@ std::vector<int> regionOfTriangles(const TriangleMesh& mesh, const std::vector<i
 
 }  // namespace
 
-Part importMesh(const std::string& path, const std::string& format,
-                const ImportOptions& options, const Progress& progress) {
+Part importMesh(const std::string& path, const std::string& format, const ImportOptions& options,
+                const Progress& progress) {
   report(progress, "reading " + format, 0);
   RawMesh raw = format == "STL"   ? readStl(path)
                 : format == "OBJ" ? readObj(path)
@@ -406,8 +407,8 @@ Part importMesh(const std::string& path, const std::string& format,
     part.solids.push_back(std::move(solid));
   } else {
     part.warnings.push_back("the mesh is not closed (" + std::to_string(edges.boundary) +
-                            " boundary, " + std::to_string(edges.non_manifold) +
-                            " non-manifold, " + std::to_string(edges.misoriented) +
+                            " boundary, " + std::to_string(edges.non_manifold) + " non-manifold, " +
+                            std::to_string(edges.misoriented) +
                             " inconsistently wound edges): inside and outside are not checked");
   }
   report(progress, "splitting mesh into faces", 1);

@@ -30,7 +30,7 @@ std::string labelName(const TDF_Label& label);  // TDataStd_Name, or ""
 
 // Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI, with
 // the values OCCT misses taken from `measures`.
-Gdt readGdt(const Handle(TDocStd_Document)& doc, const XdeFaceLookup& lookup,
+Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
             const StepPmiMeasures& measures);
 
 }  // namespace scanplan::detail

@@ -18,8 +18,8 @@
 #include <STEPCAFControl_Controller.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
-#include <TCollection_AsciiString.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
+#include <TCollection_AsciiString.hxx>
 #include <TDF_LabelSequence.hxx>
 #include <TDF_Tool.hxx>
 #include <TDataStd_Name.hxx>
@@ -93,7 +93,7 @@ double millimetresPer(const std::string& unit) {
 // each solid, and the names and colours attached to shapes and sub-shapes.
 class XdeWalker {
  public:
-  XdeWalker(const Handle(TDocStd_Document)& doc, Part& part, const BRepModel& model,
+  XdeWalker(const Handle(TDocStd_Document) & doc, Part& part, const BRepModel& model,
             XdeFaceLookup& lookup)
       : shapes_(XCAFDoc_DocumentTool::ShapeTool(doc->Main())),
         colors_(XCAFDoc_DocumentTool::ColorTool(doc->Main())),
@@ -133,7 +133,7 @@ class XdeWalker {
   void annotate(const TDF_Label& label, const TopoDS_Shape& shape, bool name_faces) {
     Quantity_Color color;
     bool has_color = !colors_.IsNull() && (colors_->GetColor(label, XCAFDoc_ColorSurf, color) ||
-                                          colors_->GetColor(label, XCAFDoc_ColorGen, color));
+                                           colors_->GetColor(label, XCAFDoc_ColorGen, color));
     std::string name = name_faces ? labelName(label) : std::string();
     if (!has_color && name.empty()) return;
     for (TopExp_Explorer it(shape, TopAbs_FACE); it.More(); it.Next()) {
@@ -162,9 +162,9 @@ Handle(TDocStd_Document) newDocument() {
 }
 
 // Reads a STEP or IGES file into a new XDE document, filling the file's declared unit.
-Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::string& format,
-                                          const ImportOptions& options, Part& part,
-                                          const Progress& progress) {
+Handle(TDocStd_Document)
+    readExchangeFile(const std::string& path, const std::string& format,
+                     const ImportOptions& options, Part& part, const Progress& progress) {
   Handle(TDocStd_Document) doc = newDocument();
   // Shapes are converted to millimetres on transfer, whatever the file declares. The
   // controllers declare the static parameter; setting it before they run is a no-op.
@@ -208,7 +208,7 @@ Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::st
   return doc;
 }
 
-TopoDS_Shape freeShapes(const Handle(TDocStd_Document)& doc) {
+TopoDS_Shape freeShapes(const Handle(TDocStd_Document) & doc) {
   Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
   TDF_LabelSequence roots;
   shapes->GetFreeShapes(roots);
@@ -233,8 +233,8 @@ double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options)
 
 }  // namespace
 
-Part importBRep(const std::string& path, const std::string& format,
-                const ImportOptions& options, const Progress& progress) {
+Part importBRep(const std::string& path, const std::string& format, const ImportOptions& options,
+                const Progress& progress) {
   Part part;
   part.file = path;
   part.format = format;

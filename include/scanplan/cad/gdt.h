@@ -17,25 +17,25 @@ struct GeometricTolerance {
 
 // A dimension with its tolerance (size or location).
 struct Dimension {
-  std::string type;                 // "diameter", "linear_distance", "radius", ...
-  double value = 0;                 // nominal value, mm (degrees for angular dimensions)
-  double lower = 0, upper = 0;      // allowed deviation below and above the value, as
-                                    // magnitudes (>= 0), mm; both 0 when none is given
-  std::vector<int> faces;           // faces of the dimensioned features, both ends
+  std::string type;             // "diameter", "linear_distance", "radius", ...
+  double value = 0;             // nominal value, mm (degrees for angular dimensions)
+  double lower = 0, upper = 0;  // allowed deviation below and above the value, as
+                                // magnitudes (>= 0), mm; both 0 when none is given
+  std::vector<int> faces;       // faces of the dimensioned features, both ends
 };
 
 // A datum feature: the faces that establish datum `name`.
 struct Datum {
-  std::string name;                 // "A", "B", ...
+  std::string name;  // "A", "B", ...
   std::vector<int> faces;
 };
 
 struct Gdt {
   std::vector<GeometricTolerance> tolerances;
   std::vector<Dimension> dimensions;
-  std::vector<Datum> datums;        // one per datum letter, faces merged
-  std::size_t datum_labels = 0;     // datum entries in the file (AP242 repeats a datum
-                                    // for each tolerance frame that references it)
+  std::vector<Datum> datums;     // one per datum letter, faces merged
+  std::size_t datum_labels = 0;  // datum entries in the file (AP242 repeats a datum
+                                 // for each tolerance frame that references it)
 
   bool empty() const { return tolerances.empty() && dimensions.empty() && datums.empty(); }
 };

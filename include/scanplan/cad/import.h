@@ -9,13 +9,13 @@
 namespace scanplan {
 
 struct ImportOptions {
-  double linear_deflection = 0;    // chordal tolerance of the mesh, mm; 0: chosen from size
+  double linear_deflection = 0;       // chordal tolerance of the mesh, mm; 0: chosen from size
   double relative_deflection = 5e-4;  // automatic chordal tolerance / bounding-box diagonal
-  double angular_deflection = 20;  // largest angle between adjacent mesh normals, degrees
-  double sharp_angle = 30;         // meshes without groups split into faces at edges whose
-                                   // dihedral angle exceeds this, degrees
-  double mesh_unit = 1;            // millimetres per unit of a mesh file (meshes carry none)
-  bool read_gdt = true;            // read AP242 semantic PMI from STEP files
+  double angular_deflection = 20;     // largest angle between adjacent mesh normals, degrees
+  double sharp_angle = 30;            // meshes without groups split into faces at edges whose
+                                      // dihedral angle exceeds this, degrees
+  double mesh_unit = 1;               // millimetres per unit of a mesh file (meshes carry none)
+  bool read_gdt = true;               // read AP242 semantic PMI from STEP files
 };
 
 // Reads a part from `path`: STEP (.step/.stp, AP203/214/242), IGES (.iges/.igs), OCCT

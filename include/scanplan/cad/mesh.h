@@ -13,8 +13,8 @@ namespace scanplan {
 // contiguous.
 struct TriangleMesh {
   std::vector<Vec3> vertices;
-  std::vector<Vec3i> triangles;      // vertex indices
-  std::vector<int> triangle_faces;   // face id per triangle, 1-based
+  std::vector<Vec3i> triangles;     // vertex indices
+  std::vector<int> triangle_faces;  // face id per triangle, 1-based
 
   bool empty() const { return triangles.empty(); }
   Vec3 normal(std::size_t t) const;  // unit outward normal; zero for a degenerate triangle

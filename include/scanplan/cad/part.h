@@ -15,8 +15,18 @@
 namespace scanplan {
 
 enum class SurfaceType {
-  Plane, Cylinder, Cone, Sphere, Torus, BSpline, Bezier, Revolution, Extrusion, Offset,
-  Other, Mesh  // Mesh: a face of a triangle-mesh input
+  Plane,
+  Cylinder,
+  Cone,
+  Sphere,
+  Torus,
+  BSpline,
+  Bezier,
+  Revolution,
+  Extrusion,
+  Offset,
+  Other,
+  Mesh  // Mesh: a face of a triangle-mesh input
 };
 std::string_view toString(SurfaceType type);
 
@@ -27,23 +37,23 @@ struct Color {
 // One face of the part. Faces of a B-Rep are numbered in TopExp::MapShapes order over
 // the imported shape (DESIGN.md §3); faces of a mesh by group or sharp-edge region.
 struct Face {
-  int id = 0;                   // 1-based
+  int id = 0;  // 1-based
   SurfaceType type = SurfaceType::Other;
-  double area = 0;              // mm², of the exact surface (B-Rep) or the triangles
-  Box bounds;                   // mm, part frame
-  int solid = -1;               // index into Part::solids; -1 when in no solid
-  bool reoriented = false;      // its orientation was flipped to point outward on import
-  std::string name;             // from the file (STEP/IGES name or mesh group), may be empty
-  std::optional<Color> color;   // surface colour from the file
-  int first_triangle = 0;       // its triangles in Part::mesh: [first, first + count)
+  double area = 0;             // mm², of the exact surface (B-Rep) or the triangles
+  Box bounds;                  // mm, part frame
+  int solid = -1;              // index into Part::solids; -1 when in no solid
+  bool reoriented = false;     // its orientation was flipped to point outward on import
+  std::string name;            // from the file (STEP/IGES name or mesh group), may be empty
+  std::optional<Color> color;  // surface colour from the file
+  int first_triangle = 0;      // its triangles in Part::mesh: [first, first + count)
   int triangle_count = 0;
 };
 
 // A solid (or, for shells and free faces, a body) of the part.
 struct Solid {
-  std::string name;             // product or instance name from the file, may be empty
-  double volume = 0;            // mm³ (exact for B-Rep solids, 0 for open bodies)
-  std::vector<int> faces;       // 1-based face ids
+  std::string name;        // product or instance name from the file, may be empty
+  double volume = 0;       // mm³ (exact for B-Rep solids, 0 for open bodies)
+  std::vector<int> faces;  // 1-based face ids
 };
 
 namespace detail {
@@ -51,16 +61,16 @@ struct BRepModel;  // OCCT shape and face map, defined in src/cad/brep_model.h
 }
 
 struct Part {
-  std::string file;             // the file it was read from
-  std::string format;           // "STEP", "IGES", "BREP", "STL", "OBJ", "PLY", "OFF"
-  std::string file_unit;        // length unit the file declares ("mm", "inch", "m"), or ""
-  double unit_scale = 1;        // millimetres per file unit, applied on import
+  std::string file;       // the file it was read from
+  std::string format;     // "STEP", "IGES", "BREP", "STL", "OBJ", "PLY", "OFF"
+  std::string file_unit;  // length unit the file declares ("mm", "inch", "m"), or ""
+  double unit_scale = 1;  // millimetres per file unit, applied on import
   std::vector<Solid> solids;
-  std::vector<Face> faces;      // faces[i].id == i + 1
-  TriangleMesh mesh;            // all faces, outward, mm
+  std::vector<Face> faces;  // faces[i].id == i + 1
+  TriangleMesh mesh;        // all faces, outward, mm
   Gdt gdt;
-  double linear_deflection = 0;   // chordal tolerance used for the mesh, mm
-  double angular_deflection = 0;  // angular tolerance used for the mesh, radians
+  double linear_deflection = 0;       // chordal tolerance used for the mesh, mm
+  double angular_deflection = 0;      // angular tolerance used for the mesh, radians
   std::vector<std::string> warnings;  // things the user should know about the import
 
   // The B-Rep behind the faces (NURBS surfaces, trims); null for mesh input.
@@ -68,7 +78,7 @@ struct Part {
 
   Box bounds() const;
   double area() const;
-  double volume() const;        // sum of solid volumes, mm³
+  double volume() const;  // sum of solid volumes, mm³
 
   // The face with this id. \throw InputError naming the part when the id is unknown.
   const Face& face(int id) const;
