@@ -17,6 +17,7 @@ scanplan_require(Eigen3 libeigen3-dev 3.3 CONFIG NO_MODULE)
 scanplan_require(TBB libtbb-dev CONFIG)
 scanplan_require(nlohmann_json nlohmann-json3-dev 3 CONFIG)
 scanplan_require(CLI11 libcli11-dev CONFIG)
+scanplan_require(yaml-cpp libyaml-cpp-dev CONFIG)
 scanplan_require(fmt libfmt-dev CONFIG)
 
 if(SCANPLAN_BUILD_TESTS)

@@ -2,7 +2,6 @@
 #include <scanplan/raycast.h>
 
 #include <embree3/rtcore.h>
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <atomic>
@@ -115,7 +114,17 @@ void setRay(RTCRay& r, const Ray& ray) {
   r.flags = 0;
 }
 
-constexpr std::size_t kPacket = 256;  // rays per stream call and per parallel task
+constexpr std::size_t kPacket = 256;  // rays per stream call
+
+// Calls body(first, count) for consecutive packets of at most kPacket rays, in parallel.
+template <typename Body>
+void forEachPacket(std::size_t rays, const Body& body) {
+  const std::size_t packets = (rays + kPacket - 1) / kPacket;
+  tbb::parallel_for(std::size_t{0}, packets, [&](std::size_t p) {
+    const std::size_t first = p * kPacket;
+    body(first, std::min(kPacket, rays - first));
+  });
+}
 
 }  // namespace
 
@@ -131,30 +140,28 @@ bool RayCaster::occluded(const Ray& ray) const {
 std::vector<std::optional<RayHit>> RayCaster::intersect(std::span<const Ray> rays) const {
   Impl& d = *impl_;
   std::vector<std::optional<RayHit>> hits(rays.size());
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
-        RTCRayHit batch[kPacket];
-        const std::size_t count = range.size();
-        for (std::size_t i = 0; i < count; ++i) {
-          setRay(batch[i].ray, rays[range.begin() + i]);
-          batch[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          batch[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        }
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        rtcIntersect1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRayHit));
-        for (std::size_t i = 0; i < count; ++i) {
-          if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-          const Ray& ray = rays[range.begin() + i];
-          RayHit hit;
-          hit.t = batch[i].ray.tfar;
-          hit.point = ray.origin + hit.t * ray.direction;
-          hit.triangle = static_cast<int>(batch[i].hit.primID);
-          hit.normal = d.normals[hit.triangle];
-          hit.face = d.triangle_faces[hit.triangle];
-          hits[range.begin() + i] = hit;
-        }
-      });
+  forEachPacket(rays.size(), [&](std::size_t first, std::size_t count) {
+    RTCRayHit batch[kPacket];
+    for (std::size_t i = 0; i < count; ++i) {
+      setRay(batch[i].ray, rays[first + i]);
+      batch[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      batch[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRayHit));
+    for (std::size_t i = 0; i < count; ++i) {
+      if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      const Ray& ray = rays[first + i];
+      RayHit hit;
+      hit.t = batch[i].ray.tfar;
+      hit.point = ray.origin + hit.t * ray.direction;
+      hit.triangle = static_cast<int>(batch[i].hit.primID);
+      hit.normal = d.normals[hit.triangle];
+      hit.face = d.triangle_faces[hit.triangle];
+      hits[first + i] = hit;
+    }
+  });
   d.check();
   return hits;
 }
@@ -162,17 +169,15 @@ std::vector<std::optional<RayHit>> RayCaster::intersect(std::span<const Ray> ray
 std::vector<bool> RayCaster::occluded(std::span<const Ray> rays) const {
   Impl& d = *impl_;
   std::vector<char> blocked(rays.size(), 0);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, rays.size(), kPacket), [&](const auto& range) {
-        RTCRay batch[kPacket];
-        const std::size_t count = range.size();
-        for (std::size_t i = 0; i < count; ++i) setRay(batch[i], rays[range.begin() + i]);
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        rtcOccluded1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRay));
-        // Embree marks an occluded ray by setting tfar to -inf.
-        for (std::size_t i = 0; i < count; ++i) blocked[range.begin() + i] = batch[i].tfar < 0;
-      });
+  forEachPacket(rays.size(), [&](std::size_t first, std::size_t count) {
+    RTCRay batch[kPacket];
+    for (std::size_t i = 0; i < count; ++i) setRay(batch[i], rays[first + i]);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRay));
+    // Embree marks an occluded ray by setting tfar to -inf.
+    for (std::size_t i = 0; i < count; ++i) blocked[first + i] = batch[i].tfar < 0;
+  });
   d.check();
   return {blocked.begin(), blocked.end()};
 }

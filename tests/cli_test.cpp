@@ -85,6 +85,52 @@ TEST(Cli, BadUsageIsExitCodeOne) {
   EXPECT_EQ(run("info x.step --deflection nonsense").code, 1);
 }
 
+TEST(Cli, SimulateTwoViewsWithClouds) {
+  test::TempDir dir;
+  // The example part lifted onto the working plane, seen from above at the standoff.
+  test::writeText(dir.file("views.json"),
+                  R"({"part": {"part_to_world": [[1,0,0,0],[0,1,0,0],[0,0,1,100],[0,0,0,1]]},
+                      "views": [{"id": 1, "camera_to_world": [[1,0,0,0],[0,-1,0,0],[0,0,-1,550],[0,0,0,1]]},
+                                {"id": 2, "camera_to_world": [[1,0,0,-200],[0,-1,0,0],[0,0,-1,550],[0,0,0,1]]}]})");
+  test::writeText(dir.file("spec.yaml"),
+                  "scanner:\n  preset: generic-structured-light\n  point_spacing: 2\n");
+  std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  CommandResult r = run("simulate " + part + " --views " + dir.file("views.json") + " --spec " +
+                        dir.file("spec.yaml") + " --cloud " + dir.file("clouds"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  // Face 98 is the top plate (z = 50 in the part frame): both views measure it.
+  EXPECT_NE(r.out.find("view 1: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("view 2: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(98,"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("clouds/view_1.ply")));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("clouds/view_2.ply")));
+
+  CommandResult json = run("simulate -q --json " + part + " --views " + dir.file("views.json"));
+  ASSERT_EQ(json.code, 0) << json.out;
+  EXPECT_EQ(json.out.front(), '{');
+  EXPECT_NE(json.out.find("\"camera_angle\""), std::string::npos);
+}
+
+TEST(Cli, SimulateBadInputsAreExitCodeTwo) {
+  test::TempDir dir;
+  std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  test::writeText(dir.file("scaled.json"),
+                  R"([{"camera_to_world": [[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}])");
+  CommandResult r = run("simulate " + part + " --views " + dir.file("scaled.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.out.rfind("error: " + dir.file("scaled.json") +
+                            ": view 1 camera_to_world: not a rigid transform",
+                        0),
+            0u)
+      << r.out;
+  test::writeText(dir.file("ok.json"),
+                  R"([{"camera_to_world": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}])");
+  r = run("simulate " + part + " --views " + dir.file("ok.json") + " --scanner nonesuch");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("unknown scanner preset"), std::string::npos) << r.out;
+  EXPECT_EQ(run("simulate " + part).code, 1);  // --views is required
+}
+
 TEST(Cli, HelpIsExitCodeZero) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);

@@ -137,6 +137,26 @@ TEST(RayCaster, BatchedQueriesMatchSingleOnes) {
   EXPECT_EQ(castRays(mesh, rays).size(), rays.size());
 }
 
+TEST(RayCaster, LargeBatchesSplitIntoPackets) {
+  // Far more rays than one packet per task: every ray aimed at the top of the cube hits it
+  // at z = 1, every ray beside it misses.
+  RayCaster caster(unitCube());
+  std::vector<Ray> rays;
+  for (int i = 0; i < 200000; ++i) {
+    const double x = (i % 2 == 0) ? 0.5 : 3.0;
+    rays.push_back(Ray{Vec3(x, 0.25 + 0.5 * (i % 7) / 7.0, 5), -Vec3::UnitZ()});
+  }
+  auto hits = caster.intersect(rays);
+  auto blocked = caster.occluded(rays);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(hits[i].has_value(), i % 2 == 0) << i;
+    ASSERT_EQ(blocked[i], i % 2 == 0) << i;
+    if (hits[i]) {
+      ASSERT_NEAR(hits[i]->point.z(), 1.0, 1e-5);
+    }
+  }
+}
+
 TEST(RayCaster, EmptyMeshHitsNothing) {
   RayCaster caster{TriangleMesh{}};
   EXPECT_FALSE(caster.intersect(Ray{Vec3::Zero(), Vec3::UnitZ()}));

@@ -1,7 +1,7 @@
 #pragma once
 // Shared helpers of the test suite: where the test parts are, temporary folders.
 
-#include <scanplan/cad/mesh.h>
+#include <scanplan/cad/part.h>
 
 #include <gtest/gtest.h>
 
@@ -58,6 +58,43 @@ inline void addCube(TriangleMesh& mesh, const Vec3& lo, double size, int face) {
     mesh.triangles.emplace_back(base + q[0], base + q[2], base + q[3]);
     mesh.triangle_faces.insert(mesh.triangle_faces.end(), 2, face);
   }
+}
+
+// A Part made of `mesh` alone, one face per distinct triangle face id (ids 1..n, each
+// face's triangles contiguous), as the importer would give it.
+inline Part meshPart(const TriangleMesh& mesh) {
+  Part part;
+  part.file = "test mesh";
+  part.format = "MESH";
+  part.mesh = mesh;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int id = mesh.triangle_faces[t];
+    if (static_cast<int>(part.faces.size()) < id) {
+      part.faces.resize(id);
+      part.faces[id - 1].id = id;
+      part.faces[id - 1].type = SurfaceType::Mesh;
+      part.faces[id - 1].first_triangle = static_cast<int>(t);
+    }
+    Face& face = part.faces[id - 1];
+    ++face.triangle_count;
+    face.area += mesh.area(t);
+    for (int k = 0; k < 3; ++k) face.bounds.add(mesh.vertices[mesh.triangles[t][k]]);
+  }
+  return part;
+}
+
+// Adds the rectangle centred at `centre` spanned by the half-extents `u` and `v` (normal
+// u x v) to `mesh` as face `face`.
+inline void addRectangle(TriangleMesh& mesh, const Vec3& centre, const Vec3& u, const Vec3& v,
+                         int face) {
+  const int base = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.push_back(centre - u - v);
+  mesh.vertices.push_back(centre + u - v);
+  mesh.vertices.push_back(centre + u + v);
+  mesh.vertices.push_back(centre - u + v);
+  mesh.triangles.emplace_back(base, base + 1, base + 2);
+  mesh.triangles.emplace_back(base, base + 2, base + 3);
+  mesh.triangle_faces.insert(mesh.triangle_faces.end(), 2, face);
 }
 
 }  // namespace scanplan::test

@@ -1,0 +1,133 @@
+// scanplan simulate: what each given view measures on the part.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/views_json.h>
+#include <scanplan/simulation.h>
+#include <scanplan/spec.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iostream>
+
+namespace scanplan::cli {
+namespace {
+
+using nlohmann::json;
+
+struct Options {
+  std::string part;
+  std::string views;
+  std::string spec;
+  std::string scanner;
+  std::string cloud_dir;
+  bool json = false;
+  bool no_working_plane = false;
+  std::uint64_t seed = 1;
+};
+
+int run(const Options& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global.quiet);
+  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  if (!options.scanner.empty()) spec.scanner = scannerPreset(options.scanner);
+  ViewsFile views = readViews(options.views);
+  Part part = importPart(options.part, {}, progress);
+
+  SimulationOptions simulation;
+  simulation.part_to_world = views.part_to_world;
+  simulation.working_plane = spec.working_plane && !options.no_working_plane;
+  simulation.specular_faces = spec.specular_faces;
+  report(progress, "building ray-casting scene", 0);
+  Simulator simulator(part, spec.scanner, simulation);
+
+  if (!options.cloud_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.cloud_dir, ec);
+    if (ec) throw OutputError(options.cloud_dir, "cannot create the folder: " + ec.message());
+  }
+
+  json out = {{"part", part.file}, {"scanner", spec.scanner.name}, {"views", json::array()}};
+  for (std::size_t v = 0; v < views.views.size(); ++v) {
+    const View& view = views.views[v];
+    report(progress, fmt::format("simulating view {} of {}", v + 1, views.views.size()),
+           static_cast<double>(v) / static_cast<double>(views.views.size()));
+    Acquisition acquisition = simulator.acquire(view);
+    json faces = json::array();
+    for (std::size_t f = 0; f < acquisition.face_area.size(); ++f)
+      if (acquisition.face_area[f] > 0)
+        faces.push_back({{"id", f + 1}, {"area", acquisition.face_area[f]}});
+    json losses = json::object();
+    for (int k = 1; k < kLossKinds; ++k)
+      losses[std::string(toString(static_cast<Loss>(k)))] = acquisition.counts[k];
+    json entry = {{"id", view.id},
+                  {"measured_area", acquisition.measured_area},
+                  {"measured_facets", acquisition.counts[0]},
+                  {"facets", acquisition.facets.size()},
+                  {"faces", faces},
+                  {"losses", losses},
+                  {"rays", acquisition.rays}};
+    if (!options.cloud_dir.empty()) {
+      PointCloud cloud = simulator.cloud(view, options.seed);
+      std::string file =
+          (std::filesystem::path(options.cloud_dir) / fmt::format("view_{}.ply", view.id)).string();
+      writePly(cloud, file);
+      entry["cloud"] = file;
+      entry["points"] = cloud.points.size();
+    }
+    out["views"].push_back(entry);
+  }
+  clearProgress();
+
+  if (options.json) {
+    std::cout << out.dump(2) << '\n';
+    return 0;
+  }
+  fmt::print("part     {} ({} facets)\nscanner  {}\n", part.file, part.mesh.triangles.size(),
+             spec.scanner.name);
+  for (const json& entry : out["views"]) {
+    std::vector<int> ids;
+    for (const json& face : entry["faces"]) ids.push_back(face["id"].get<int>());
+    fmt::print("view {}: {:.1f} mm² measured on {} faces{}\n", entry["id"].get<int>(),
+               entry["measured_area"].get<double>(), ids.size(),
+               ids.empty() ? "" : fmt::format(" ({})", fmt::join(ids, ", ")));
+    std::string counts =
+        fmt::format("  facets: {} measured", entry["measured_facets"].get<std::size_t>());
+    for (const auto& [reason, count] : entry["losses"].items())
+      if (count.get<std::size_t>() > 0)
+        counts += fmt::format(", {} {}", count.get<std::size_t>(), reason);
+    fmt::print("{}\n", counts);
+    if (entry.contains("cloud"))
+      fmt::print("  cloud: {} points -> {}\n", entry["points"].get<std::size_t>(),
+                 entry["cloud"].get<std::string>());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command =
+      app.add_subcommand("simulate", "Simulate what each view measures on the part");
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--views", options->views, "Views as JSON: a plan.json or its views array")
+      ->required();
+  command->add_option("--spec", options->spec, "Inspection spec (YAML): scanner, specular faces");
+  command->add_option("--scanner", options->scanner, "Scanner preset, overriding the spec's");
+  command->add_option("--cloud", options->cloud_dir,
+                      "Write each view's simulated cloud as PLY into this folder");
+  command->add_option("--seed", options->seed, "Seed of the simulated noise");
+  command->add_flag("--no-working-plane", options->no_working_plane,
+                    "The plane z = 0 does not occlude");
+  command->add_flag("--json", options->json, "Print the results as one JSON object");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

@@ -1,0 +1,53 @@
+#pragma once
+// The scanner model (DESIGN.md §4): a camera and a projector (or laser) on a rigid
+// baseline, with its measuring volume, glancing limits and noise.
+//
+// Scanner frame S: origin at the camera's optical centre, +Z the optical axis (towards
+// the part), +X from the camera towards the projector, +Y = Z x X. A view is the pose of S
+// in the world, camera_to_world.
+
+#include <scanplan/geometry.h>
+
+#include <string>
+
+namespace scanplan {
+
+struct Scanner {
+  std::string name = "custom";
+  double standoff = 400;            // camera centre to measuring-volume centre along +Z, mm
+  double depth_of_field = 200;      // length of the measuring volume along +Z, mm
+  double fov_width = 300;           // measured width at the standoff, along X, mm
+  double fov_height = 225;          // measured height at the standoff, along Y, mm
+  double triangulation_angle = 25;  // camera axis to projector axis, degrees
+  double max_camera_angle = 60;     // largest angle normal / direction to camera, degrees
+  double max_projector_angle = 60;  // the same for the projector, degrees
+  double reflection_cone = 10;      // specular loss cone around the mirror direction, degrees
+  double point_spacing = 0.2;       // lateral sampling distance at the standoff, mm
+  double noise_sigma = 0.01;        // depth noise at the standoff and normal incidence, mm
+
+  // Distance from camera to projector: standoff * tan(triangulation_angle), mm.
+  double baseline() const;
+  // Projector centre in S: (baseline, 0, 0).
+  Vec3 projectorInScanner() const;
+};
+
+// \throw InputError naming `source` and the parameter when a value is out of range:
+//        sizes must be positive, angles within (0, 90) degrees (the reflection cone
+//        within [0, 90)), and the depth of field shorter than twice the standoff.
+void validate(const Scanner& scanner, const std::string& source);
+
+// Folder of the shipped data (scanner presets): $SCANPLAN_DATA if set, else the source
+// tree's data/ folder.
+std::string dataDirectory();
+
+// The preset `name` from <dataDirectory()>/scanners/<name>.yaml, validated.
+// \throw InputError for an unknown preset (listing the known ones) or a bad preset file.
+Scanner scannerPreset(const std::string& name);
+
+// A scanner from a YAML file: either a scanner file (a mapping of the parameters above,
+// optionally `preset: NAME` to start from) or a spec with a `scanner:` key holding a
+// preset name or such a mapping. Unknown keys are errors.
+// \throw InputError naming the file and the problem.
+Scanner loadScanner(const std::string& path);
+
+}  // namespace scanplan

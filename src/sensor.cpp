@@ -1,0 +1,147 @@
+#include <scanplan/errors.h>
+#include <scanplan/sensor.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+namespace scanplan {
+
+double Scanner::baseline() const { return standoff * std::tan(triangulation_angle * M_PI / 180); }
+
+Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
+
+void validate(const Scanner& s, const std::string& source) {
+  auto fail = [&](const std::string& what) {
+    throw InputError(source, "scanner '" + s.name + "': " + what);
+  };
+  auto positive = [&](double v, const char* name) {
+    if (!(v > 0) || !std::isfinite(v)) fail(std::string(name) + " must be a positive number of mm");
+  };
+  auto angle = [&](double v, const char* name, double lo_inclusive) {
+    bool ok = std::isfinite(v) && v < 90 && (lo_inclusive == 0 ? v >= 0 : v > 0);
+    if (!ok)
+      fail(std::string(name) + " must be within " + (lo_inclusive == 0 ? "[0, 90)" : "(0, 90)") +
+           " degrees");
+  };
+  positive(s.standoff, "standoff");
+  positive(s.depth_of_field, "depth_of_field");
+  positive(s.fov_width, "fov_width");
+  positive(s.fov_height, "fov_height");
+  positive(s.point_spacing, "point_spacing");
+  if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
+    fail("noise_sigma must be zero or positive");
+  angle(s.triangulation_angle, "triangulation_angle", 1);
+  angle(s.max_camera_angle, "max_camera_angle", 1);
+  angle(s.max_projector_angle, "max_projector_angle", 1);
+  angle(s.reflection_cone, "reflection_cone", 0);
+  if (!(s.depth_of_field < 2 * s.standoff))
+    fail(
+        "depth_of_field must be shorter than twice the standoff (the volume would reach the "
+        "camera)");
+  if (s.point_spacing > std::min(s.fov_width, s.fov_height))
+    fail("point_spacing must be smaller than the field of view");
+}
+
+std::string dataDirectory() {
+  if (const char* env = std::getenv("SCANPLAN_DATA"); env && *env) return env;
+  return SCANPLAN_SOURCE_DATA;
+}
+
+namespace {
+
+using Setter = std::function<void(Scanner&, double)>;
+
+const std::map<std::string, Setter>& parameters() {
+  static const std::map<std::string, Setter> table = {
+      {"standoff", [](Scanner& s, double v) { s.standoff = v; }},
+      {"depth_of_field", [](Scanner& s, double v) { s.depth_of_field = v; }},
+      {"fov_width", [](Scanner& s, double v) { s.fov_width = v; }},
+      {"fov_height", [](Scanner& s, double v) { s.fov_height = v; }},
+      {"triangulation_angle", [](Scanner& s, double v) { s.triangulation_angle = v; }},
+      {"max_camera_angle", [](Scanner& s, double v) { s.max_camera_angle = v; }},
+      {"max_projector_angle", [](Scanner& s, double v) { s.max_projector_angle = v; }},
+      {"reflection_cone", [](Scanner& s, double v) { s.reflection_cone = v; }},
+      {"point_spacing", [](Scanner& s, double v) { s.point_spacing = v; }},
+      {"noise_sigma", [](Scanner& s, double v) { s.noise_sigma = v; }},
+  };
+  return table;
+}
+
+// Applies a YAML mapping of scanner parameters on top of `scanner`.
+Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& source) {
+  if (!node.IsMap())
+    throw InputError(source, "the scanner must be a preset name or a mapping of parameters");
+  if (node["preset"]) scanner = scannerPreset(node["preset"].as<std::string>());
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    if (key == "preset") continue;
+    if (key == "name") {
+      scanner.name = item.second.as<std::string>();
+      continue;
+    }
+    auto setter = parameters().find(key);
+    if (setter == parameters().end())
+      throw InputError(source, "unknown scanner parameter '" + key + "'");
+    try {
+      setter->second(scanner, item.second.as<double>());
+    } catch (const YAML::Exception&) {
+      throw InputError(source, "scanner parameter '" + key + "' must be a number");
+    }
+  }
+  validate(scanner, source);
+  return scanner;
+}
+
+YAML::Node loadYaml(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "not valid YAML: " + std::string(e.what()));
+  }
+}
+
+}  // namespace
+
+Scanner scannerPreset(const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(dataDirectory()) / "scanners";
+  const fs::path file = folder / (name + ".yaml");
+  if (name.empty() || name.find('/') != std::string::npos || !fs::exists(file)) {
+    std::string known;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec))
+      if (entry.path().extension() == ".yaml")
+        known += (known.empty() ? "" : ", ") + entry.path().stem().string();
+    throw InputError(name, "unknown scanner preset (known: " +
+                               (known.empty() ? "none found in " + folder.string() : known) + ")");
+  }
+  Scanner scanner;
+  scanner.name = name;
+  try {
+    return fromMapping(loadYaml(file.string()), scanner, file.string());
+  } catch (const YAML::Exception& e) {
+    throw InputError(file.string(), e.what());
+  }
+}
+
+Scanner loadScanner(const std::string& path) {
+  YAML::Node root = loadYaml(path);
+  try {
+    if (root.IsMap() && root["scanner"]) {
+      const YAML::Node& node = root["scanner"];
+      if (node.IsScalar()) return scannerPreset(node.as<std::string>());
+      return fromMapping(node, Scanner{}, path);
+    }
+    return fromMapping(root, Scanner{}, path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, e.what());
+  }
+}
+
+}  // namespace scanplan

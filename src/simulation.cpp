@@ -1,0 +1,389 @@
+#include <scanplan/errors.h>
+#include <scanplan/raycast.h>
+#include <scanplan/simulation.h>
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+
+namespace scanplan {
+
+std::string_view toString(Loss loss) {
+  switch (loss) {
+    case Loss::Measured: return "measured";
+    case Loss::OutsideVolume: return "outside_volume";
+    case Loss::CameraAngle: return "camera_angle";
+    case Loss::ProjectorAngle: return "projector_angle";
+    case Loss::Reflection: return "reflection";
+    case Loss::CameraOccluded: return "camera_occluded";
+    case Loss::ProjectorOccluded: return "projector_occluded";
+  }
+  return "unknown";
+}
+
+namespace {
+constexpr double kDeg = M_PI / 180;
+
+// The parts of the measurement test that need no ray, for one view.
+struct ViewGeometry {
+  Pose world_to_camera;
+  Vec3 camera, projector;
+  double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
+  double cos_camera, cos_projector, cos_reflection;
+
+  ViewGeometry(const View& view, const Scanner& s)
+      : world_to_camera(view.camera_to_world.inverse()),
+        camera(view.camera()),
+        projector(projectorPosition(view, s)),
+        z_min(s.standoff - s.depth_of_field / 2),
+        z_max(s.standoff + s.depth_of_field / 2),
+        half_width(s.fov_width / 2),
+        half_height(s.fov_height / 2),
+        standoff(s.standoff),
+        cos_camera(std::cos(s.max_camera_angle * kDeg)),
+        cos_projector(std::cos(s.max_projector_angle * kDeg)),
+        cos_reflection(std::cos(s.reflection_cone * kDeg)) {}
+
+  bool inVolume(const Vec3& p) const {
+    Vec3 q = world_to_camera * p;
+    double scale = q.z() / standoff;  // the field grows linearly with depth
+    return q.z() >= z_min && q.z() <= z_max && std::abs(q.x()) <= half_width * scale &&
+           std::abs(q.y()) <= half_height * scale;
+  }
+
+  // False when no point of the ball (centre, radius) can lie in the measuring volume.
+  bool mayReachVolume(const Vec3& centre, double radius) const {
+    const Vec3 q = world_to_camera * centre;
+    if (q.z() + radius < z_min || q.z() - radius > z_max) return false;
+    const double scale = std::min(q.z() + radius, z_max) / standoff;  // widest depth in reach
+    return std::abs(q.x()) - radius <= half_width * scale &&
+           std::abs(q.y()) - radius <= half_height * scale;
+  }
+
+  // Volume, glancing angles and specular reflection, in the order of Loss.
+  Loss test(const Vec3& p, const Vec3& n, bool specular) const {
+    if (!inVolume(p)) return Loss::OutsideVolume;
+    const Vec3 to_camera = (camera - p).normalized();
+    if (n.dot(to_camera) < cos_camera) return Loss::CameraAngle;
+    const Vec3 to_projector = (projector - p).normalized();
+    if (n.dot(to_projector) < cos_projector) return Loss::ProjectorAngle;
+    if (specular) {
+      // Mirror direction of the projector's light leaving p.
+      const Vec3 reflected = 2 * n.dot(to_projector) * n - to_projector;
+      if (reflected.dot(to_camera) > cos_reflection) return Loss::Reflection;
+    }
+    return Loss::Measured;
+  }
+};
+
+}  // namespace
+
+struct Simulator::Impl {
+  Scanner scanner;
+  SimulationOptions options;
+  TriangleMesh world;  // part (first) then fixtures, world frame
+  std::size_t part_triangles = 0;
+  std::vector<char> specular;  // per face id (index 0: fixtures)
+  std::vector<SurfacePoint> facets;
+  std::vector<double> facet_area;
+  // Facets grouped in cubic cells with a bounding ball, so that a view tests only the
+  // facets of cells that reach its measuring volume (view-frustum culling).
+  struct Cell {
+    Vec3 centre;
+    double radius = 0;
+    std::vector<std::size_t> facets;
+  };
+  std::vector<Cell> cells;
+  std::size_t face_count = 0;
+  double offset = 0;  // mm
+  std::unique_ptr<RayCaster> caster;
+
+  bool isSpecular(int face) const {
+    return face > 0 && face < static_cast<int>(specular.size()) && specular[face];
+  }
+
+  // The working plane z = 0 hides the segment p -> eye when the point lies under it or the
+  // eye is below it.
+  bool planeBlocks(const Vec3& p, const Vec3& eye) const {
+    return options.working_plane && (eye.z() < 0 || p.z() < -offset);
+  }
+
+  Ray segment(const SurfacePoint& point, const Vec3& eye) const {
+    Ray ray;
+    ray.origin = point.position + offset * point.normal;
+    ray.direction = eye - ray.origin;
+    ray.t_near = 0;
+    ray.t_far = 1;
+    return ray;
+  }
+
+  // The measurement test of `points` from `view`. With `subset`, only those indices are
+  // tested and all others are outside the volume.
+  std::vector<Loss> measure(const View& view, std::span<const SurfacePoint> points,
+                            const std::vector<std::size_t>* subset, std::size_t* ray_count) const {
+    const ViewGeometry geometry(view, scanner);
+    std::vector<Loss> losses(points.size(), Loss::OutsideVolume);
+    auto test = [&](std::size_t i) {
+      const SurfacePoint& sp = points[i];
+      Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face));
+      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.camera))
+        loss = Loss::CameraOccluded;
+      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.projector))
+        loss = Loss::ProjectorOccluded;
+      losses[i] = loss;
+    };
+    if (subset) {
+      tbb::parallel_for(std::size_t{0}, subset->size(), [&](std::size_t k) { test((*subset)[k]); });
+    } else {
+      tbb::parallel_for(std::size_t{0}, points.size(), test);
+    }
+    // Two occlusion rays per remaining point, cast in one batch.
+    std::vector<std::size_t> candidates;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (losses[i] == Loss::Measured) candidates.push_back(i);
+    std::vector<Ray> rays(2 * candidates.size());
+    tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t k) {
+      const SurfacePoint& sp = points[candidates[k]];
+      rays[2 * k] = segment(sp, geometry.camera);
+      rays[2 * k + 1] = segment(sp, geometry.projector);
+    });
+    const std::vector<bool> blocked = caster->occluded(rays);
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      if (blocked[2 * k])
+        losses[candidates[k]] = Loss::CameraOccluded;
+      else if (blocked[2 * k + 1])
+        losses[candidates[k]] = Loss::ProjectorOccluded;
+    }
+    if (ray_count) *ray_count = rays.size();
+    return losses;
+  }
+};
+
+Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  validate(scanner, scanner.name);
+  d.scanner = scanner;
+  d.face_count = part.faces.size();
+  d.specular.assign(d.face_count + 1, 0);
+  for (int id : options.specular_faces) {
+    part.face(id);  // throws for an unknown id
+    d.specular[id] = 1;
+  }
+  d.offset = std::max(options.surface_offset * part.bounds().diagonal(), 1e-4);
+  d.options = std::move(options);
+
+  // The part in the world, then the fixtures (face id 0).
+  const Pose& placement = d.options.part_to_world;
+  d.world.vertices.reserve(part.mesh.vertices.size());
+  for (const Vec3& v : part.mesh.vertices) d.world.vertices.push_back(placement * v);
+  d.world.triangles = part.mesh.triangles;
+  d.world.triangle_faces = part.mesh.triangle_faces;
+  d.part_triangles = d.world.triangles.size();
+  for (const TriangleMesh& fixture : d.options.fixtures) {
+    const int base = static_cast<int>(d.world.vertices.size());
+    d.world.vertices.insert(d.world.vertices.end(), fixture.vertices.begin(),
+                            fixture.vertices.end());
+    for (const Vec3i& t : fixture.triangles) {
+      d.world.triangles.push_back(t + Vec3i::Constant(base));
+      d.world.triangle_faces.push_back(0);
+    }
+  }
+  d.caster = std::make_unique<RayCaster>(d.world);
+
+  d.facets.resize(d.part_triangles);
+  d.facet_area.resize(d.part_triangles);
+  tbb::parallel_for(std::size_t{0}, d.part_triangles, [&](std::size_t t) {
+    const Vec3i& tri = d.world.triangles[t];
+    d.facets[t].position =
+        (d.world.vertices[tri[0]] + d.world.vertices[tri[1]] + d.world.vertices[tri[2]]) / 3;
+    d.facets[t].normal = d.world.normal(t);
+    d.facets[t].face = d.world.triangle_faces[t];
+    d.facet_area[t] = d.world.area(t);
+  });
+
+  // Cells of a quarter of the depth of field: small enough to cull, large enough to be few.
+  const double cell_size = scanner.depth_of_field / 4;
+  std::map<std::array<long, 3>, std::size_t> cell_of_key;
+  for (std::size_t t = 0; t < d.part_triangles; ++t) {
+    const Vec3& p = d.facets[t].position;
+    const std::array<long, 3> key = {std::lround(std::floor(p.x() / cell_size)),
+                                     std::lround(std::floor(p.y() / cell_size)),
+                                     std::lround(std::floor(p.z() / cell_size))};
+    auto [it, inserted] = cell_of_key.emplace(key, d.cells.size());
+    if (inserted) d.cells.emplace_back();
+    d.cells[it->second].facets.push_back(t);
+  }
+  for (Impl::Cell& cell : d.cells) {
+    Box box;
+    for (std::size_t t : cell.facets) box.add(d.facets[t].position);
+    cell.centre = box.center();
+    for (std::size_t t : cell.facets)
+      cell.radius = std::max(cell.radius, (d.facets[t].position - cell.centre).norm());
+  }
+}
+
+Simulator::~Simulator() = default;
+Simulator::Simulator(Simulator&&) noexcept = default;
+Simulator& Simulator::operator=(Simulator&&) noexcept = default;
+
+const Scanner& Simulator::scanner() const { return impl_->scanner; }
+
+std::vector<SurfacePoint> Simulator::facetPoints() const { return impl_->facets; }
+
+std::vector<Loss> Simulator::measure(const View& view, std::span<const SurfacePoint> points) const {
+  return impl_->measure(view, points, nullptr, nullptr);
+}
+
+std::vector<std::vector<Loss>> Simulator::measure(std::span<const View> views,
+                                                  std::span<const SurfacePoint> points) const {
+  std::vector<std::vector<Loss>> result(views.size());
+  tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+    result[v] = impl_->measure(views[v], points, nullptr, nullptr);
+  });
+  return result;
+}
+
+Acquisition Simulator::acquire(const View& view) const {
+  const Impl& d = *impl_;
+  Acquisition acquisition;
+  acquisition.view_id = view.id;
+  const ViewGeometry geometry(view, d.scanner);
+  std::vector<std::size_t> reachable;
+  for (const Impl::Cell& cell : d.cells)
+    if (geometry.mayReachVolume(cell.centre, cell.radius))
+      reachable.insert(reachable.end(), cell.facets.begin(), cell.facets.end());
+  acquisition.facets = d.measure(view, d.facets, &reachable, &acquisition.rays);
+  acquisition.face_area.assign(d.face_count, 0.0);
+  for (std::size_t t = 0; t < acquisition.facets.size(); ++t) {
+    Loss loss = acquisition.facets[t];
+    ++acquisition.counts[static_cast<int>(loss)];
+    if (loss != Loss::Measured) continue;
+    acquisition.face_area[d.facets[t].face - 1] += d.facet_area[t];
+    acquisition.measured_area += d.facet_area[t];
+  }
+  return acquisition;
+}
+
+std::vector<Acquisition> Simulator::acquire(std::span<const View> views) const {
+  std::vector<Acquisition> result(views.size());
+  tbb::parallel_for(std::size_t{0}, views.size(),
+                    [&](std::size_t v) { result[v] = acquire(views[v]); });
+  return result;
+}
+
+PointCloud Simulator::cloud(const View& view, std::uint64_t seed) const {
+  const Impl& d = *impl_;
+  const Scanner& s = d.scanner;
+  const ViewGeometry geometry(view, s);
+  const int columns = static_cast<int>(std::floor(s.fov_width / s.point_spacing));
+  const int rows = static_cast<int>(std::floor(s.fov_height / s.point_spacing));
+  const Eigen::Matrix3d rotation = view.camera_to_world.linear();
+  const Vec3 camera = view.camera();
+
+  // Rows are simulated in blocks to bound memory; each row has its own random stream so
+  // that the cloud does not depend on thread scheduling.
+  std::vector<PointCloud> row_clouds(rows);
+  constexpr int kBlock = 32;
+  for (int first = 0; first < rows; first += kBlock) {
+    const int last = std::min(rows, first + kBlock);
+    std::vector<Ray> rays;
+    rays.reserve(static_cast<std::size_t>(last - first) * columns);
+    for (int r = first; r < last; ++r)
+      for (int c = 0; c < columns; ++c) {
+        Vec3 pixel(-s.fov_width / 2 + (c + 0.5) * s.point_spacing,
+                   -s.fov_height / 2 + (r + 0.5) * s.point_spacing, s.standoff);
+        rays.push_back(Ray{camera, rotation * pixel.normalized()});
+      }
+    const auto hits = d.caster->intersect(rays);
+    // Hits on the part that pass the geometric test; then projector occlusion.
+    std::vector<std::size_t> kept;
+    std::vector<SurfacePoint> surface;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const auto& hit = hits[i];
+      if (!hit || hit->triangle >= static_cast<int>(d.part_triangles)) continue;
+      SurfacePoint sp{hit->point, hit->normal, hit->face};
+      if (geometry.test(sp.position, sp.normal, d.isSpecular(sp.face)) != Loss::Measured) continue;
+      if (d.planeBlocks(sp.position, camera) || d.planeBlocks(sp.position, geometry.projector))
+        continue;
+      kept.push_back(i);
+      surface.push_back(sp);
+    }
+    std::vector<Ray> to_projector(surface.size());
+    for (std::size_t k = 0; k < surface.size(); ++k)
+      to_projector[k] = d.segment(surface[k], geometry.projector);
+    const std::vector<bool> blocked = d.caster->occluded(to_projector);
+
+    tbb::parallel_for(first, last, [&](int r) {
+      std::mt19937_64 random(seed * 0x9E3779B97F4A7C15ULL +
+                             static_cast<std::uint64_t>(view.id) * 1000003ULL +
+                             static_cast<std::uint64_t>(r));
+      std::normal_distribution<double> normal(0.0, 1.0);
+      PointCloud& out = row_clouds[r];
+      const std::size_t begin = static_cast<std::size_t>(r - first) * columns;
+      auto k = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
+      for (; k < static_cast<std::ptrdiff_t>(kept.size()) && kept[k] < begin + columns; ++k) {
+        if (blocked[k]) continue;
+        const SurfacePoint& sp = surface[k];
+        const Vec3 ray_direction = rays[kept[k]].direction;
+        const double cos_incidence = std::clamp(-ray_direction.dot(sp.normal), 1e-3, 1.0);
+        const double depth = (geometry.world_to_camera * sp.position).z();
+        const double sigma =
+            s.noise_sigma * (depth / s.standoff) * (depth / s.standoff) / cos_incidence;
+        out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
+        out.normals.push_back(sp.normal);
+        out.faces.push_back(sp.face);
+        out.incidence.push_back(static_cast<float>(std::acos(cos_incidence) / kDeg));
+      }
+    });
+  }
+  PointCloud cloud;
+  for (const PointCloud& row : row_clouds) {
+    cloud.points.insert(cloud.points.end(), row.points.begin(), row.points.end());
+    cloud.normals.insert(cloud.normals.end(), row.normals.begin(), row.normals.end());
+    cloud.faces.insert(cloud.faces.end(), row.faces.begin(), row.faces.end());
+    cloud.incidence.insert(cloud.incidence.end(), row.incidence.begin(), row.incidence.end());
+  }
+  return cloud;
+}
+
+void writePly(const PointCloud& cloud, const std::string& path) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    if (!out) throw OutputError(path, "cannot be written");
+    out << "ply\nformat binary_little_endian 1.0\ncomment scanplan simulated cloud, mm\n"
+        << "element vertex " << cloud.points.size() << "\n"
+        << "property float x\nproperty float y\nproperty float z\n"
+        << "property float nx\nproperty float ny\nproperty float nz\n"
+        << "property int face\nproperty float incidence\nend_header\n";
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+      float values[6];
+      for (int k = 0; k < 3; ++k) {
+        values[k] = static_cast<float>(cloud.points[i][k]);
+        values[3 + k] = static_cast<float>(cloud.normals[i][k]);
+      }
+      out.write(reinterpret_cast<const char*>(values), sizeof values);
+      const std::int32_t face = cloud.faces[i];
+      out.write(reinterpret_cast<const char*>(&face), sizeof face);
+      out.write(reinterpret_cast<const char*>(&cloud.incidence[i]), sizeof(float));
+    }
+    if (!out.good()) {
+      std::remove(temporary.c_str());
+      throw OutputError(path, "write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    std::remove(temporary.c_str());
+    throw OutputError(path, "cannot be written: " + ec.message());
+  }
+}
+
+}  // namespace scanplan

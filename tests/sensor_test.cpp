@@ -1,0 +1,154 @@
+// Scanner presets, parameter validation, views files: every bad input is a clear error.
+
+#include "support.h"
+
+#include <scanplan/errors.h>
+#include <scanplan/io/views_json.h>
+#include <scanplan/sensor.h>
+#include <scanplan/spec.h>
+
+namespace scanplan {
+namespace {
+
+std::string reasonOf(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return {};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(Scanner, GenericPresetHasTheIssuedParameters) {
+  Scanner s = scannerPreset("generic-structured-light");
+  EXPECT_EQ(s.standoff, 400);
+  EXPECT_EQ(s.depth_of_field, 200);
+  EXPECT_EQ(s.fov_width, 300);
+  EXPECT_EQ(s.fov_height, 225);
+  EXPECT_EQ(s.triangulation_angle, 25);
+  EXPECT_EQ(s.max_camera_angle, 60);
+  EXPECT_EQ(s.max_projector_angle, 60);
+  EXPECT_EQ(s.reflection_cone, 10);
+  EXPECT_NEAR(s.baseline(), 400 * std::tan(25 * M_PI / 180), 1e-12);
+}
+
+TEST(Scanner, LaserLinePresetIsValid) {
+  Scanner s = scannerPreset("laser-line");
+  EXPECT_EQ(s.name, "laser-line");
+  EXPECT_NO_THROW(validate(s, "laser-line"));
+}
+
+TEST(Scanner, UnknownPresetListsTheKnownOnes) {
+  std::string reason = reasonOf([] { scannerPreset("hyperscan-9000"); });
+  EXPECT_TRUE(contains(reason, "unknown scanner preset")) << reason;
+  EXPECT_TRUE(contains(reason, "generic-structured-light")) << reason;
+}
+
+TEST(Scanner, ValidationNamesTheParameter) {
+  auto check = [](auto mutate, const std::string& parameter) {
+    Scanner s;
+    mutate(s);
+    std::string reason = reasonOf([&] { validate(s, "spec.yaml"); });
+    EXPECT_TRUE(contains(reason, parameter)) << reason;
+    EXPECT_TRUE(contains(reason, "spec.yaml")) << reason;
+  };
+  check([](Scanner& s) { s.standoff = -1; }, "standoff");
+  check([](Scanner& s) { s.fov_width = 0; }, "fov_width");
+  check([](Scanner& s) { s.fov_height = NAN; }, "fov_height");
+  check([](Scanner& s) { s.triangulation_angle = 95; }, "triangulation_angle");
+  check([](Scanner& s) { s.max_camera_angle = 0; }, "max_camera_angle");
+  check([](Scanner& s) { s.max_projector_angle = 90; }, "max_projector_angle");
+  check([](Scanner& s) { s.reflection_cone = -2; }, "reflection_cone");
+  check([](Scanner& s) { s.depth_of_field = 800; }, "twice the standoff");
+  check([](Scanner& s) { s.point_spacing = 0; }, "point_spacing");
+  check([](Scanner& s) { s.noise_sigma = -0.1; }, "noise_sigma");
+  EXPECT_NO_THROW(validate(Scanner{}, "defaults"));
+}
+
+TEST(Scanner, SpecWithPresetOrMapping) {
+  test::TempDir dir;
+  test::writeText(dir.file("a.yaml"), "scanner: laser-line\n");
+  EXPECT_EQ(loadSpec(dir.file("a.yaml")).scanner.name, "laser-line");
+  test::writeText(dir.file("b.yaml"),
+                  "scanner:\n  preset: generic-structured-light\n  standoff: 500\n"
+                  "roles:\n  specular: [3, 4]\ncell:\n  working_plane: false\n");
+  Spec spec = loadSpec(dir.file("b.yaml"));
+  EXPECT_EQ(spec.scanner.standoff, 500);
+  EXPECT_EQ(spec.scanner.fov_width, 300);
+  EXPECT_EQ(spec.specular_faces, (std::vector<int>{3, 4}));
+  EXPECT_FALSE(spec.working_plane);
+  EXPECT_EQ(defaultSpec().scanner.name, "generic-structured-light");
+}
+
+TEST(Scanner, BadSpecs) {
+  test::TempDir dir;
+  auto reason = [&](const std::string& text) {
+    test::writeText(dir.file("s.yaml"), text);
+    return reasonOf([&] { loadSpec(dir.file("s.yaml")); });
+  };
+  EXPECT_TRUE(contains(reason("scanner: {standof: 3}\n"), "unknown scanner parameter 'standof'"));
+  EXPECT_TRUE(contains(reason("scanner: {standoff: far}\n"), "must be a number"));
+  EXPECT_TRUE(contains(reason("scanner: {depth_of_field: 900}\n"), "twice the standoff"));
+  EXPECT_TRUE(contains(reason("scanner: nope\n"), "unknown scanner preset"));
+  EXPECT_TRUE(contains(reason("roles: {specular: [0]}\n"), "face ids start at 1"));
+  EXPECT_TRUE(contains(reason("sanner: x\n"), "unknown section 'sanner'"));
+  EXPECT_TRUE(contains(reason("scanner: [1, 2\n"), "not valid YAML"));
+  EXPECT_TRUE(contains(reasonOf([] { loadSpec("/nonexistent/spec.yaml"); }), "no such file"));
+}
+
+TEST(ViewsFile, PlanFormatAndBareArray) {
+  test::TempDir dir;
+  const std::string matrix = "[[1,0,0,10],[0,-1,0,0],[0,0,-1,500],[0,0,0,1]]";
+  test::writeText(dir.file("plan.json"),
+                  "{\"format\":\"scanplan.plan\",\"part\":{\"part_to_world\":[[1,0,0,0],[0,1,0,0],["
+                  "0,0,1,100],[0,0,0,1]]},"
+                  "\"views\":[{\"id\":4,\"camera_to_world\":" +
+                      matrix + ",\"target\":[10,0,100],\"task\":\"gdt\"}]}");
+  ViewsFile plan = readViews(dir.file("plan.json"));
+  ASSERT_EQ(plan.views.size(), 1u);
+  EXPECT_EQ(plan.views[0].id, 4);
+  EXPECT_EQ(plan.views[0].task, "gdt");
+  EXPECT_TRUE(plan.views[0].camera().isApprox(Vec3(10, 0, 500)));
+  EXPECT_TRUE(plan.views[0].axis().isApprox(Vec3(0, 0, -1)));
+  EXPECT_TRUE(plan.part_to_world.translation().isApprox(Vec3(0, 0, 100)));
+  test::writeText(dir.file("bare.json"),
+                  "[{\"camera_to_world\":" + matrix + "}, {\"camera_to_world\":" + matrix + "}]");
+  ViewsFile bare = readViews(dir.file("bare.json"));
+  ASSERT_EQ(bare.views.size(), 2u);
+  EXPECT_EQ(bare.views[1].id, 2);
+}
+
+TEST(ViewsFile, BadFiles) {
+  test::TempDir dir;
+  auto reason = [&](const std::string& text) {
+    test::writeText(dir.file("v.json"), text);
+    return reasonOf([&] { readViews(dir.file("v.json")); });
+  };
+  EXPECT_TRUE(contains(reason("{views: ["), "not valid JSON"));
+  EXPECT_TRUE(contains(reason("{\"plan\": 1}"), "no 'views' array"));
+  EXPECT_TRUE(contains(reason("[{\"id\": 3}]"), "view 1 (id 3): no camera_to_world"));
+  EXPECT_TRUE(
+      contains(reason("[{\"camera_to_world\": [[1,0,0],[0,1,0],[0,0,1]]}]"), "4 rows of 4"));
+  // A scaled matrix is not rigid.
+  EXPECT_TRUE(contains(reason("[{\"camera_to_world\": [[2,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"),
+                       "not a rigid transform"));
+  // A reflection (determinant -1) is not a rotation.
+  EXPECT_TRUE(
+      contains(reason("[{\"camera_to_world\": [[1,0,0,0],[0,1,0,0],[0,0,-1,0],[0,0,0,1]]}]"),
+               "not a rigid transform"));
+  EXPECT_TRUE(contains(reason("[{\"camera_to_world\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,1,1]]}]"),
+                       "not a rigid transform"));
+  EXPECT_TRUE(
+      contains(reason("[{\"id\":1,\"camera_to_world\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]},"
+                      "{\"id\":1,\"camera_to_world\": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]"),
+               "used twice"));
+  EXPECT_TRUE(contains(reasonOf([] { readViews("/nonexistent/views.json"); }), "no such file"));
+}
+
+}  // namespace
+}  // namespace scanplan
