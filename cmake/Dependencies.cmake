@@ -18,6 +18,7 @@ scanplan_require(TBB libtbb-dev CONFIG)
 scanplan_require(nlohmann_json nlohmann-json3-dev 3 CONFIG)
 scanplan_require(CLI11 libcli11-dev CONFIG)
 scanplan_require(yaml-cpp libyaml-cpp-dev CONFIG)
+scanplan_require(nanoflann libnanoflann-dev CONFIG)
 scanplan_require(fmt libfmt-dev CONFIG)
 
 if(SCANPLAN_BUILD_TESTS)
@@ -33,4 +34,4 @@ target_include_directories(scanplan_occt SYSTEM INTERFACE ${OpenCASCADE_INCLUDE_
 target_link_libraries(scanplan_occt INTERFACE
   TKernel TKMath TKG2d TKG3d TKGeomBase TKBRep TKGeomAlgo TKTopAlgo TKPrim TKBO
   TKShHealing TKMesh TKLCAF TKCAF TKXSBase TKSTEPBase TKSTEP TKIGES TKXCAF TKXDESTEP
-  TKXDEIGES TKSTL TKRWMesh)
+  TKXDEIGES TKSTL TKRWMesh TKGeomAlgo)

@@ -7,7 +7,7 @@ packages=(
   g++ cmake ninja-build pkg-config
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-ocaf-dev libocct-data-exchange-dev libocct-visualization-dev
-  libembree-dev libeigen3-dev libtbb-dev
+  libembree-dev libeigen3-dev libtbb-dev libnanoflann-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )

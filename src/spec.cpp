@@ -3,34 +3,146 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <set>
 
 namespace scanplan {
 
+std::string_view toString(TaskType type) {
+  switch (type) {
+    case TaskType::Gdt: return "gdt";
+    case TaskType::Trim: return "trim";
+    case TaskType::Surface: return "surface";
+    case TaskType::Global: return "global";
+    case TaskType::Points: return "points";
+  }
+  return "unknown";
+}
+
 Spec defaultSpec() {
   Spec spec;
   spec.scanner = scannerPreset("generic-structured-light");
+  spec.tasks.push_back(Task{});
   return spec;
 }
 
 namespace {
 
-std::vector<int> faceIds(const YAML::Node& node, const std::string& path, const std::string& key) {
-  std::vector<int> ids;
-  if (!node) return ids;
-  if (!node.IsSequence()) throw InputError(path, key + " must be a list of face ids");
-  for (const YAML::Node& item : node) {
-    int id = 0;
-    try {
-      id = item.as<int>();
-    } catch (const YAML::Exception&) {
-      throw InputError(path, key + ": '" + YAML::Dump(item) + "' is not a face id");
-    }
-    if (id < 1) throw InputError(path, key + ": face ids start at 1, got " + std::to_string(id));
-    ids.push_back(id);
+// Reads one spec file; every error names it and the key.
+class SpecReader {
+ public:
+  explicit SpecReader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(path_, what); }
+
+  // A path in the spec, relative to the spec's folder.
+  std::string resolvePath(const std::string& file) const {
+    std::filesystem::path p(file);
+    if (p.is_absolute()) return file;
+    return (std::filesystem::path(path_).parent_path() / p).lexically_normal().string();
   }
-  return ids;
+
+  template <typename T>
+  T scalar(const YAML::Node& node, const std::string& key) const {
+    try {
+      return node.as<T>();
+    } catch (const YAML::Exception&) {
+      fail(key + ": '" + YAML::Dump(node) + "' is not a valid value");
+    }
+  }
+
+  Color color(const YAML::Node& node, const std::string& key) const {
+    if (node.IsScalar()) {  // "#rrggbb"
+      const std::string text = node.as<std::string>();
+      if (text.size() != 7 || text[0] != '#' ||
+          text.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos)
+        fail(key + ": colour '" + text + "' is not #rrggbb");
+      auto channel = [&](int i) {
+        return static_cast<float>(std::stoi(text.substr(1 + 2 * i, 2), nullptr, 16)) / 255.f;
+      };
+      return Color{channel(0), channel(1), channel(2)};
+    }
+    if (node.IsSequence() && node.size() == 3) {  // [r, g, b] in [0, 1]
+      Color c{scalar<float>(node[0], key), scalar<float>(node[1], key),
+              scalar<float>(node[2], key)};
+      for (float v : {c.r, c.g, c.b})
+        if (v < 0 || v > 1) fail(key + ": colour channels must be within [0, 1]");
+      return c;
+    }
+    fail(key + ": a colour is #rrggbb or [r, g, b]");
+  }
+
+  std::vector<FaceSelector> faces(const YAML::Node& node, const std::string& key) const {
+    std::vector<FaceSelector> selectors;
+    if (!node) return selectors;
+    if (!node.IsSequence())
+      fail(key + " must be a list of faces (ids, {name: ...} or {color: ...})");
+    for (const YAML::Node& item : node) {
+      FaceSelector selector;
+      if (item.IsScalar()) {
+        selector.id = scalar<int>(item, key);
+        if (selector.id < 1)
+          fail(key + ": face ids start at 1, got " + std::to_string(selector.id));
+      } else if (item.IsMap() && item["name"]) {
+        selector.name = scalar<std::string>(item["name"], key);
+      } else if (item.IsMap() && (item["color"] || item["colour"])) {
+        selector.color = color(item["color"] ? item["color"] : item["colour"], key);
+      } else {
+        fail(key + ": '" + YAML::Dump(item) + "' is not a face id, {name: ...} or {color: ...}");
+      }
+      selectors.push_back(selector);
+    }
+    return selectors;
+  }
+
+  Task task(const YAML::Node& node, std::size_t index) const {
+    const std::string key = "tasks[" + std::to_string(index + 1) + "]";
+    if (!node.IsMap() || !node["type"])
+      fail(key + " needs a type (gdt, trim, surface, global or points)");
+    Task task;
+    const std::string type = scalar<std::string>(node["type"], key + ".type");
+    if (type == "gdt")
+      task.type = TaskType::Gdt;
+    else if (type == "trim")
+      task.type = TaskType::Trim;
+    else if (type == "surface")
+      task.type = TaskType::Surface;
+    else if (type == "global")
+      task.type = TaskType::Global;
+    else if (type == "points")
+      task.type = TaskType::Points;
+    else
+      fail(key + ": unknown task type '" + type + "'");
+    for (const auto& item : node) {
+      const std::string field = item.first.as<std::string>();
+      if (field != "type" && field != "faces" && field != "file")
+        fail(key + ": unknown field '" + field + "'");
+    }
+    task.faces = faces(node["faces"], key + ".faces");
+    if (task.type == TaskType::Points) {
+      if (!node["file"]) fail(key + ": a points task needs file: control_points.csv");
+      task.points_file = resolvePath(scalar<std::string>(node["file"], key + ".file"));
+    } else if (node["file"]) {
+      fail(key + ": only a points task takes a file");
+    }
+    if ((task.type == TaskType::Trim || task.type == TaskType::Surface) && task.faces.empty())
+      fail(key + ": a " + type + " task needs faces");
+    return task;
+  }
+
+ private:
+  std::string path_;
+};
+
+void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
+               const SpecReader& reader, const std::string& section) {
+  if (!node.IsMap()) reader.fail(section + " must be a mapping");
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    if (!allowed.count(key)) reader.fail("unknown key '" + key + "' in " + section);
+  }
 }
 
 }  // namespace
@@ -46,28 +158,105 @@ Spec loadSpec(const std::string& path) {
   Spec spec = defaultSpec();
   spec.source = path;
   if (root.IsNull()) return spec;
+  const SpecReader reader(path);
   if (!root.IsMap())
-    throw InputError(path, "a spec is a mapping of sections (scanner, part, roles, ...)");
-  static const std::set<std::string> sections = {"scanner", "part",  "roles",   "gdt",
-                                                 "markers", "tasks", "planner", "cell"};
-  for (const auto& item : root) {
-    const std::string key = item.first.as<std::string>();
-    if (!sections.count(key)) throw InputError(path, "unknown section '" + key + "'");
-  }
+    reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
+  checkKeys(root, {"scanner", "part", "roles", "gdt", "markers", "tasks", "planner", "cell"},
+            reader, "the spec");
   try {
     if (root["scanner"]) spec.scanner = loadScanner(path);
+    if (const YAML::Node part = root["part"]) {
+      checkKeys(part, {"file", "rest"}, reader, "part");
+      if (part["file"])
+        spec.part_file = reader.resolvePath(reader.scalar<std::string>(part["file"], "part.file"));
+    }
     if (const YAML::Node roles = root["roles"]) {
-      if (!roles.IsMap()) throw InputError(path, "roles must be a mapping");
-      spec.priority_faces = faceIds(roles["priority"], path, "roles.priority");
-      spec.specular_faces = faceIds(roles["specular"], path, "roles.specular");
+      checkKeys(roles, {"priority", "fixture", "specular"}, reader, "roles");
+      spec.priority = reader.faces(roles["priority"], "roles.priority");
+      spec.fixture = reader.faces(roles["fixture"], "roles.fixture");
+      spec.specular = reader.faces(roles["specular"], "roles.specular");
+    }
+    if (const YAML::Node gdt = root["gdt"]) {
+      const std::string value = reader.scalar<std::string>(gdt, "gdt");
+      if (value != "from-file" && value != "none")
+        reader.fail("gdt: expected from-file or none, got '" + value + "'");
+      spec.gdt_from_file = value == "from-file";
+    }
+    if (const YAML::Node markers = root["markers"])
+      spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
+    if (const YAML::Node tasks = root["tasks"]) {
+      if (!tasks.IsSequence() || tasks.size() == 0) reader.fail("tasks must be a non-empty list");
+      spec.tasks.clear();
+      for (std::size_t i = 0; i < tasks.size(); ++i) spec.tasks.push_back(reader.task(tasks[i], i));
+    } else if (spec.gdt_from_file) {
+      spec.tasks = {Task{TaskType::Gdt, {}, {}}};  // gdt: from-file alone asks for a gdt task
+    }
+    if (const YAML::Node planner = root["planner"]) {
+      checkKeys(planner, {"seed", "vm_step", "tilt", "max_failures"}, reader, "planner");
+      PlannerSettings& p = spec.planner;
+      if (planner["seed"]) p.seed = reader.scalar<std::uint64_t>(planner["seed"], "planner.seed");
+      if (planner["vm_step"])
+        p.vm_step = reader.scalar<double>(planner["vm_step"], "planner.vm_step");
+      if (planner["max_failures"])
+        p.max_failures = reader.scalar<int>(planner["max_failures"], "planner.max_failures");
+      if (const YAML::Node tilt = planner["tilt"]) {
+        if (!tilt.IsSequence() || tilt.size() != 2)
+          reader.fail("planner.tilt must be [min, max] in degrees");
+        p.tilt_min = reader.scalar<double>(tilt[0], "planner.tilt");
+        p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
+      }
+      if (!(p.vm_step > 0 && p.vm_step <= 45))
+        reader.fail("planner.vm_step must be within (0, 45] degrees");
+      if (!(p.tilt_min >= 0 && p.tilt_min <= p.tilt_max && p.tilt_max < 90))
+        reader.fail("planner.tilt must be [min, max] with 0 <= min <= max < 90 degrees");
+      if (p.max_failures < 1) reader.fail("planner.max_failures must be at least 1");
     }
     if (const YAML::Node cell = root["cell"]) {
-      if (cell["working_plane"]) spec.working_plane = cell["working_plane"].as<bool>();
+      checkKeys(cell, {"working_plane"}, reader, "cell");
+      if (cell["working_plane"])
+        spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
     }
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.what());
   }
   return spec;
+}
+
+std::vector<int> resolveFaces(const Part& part, const std::vector<FaceSelector>& selectors,
+                              const std::string& source) {
+  std::vector<int> ids;
+  for (const FaceSelector& selector : selectors) {
+    const std::size_t before = ids.size();
+    if (selector.id > 0) {
+      if (selector.id > static_cast<int>(part.faces.size()))
+        throw InputError(source, "unknown face id " + std::to_string(selector.id) + " (" +
+                                     part.file + " has " + std::to_string(part.faces.size()) +
+                                     " faces)");
+      ids.push_back(selector.id);
+      continue;
+    }
+    for (const Face& face : part.faces) {
+      bool match = false;
+      if (!selector.name.empty())
+        match = face.name == selector.name ||
+                (face.solid >= 0 && part.solids[face.solid].name == selector.name);
+      if (selector.color && face.color) {
+        const Color& a = *selector.color;
+        const Color& b = *face.color;
+        match = std::abs(a.r - b.r) <= 1.f / 255 && std::abs(a.g - b.g) <= 1.f / 255 &&
+                std::abs(a.b - b.b) <= 1.f / 255;
+      }
+      if (match) ids.push_back(face.id);
+    }
+    if (ids.size() == before)
+      throw InputError(
+          source, selector.name.empty()
+                      ? "no face of " + part.file + " has the colour given"
+                      : "no face or solid of " + part.file + " is named '" + selector.name + "'");
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
 }
 
 }  // namespace scanplan

@@ -131,6 +131,37 @@ TEST(Cli, SimulateBadInputsAreExitCodeTwo) {
   EXPECT_EQ(run("simulate " + part).code, 1);  // --views is required
 }
 
+TEST(Cli, SampleGdtFromFileWritesPlyAndJson) {
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"),
+                  "gdt: from-file\ntasks:\n  - {type: gdt}\n  - {type: global}\n");
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r =
+      run("sample " + part + " --spec " + dir.file("spec.yaml") + " --out " + dir.file("s.ply"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("task gdt"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("task global"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("clusters  "), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("s.ply")));
+  r = run("sample -q " + part + " --out " + dir.file("s.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir.file("s.json"));
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"cluster\""), std::string::npos);
+  EXPECT_EQ(run("sample " + part + " --out " + dir.file("s.txt")).code, 4);  // unsupported output
+}
+
+TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: trim, faces: [42]}\n");
+  CommandResult r = run("sample " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " --spec " +
+                        dir.file("spec.yaml"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("error: " + dir.file("spec.yaml") + ": unknown face id 42"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST(Cli, HelpIsExitCodeZero) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);

@@ -80,7 +80,8 @@ TEST(Scanner, SpecWithPresetOrMapping) {
   Spec spec = loadSpec(dir.file("b.yaml"));
   EXPECT_EQ(spec.scanner.standoff, 500);
   EXPECT_EQ(spec.scanner.fov_width, 300);
-  EXPECT_EQ(spec.specular_faces, (std::vector<int>{3, 4}));
+  ASSERT_EQ(spec.specular.size(), 2u);
+  EXPECT_EQ(spec.specular[1].id, 4);
   EXPECT_FALSE(spec.working_plane);
   EXPECT_EQ(defaultSpec().scanner.name, "generic-structured-light");
 }
@@ -96,7 +97,7 @@ TEST(Scanner, BadSpecs) {
   EXPECT_TRUE(contains(reason("scanner: {depth_of_field: 900}\n"), "twice the standoff"));
   EXPECT_TRUE(contains(reason("scanner: nope\n"), "unknown scanner preset"));
   EXPECT_TRUE(contains(reason("roles: {specular: [0]}\n"), "face ids start at 1"));
-  EXPECT_TRUE(contains(reason("sanner: x\n"), "unknown section 'sanner'"));
+  EXPECT_TRUE(contains(reason("sanner: x\n"), "unknown key 'sanner'"));
   EXPECT_TRUE(contains(reason("scanner: [1, 2\n"), "not valid YAML"));
   EXPECT_TRUE(contains(reasonOf([] { loadSpec("/nonexistent/spec.yaml"); }), "no such file"));
 }

@@ -41,7 +41,7 @@ int run(const Options& options, const GlobalOptions& global) {
   SimulationOptions simulation;
   simulation.part_to_world = views.part_to_world;
   simulation.working_plane = spec.working_plane && !options.no_working_plane;
-  simulation.specular_faces = spec.specular_faces;
+  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
   report(progress, "building ray-casting scene", 0);
   Simulator simulator(part, spec.scanner, simulation);
 

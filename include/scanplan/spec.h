@@ -1,27 +1,66 @@
 #pragma once
 // The inspection spec (DESIGN.md §6), YAML in millimetres and degrees. Every field has a
-// default, so an empty spec means the default scanner and no special roles.
+// default: an empty spec (or none) means one `global` task with the default scanner.
 
+#include <scanplan/cad/part.h>
 #include <scanplan/sensor.h>
 
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace scanplan {
 
-struct Spec {
-  std::string source;               // the file it was read from, "" for defaults
-  Scanner scanner;                  // `scanner:` preset name or mapping
-  std::vector<int> priority_faces;  // roles.priority (face ids)
-  std::vector<int> specular_faces;  // roles.specular (face ids)
-  bool working_plane = true;        // cell.working_plane: the plane z = 0 occludes
+// One way to name faces in a spec: by id, by the name the file gives them, or by colour.
+struct FaceSelector {
+  int id = 0;                  // 1-based face id, or 0
+  std::string name;            // face (or solid) name from the CAD file, or ""
+  std::optional<Color> color;  // surface colour, matched within 1/255 per channel
 };
 
-// The default spec: the generic structured-light scanner, no roles.
+enum class TaskType { Gdt, Trim, Surface, Global, Points };
+std::string_view toString(TaskType type);
+
+struct Task {
+  TaskType type = TaskType::Global;
+  std::vector<FaceSelector> faces;  // target faces (gdt, trim, surface)
+  std::string points_file;          // control points CSV (points), resolved to the spec's folder
+};
+
+struct PlannerSettings {
+  std::uint64_t seed = 1;  // k-means and any other randomness
+  double vm_step = 5;      // visibility-map grid step, degrees
+  double tilt_min = 30;    // preferred tilt of tilted positioning, degrees
+  double tilt_max = 50;
+  int max_failures = 3;  // attempts before a sample is declared not coverable
+};
+
+struct Spec {
+  std::string source;                  // the file it was read from, "" for defaults
+  Scanner scanner;                     // `scanner:` preset name or mapping
+  std::string part_file;               // part.file, resolved to the spec's folder, or ""
+  std::vector<FaceSelector> priority;  // roles.priority
+  std::vector<FaceSelector> fixture;   // roles.fixture: faces that only occlude
+  std::vector<FaceSelector> specular;  // roles.specular
+  bool gdt_from_file = false;          // gdt: from-file
+  std::string markers_file;            // markers CSV, resolved, or ""
+  std::vector<Task> tasks;             // never empty: defaults to one global task
+  PlannerSettings planner;
+  bool working_plane = true;  // cell.working_plane: the plane z = 0 occludes
+};
+
+// The default spec: the generic structured-light scanner, one global task.
 Spec defaultSpec();
 
-// Reads and validates a spec. Face ids are checked against a part later, by the stage
-// that uses them. \throw InputError naming the file and the key that is wrong.
+// Reads and validates a spec (not yet against a part: see resolveFaces).
+// \throw InputError naming the file and the key that is wrong.
 Spec loadSpec(const std::string& path);
+
+// The face ids that `selectors` name on `part`, sorted and unique.
+// \throw InputError naming `source` and the selector that matches no face.
+std::vector<int> resolveFaces(const Part& part, const std::vector<FaceSelector>& selectors,
+                              const std::string& source);
 
 }  // namespace scanplan

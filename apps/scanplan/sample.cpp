@@ -1,0 +1,159 @@
+// scanplan sample: the samples the spec's tasks ask for, and their clusters.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/clustering.h>
+#include <scanplan/errors.h>
+#include <scanplan/sampling.h>
+#include <scanplan/spec.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+namespace scanplan::cli {
+namespace {
+
+using nlohmann::json;
+
+struct Options {
+  std::string part;
+  std::string spec;
+  std::string out;
+};
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+// Writes `text` to `path` through a temporary file renamed into place.
+void writeAtomically(const std::string& path, const std::function<void(std::ofstream&)>& write) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    if (!out) throw OutputError(path, "cannot be written");
+    write(out);
+    if (!out.good()) {
+      std::remove(temporary.c_str());
+      throw OutputError(path, "write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    std::remove(temporary.c_str());
+    throw OutputError(path, "cannot be written: " + ec.message());
+  }
+}
+
+void writeSamples(const std::string& path, const std::vector<Sample>& samples,
+                  const std::vector<Cluster>& clusters) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".json") {
+    json list = json::array();
+    for (const Sample& s : samples)
+      list.push_back({{"position", vec(s.position)},
+                      {"normal", vec(s.normal)},
+                      {"face", s.face},
+                      {"uv", {s.uv.x(), s.uv.y()}},
+                      {"role", toString(s.role)},
+                      {"task", toString(s.task)},
+                      {"weight", s.weight},
+                      {"cluster", s.cluster}});
+    json groups = json::array();
+    for (std::size_t c = 0; c < clusters.size(); ++c)
+      groups.push_back({{"id", c},
+                        {"samples", clusters[c].samples.size()},
+                        {"mean_position", vec(clusters[c].mean_position)},
+                        {"mean_normal", vec(clusters[c].mean_normal)}});
+    writeAtomically(path, [&](std::ofstream& out) {
+      out << json{{"samples", list}, {"clusters", groups}}.dump(1) << '\n';
+    });
+    return;
+  }
+  if (ext != ".ply")
+    throw OutputError(path, "unsupported output type '" + ext + "' (expected .ply or .json)");
+  writeAtomically(path, [&](std::ofstream& out) {
+    out << "ply\nformat binary_little_endian 1.0\ncomment scanplan samples, mm, part frame\n"
+        << "element vertex " << samples.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property float nx\nproperty float ny\nproperty float nz\nproperty int face\nproperty "
+           "int cluster\n"
+        << "property uchar role\nproperty uchar task\nend_header\n";
+    for (const Sample& s : samples) {
+      float values[6];
+      for (int k = 0; k < 3; ++k) {
+        values[k] = static_cast<float>(s.position[k]);
+        values[3 + k] = static_cast<float>(s.normal[k]);
+      }
+      out.write(reinterpret_cast<const char*>(values), sizeof values);
+      const std::int32_t ints[2] = {s.face, s.cluster};
+      out.write(reinterpret_cast<const char*>(ints), sizeof ints);
+      const unsigned char codes[2] = {static_cast<unsigned char>(s.role),
+                                      static_cast<unsigned char>(s.task)};
+      out.write(reinterpret_cast<const char*>(codes), sizeof codes);
+    }
+  });
+}
+
+int run(const Options& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global.quiet);
+  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const Part part = importPart(options.part, {}, progress);
+  report(progress, "sampling", 0);
+  std::vector<Sample> samples = sampleSpec(part, spec, samplingOptionsFor(spec.scanner));
+  report(progress, "clustering", 0);
+  const std::vector<Cluster> clusters =
+      clusterSamples(samples, clusteringOptionsFor(spec.scanner, spec.planner.seed));
+  if (!options.out.empty()) writeSamples(options.out, samples, clusters);
+  clearProgress();
+
+  std::map<std::string, int> by_task, by_role;
+  std::map<int, int> by_face;
+  for (const Sample& s : samples) {
+    ++by_task[std::string(toString(s.task))];
+    ++by_role[std::string(toString(s.role))];
+    ++by_face[s.face];
+  }
+  fmt::print("part      {} ({} faces)\n", part.file, part.faces.size());
+  fmt::print("samples   {}\n", samples.size());
+  for (const auto& [task, count] : by_task) fmt::print("  task {:<9} {}\n", task, count);
+  for (const auto& [role, count] : by_role) fmt::print("  role {:<9} {}\n", role, count);
+  fmt::print("faces     {} sampled\n", by_face.size());
+  std::vector<std::string> face_counts;
+  for (const auto& [face, count] : by_face)
+    face_counts.push_back(fmt::format("{}:{}", face, count));
+  fmt::print("  {}\n", fmt::join(face_counts, " "));
+  fmt::print("clusters  {}\n", clusters.size());
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    const Cluster& k = clusters[c];
+    fmt::print(
+        "  {:>4}: {:>5} samples at ({:.1f}, {:.1f}, {:.1f}) normal ({:.2f}, {:.2f}, {:.2f})\n", c,
+        k.samples.size(), k.mean_position.x(), k.mean_position.y(), k.mean_position.z(),
+        k.mean_normal.x(), k.mean_normal.y(), k.mean_normal.z());
+  }
+  if (!options.out.empty()) fmt::print("written   {}\n", options.out);
+  return 0;
+}
+
+}  // namespace
+
+void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command =
+      app.add_subcommand("sample", "Sample the surfaces the spec's tasks target, and cluster them");
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
+  command->add_option("--out", options->out,
+                      "Write the samples with their clusters (.ply or .json)");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

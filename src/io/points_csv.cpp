@@ -1,0 +1,57 @@
+#include <scanplan/errors.h>
+#include <scanplan/io/points_csv.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace scanplan {
+
+std::vector<ControlPoint> readPointsCsv(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened for reading");
+  std::vector<ControlPoint> points;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos ||
+        line[line.find_first_not_of(" \t")] == '#')
+      continue;
+    std::vector<double> values;
+    std::stringstream fields(line);
+    std::string field;
+    bool numeric = true;
+    while (std::getline(fields, field, ',')) {
+      try {
+        std::size_t used = 0;
+        values.push_back(std::stod(field, &used));
+        if (field.find_first_not_of(" \t", used) != std::string::npos) numeric = false;
+      } catch (const std::exception&) {
+        numeric = false;
+      }
+    }
+    const std::string where = "line " + std::to_string(number);
+    if (!numeric) {
+      if (points.empty() && number == 1) continue;  // a header
+      throw InputError(path, where + ": not a number in '" + line + "'");
+    }
+    if (values.size() != 3 && values.size() != 6)
+      throw InputError(path, where + ": expected x,y,z or x,y,z,nx,ny,nz, got " +
+                                 std::to_string(values.size()) + " values");
+    ControlPoint point;
+    point.line = number;
+    point.position = Vec3(values[0], values[1], values[2]);
+    if (values.size() == 6) {
+      Vec3 n(values[3], values[4], values[5]);
+      if (!(n.norm() > 1e-12)) throw InputError(path, where + ": the normal is zero");
+      point.normal = n.normalized();
+    }
+    if (!point.position.allFinite()) throw InputError(path, where + ": not a finite point");
+    points.push_back(point);
+  }
+  if (points.empty()) throw InputError(path, "no points");
+  return points;
+}
+
+}  // namespace scanplan

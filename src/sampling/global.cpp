@@ -1,0 +1,64 @@
+// Global sampling: all faces, decimated by distance and normal angle (nanoflann).
+
+#include <scanplan/sampling.h>
+
+#include <nanoflann.hpp>
+
+#include <cmath>
+
+namespace scanplan {
+namespace {
+
+struct SampleCloud {
+  const std::vector<Sample>& samples;
+  std::size_t kdtree_get_point_count() const { return samples.size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
+    return samples[i].position[static_cast<int>(dim)];
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using SampleTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, SampleCloud>,
+                                        SampleCloud, 3>;
+
+}  // namespace
+
+std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle) {
+  if (samples.empty()) return {};
+  SampleCloud cloud{samples};
+  SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  const double min_dot = std::cos(angle * M_PI / 180);
+  std::vector<char> removed(samples.size(), 0);
+  std::vector<Sample> kept;
+  std::vector<std::pair<unsigned, double>> neighbours;
+  nanoflann::SearchParams params;
+  params.sorted = false;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (removed[i]) continue;
+    kept.push_back(samples[i]);
+    // nanoflann's L2 adaptor works in squared distances; "closer than" the radius.
+    tree.radiusSearch(samples[i].position.data(), radius * radius, neighbours, params);
+    for (const auto& [j, distance2] : neighbours)
+      if (j != i && distance2 < radius * radius &&
+          samples[j].normal.dot(samples[i].normal) >= min_dot)
+        removed[j] = 1;
+  }
+  return kept;
+}
+
+std::vector<Sample> sampleGlobal(const Part& part, const std::vector<int>& excluded,
+                                 const SamplingOptions& options) {
+  std::vector<int> faces;
+  for (const Face& face : part.faces)
+    if (std::find(excluded.begin(), excluded.end(), face.id) == excluded.end())
+      faces.push_back(face.id);
+  return decimate(sampleSurface(part, faces, Role::Normal, TaskType::Global, options),
+                  options.decimation_radius, options.decimation_angle);
+}
+
+}  // namespace scanplan

@@ -1,0 +1,391 @@
+// Task-driven sampling: samples on their faces with outward normals, counts per
+// direction, holes, borders, decimation, user points, the spec's tasks and its errors.
+
+#include "support.h"
+
+#include "cad/brep_model.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/sampling.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+
+#include <map>
+#include <set>
+
+namespace scanplan {
+namespace {
+
+// The 100 x 60 x 40 mm box with a radius 10 mm hole through it along z at (50, 30).
+Part boxWithHole(const test::TempDir& dir) {
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(100, 60, 40).Shape();
+  TopoDS_Shape hole =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(50, 30, -1), gp::DZ()), 10, 42).Shape();
+  const std::string path = dir.file("box_hole.brep");
+  BRepTools::Write(BRepAlgoAPI_Cut(box, hole).Shape(), path.c_str());
+  return importPart(path);
+}
+
+int faceWhere(const Part& part, SurfaceType type, const std::function<bool(const Box&)>& where) {
+  for (const Face& face : part.faces)
+    if (face.type == type && where(face.bounds)) return face.id;
+  return 0;
+}
+
+int topFace(const Part& part) {
+  return faceWhere(part, SurfaceType::Plane, [](const Box& b) { return b.min.z() > 39.9; });
+}
+
+std::vector<int> allFaces(const Part& part) {
+  std::vector<int> ids;
+  for (const Face& f : part.faces) ids.push_back(f.id);
+  return ids;
+}
+
+// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Checks every `stride`-th sample against OCCT directly: its distance to the trimmed face
+// (on the surface and inside the trims), and its normal against the triangle of the
+// face's (outward, tested) mesh nearest to it.
+void expectOnFacesAndOutward(const Part& part, const std::vector<Sample>& samples,
+                             std::size_t stride) {
+  const double size = part.bounds().diagonal();
+  for (std::size_t i = 0; i < samples.size(); i += stride) {
+    const Sample& s = samples[i];
+    const TopoDS_Face face = part.brep->outwardFace(s.face);
+    const gp_Pnt p(s.position.x(), s.position.y(), s.position.z());
+    BRepExtrema_DistShapeShape distance(BRepBuilderAPI_MakeVertex(p).Vertex(), face);
+    ASSERT_TRUE(distance.IsDone());
+    EXPECT_LT(distance.Value(), 1e-6 * size) << "sample " << i << " off face " << s.face;
+    const Face& f = part.face(s.face);
+    double best = 1e300;
+    Vec3 normal = Vec3::Zero();
+    for (int t = f.first_triangle; t < f.first_triangle + f.triangle_count; ++t) {
+      const Vec3i& tri = part.mesh.triangles[t];
+      const Vec3 q = closestOnTriangle(s.position, part.mesh.vertices[tri[0]],
+                                       part.mesh.vertices[tri[1]], part.mesh.vertices[tri[2]]);
+      if ((q - s.position).squaredNorm() < best && !part.mesh.normal(t).isZero()) {
+        best = (q - s.position).squaredNorm();
+        normal = part.mesh.normal(t);
+      }
+    }
+    EXPECT_GT(s.normal.dot(normal), 0)
+        << "sample " << i << " on face " << s.face << " points inward";
+    EXPECT_NEAR(s.normal.norm(), 1, 1e-9);
+  }
+}
+
+std::size_t distinct(const std::vector<Sample>& samples, int face, int coordinate) {
+  std::set<long> values;
+  for (const Sample& s : samples)
+    if (s.face == face) values.insert(std::lround(s.uv[coordinate] * 1e6));
+  return values.size();
+}
+
+TEST(SurfaceSampling, SamplesLieOnNistFacesWithOutwardNormals) {
+  std::vector<std::string> parts = {test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"),
+                                    test::testData("nist_ftc_11_asme1_ap242-e1.stp"),
+                                    test::testData("nist_ctc_03_asme1_ap242-e2.stp")};
+  for (const char* name : {"nist_ctc_02_asme1_ap242-e2.stp", "nist_ctc_04_asme1_ap242-e1.stp",
+                           "nist_ftc_06_asme1_ap242-e1.stp", "nist_ftc_07_asme1_ap242-e2.stp",
+                           "nist_ftc_08_asme1_ap242-e1.stp"}) {
+    std::string path = std::string(SCANPLAN_SHARED_DATA) + "/nist/" + name;
+    if (std::filesystem::exists(path)) parts.push_back(path);
+  }
+  for (const std::string& path : parts) {
+    SCOPED_TRACE(path);
+    Part part = importPart(path);
+    std::vector<Sample> samples =
+        sampleSurface(part, allFaces(part), Role::Priority, TaskType::Gdt);
+    std::set<int> sampled;
+    for (const Sample& s : samples) sampled.insert(s.face);
+    EXPECT_GE(sampled.size(), part.faces.size() * 95 / 100) << "faces without samples";
+    expectOnFacesAndOutward(part, samples, std::max<std::size_t>(1, samples.size() / 400));
+  }
+}
+
+TEST(SurfaceSampling, PlaneCylinderAndBSplineGetSixPerDirection) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  std::vector<Sample> samples = sampleSurface(part, allFaces(part), Role::Priority, TaskType::Gdt);
+  const int top = topFace(part);
+  const int bore = faceWhere(part, SurfaceType::Cylinder, [](const Box&) { return true; });
+  ASSERT_GT(top, 0);
+  ASSERT_GT(bore, 0);
+  for (int face : {top, bore}) {
+    EXPECT_GE(distinct(samples, face, 0), 6u) << "face " << face;
+    EXPECT_GE(distinct(samples, face, 1), 6u) << "face " << face;
+  }
+  // A wavy B-spline patch 80 x 60 mm.
+  TColgp_Array2OfPnt grid(1, 6, 1, 5);
+  for (int i = 1; i <= 6; ++i)
+    for (int j = 1; j <= 5; ++j)
+      grid(i, j) = gp_Pnt(16.0 * (i - 1), 15.0 * (j - 1), 5 * std::sin(i) * std::cos(j));
+  Handle(Geom_Surface) surface(GeomAPI_PointsToBSplineSurface(grid).Surface());
+  TopoDS_Face patch = BRepBuilderAPI_MakeFace(surface, 1e-6);
+  BRepTools::Write(patch, dir.file("patch.brep").c_str());
+  Part spline = importPart(dir.file("patch.brep"));
+  ASSERT_EQ(spline.faces[0].type, SurfaceType::BSpline);
+  std::vector<Sample> spline_samples =
+      sampleSurface(spline, {1}, Role::Priority, TaskType::Surface);
+  EXPECT_GE(distinct(spline_samples, 1, 0), 6u);
+  EXPECT_GE(distinct(spline_samples, 1, 1), 6u);
+  expectOnFacesAndOutward(spline, spline_samples, 1);
+}
+
+TEST(SurfaceSampling, NoSampleInsideTheHole) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  const int top = topFace(part);
+  std::vector<Sample> samples = sampleSurface(part, {top}, Role::Priority, TaskType::Gdt);
+  ASSERT_GT(samples.size(), 30u);
+  for (const Sample& s : samples) {
+    EXPECT_GE((s.position.head<2>() - Eigen::Vector2d(50, 30)).norm(), 10 - 1e-9);
+    EXPECT_NEAR(s.position.z(), 40, 1e-9);
+    EXPECT_TRUE(s.normal.isApprox(Vec3::UnitZ(), 1e-12));
+  }
+  double weight = 0;
+  for (const Sample& s : samples) weight += s.weight;
+  EXPECT_NEAR(weight, part.face(top).area, 1e-6 * part.face(top).area);
+}
+
+TEST(SurfaceSampling, LargeFacesAreSplitIntoPortionsThatFit) {
+  // A 1000 x 600 plate: portions of at most 225 mm, so samples are spread over it and the
+  // gaps between neighbouring samples stay well under a portion.
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(1000, 600, 10).Shape(), dir.file("plate.brep").c_str());
+  Part part = importPart(dir.file("plate.brep"));
+  const int top = faceWhere(part, SurfaceType::Plane, [](const Box& b) { return b.min.z() > 9.9; });
+  SamplingOptions options;
+  std::vector<Sample> samples = sampleSurface(part, {top}, Role::Priority, TaskType::Gdt, options);
+  // At least 8 x 8 per portion, and at least (1000/225) x (600/225) portions.
+  EXPECT_GE(samples.size(), 64u * 5 * 3);
+  for (double x = 20; x < 1000; x += 50)
+    for (double y = 20; y < 600; y += 50) {
+      double nearest = 1e300;
+      for (const Sample& s : samples)
+        nearest = std::min(nearest, (s.position.head<2>() - Eigen::Vector2d(x, y)).norm());
+      ASSERT_LT(nearest, options.portion_size / options.min_per_direction) << x << ", " << y;
+    }
+}
+
+TEST(BorderSampling, HoleBorderIsAtTheRadius) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  const int top = topFace(part);
+  SamplingOptions options;
+  std::vector<Sample> samples = sampleBorders(part, {top}, Role::Priority, TaskType::Trim, options);
+  int on_hole = 0, on_outside = 0;
+  for (const Sample& s : samples) {
+    const double r = (s.position.head<2>() - Eigen::Vector2d(50, 30)).norm();
+    EXPECT_NEAR(s.position.z(), 40, 1e-9);
+    EXPECT_TRUE(s.normal.isApprox(Vec3::UnitZ(), 1e-9));
+    EXPECT_NEAR(s.tangent.norm(), 1, 1e-9);
+    EXPECT_NEAR(s.tangent.z(), 0, 1e-9);
+    EXPECT_LE(s.weight, options.border_step + 1e-9);
+    if (r < 20) {
+      EXPECT_NEAR(r, 10, 1e-6);
+      // The tangent of a circle is perpendicular to its radius.
+      EXPECT_NEAR(s.tangent.head<2>().dot((s.position.head<2>() - Eigen::Vector2d(50, 30)) / r), 0,
+                  1e-6);
+      ++on_hole;
+    } else {
+      const bool on_rectangle =
+          std::abs(s.position.x()) < 1e-9 || std::abs(s.position.x() - 100) < 1e-9 ||
+          std::abs(s.position.y()) < 1e-9 || std::abs(s.position.y() - 60) < 1e-9;
+      EXPECT_TRUE(on_rectangle) << s.position.transpose();
+      ++on_outside;
+    }
+  }
+  // Circumference 62.8 mm and perimeter 320 mm at steps of at most 5 mm.
+  EXPECT_GE(on_hole, 13);
+  EXPECT_GE(on_outside, 64);
+}
+
+TEST(GlobalSampling, BoxFacesGetFewSpreadSamples) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 60, 40).Shape(), dir.file("box.brep").c_str());
+  Part part = importPart(dir.file("box.brep"));
+  SamplingOptions options;
+  options.decimation_radius = 20;
+  std::vector<Sample> dense =
+      sampleSurface(part, allFaces(part), Role::Normal, TaskType::Global, options);
+  std::vector<Sample> samples = sampleGlobal(part, {}, options);
+  EXPECT_LT(samples.size(), dense.size() / 4);
+  std::map<int, int> per_face;
+  for (const Sample& s : samples) ++per_face[s.face];
+  for (const Face& face : part.faces) {
+    // Points at least r apart in an a x b rectangle: at most (a/r + 1)(b/r + 1).
+    const Vec3 size = face.bounds.size();
+    std::vector<double> sides;
+    for (int k = 0; k < 3; ++k)
+      if (size[k] > 1e-6) sides.push_back(size[k]);
+    const double bound =
+        (sides[0] / options.decimation_radius + 1) * (sides[1] / options.decimation_radius + 1);
+    EXPECT_GT(per_face[face.id], 0);
+    EXPECT_LE(per_face[face.id], bound) << "face " << face.id;
+  }
+  for (std::size_t a = 0; a < samples.size(); ++a)
+    for (std::size_t b = a + 1; b < samples.size(); ++b)
+      if (samples[a].normal.dot(samples[b].normal) >
+          std::cos(options.decimation_angle * M_PI / 180)) {
+        EXPECT_GE((samples[a].position - samples[b].position).norm(), options.decimation_radius);
+      }
+}
+
+TEST(GlobalSampling, CurvedFacesKeepMoreSamplesThanFlatOnes) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  std::vector<Sample> samples = sampleGlobal(part, {});
+  const int bore = faceWhere(part, SurfaceType::Cylinder, [](const Box&) { return true; });
+  const int top = topFace(part);
+  double bore_density = 0, top_density = 0;
+  for (const Sample& s : samples) {
+    if (s.face == bore) bore_density += 1 / part.face(bore).area;
+    if (s.face == top) top_density += 1 / part.face(top).area;
+  }
+  EXPECT_GT(bore_density, 2 * top_density);
+}
+
+TEST(PointSampling, PointsTakeTheirFaceAndNormal) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  test::writeText(dir.file("points.csv"), "x,y,z\n10,10,40\n# a comment\n50,40,20,0,1,0\n");
+  std::vector<Sample> samples =
+      samplePoints(part, readPointsCsv(dir.file("points.csv")), dir.file("points.csv"));
+  ASSERT_EQ(samples.size(), 2u);
+  EXPECT_EQ(samples[0].face, topFace(part));
+  EXPECT_TRUE(samples[0].normal.isApprox(Vec3::UnitZ(), 1e-9));
+  // On the bore at (50, 40, 20): the bore's outward normal (out of the material) is -y there.
+  EXPECT_EQ(part.face(samples[1].face).type, SurfaceType::Cylinder);
+  EXPECT_TRUE(samples[1].normal.isApprox(Vec3::UnitY(), 1e-9));  // the CSV's normal wins
+  test::writeText(dir.file("one.csv"), "50,40,20\n");
+  std::vector<Sample> bore =
+      samplePoints(part, readPointsCsv(dir.file("one.csv")), dir.file("one.csv"));
+  EXPECT_TRUE(bore[0].normal.isApprox(-Vec3::UnitY(), 1e-6)) << bore[0].normal.transpose();
+}
+
+TEST(PointSampling, FarPointIsAnErrorNamingIt) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  test::writeText(dir.file("far.csv"), "10,10,40\n10,10,45\n");
+  try {
+    samplePoints(part, readPointsCsv(dir.file("far.csv")), dir.file("far.csv"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("5.000000 mm from the part"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(SpecSampling, GdtFromFileSelectsExactlyThePmiFaces) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"), "gdt: from-file\n");
+  std::vector<Sample> samples =
+      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+  std::set<int> expected;
+  for (const GeometricTolerance& t : part.gdt.tolerances)
+    expected.insert(t.faces.begin(), t.faces.end());
+  for (const Datum& d : part.gdt.datums) expected.insert(d.faces.begin(), d.faces.end());
+  ASSERT_FALSE(expected.empty());
+  std::set<int> sampled;
+  for (const Sample& s : samples) {
+    sampled.insert(s.face);
+    EXPECT_EQ(s.task, TaskType::Gdt);
+    EXPECT_EQ(s.role, Role::Priority);
+  }
+  EXPECT_EQ(sampled, expected);
+}
+
+TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  const int top = topFace(part);
+  test::writeText(dir.file("points.csv"), "10,10,40\n");
+  test::writeText(dir.file("spec.yaml"),
+                  "roles:\n  fixture: [" + std::to_string(top) +
+                      "]\ntasks:\n  - {type: global}\n  - {type: trim, faces: [1]}\n"
+                      "  - {type: points, file: points.csv}\n");
+  std::vector<Sample> samples =
+      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+  std::map<TaskType, int> tasks;
+  for (const Sample& s : samples) {
+    ++tasks[s.task];
+    if (s.task != TaskType::Points) {
+      EXPECT_NE(s.face, top);
+    }
+  }
+  EXPECT_GT(tasks[TaskType::Global], 0);
+  EXPECT_GT(tasks[TaskType::Trim], 0);
+  EXPECT_EQ(tasks[TaskType::Points], 1);
+}
+
+TEST(SpecSampling, SpecErrors) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  auto reason = [&](const std::string& spec_text) -> std::string {
+    test::writeText(dir.file("spec.yaml"), spec_text);
+    try {
+      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(dir.file("")), std::string::npos) << e.what();
+      return e.what();
+    }
+    ADD_FAILURE() << "no error for: " << spec_text;
+    return {};
+  };
+  auto has = [](const std::string& text, const std::string& part_text) {
+    return text.find(part_text) != std::string::npos;
+  };
+  EXPECT_TRUE(has(reason("tasks:\n  - {type: trim, faces: [99]}\n"), "unknown face id 99"));
+  EXPECT_TRUE(
+      has(reason("tasks:\n  - {type: gdt, faces: [{name: DATUM_Z}]}\n"), "named 'DATUM_Z'"));
+  EXPECT_TRUE(has(reason("roles:\n  priority: [{color: '#ff0000'}]\n"), "colour"));
+  EXPECT_TRUE(
+      has(reason("tasks:\n  - {type: points, file: missing.csv}\n"), "missing.csv: no such file"));
+  EXPECT_TRUE(has(reason("tasks: [{type: gdt}\n"), "not valid YAML"));
+  EXPECT_TRUE(has(reason("tasks:\n  - {type: scan}\n"), "unknown task type 'scan'"));
+  EXPECT_TRUE(has(reason("tasks:\n  - {type: trim}\n"), "needs faces"));
+  EXPECT_TRUE(has(reason("gdt: from-file\n"), "carries no GD&T"));
+  EXPECT_TRUE(has(reason("planner: {tilt: [60, 30]}\n"), "planner.tilt"));
+  test::writeText(dir.file("far.csv"), "10,10,80\n");
+  EXPECT_TRUE(has(reason("tasks:\n  - {type: points, file: far.csv}\n"), "mm from the part"));
+  test::writeText(dir.file("bad.csv"), "1,2\n");
+  EXPECT_TRUE(has(reason("tasks:\n  - {type: points, file: bad.csv}\n"), "line 1: expected x,y,z"));
+}
+
+}  // namespace
+}  // namespace scanplan
