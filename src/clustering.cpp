@@ -120,25 +120,16 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
     return (samples[i].position - c.mean_position).squaredNorm() +
            w * w * (samples[i].normal - c.mean_normal).squaredNorm();
   };
-  std::vector<char> seen(clusters.size(), 0);
   std::vector<std::pair<double, int>> candidates;
   for (int pass = 0; pass < options.iterations; ++pass) {
     bool moved = false;
     for (int i = 0; i < static_cast<int>(samples.size()); ++i) {
       const int from = owner[i];
       if (clusters[from].samples.size() == 1) continue;  // keep every cluster alive
-      // The clusters of the neighbours, each considered once, cheapest first.
-      tree.radiusSearch(samples[i].position.data(), options.max_distance * options.max_distance,
-                        near, sorted);
+      // Every other cluster, cheapest first (clusters are far fewer than samples).
       candidates.clear();
-      for (const auto& [j, distance2] : near) {
-        const int to = owner[j];
-        if (to != from && !seen[to]) {
-          seen[to] = 1;
-          candidates.push_back({cost(i, clusters[to]), to});
-        }
-      }
-      for (const auto& [c, to] : candidates) seen[to] = 0;
+      for (int to = 0; to < static_cast<int>(clusters.size()); ++to)
+        if (to != from && !clusters[to].samples.empty()) candidates.push_back({cost(i, clusters[to]), to});
       std::sort(candidates.begin(), candidates.end());
       int best = from;
       const double current = cost(i, clusters[from]);
