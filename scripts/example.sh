@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds scanplan and runs it on the bundled example part
-# (NIST CTC 01, STEP AP242 with semantic GD&T).
+# (NIST CTC 01, STEP AP242 with semantic GD&T): what it reads, then the plan of its
+# GD&T faces and of its whole shape, written to example-out/plan.json.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -8,3 +9,5 @@ scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release --target scanplan_cli
 build/release/apps/scanplan/scanplan info examples/parts/nist_ctc_01_asme1_ap242-e1.stp
+build/release/apps/scanplan/scanplan plan examples/parts/nist_ctc_01_asme1_ap242-e1.stp \
+  --spec examples/specs/ctc01.yaml -o example-out

@@ -129,7 +129,8 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
       // Every other cluster, cheapest first (clusters are far fewer than samples).
       candidates.clear();
       for (int to = 0; to < static_cast<int>(clusters.size()); ++to)
-        if (to != from && !clusters[to].samples.empty()) candidates.push_back({cost(i, clusters[to]), to});
+        if (to != from && !clusters[to].samples.empty())
+          candidates.push_back({cost(i, clusters[to]), to});
       std::sort(candidates.begin(), candidates.end());
       int best = from;
       const double current = cost(i, clusters[from]);

@@ -234,6 +234,14 @@ Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 
 const Scanner& Simulator::scanner() const { return impl_->scanner; }
 
+const SimulationOptions& Simulator::options() const { return impl_->options; }
+
+double Simulator::surfaceOffset() const { return impl_->offset; }
+
+std::vector<bool> Simulator::occluded(std::span<const Ray> rays) const {
+  return impl_->caster->occluded(rays);
+}
+
 std::vector<SurfacePoint> Simulator::facetPoints() const { return impl_->facets; }
 
 std::vector<Loss> Simulator::measure(const View& view, std::span<const SurfacePoint> points) const {

@@ -127,8 +127,6 @@ class SpecReader {
     } else if (node["file"]) {
       fail(key + ": only a points task takes a file");
     }
-    if ((task.type == TaskType::Trim || task.type == TaskType::Surface) && task.faces.empty())
-      fail(key + ": a " + type + " task needs faces");
     return task;
   }
 

@@ -162,6 +162,31 @@ TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {
       << r.out;
 }
 
+TEST(Cli, PlanWritesPlanJsonAndSummary) {
+  test::TempDir dir;
+  CommandResult r = run("plan " + test::example("parts/nist_ctc_01_asme1_ap242-e1.stp") + " -o " +
+                        dir.file("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("views      "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("occluded_by_working_plane"), std::string::npos) << r.out;
+  std::ifstream in(dir.file("out/plan.json"));
+  ASSERT_TRUE(in.good());
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"format\": \"scanplan.plan\""), std::string::npos);
+}
+
+TEST(Cli, PlanWithNothingToPlanIsExitCodeThree) {
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: trim}\n");
+  CommandResult r = run("plan " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " --spec " +
+                        dir.file("spec.yaml") + " -o " + dir.file("out"));
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("error: " + dir.file("spec.yaml") + ": task 1 (trim) has no target faces"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/plan.json")));
+}
+
 TEST(Cli, HelpIsExitCodeZero) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);

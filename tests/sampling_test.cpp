@@ -353,6 +353,28 @@ TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
   EXPECT_EQ(tasks[TaskType::Points], 1);
 }
 
+TEST(SpecSampling, TasksWithoutTargetsCannotBePlanned) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  auto reason = [&](const std::string& spec_text) -> std::string {
+    test::writeText(dir.file("spec.yaml"), spec_text);
+    try {
+      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+    } catch (const PlanningError& e) {
+      EXPECT_EQ(e.exitCode(), kExitPlanning);
+      return e.what();
+    }
+    ADD_FAILURE() << "no PlanningError for: " << spec_text;
+    return {};
+  };
+  EXPECT_NE(reason("tasks:\n  - {type: trim}\n").find("task 1 (trim) has no target faces"),
+            std::string::npos);
+  EXPECT_NE(reason("roles: {fixture: [1, 2]}\ntasks:\n  - {type: global}\n  - {type: surface, "
+                   "faces: [2, 1]}\n")
+                .find("task 2 (surface) has no target faces: all of them are fixtures"),
+            std::string::npos);
+}
+
 TEST(SpecSampling, SpecErrors) {
   test::TempDir dir;
   Part part = boxWithHole(dir);
@@ -378,7 +400,6 @@ TEST(SpecSampling, SpecErrors) {
       has(reason("tasks:\n  - {type: points, file: missing.csv}\n"), "missing.csv: no such file"));
   EXPECT_TRUE(has(reason("tasks: [{type: gdt}\n"), "not valid YAML"));
   EXPECT_TRUE(has(reason("tasks:\n  - {type: scan}\n"), "unknown task type 'scan'"));
-  EXPECT_TRUE(has(reason("tasks:\n  - {type: trim}\n"), "needs faces"));
   EXPECT_TRUE(has(reason("gdt: from-file\n"), "carries no GD&T"));
   EXPECT_TRUE(has(reason("planner: {tilt: [60, 30]}\n"), "planner.tilt"));
   test::writeText(dir.file("far.csv"), "10,10,80\n");

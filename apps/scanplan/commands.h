@@ -17,6 +17,9 @@ using Action = std::function<int()>;
 // scanplan info FILE [--json]
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
+// scanplan plan PART [--spec spec.yaml] [-o outdir]
+void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan sample PART [--spec spec.yaml] [--out samples.ply|.json]
 void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "Show no progress");
   cli::Action action;
   cli::addInfoCommand(app, global, action);
+  cli::addPlanCommand(app, global, action);
   cli::addSampleCommand(app, global, action);
   cli::addSimulateCommand(app, global, action);
 

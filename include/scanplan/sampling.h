@@ -75,7 +75,8 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
 
 // The faces the spec's tasks target, and every task's samples, merged: priority faces
 // from roles and (with gdt: from-file) from the part's GD&T get role Priority; fixture
-// faces are never sampled. \throw InputError for faces or files the spec names wrongly.
+// faces are never sampled. \throw InputError for faces or files the spec names wrongly;
+// PlanningError for a gdt, trim or surface task left without target faces.
 std::vector<Sample> sampleSpec(const Part& part, const Spec& spec, const SamplingOptions& options);
 
 // Faces of the part's GD&T: every toleranced face and every datum face, sorted, unique.

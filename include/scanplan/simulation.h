@@ -4,6 +4,7 @@
 // simulated point cloud, so that plans and reports agree.
 
 #include <scanplan/cad/part.h>
+#include <scanplan/raycast.h>
 #include <scanplan/sensor.h>
 #include <scanplan/view.h>
 
@@ -91,6 +92,11 @@ class Simulator {
   PointCloud cloud(const View& view, std::uint64_t seed = 1) const;
 
   const Scanner& scanner() const;
+  const SimulationOptions& options() const;
+  // Ray origin offset along the normal used by every occlusion test, mm.
+  double surfaceOffset() const;
+  // Occlusion queries against the same scene (part and fixtures, not the working plane).
+  std::vector<bool> occluded(std::span<const Ray> rays) const;
   // The part's surface points in the world: facet centroids with their normals.
   std::vector<SurfacePoint> facetPoints() const;
 

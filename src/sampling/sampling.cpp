@@ -62,16 +62,25 @@ std::vector<Sample> sampleSpec(const Part& part, const Spec& spec, const Samplin
   const std::vector<int> fixture = resolveFaces(part, spec.fixture, source);
 
   std::vector<Sample> samples;
-  for (const Task& task : spec.tasks) {
-    std::vector<int> faces = without(resolveFaces(part, task.faces, source), fixture);
+  for (std::size_t k = 0; k < spec.tasks.size(); ++k) {
+    const Task& task = spec.tasks[k];
+    const std::vector<int> named = resolveFaces(part, task.faces, source);
+    std::vector<int> faces =
+        without(task.type == TaskType::Gdt ? united(named, from_file) : named, fixture);
+    const bool needs_faces =
+        task.type == TaskType::Gdt || task.type == TaskType::Trim || task.type == TaskType::Surface;
+    if (needs_faces && faces.empty())
+      throw PlanningError(
+          source,
+          "task " + std::to_string(k + 1) + " (" + std::string(toString(task.type)) +
+              ") has no target faces" +
+              (named.empty() ? (task.type == TaskType::Gdt
+                                    ? ": list them, or use gdt: from-file on a part with GD&T"
+                                    : ": list them")
+                             : ": all of them are fixtures"));
     std::vector<Sample> more;
     switch (task.type) {
       case TaskType::Gdt:
-        faces = without(united(faces, from_file), fixture);
-        if (faces.empty())
-          throw InputError(
-              source,
-              "the gdt task has no faces: list them, or use gdt: from-file on a part with GD&T");
         more = sampleSurface(part, faces, Role::Priority, TaskType::Gdt, options);
         break;
       case TaskType::Surface:

@@ -1,0 +1,81 @@
+// scanplan plan: the main job, from a part and a spec to plan.json.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/planning.h>
+#include <scanplan/spec.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <map>
+
+namespace scanplan::cli {
+namespace {
+
+struct Options {
+  std::string part;
+  std::string spec;
+  std::string outdir = "scanplan-out";
+};
+
+int run(const Options& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global.quiet);
+  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  std::error_code ec;
+  std::filesystem::create_directories(options.outdir, ec);
+  if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
+  const Part part = importPart(options.part, {}, progress);
+  PlanningOptions planning;
+  planning.vm_step = spec.planner.vm_step;
+  planning.tilt_min = spec.planner.tilt_min;
+  planning.tilt_max = spec.planner.tilt_max;
+  planning.max_failures = spec.planner.max_failures;
+  planning.seed = spec.planner.seed;
+  const Plan plan = planViews(part, spec, planning, progress);
+  const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
+  writePlan(plan, path);
+  clearProgress();
+
+  // Summary: samples per task and role, measured, not coverable by reason.
+  std::map<std::pair<std::string, std::string>, std::array<std::size_t, 2>> rows;
+  std::map<std::string, std::size_t> reasons;
+  for (const PlannedSample& s : plan.samples) {
+    auto& row = rows[{std::string(toString(s.sample.task)), std::string(toString(s.sample.role))}];
+    ++row[0];
+    row[1] += !s.measured_by.empty();
+    if (s.uncoverable != Uncoverable::None) ++reasons[std::string(toString(s.uncoverable))];
+  }
+  fmt::print("part       {} ({} faces)\n", part.file, part.faces.size());
+  fmt::print("{:<10} {:<9} {:>8} {:>9} {:>8}\n", "task", "role", "samples", "measured", "share");
+  for (const auto& [key, row] : rows)
+    fmt::print("{:<10} {:<9} {:>8} {:>9} {:>7.1f}%\n", key.first, key.second, row[0], row[1],
+               100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
+  fmt::print("measured   {} of {} samples\n", plan.measuredCount(), plan.samples.size());
+  fmt::print("not coverable {}\n", plan.notCoverableCount());
+  for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
+  fmt::print("views      {}\n", plan.views.size());
+  for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
+  fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);
+  return 0;
+}
+
+}  // namespace
+
+void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command =
+      app.add_subcommand("plan", "Plan the scanner views for a part and write plan.json");
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
+  command->add_option("-o,--out", options->outdir, "Output folder (default: scanplan-out)");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

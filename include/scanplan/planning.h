@@ -1,0 +1,73 @@
+#pragma once
+// View planning (DESIGN.md §5): poses from clusters and their visibility maps, iterative
+// adding until nothing more can be covered, pruning by marginal coverage.
+
+#include <scanplan/cad/part.h>
+#include <scanplan/clustering.h>
+#include <scanplan/progress.h>
+#include <scanplan/sampling.h>
+#include <scanplan/simulation.h>
+#include <scanplan/spec.h>
+#include <scanplan/view.h>
+
+#include <string>
+#include <vector>
+
+namespace scanplan {
+
+struct PlanningOptions {
+  double vm_step = 5;                   // visibility-map grid, degrees
+  double tilt_min = 30, tilt_max = 50;  // preferred tilt of tilted positioning, degrees
+  int max_failures = 3;                 // a sample not measured after more attempts is excluded
+  int rotations = 8;                    // rotations about the view axis tried per direction
+  std::uint64_t seed = 1;
+  double body_margin = 60;  // scanner body: box around camera and projector, grown by
+  double body_depth = 200;  // this margin, reaching this far behind the camera, mm
+};
+
+// Why a sample is not coverable.
+enum class Uncoverable { None, BelowWorkingPlane, OccludedByPart, NoValidPose, Lost };
+
+struct PlannedSample {
+  Sample sample;                 // world frame
+  std::vector<int> measured_by;  // view ids
+  int failures = 0;
+  Uncoverable uncoverable = Uncoverable::None;
+  Loss last_loss = Loss::Measured;  // why the last view aimed at it missed it
+};
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct Plan {
+  std::string part_file;
+  std::size_t part_faces = 0;
+  Pose part_to_world = Pose::Identity();
+  Scanner scanner;
+  std::vector<View> views;  // ids 1..n in order of marginal coverage
+  std::vector<PlannedSample> samples;
+  std::vector<StageTime> times;
+  double seconds = 0;
+
+  std::size_t measuredCount() const;
+  std::size_t notCoverableCount() const;
+};
+
+// The part standing on the working plane as it lies in its CAD frame: lifted so that its
+// lowest point is at z = 0 (rest orientations come with localization).
+Pose restingPlacement(const Part& part);
+
+// Plans the views for the spec's tasks. \throw PlanningError when the spec leaves nothing
+// to plan (no samples, or all targets on fixture faces); InputError for a bad spec.
+Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options = {},
+               const Progress& progress = {});
+
+// True when the scanner body at `view` stays clear of the part, fixtures and the working
+// plane.
+bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOptions& options);
+
+std::string_view toString(Uncoverable reason);
+
+}  // namespace scanplan

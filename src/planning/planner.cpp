@@ -1,0 +1,324 @@
+// Iterative pose adding and pruning by marginal coverage (DESIGN.md §5).
+
+#include <scanplan/errors.h>
+#include <scanplan/planning.h>
+#include <scanplan/visibility.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace scanplan {
+
+std::string_view toString(Uncoverable reason) {
+  switch (reason) {
+    case Uncoverable::None: return "none";
+    case Uncoverable::BelowWorkingPlane: return "occluded_by_working_plane";
+    case Uncoverable::OccludedByPart: return "occluded_by_part";
+    case Uncoverable::NoValidPose: return "no_valid_pose";
+    case Uncoverable::Lost: return "lost_in_simulation";
+  }
+  return "unknown";
+}
+
+std::size_t Plan::measuredCount() const {
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(),
+                    [](const PlannedSample& s) { return !s.measured_by.empty(); }));
+}
+
+std::size_t Plan::notCoverableCount() const {
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(),
+                    [](const PlannedSample& s) { return s.uncoverable != Uncoverable::None; }));
+}
+
+Pose restingPlacement(const Part& part) {
+  Pose placement = Pose::Identity();
+  placement.translation() = Vec3(0, 0, -part.bounds().min.z());
+  return placement;
+}
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+// The scanner body in S: a box around camera (origin) and projector, grown by the margin,
+// reaching body_depth behind the camera.
+std::array<Vec3, 8> bodyCorners(const Scanner& scanner, const PlanningOptions& options) {
+  const double m = options.body_margin, b = scanner.baseline();
+  std::array<Vec3, 8> corners;
+  for (int i = 0; i < 8; ++i)
+    corners[i] = Vec3(i & 1 ? b + m : -m, i & 2 ? m : -m, i & 4 ? m : -options.body_depth);
+  return corners;
+}
+
+}  // namespace
+
+bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOptions& options) {
+  const auto corners = bodyCorners(simulator.scanner(), options);
+  std::array<Vec3, 8> world;
+  for (int i = 0; i < 8; ++i) world[i] = view.camera_to_world * corners[i];
+  if (simulator.options().working_plane)
+    for (const Vec3& c : world)
+      if (c.z() < 0) return false;
+  // The body's 12 edges and 4 space diagonals must not cross the part or a fixture.
+  std::vector<Ray> segments;
+  for (int i = 0; i < 8; ++i)
+    for (int bit : {1, 2, 4})
+      if (!(i & bit)) segments.push_back(Ray{world[i], world[i | bit] - world[i], 0, 1});
+  for (int i = 0; i < 4; ++i) segments.push_back(Ray{world[i], world[7 - i] - world[i], 0, 1});
+  const auto blocked = simulator.occluded(segments);
+  return std::none_of(blocked.begin(), blocked.end(), [](bool b) { return b; });
+}
+
+namespace {
+
+class Planner {
+ public:
+  Planner(const Simulator& simulator, std::vector<PlannedSample>& samples,
+          const PlanningOptions& options)
+      : simulator_(simulator), samples_(samples), options_(options), scanner_(simulator.scanner()) {
+    points_.reserve(samples.size());
+    for (const PlannedSample& s : samples)
+      points_.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  }
+
+  // Poses for a cluster: normal positioning, then tilted directions from the CVM, each
+  // with rotations about the view axis; the valid one measuring most members wins.
+  std::optional<View> bestPose(const std::vector<int>& members, const Vec3& mean_point,
+                               const Vec3& mean_normal, bool normal_only,
+                               std::vector<Visibility>& status) {
+    std::vector<Vec3> directions = {mean_normal};
+    if (!normal_only) {
+      VisibilityOptions vo;
+      vo.step = options_.vm_step;
+      vo.cone = std::min(scanner_.max_camera_angle,
+                         scanner_.max_projector_angle + scanner_.triangulation_angle);
+      vo.reach = scanner_.standoff;
+      vo.working_plane = simulator_.options().working_plane;
+      std::vector<Sample> cluster;
+      for (int i : members) cluster.push_back(samples_[i].sample);
+      std::vector<int> all(cluster.size());
+      std::iota(all.begin(), all.end(), 0);
+      const VisibilityMap cvm = combinedVisibilityMap(simulator_, cluster, all, vo, &status);
+      const std::uint32_t top = cvm.max();
+      if (top == 0) return std::nullopt;
+      // The cells with the most visible samples, in the preferred tilt band first, then
+      // closest to the mean normal.
+      std::vector<std::pair<double, int>> ranked;
+      for (int c = 0; c < cvm.cells(); ++c) {
+        if (cvm.counts[c] < top) continue;
+        const double tilt =
+            std::acos(std::clamp(cvm.direction(c).dot(mean_normal), -1.0, 1.0)) / kDeg;
+        const bool in_band = tilt >= options_.tilt_min && tilt <= options_.tilt_max;
+        ranked.push_back({(in_band ? 0 : 1000) + tilt, c});
+      }
+      std::sort(ranked.begin(), ranked.end());
+      for (std::size_t k = 0; k < ranked.size() && k < 4; ++k)
+        directions.push_back(cvm.direction(ranked[k].second));
+    }
+    std::vector<SurfacePoint> targets;
+    for (int i : members) targets.push_back(points_[i]);
+    std::optional<View> best;
+    std::size_t best_count = 0;
+    for (const Vec3& d : directions) {
+      const Vec3 camera = mean_point + scanner_.standoff * d;
+      const Vec3 axis = -d;
+      Vec3 horizontal = Vec3::UnitZ().cross(axis);
+      if (horizontal.norm() < 1e-6) horizontal = Vec3::UnitX();
+      horizontal.normalize();
+      for (int r = 0; r < options_.rotations; ++r) {
+        const Vec3 hint = Eigen::AngleAxisd(2 * M_PI * r / options_.rotations, axis) * horizontal;
+        View view;
+        view.camera_to_world = lookAt(camera, mean_point, hint);
+        view.target = mean_point;
+        if (!poseIsValid(simulator_, view, options_)) continue;
+        const std::vector<Loss> losses = simulator_.measure(view, targets);
+        const auto count =
+            static_cast<std::size_t>(std::count(losses.begin(), losses.end(), Loss::Measured));
+        if (count > best_count) {  // strict: earlier (normal, horizontal) poses win ties
+          best_count = count;
+          best = view;
+        }
+      }
+    }
+    return best;
+  }
+
+  const std::vector<SurfacePoint>& points() const { return points_; }
+
+ private:
+  const Simulator& simulator_;
+  std::vector<PlannedSample>& samples_;
+  const PlanningOptions& options_;
+  const Scanner& scanner_;
+  std::vector<SurfacePoint> points_;
+};
+
+}  // namespace
+
+Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
+               const Progress& progress) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto stage_start = start;
+  Plan plan;
+  auto lap = [&](const std::string& stage) {
+    const auto now = Clock::now();
+    plan.times.push_back({stage, std::chrono::duration<double>(now - stage_start).count()});
+    stage_start = now;
+  };
+  plan.part_file = part.file;
+  plan.part_faces = part.faces.size();
+  plan.part_to_world = restingPlacement(part);
+  plan.scanner = spec.scanner;
+
+  report(progress, "sampling", 0);
+  std::vector<Sample> sampled = sampleSpec(part, spec, samplingOptionsFor(spec.scanner));
+  if (sampled.empty())
+    throw PlanningError(spec.source, "the spec's tasks leave no sample to plan for");
+  for (Sample& s : sampled) {
+    PlannedSample planned;
+    planned.sample = s;
+    planned.sample.position = plan.part_to_world * s.position;
+    planned.sample.normal = plan.part_to_world.linear() * s.normal;
+    planned.sample.tangent = plan.part_to_world.linear() * s.tangent;
+    plan.samples.push_back(planned);
+  }
+  lap("sampling");
+
+  report(progress, "building the scene", 0);
+  SimulationOptions simulation;
+  simulation.part_to_world = plan.part_to_world;
+  simulation.working_plane = spec.working_plane;
+  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
+  const Simulator simulator(part, spec.scanner, simulation);
+  Planner planner(simulator, plan.samples, options);
+  lap("scene");
+
+  // Iterative pose adding.
+  std::vector<View> views;
+  std::vector<std::vector<int>> measured;  // per view: sample indices it measures
+  std::vector<Visibility> visibility(plan.samples.size(), Visibility::Free);
+  std::vector<char> tried(plan.samples.size(), 0);
+  ClusteringOptions clustering = clusteringOptionsFor(spec.scanner, options.seed);
+  for (int round = 1;; ++round) {
+    std::vector<int> pending;
+    for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+      const PlannedSample& s = plan.samples[i];
+      if (s.measured_by.empty() && s.failures < options.max_failures)
+        pending.push_back(static_cast<int>(i));
+    }
+    if (pending.empty()) break;
+    report(progress,
+           "planning views, round " + std::to_string(round) + " (" +
+               std::to_string(pending.size()) + " samples left)",
+           0);
+    std::vector<Sample> subset;
+    for (int i : pending) subset.push_back(plan.samples[i].sample);
+    const std::vector<Cluster> clusters = clusterSamples(subset, clustering);
+    std::vector<std::size_t> order(clusters.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return clusters[a].samples.size() > clusters[b].samples.size();
+    });
+    bool added = false;
+    for (std::size_t k : order) {
+      std::vector<int> members;
+      for (int local : clusters[k].samples) {
+        const int i = pending[local];
+        if (plan.samples[i].measured_by.empty())
+          members.push_back(i);  // a view this round may have taken it
+      }
+      if (members.empty()) continue;
+      const bool normal_only = plan.samples[members.front()].sample.task == TaskType::Trim;
+      std::vector<Visibility> status;
+      Vec3 mean_point = Vec3::Zero(), normal_sum = Vec3::Zero();
+      for (int i : members) {
+        mean_point += plan.samples[i].sample.position;
+        normal_sum += plan.samples[i].sample.normal;
+      }
+      mean_point /= static_cast<double>(members.size());
+      const Vec3 mean_normal =
+          normal_sum.norm() > 1e-9 ? Vec3(normal_sum.normalized()) : Vec3::UnitZ();
+      const std::optional<View> pose =
+          planner.bestPose(members, mean_point, mean_normal, normal_only, status);
+      for (std::size_t m = 0; m < status.size(); ++m) visibility[members[m]] = status[m];
+      for (int i : members) {
+        ++plan.samples[i].failures;  // undone below for those the view measures
+        tried[i] = 1;
+      }
+      if (!pose) continue;
+      View view = *pose;
+      view.id = static_cast<int>(views.size()) + 1;
+      view.task = std::string(toString(plan.samples[members.front()].sample.task));
+      const std::vector<Loss> losses = simulator.measure(view, planner.points());
+      std::vector<int> hits;
+      for (std::size_t i = 0; i < losses.size(); ++i) {
+        if (losses[i] == Loss::Measured) {
+          hits.push_back(static_cast<int>(i));
+          if (plan.samples[i].measured_by.empty() &&
+              std::find(members.begin(), members.end(), i) != members.end())
+            --plan.samples[i].failures;
+          plan.samples[i].measured_by.push_back(view.id);
+        } else if (std::find(members.begin(), members.end(), static_cast<int>(i)) !=
+                   members.end()) {
+          plan.samples[i].last_loss = losses[i];
+        }
+      }
+      if (hits.empty()) continue;
+      views.push_back(view);
+      measured.push_back(std::move(hits));
+      added = true;
+    }
+    if (!added) break;
+  }
+  lap("view planning");
+
+  // Pruning by marginal coverage: greedily the view adding the most not yet measured
+  // priority samples (then others); views adding nothing are dropped; ids renumbered.
+  report(progress, "pruning", 0);
+  std::vector<char> covered(plan.samples.size(), 0), used(views.size(), 0);
+  std::vector<std::size_t> kept;
+  for (;;) {
+    std::size_t best = views.size();
+    std::pair<std::size_t, std::size_t> best_gain{0, 0};
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      if (used[v]) continue;
+      std::pair<std::size_t, std::size_t> gain{0, 0};
+      for (int i : measured[v])
+        if (!covered[i])
+          (plan.samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
+      if (gain > best_gain) {
+        best_gain = gain;
+        best = v;
+      }
+    }
+    if (best == views.size()) break;
+    used[best] = 1;
+    kept.push_back(best);
+    for (int i : measured[best]) covered[i] = 1;
+  }
+  for (PlannedSample& s : plan.samples) s.measured_by.clear();
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    View view = views[kept[k]];
+    view.id = static_cast<int>(k) + 1;
+    plan.views.push_back(view);
+    for (int i : measured[kept[k]]) plan.samples[i].measured_by.push_back(view.id);
+  }
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    PlannedSample& s = plan.samples[i];
+    if (!s.measured_by.empty()) continue;
+    s.uncoverable = visibility[i] == Visibility::BelowWorkingPlane ? Uncoverable::BelowWorkingPlane
+                    : visibility[i] == Visibility::OccludedByPart  ? Uncoverable::OccludedByPart
+                    : s.last_loss == Loss::Measured                ? Uncoverable::NoValidPose
+                                                                   : Uncoverable::Lost;
+  }
+  lap("pruning");
+  plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return plan;
+}
+
+}  // namespace scanplan

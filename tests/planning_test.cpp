@@ -1,0 +1,205 @@
+// View planning: analytic parts (a cube on the plane, a deep slot) and the plan's
+// consistency with an independent re-simulation.
+
+#include "support.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/planning.h>
+#include <scanplan/visibility.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepTools.hxx>
+
+#include <set>
+
+namespace scanplan {
+namespace {
+
+Part cube(const test::TempDir& dir) {
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 100).Shape(), dir.file("cube.brep").c_str());
+  return importPart(dir.file("cube.brep"));
+}
+
+// A 200 x 100 x 60 block with a slot 10 mm wide and 50 mm deep along x, open at both ends.
+Part slotted(const test::TempDir& dir) {
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(200, 100, 60).Shape();
+  TopoDS_Shape slot = BRepPrimAPI_MakeBox(gp_Pnt(-1, 45, 10), 202, 10, 51).Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(block, slot).Shape(), dir.file("slot.brep").c_str());
+  return importPart(dir.file("slot.brep"));
+}
+
+Spec specWith(const std::string& text, const test::TempDir& dir) {
+  test::writeText(dir.file("spec.yaml"), text);
+  return loadSpec(dir.file("spec.yaml"));
+}
+
+TEST(Planning, CubeOnThePlane) {
+  test::TempDir dir;
+  Part part = cube(dir);
+  Plan plan = planViews(part, defaultSpec());
+  ASSERT_FALSE(plan.views.empty());
+  std::size_t bottom = 0;
+  for (const PlannedSample& s : plan.samples) {
+    if (s.sample.normal.z() < -0.99) {
+      ++bottom;
+      EXPECT_TRUE(s.measured_by.empty());
+      EXPECT_EQ(s.uncoverable, Uncoverable::BelowWorkingPlane);
+    } else {
+      EXPECT_FALSE(s.measured_by.empty())
+          << "sample on face " << s.sample.face << " normal " << s.sample.normal.transpose();
+    }
+  }
+  EXPECT_GT(bottom, 0u);
+  // Every view is valid for an independent simulator of the same scene.
+  SimulationOptions options;
+  options.part_to_world = plan.part_to_world;
+  Simulator simulator(part, plan.scanner, options);
+  for (const View& view : plan.views)
+    EXPECT_TRUE(poseIsValid(simulator, view, PlanningOptions{})) << view.id;
+  EXPECT_NEAR(plan.part_to_world.translation().z(), 0, 1e-9);  // the cube already stands on z = 0
+}
+
+TEST(Planning, DeepSlotFloorSeenAlongTheSlot) {
+  test::TempDir dir;
+  Part part = slotted(dir);
+  int floor = 0;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Plane && std::abs(f.bounds.max.z() - 10) < 1e-6 &&
+        f.bounds.min.y() > 44)
+      floor = f.id;
+  ASSERT_GT(floor, 0);
+  Plan plan = planViews(
+      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(floor) + "]}\n", dir));
+  std::vector<Sample> floor_samples;
+  std::size_t measured = 0;
+  for (const PlannedSample& s : plan.samples) {
+    floor_samples.push_back(s.sample);
+    measured += !s.measured_by.empty();
+  }
+  ASSERT_FALSE(floor_samples.empty());
+  EXPECT_GE(measured, floor_samples.size() * 9 / 10);
+  // Each view is within the visibility cone the CVM predicts for the floor.
+  SimulationOptions options;
+  options.part_to_world = plan.part_to_world;
+  Simulator simulator(part, plan.scanner, options);
+  std::vector<int> all(floor_samples.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  VisibilityOptions vo;
+  vo.reach = plan.scanner.standoff;
+  const VisibilityMap cvm = combinedVisibilityMap(simulator, floor_samples, all, vo);
+  for (const View& view : plan.views) {
+    const Vec3 towards_camera = -view.axis();
+    EXPECT_GT(cvm.counts[cvm.cellOf(towards_camera)], 0u) << "view " << view.id;
+    // Seen from the floor the camera lies in the slot's plane x-z, within atan(5/50).
+    EXPECT_LT(std::abs(towards_camera.y()), std::sin(std::atan(5.0 / 50.0)) + 1e-6)
+        << "view " << view.id;
+  }
+  // The CVM itself: free straight up and along the slot, blocked across it.
+  EXPECT_GT(cvm.counts[cvm.cellOf(Vec3(0, 0, 1))], 0u);
+  EXPECT_GT(cvm.counts[cvm.cellOf(Vec3(std::sin(0.5), 0.01, std::cos(0.5)))], 0u);
+  EXPECT_EQ(cvm.counts[cvm.cellOf(Vec3(0, std::sin(0.5), std::cos(0.5)))], 0u);
+}
+
+// Re-simulates every view of a plan over its samples and compares with measured_by.
+void expectMeasuredByAgrees(const Part& part, const Plan& plan) {
+  SimulationOptions options;
+  options.part_to_world = plan.part_to_world;
+  Simulator simulator(part, plan.scanner, options);
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : plan.samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  std::vector<std::set<int>> expected(points.size());
+  for (const View& view : plan.views) {
+    const std::vector<Loss> losses = simulator.measure(view, points);
+    for (std::size_t i = 0; i < losses.size(); ++i)
+      if (losses[i] == Loss::Measured) expected[i].insert(view.id);
+  }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_EQ(std::set<int>(plan.samples[i].measured_by.begin(), plan.samples[i].measured_by.end()),
+              expected[i])
+        << "sample " << i;
+}
+
+TEST(Planning, NistPlanIsConsistentMonotoneAndMinimal) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  test::TempDir dir;
+  Plan plan = planViews(
+      part, specWith("gdt: from-file\ntasks:\n  - {type: gdt}\n  - {type: global}\n", dir));
+  ASSERT_FALSE(plan.views.empty());
+  expectMeasuredByAgrees(part, plan);
+  // Adding the views in order: coverage never drops and every view adds something.
+  std::set<std::size_t> covered;
+  for (const View& view : plan.views) {
+    const std::size_t before = covered.size();
+    for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+      const auto& by = plan.samples[i].measured_by;
+      if (std::find(by.begin(), by.end(), view.id) != by.end()) covered.insert(i);
+    }
+    EXPECT_GT(covered.size(), before) << "view " << view.id << " adds nothing";
+  }
+  EXPECT_EQ(covered.size(), plan.measuredCount());
+  // Every sample is measured or has a reason.
+  for (const PlannedSample& s : plan.samples)
+    EXPECT_NE(s.measured_by.empty(), s.uncoverable == Uncoverable::None);
+}
+
+TEST(Planning, SameInputSameSeedSamePlan) {
+  test::TempDir dir;
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  auto stripTimes = [](nlohmann::json json) {
+    json["summary"].erase("seconds");
+    json["summary"].erase("stage_seconds");
+    return json;
+  };
+  const nlohmann::json a = stripTimes(planJson(planViews(part, defaultSpec())));
+  const nlohmann::json b = stripTimes(planJson(planViews(part, defaultSpec())));
+  EXPECT_EQ(a.dump(), b.dump());
+}
+
+TEST(Planning, PlanJsonHasTheContractFields) {
+  test::TempDir dir;
+  Part part = cube(dir);
+  const nlohmann::json plan = planJson(planViews(part, defaultSpec()));
+  EXPECT_EQ(plan["format"], "scanplan.plan");
+  EXPECT_EQ(plan["version"], 1);
+  EXPECT_EQ(plan["units"], "mm");
+  for (const char* key : {"file", "faces", "part_to_world"})
+    EXPECT_TRUE(plan["part"].contains(key)) << key;
+  for (const char* key : {"standoff", "depth_of_field", "fov_width", "fov_height",
+                          "triangulation_angle", "max_camera_angle", "max_projector_angle"})
+    EXPECT_TRUE(plan["scanner"].contains(key)) << key;
+  ASSERT_FALSE(plan["views"].empty());
+  for (const auto& view : plan["views"]) {
+    for (const char* key : {"id", "camera_to_world", "target", "task", "registration"})
+      EXPECT_TRUE(view.contains(key)) << key;
+    Eigen::Matrix4d m;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m(r, c) = view["camera_to_world"][r][c].get<double>();
+    EXPECT_TRUE(isRigid(m));
+  }
+  EXPECT_EQ(plan["sequence"].size(), plan["views"].size());
+  for (const auto& sample : plan["samples"])
+    for (const char* key : {"position", "normal", "face", "role", "task", "measured_by"})
+      EXPECT_TRUE(sample.contains(key)) << key;
+  for (const char* key :
+       {"samples", "measured", "not_coverable", "views", "registrable_views", "seconds"})
+    EXPECT_TRUE(plan["summary"].contains(key)) << key;
+  EXPECT_EQ(plan["summary"]["samples"].get<std::size_t>(), plan["samples"].size());
+}
+
+TEST(Planning, NothingToPlanIsAPlanningError) {
+  test::TempDir dir;
+  Part part = cube(dir);
+  EXPECT_THROW(planViews(part, specWith("tasks:\n  - {type: gdt, faces: []}\n", dir)),
+               PlanningError);
+  EXPECT_THROW(
+      planViews(part, specWith("roles: {fixture: [1, 2, 3, 4, 5, 6]}\ntasks:\n  - {type: global}\n",
+                               dir)),
+      PlanningError);
+}
+
+}  // namespace
+}  // namespace scanplan
