@@ -20,6 +20,12 @@ scanplan_require(CLI11 libcli11-dev CONFIG)
 scanplan_require(yaml-cpp libyaml-cpp-dev CONFIG)
 scanplan_require(nanoflann libnanoflann-dev CONFIG)
 scanplan_require(fmt libfmt-dev CONFIG)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(CBC IMPORTED_TARGET cbc)
+if(NOT CBC_FOUND)
+  message(FATAL_ERROR "scanplan needs COIN-OR CBC: install the Debian package 'coinor-libcbc-dev' "
+                      "(scripts/install-deps.sh installs every dependency)")
+endif()
 
 if(SCANPLAN_BUILD_TESTS)
   scanplan_require(GTest libgtest-dev CONFIG)

@@ -21,6 +21,7 @@ struct Options {
   std::string part;
   std::string spec;
   std::string outdir = "scanplan-out";
+  bool bound = false;
 };
 
 int run(const Options& options, const GlobalOptions& global) {
@@ -36,6 +37,7 @@ int run(const Options& options, const GlobalOptions& global) {
   planning.tilt_max = spec.planner.tilt_max;
   planning.max_failures = spec.planner.max_failures;
   planning.seed = spec.planner.seed;
+  planning.bound = options.bound;
   const Plan plan = planViews(part, spec, planning, progress);
   const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
   writePlan(plan, path);
@@ -59,6 +61,16 @@ int run(const Options& options, const GlobalOptions& global) {
   fmt::print("not coverable {}\n", plan.notCoverableCount());
   for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
   fmt::print("views      {}\n", plan.views.size());
+  if (plan.bound) {
+    const PlanBound& b = *plan.bound;
+    fmt::print(
+        "bound      {} views at best over {} candidate poses ({}, lower bound {}): planner / ILP = "
+        "{:.2f}\n",
+        b.ilp_views, b.candidates, b.optimal ? "proven optimal" : "time limit reached",
+        b.lower_bound,
+        b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
+                    : 0.0);
+  }
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
   fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);
   return 0;
@@ -73,6 +85,9 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
   command->add_option("-o,--out", options->outdir, "Output folder (default: scanplan-out)");
+  command->add_flag("--bound", options->bound,
+                    "Also solve the exact set cover over the candidate poses (COIN-OR CBC) and "
+                    "report planner / ILP views");
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };
   });

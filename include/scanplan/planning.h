@@ -10,6 +10,7 @@
 #include <scanplan/spec.h>
 #include <scanplan/view.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,8 +22,20 @@ struct PlanningOptions {
   int max_failures = 3;                 // a sample not measured after more attempts is excluded
   int rotations = 8;                    // rotations about the view axis tried per direction
   std::uint64_t seed = 1;
-  double body_margin = 60;  // scanner body: box around camera and projector, grown by
-  double body_depth = 200;  // this margin, reaching this far behind the camera, mm
+  double body_margin = 60;       // scanner body: box around camera and projector, grown by
+  double body_depth = 200;       // this margin, reaching this far behind the camera, mm
+  bool bound = false;            // also solve the exact set cover over all candidate poses
+  double bound_time_limit = 30;  // seconds for CBC
+};
+
+// The optimality check: the fewest candidate poses that measure every sample the plan
+// measures (exact set cover, COIN-OR CBC).
+struct PlanBound {
+  std::size_t candidates = 0;  // valid poses the planner evaluated
+  std::size_t ilp_views = 0;   // views of the best cover CBC found
+  double lower_bound = 0;      // CBC's proven lower bound on the minimum
+  bool optimal = false;        // ilp_views is proven minimal
+  double seconds = 0;
 };
 
 // Why a sample is not coverable.
@@ -50,6 +63,7 @@ struct Plan {
   std::vector<PlannedSample> samples;
   std::vector<StageTime> times;
   double seconds = 0;
+  std::optional<PlanBound> bound;  // with PlanningOptions::bound
 
   std::size_t measuredCount() const;
   std::size_t notCoverableCount() const;

@@ -50,7 +50,7 @@ json planJson(const Plan& plan) {
   }
   json times = json::object();
   for (const StageTime& t : plan.times) times[t.stage] = t.seconds;
-  return {
+  json result = {
       {"format", "scanplan.plan"},
       {"version", 1},
       {"units", "mm"},
@@ -82,6 +82,19 @@ json planJson(const Plan& plan) {
         {"seconds", plan.seconds},
         {"stage_seconds", times}}},
   };
+  if (plan.bound) {
+    const PlanBound& b = *plan.bound;
+    result["summary"]["bound"] = {
+        {"candidates", b.candidates},
+        {"ilp_views", b.ilp_views},
+        {"lower_bound", b.lower_bound},
+        {"optimal", b.optimal},
+        {"views_over_ilp",
+         b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
+                     : 0.0},
+        {"seconds", b.seconds}};
+  }
+  return result;
 }
 
 void writePlan(const Plan& plan, const std::string& path) {

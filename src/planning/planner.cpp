@@ -2,11 +2,13 @@
 
 #include <scanplan/errors.h>
 #include <scanplan/planning.h>
+#include <scanplan/set_cover.h>
 #include <scanplan/visibility.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 namespace scanplan {
@@ -135,6 +137,7 @@ class Planner {
         view.camera_to_world = lookAt(camera, mean_point, hint);
         view.target = mean_point;
         if (!poseIsValid(simulator_, view, options_)) continue;
+        candidates_.push_back(view);
         const std::vector<Loss> losses = simulator_.measure(view, targets);
         const auto count =
             static_cast<std::size_t>(std::count(losses.begin(), losses.end(), Loss::Measured));
@@ -148,6 +151,7 @@ class Planner {
   }
 
   const std::vector<SurfacePoint>& points() const { return points_; }
+  const std::vector<View>& candidates() const { return candidates_; }
 
  private:
   const Simulator& simulator_;
@@ -155,6 +159,7 @@ class Planner {
   const PlanningOptions& options_;
   const Scanner& scanner_;
   std::vector<SurfacePoint> points_;
+  std::vector<View> candidates_;  // every valid pose evaluated
 };
 
 }  // namespace
@@ -277,30 +282,69 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   }
   lap("view planning");
 
-  // Pruning by marginal coverage: greedily the view adding the most not yet measured
-  // priority samples (then others); views adding nothing are dropped; ids renumbered.
-  report(progress, "pruning", 0);
-  std::vector<char> covered(plan.samples.size(), 0), used(views.size(), 0);
-  std::vector<std::size_t> kept;
-  for (;;) {
-    std::size_t best = views.size();
-    std::pair<std::size_t, std::size_t> best_gain{0, 0};
-    for (std::size_t v = 0; v < views.size(); ++v) {
-      if (used[v]) continue;
-      std::pair<std::size_t, std::size_t> gain{0, 0};
-      for (int i : measured[v])
-        if (!covered[i])
-          (plan.samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
-      if (gain > best_gain) {
-        best_gain = gain;
-        best = v;
-      }
-    }
-    if (best == views.size()) break;
-    used[best] = 1;
-    kept.push_back(best);
-    for (int i : measured[best]) covered[i] = 1;
+  // Selection over the pool of the added views and every other valid pose evaluated on
+  // the way (each simulated on all samples): a greedy set cover by marginal coverage,
+  // then views whose samples all others also measure are dropped (last chosen first),
+  // then the rest is ordered by marginal coverage, priority samples first.
+  report(progress,
+         "selecting among " + std::to_string(views.size() + planner.candidates().size()) + " poses",
+         0);
+  views.insert(views.end(), planner.candidates().begin(), planner.candidates().end());
+  {
+    const auto coverage = simulator.measure(views, planner.points());
+    measured.assign(views.size(), {});
+    for (std::size_t v = 0; v < coverage.size(); ++v)
+      for (std::size_t i = 0; i < coverage[v].size(); ++i)
+        if (coverage[v][i] == Loss::Measured) measured[v].push_back(static_cast<int>(i));
   }
+  // gain(v): (priority, other) samples v measures that are not yet covered.
+  auto greedy = [&](const std::vector<std::size_t>& pool, bool priority_first) {
+    std::vector<char> covered(plan.samples.size(), 0), used(views.size(), 0);
+    std::vector<std::size_t> chosen;
+    for (;;) {
+      std::size_t best = views.size();
+      std::pair<std::size_t, std::size_t> best_gain{0, 0};
+      for (std::size_t v : pool) {
+        if (used[v]) continue;
+        std::pair<std::size_t, std::size_t> gain{0, 0};
+        for (int i : measured[v])
+          if (!covered[i])
+            (plan.samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
+        if (!priority_first) gain = {gain.first + gain.second, 0};
+        if (gain > best_gain) {
+          best_gain = gain;
+          best = v;
+        }
+      }
+      if (best == views.size()) return chosen;
+      used[best] = 1;
+      chosen.push_back(best);
+      for (int i : measured[best]) covered[i] = 1;
+    }
+  };
+  std::vector<std::size_t> all(views.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<std::size_t> kept = greedy(all, false);
+  std::vector<int> times_measured(plan.samples.size(), 0);
+  for (std::size_t v : kept)
+    for (int i : measured[v]) ++times_measured[i];
+  for (std::size_t k = kept.size(); k-- > 0;) {
+    const auto& mine = measured[kept[k]];
+    if (std::all_of(mine.begin(), mine.end(), [&](int i) { return times_measured[i] > 1; })) {
+      for (int i : mine) --times_measured[i];
+      kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  }
+  kept = greedy(kept, true);
+  for (std::size_t v : kept)
+    if (views[v].task.empty()) {  // a candidate: the task of most of the samples it measures
+      std::map<TaskType, int> tasks;
+      for (int i : measured[v]) ++tasks[plan.samples[i].sample.task];
+      views[v].task =
+          std::string(toString(std::max_element(tasks.begin(), tasks.end(), [](auto& a, auto& b) {
+                                 return a.second < b.second;
+                               })->first));
+    }
   for (PlannedSample& s : plan.samples) s.measured_by.clear();
   for (std::size_t k = 0; k < kept.size(); ++k) {
     View view = views[kept[k]];
@@ -317,6 +361,23 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
                                                                    : Uncoverable::Lost;
   }
   lap("pruning");
+
+  if (options.bound) {
+    report(progress, "exact set cover over " + std::to_string(views.size()) + " poses", 0);
+    const std::vector<std::vector<int>>& sets = measured;
+    std::vector<char> required(plan.samples.size());
+    for (std::size_t i = 0; i < plan.samples.size(); ++i)
+      required[i] = !plan.samples[i].measured_by.empty();
+    const SetCoverResult cover = minimumSetCover(sets, required, options.bound_time_limit);
+    PlanBound bound;
+    bound.candidates = views.size();
+    bound.ilp_views = cover.chosen.size();
+    bound.lower_bound = cover.lower_bound;
+    bound.optimal = cover.optimal;
+    bound.seconds = cover.seconds;
+    plan.bound = bound;
+    lap("set cover bound");
+  }
   plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return plan;
 }

@@ -1,0 +1,22 @@
+#pragma once
+// Exact minimum set cover as an integer program, solved with COIN-OR CBC: the optimality
+// check of the view planner.
+
+#include <vector>
+
+namespace scanplan {
+
+struct SetCoverResult {
+  std::vector<int> chosen;  // indices of the sets in the best cover found
+  bool optimal = false;     // CBC proved it minimal within the time limit
+  double lower_bound = 0;   // CBC's best bound on the minimum (== chosen.size() if optimal)
+  double seconds = 0;
+};
+
+// The fewest of `sets` (each a list of element indices in [0, elements)) that together
+// cover every element `required` marks; elements no set contains are ignored.
+// min sum x_s  s.t.  sum_{s contains e} x_s >= 1 for each required e,  x_s in {0, 1}.
+SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
+                               const std::vector<char>& required, double time_limit_seconds);
+
+}  // namespace scanplan
