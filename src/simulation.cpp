@@ -257,6 +257,41 @@ std::vector<std::vector<Loss>> Simulator::measure(std::span<const View> views,
   return result;
 }
 
+std::vector<Loss> Simulator::measurePairs(std::span<const View> views,
+                                          std::span<const SurfacePoint> points) const {
+  const Impl& d = *impl_;
+  std::vector<Loss> losses(points.size());
+  std::vector<Vec3> cameras(points.size()), projectors(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
+    const ViewGeometry geometry(views[i], d.scanner);
+    const SurfacePoint& sp = points[i];
+    Loss loss = geometry.test(sp.position, sp.normal, d.isSpecular(sp.face));
+    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.camera))
+      loss = Loss::CameraOccluded;
+    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.projector))
+      loss = Loss::ProjectorOccluded;
+    losses[i] = loss;
+    cameras[i] = geometry.camera;
+    projectors[i] = geometry.projector;
+  });
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (losses[i] == Loss::Measured) candidates.push_back(i);
+  std::vector<Ray> rays(2 * candidates.size());
+  tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t k) {
+    rays[2 * k] = d.segment(points[candidates[k]], cameras[candidates[k]]);
+    rays[2 * k + 1] = d.segment(points[candidates[k]], projectors[candidates[k]]);
+  });
+  const std::vector<bool> blocked = d.caster->occluded(rays);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (blocked[2 * k])
+      losses[candidates[k]] = Loss::CameraOccluded;
+    else if (blocked[2 * k + 1])
+      losses[candidates[k]] = Loss::ProjectorOccluded;
+  }
+  return losses;
+}
+
 Acquisition Simulator::acquire(const View& view) const {
   const Impl& d = *impl_;
   Acquisition acquisition;

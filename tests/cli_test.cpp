@@ -149,6 +149,12 @@ TEST(Cli, SampleGdtFromFileWritesPlyAndJson) {
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"cluster\""), std::string::npos);
   EXPECT_EQ(run("sample " + part + " --out " + dir.file("s.txt")).code, 4);  // unsupported output
+  r = run("sample -q " + part + " --cvm " + dir.file("cvm"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream pgm(dir.file("cvm/cluster_0.pgm"), std::ios::binary);
+  std::string magic;
+  pgm >> magic;
+  EXPECT_EQ(magic, "P5");
 }
 
 TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {

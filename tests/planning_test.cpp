@@ -7,6 +7,7 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
+#include <scanplan/set_cover.h>
 #include <scanplan/visibility.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
@@ -188,6 +189,45 @@ TEST(Planning, PlanJsonHasTheContractFields) {
        {"samples", "measured", "not_coverable", "views", "registrable_views", "seconds"})
     EXPECT_TRUE(plan["summary"].contains(key)) << key;
   EXPECT_EQ(plan["summary"]["samples"].get<std::size_t>(), plan["samples"].size());
+}
+
+TEST(SetCover, FindsTheKnownMinimum) {
+  // Six elements; the two disjoint halves cover them, where greedy would take {0,1,2,3}
+  // first and then need two more.
+  const std::vector<std::vector<int>> sets = {{0, 1, 2, 3}, {0, 1, 4}, {2, 3, 5}, {4}, {5}};
+  const std::vector<char> required(6, 1);
+  SetCoverResult result = minimumSetCover(sets, required, 10);
+  EXPECT_TRUE(result.optimal);
+  EXPECT_EQ(result.chosen, (std::vector<int>{1, 2}));
+  EXPECT_EQ(result.lower_bound, 2);
+  // Elements that are not required, or that no set holds, do not count.
+  std::vector<char> some = {1, 1, 0, 0, 0, 0};
+  EXPECT_EQ(minimumSetCover(sets, some, 10).chosen.size(), 1u);
+  EXPECT_TRUE(minimumSetCover({}, required, 10).chosen.empty());
+}
+
+TEST(Planning, BoundIsAtMostThePlan) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  PlanningOptions options;
+  options.bound = true;
+  Plan plan = planViews(part, defaultSpec(), options);
+  ASSERT_TRUE(plan.bound);
+  EXPECT_GT(plan.bound->ilp_views, 0u);
+  EXPECT_LE(plan.bound->ilp_views, plan.views.size());
+  EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.bound->ilp_views));
+  EXPECT_GE(plan.bound->candidates, plan.views.size());
+}
+
+TEST(Planning, DenseCandidatesDecideWhatIsCoverable) {
+  test::TempDir dir;
+  Part part = cube(dir);
+  SimulationOptions options;
+  Simulator simulator(part, Scanner{}, options);
+  std::vector<SurfacePoint> points;
+  for (const Sample& s : sampleGlobal(part, {})) points.push_back({s.position, s.normal, s.face});
+  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_EQ(coverable[i] != 0, points[i].normal.z() > -0.99) << points[i].position.transpose();
 }
 
 TEST(Planning, NothingToPlanIsAPlanningError) {

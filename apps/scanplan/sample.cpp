@@ -6,8 +6,10 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/clustering.h>
 #include <scanplan/errors.h>
+#include <scanplan/planning.h>
 #include <scanplan/sampling.h>
 #include <scanplan/spec.h>
+#include <scanplan/visibility.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -27,6 +29,7 @@ struct Options {
   std::string part;
   std::string spec;
   std::string out;
+  std::string cvm_dir;
 };
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
@@ -111,6 +114,33 @@ int run(const Options& options, const GlobalOptions& global) {
   const std::vector<Cluster> clusters =
       clusterSamples(samples, clusteringOptionsFor(spec.scanner, spec.planner.seed));
   if (!options.out.empty()) writeSamples(options.out, samples, clusters);
+  if (!options.cvm_dir.empty()) {
+    // Each cluster's Combined Visibility Map, with the part standing on the working plane.
+    std::error_code ec;
+    std::filesystem::create_directories(options.cvm_dir, ec);
+    if (ec) throw OutputError(options.cvm_dir, "cannot create the folder: " + ec.message());
+    SimulationOptions simulation;
+    simulation.part_to_world = restingPlacement(part);
+    simulation.working_plane = spec.working_plane;
+    const Simulator simulator(part, spec.scanner, simulation);
+    std::vector<Sample> world = samples;
+    for (Sample& s : world) {
+      s.position = simulation.part_to_world * s.position;
+      s.normal = simulation.part_to_world.linear() * s.normal;
+    }
+    VisibilityOptions vo;
+    vo.step = spec.planner.vm_step;
+    vo.cone = spec.scanner.max_camera_angle;
+    vo.reach = spec.scanner.standoff;
+    vo.working_plane = spec.working_plane;
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+      report(progress, fmt::format("visibility map of cluster {} of {}", c + 1, clusters.size()),
+             static_cast<double>(c) / static_cast<double>(clusters.size()));
+      writePgm(
+          combinedVisibilityMap(simulator, world, clusters[c].samples, vo),
+          (std::filesystem::path(options.cvm_dir) / fmt::format("cluster_{}.pgm", c)).string());
+    }
+  }
   clearProgress();
 
   std::map<std::string, int> by_task, by_role;
@@ -151,6 +181,10 @@ void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& select
   command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
   command->add_option("--out", options->out,
                       "Write the samples with their clusters (.ply or .json)");
+  command->add_option(
+      "--cvm", options->cvm_dir,
+      "Write each cluster's Combined Visibility Map as a PGM image (azimuth across, "
+      "elevation up) into this folder");
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };
   });

@@ -84,4 +84,14 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
 
 std::string_view toString(Uncoverable reason);
 
+// Which samples some valid pose of a dense candidate set measures: the camera at the
+// standoff from the sample itself, looking at it, from every direction of a `step`-degree
+// grid within the camera's glancing cone, each with `rotations` rotations about the view
+// axis, its scanner body (sized by `body`) clear. The reference of coverage in
+// benchmarks and reports; the planner's last pass aims at such poses too.
+std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
+                                             const std::vector<SurfacePoint>& samples,
+                                             const PlanningOptions& body = {}, double step = 10,
+                                             int rotations = 8);
+
 }  // namespace scanplan

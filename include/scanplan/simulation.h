@@ -81,6 +81,10 @@ class Simulator {
   std::vector<std::vector<Loss>> measure(std::span<const View> views,
                                          std::span<const SurfacePoint> points) const;
 
+  // The test of points[i] from views[i], for every i (equal lengths), in parallel.
+  std::vector<Loss> measurePairs(std::span<const View> views,
+                                 std::span<const SurfacePoint> points) const;
+
   // The measurement of every facet of the part's mesh (its centroid and normal).
   Acquisition acquire(const View& view) const;
   std::vector<Acquisition> acquire(std::span<const View> views) const;

@@ -77,6 +77,58 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
 
 namespace {
 
+// Poses aimed at one point from every direction of a `step`-degree grid within the
+// camera's glancing cone, at the standoff, with `rotations` rotations about the axis.
+std::vector<View> densePoses(const Scanner& scanner, const SurfacePoint& p,
+                             const VisibilityMap& grid, int rotations) {
+  std::vector<View> views;
+  for (int c = 0; c < grid.cells(); ++c) {
+    const Vec3 d = grid.direction(c);
+    if (d.dot(p.normal) < std::cos(scanner.max_camera_angle * kDeg)) continue;
+    Vec3 horizontal = Vec3::UnitZ().cross(-d);
+    if (horizontal.norm() < 1e-6) horizontal = Vec3::UnitX();
+    horizontal.normalize();
+    for (int r = 0; r < rotations; ++r) {
+      View view;
+      view.camera_to_world = lookAt(p.position + scanner.standoff * d, p.position,
+                                    Eigen::AngleAxisd(2 * M_PI * r / rotations, -d) * horizontal);
+      view.target = p.position;
+      views.push_back(view);
+    }
+  }
+  return views;
+}
+
+}  // namespace
+
+std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
+                                             const std::vector<SurfacePoint>& samples,
+                                             const PlanningOptions& body, double step,
+                                             int rotations) {
+  const VisibilityMap grid(step);
+  std::vector<char> coverable(samples.size(), 0);
+  constexpr std::size_t kBlock = 64;  // samples per batch of poses
+  for (std::size_t first = 0; first < samples.size(); first += kBlock) {
+    std::vector<View> views;
+    std::vector<SurfacePoint> points;
+    std::vector<std::size_t> owner;
+    for (std::size_t i = first; i < std::min(samples.size(), first + kBlock); ++i)
+      for (const View& view : densePoses(simulator.scanner(), samples[i], grid, rotations)) {
+        views.push_back(view);
+        points.push_back(samples[i]);
+        owner.push_back(i);
+      }
+    const std::vector<Loss> losses = simulator.measurePairs(views, points);
+    for (std::size_t k = 0; k < losses.size(); ++k)
+      if (losses[k] == Loss::Measured && !coverable[owner[k]] &&
+          poseIsValid(simulator, views[k], body))
+        coverable[owner[k]] = 1;
+  }
+  return coverable;
+}
+
+namespace {
+
 class Planner {
  public:
   Planner(const Simulator& simulator, std::vector<PlannedSample>& samples,
@@ -145,6 +197,49 @@ class Planner {
           best_count = count;
           best = view;
         }
+      }
+    }
+    return best;
+  }
+
+  // Shifts the target of `view` (keeping its orientation) towards other pending samples
+  // near the cluster, in steps, as long as every member it measured stays measured and it
+  // measures more pending samples (DESIGN.md §5, tilted positioning).
+  View shiftTarget(const View& view, const std::vector<int>& members,
+                   const std::vector<int>& pending) {
+    std::vector<SurfacePoint> members_points, nearby_points;
+    for (int i : members) members_points.push_back(points_[i]);
+    const double reach = 0.5 * std::min(scanner_.fov_width, scanner_.fov_height);
+    Vec3 pull = Vec3::Zero();
+    for (int i : pending)
+      if (std::find(members.begin(), members.end(), i) == members.end() &&
+          (points_[i].position - view.target).norm() < 2 * reach) {
+        nearby_points.push_back(points_[i]);
+        pull += points_[i].position;
+      }
+    if (nearby_points.empty()) return view;
+    pull = pull / static_cast<double>(nearby_points.size()) - view.target;
+    // Move only across the view axis: the standoff stays.
+    pull -= pull.dot(view.axis()) * view.axis();
+    auto measuredCount = [&](const View& v, const std::vector<SurfacePoint>& pts) {
+      const auto losses = simulator_.measure(v, pts);
+      return static_cast<std::size_t>(std::count(losses.begin(), losses.end(), Loss::Measured));
+    };
+    const std::size_t members_measured = measuredCount(view, members_points);
+    std::size_t best_nearby = measuredCount(view, nearby_points);
+    View best = view;
+    for (double fraction : {0.25, 0.5, 0.75, 1.0}) {
+      View moved = view;
+      const Vec3 shift = fraction * pull;
+      if (shift.norm() > reach) break;
+      moved.camera_to_world.translation() += shift;
+      moved.target += shift;
+      if (!poseIsValid(simulator_, moved, options_)) continue;
+      if (measuredCount(moved, members_points) < members_measured) break;
+      const std::size_t nearby = measuredCount(moved, nearby_points);
+      if (nearby > best_nearby) {
+        best_nearby = nearby;
+        best = moved;
       }
     }
     return best;
@@ -256,7 +351,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
         tried[i] = 1;
       }
       if (!pose) continue;
-      View view = *pose;
+      View view = planner.shiftTarget(*pose, members, pending);
       view.id = static_cast<int>(views.size()) + 1;
       view.task = std::string(toString(plan.samples[members.front()].sample.task));
       const std::vector<Loss> losses = simulator.measure(view, planner.points());
@@ -281,6 +376,35 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     if (!added) break;
   }
   lap("view planning");
+
+  // Rescue: a sample still unmeasured gets a pose aimed at it alone, the first valid one
+  // of a dense set (10° directions, 8 rotations) whose simulation measures it.
+  report(progress, "aiming at the samples left", 0);
+  const VisibilityMap dense_grid(10);
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    if (!plan.samples[i].measured_by.empty()) continue;
+    const SurfacePoint& point = planner.points()[i];
+    const std::vector<View> poses = densePoses(spec.scanner, point, dense_grid, 8);
+    const std::vector<SurfacePoint> same(poses.size(), point);
+    const std::vector<Loss> losses = simulator.measurePairs(poses, same);
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      if (losses[k] != Loss::Measured || !poseIsValid(simulator, poses[k], options)) continue;
+      View view = poses[k];
+      view.id = static_cast<int>(views.size()) + 1;
+      view.task = std::string(toString(plan.samples[i].sample.task));
+      const std::vector<Loss> all = simulator.measure(view, planner.points());
+      std::vector<int> hits;
+      for (std::size_t j = 0; j < all.size(); ++j)
+        if (all[j] == Loss::Measured) {
+          hits.push_back(static_cast<int>(j));
+          plan.samples[j].measured_by.push_back(view.id);
+        }
+      views.push_back(view);
+      measured.push_back(std::move(hits));
+      break;
+    }
+  }
+  lap("rescue");
 
   // Selection over the pool of the added views and every other valid pose evaluated on
   // the way (each simulated on all samples): a greedy set cover by marginal coverage,
