@@ -1,6 +1,6 @@
 #include <scanplan/clustering.h>
 
-#include <nanoflann.hpp>
+#include "sampling/sample_tree.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,21 +17,6 @@ ClusteringOptions clusteringOptionsFor(const Scanner& scanner, std::uint64_t see
 }
 
 namespace {
-
-struct PositionCloud {
-  const std::vector<Sample>& samples;
-  std::size_t kdtree_get_point_count() const { return samples.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return samples[i].position[static_cast<int>(dim)];
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using PositionTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionCloud>,
-                                        PositionCloud, 3>;
 
 class Compatibility {
  public:
@@ -83,8 +68,8 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
   std::vector<Cluster> clusters;
   if (samples.empty()) return clusters;
   const Compatibility compatible(samples, options);
-  PositionCloud cloud{samples};
-  PositionTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  detail::SampleCloud cloud{samples};
+  detail::SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
 
   // Greedy growth from seeds in a seeded random order.
@@ -93,7 +78,7 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
   std::mt19937_64 random(options.seed);
   std::shuffle(order.begin(), order.end(), random);
   std::vector<int> owner(samples.size(), -1);
-  std::vector<std::pair<unsigned, double>> near;
+  detail::Neighbours near;
   nanoflann::SearchParams sorted;
   sorted.sorted = true;
   for (int seed : order) {

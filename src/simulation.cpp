@@ -1,4 +1,5 @@
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/raycast.h>
 #include <scanplan/simulation.h>
 
@@ -396,10 +397,7 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed) const {
 }
 
 void writePly(const PointCloud& cloud, const std::string& path) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw OutputError(path, "cannot be written");
+  writeFileAtomically(path, [&](std::ostream& out) {
     out << "ply\nformat binary_little_endian 1.0\ncomment scanplan simulated cloud, mm\n"
         << "element vertex " << cloud.points.size() << "\n"
         << "property float x\nproperty float y\nproperty float z\n"
@@ -416,17 +414,7 @@ void writePly(const PointCloud& cloud, const std::string& path) {
       out.write(reinterpret_cast<const char*>(&face), sizeof face);
       out.write(reinterpret_cast<const char*>(&cloud.incidence[i]), sizeof(float));
     }
-    if (!out.good()) {
-      std::remove(temporary.c_str());
-      throw OutputError(path, "write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::remove(temporary.c_str());
-    throw OutputError(path, "cannot be written: " + ec.message());
-  }
+  });
 }
 
 }  // namespace scanplan

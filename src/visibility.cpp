@@ -1,4 +1,4 @@
-#include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/visibility.h>
 
 #include <tbb/parallel_for.h>
@@ -88,24 +88,14 @@ VisibilityMap combinedVisibilityMap(const Simulator& simulator, const std::vecto
 }
 
 void writePgm(const VisibilityMap& map, const std::string& path) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw OutputError(path, "cannot be written");
+  writeFileAtomically(path, [&](std::ostream& out) {
     out << "P5\n# scanplan combined visibility map: azimuth across, elevation up\n"
         << map.azimuths << ' ' << map.elevations << "\n255\n";
     const double top = std::max<std::uint32_t>(map.max(), 1);
     for (int e = map.elevations - 1; e >= 0; --e)
       for (int a = 0; a < map.azimuths; ++a)
         out.put(static_cast<char>(std::lround(255 * map.counts[a * map.elevations + e] / top)));
-    if (!out.good()) {
-      std::remove(temporary.c_str());
-      throw OutputError(path, "write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw OutputError(path, "cannot be written: " + ec.message());
+  });
 }
 
 }  // namespace scanplan

@@ -6,6 +6,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/clustering.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/planning.h>
 #include <scanplan/sampling.h>
 #include <scanplan/spec.h>
@@ -34,26 +35,6 @@ struct Options {
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-// Writes `text` to `path` through a temporary file renamed into place.
-void writeAtomically(const std::string& path, const std::function<void(std::ofstream&)>& write) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw OutputError(path, "cannot be written");
-    write(out);
-    if (!out.good()) {
-      std::remove(temporary.c_str());
-      throw OutputError(path, "write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::remove(temporary.c_str());
-    throw OutputError(path, "cannot be written: " + ec.message());
-  }
-}
-
 void writeSamples(const std::string& path, const std::vector<Sample>& samples,
                   const std::vector<Cluster>& clusters) {
   const std::string ext = std::filesystem::path(path).extension().string();
@@ -74,14 +55,14 @@ void writeSamples(const std::string& path, const std::vector<Sample>& samples,
                         {"samples", clusters[c].samples.size()},
                         {"mean_position", vec(clusters[c].mean_position)},
                         {"mean_normal", vec(clusters[c].mean_normal)}});
-    writeAtomically(path, [&](std::ofstream& out) {
+    writeFileAtomically(path, [&](std::ostream& out) {
       out << json{{"samples", list}, {"clusters", groups}}.dump(1) << '\n';
     });
     return;
   }
   if (ext != ".ply")
     throw OutputError(path, "unsupported output type '" + ext + "' (expected .ply or .json)");
-  writeAtomically(path, [&](std::ofstream& out) {
+  writeFileAtomically(path, [&](std::ostream& out) {
     out << "ply\nformat binary_little_endian 1.0\ncomment scanplan samples, mm, part frame\n"
         << "element vertex " << samples.size()
         << "\nproperty float x\nproperty float y\nproperty float z\n"

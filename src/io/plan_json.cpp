@@ -1,4 +1,5 @@
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 
 #include <cstdio>
@@ -98,22 +99,7 @@ json planJson(const Plan& plan) {
 }
 
 void writePlan(const Plan& plan, const std::string& path) {
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw OutputError(path, "cannot be written");
-    out << planJson(plan).dump(1) << '\n';
-    if (!out.good()) {
-      std::remove(temporary.c_str());
-      throw OutputError(path, "write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::remove(temporary.c_str());
-    throw OutputError(path, "cannot be written: " + ec.message());
-  }
+  writeFileAtomically(path, [&](std::ostream& out) { out << planJson(plan).dump(1) << '\n'; });
 }
 
 }  // namespace scanplan

@@ -2,40 +2,20 @@
 
 #include <scanplan/sampling.h>
 
-#include <nanoflann.hpp>
+#include "sampling/sample_tree.h"
 
 #include <cmath>
 
 namespace scanplan {
-namespace {
-
-struct SampleCloud {
-  const std::vector<Sample>& samples;
-  std::size_t kdtree_get_point_count() const { return samples.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return samples[i].position[static_cast<int>(dim)];
-  }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using SampleTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, SampleCloud>,
-                                        SampleCloud, 3>;
-
-}  // namespace
-
 std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle) {
   if (samples.empty()) return {};
-  SampleCloud cloud{samples};
-  SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  detail::SampleCloud cloud{samples};
+  detail::SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const double min_dot = std::cos(angle * M_PI / 180);
   std::vector<char> removed(samples.size(), 0);
   std::vector<Sample> kept;
-  std::vector<std::pair<unsigned, double>> neighbours;
+  detail::Neighbours neighbours;
   nanoflann::SearchParams params;
   params.sorted = false;
   for (std::size_t i = 0; i < samples.size(); ++i) {

@@ -1,0 +1,15 @@
+#pragma once
+// Outputs are never half-written (DESIGN.md §8): written to `<path>.tmp`, then renamed
+// into place.
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace scanplan {
+
+// Calls `write` on a binary stream for `<path>.tmp` and renames it to `path`; on any
+// failure the temporary is removed. \throw OutputError naming `path`.
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace scanplan
