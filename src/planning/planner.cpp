@@ -302,7 +302,6 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   std::vector<View> views;
   std::vector<std::vector<int>> measured;  // per view: sample indices it measures
   std::vector<Visibility> visibility(plan.samples.size(), Visibility::Free);
-  std::vector<char> tried(plan.samples.size(), 0);
   ClusteringOptions clustering = clusteringOptionsFor(spec.scanner, options.seed);
   for (int round = 1;; ++round) {
     std::vector<int> pending;
@@ -346,10 +345,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
       const std::optional<View> pose =
           planner.bestPose(members, mean_point, mean_normal, normal_only, status);
       for (std::size_t m = 0; m < status.size(); ++m) visibility[members[m]] = status[m];
-      for (int i : members) {
-        ++plan.samples[i].failures;  // undone below for those the view measures
-        tried[i] = 1;
-      }
+      for (int i : members) ++plan.samples[i].failures;  // undone below for those measured
       if (!pose) continue;
       View view = planner.shiftTarget(*pose, members, pending);
       view.id = static_cast<int>(views.size()) + 1;
