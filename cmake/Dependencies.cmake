@@ -27,6 +27,16 @@ if(NOT CBC_FOUND)
                       "(scripts/install-deps.sh installs every dependency)")
 endif()
 
+find_library(QHULL_R qhull_r)
+find_path(QHULL_R_INCLUDE libqhull_r/libqhull_r.h)
+if(NOT QHULL_R OR NOT QHULL_R_INCLUDE)
+  message(FATAL_ERROR "scanplan needs Qhull: install the Debian package 'libqhull-dev' "
+                      "(scripts/install-deps.sh installs every dependency)")
+endif()
+add_library(qhull_r INTERFACE)
+target_include_directories(qhull_r SYSTEM INTERFACE ${QHULL_R_INCLUDE})
+target_link_libraries(qhull_r INTERFACE ${QHULL_R})
+
 if(SCANPLAN_BUILD_TESTS)
   scanplan_require(GTest libgtest-dev CONFIG)
 endif()

@@ -8,7 +8,7 @@ packages=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-ocaf-dev libocct-data-exchange-dev libocct-visualization-dev
   libembree-dev libeigen3-dev libtbb-dev libnanoflann-dev
-  nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev
+  nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev libqhull-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

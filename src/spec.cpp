@@ -167,6 +167,25 @@ Spec loadSpec(const std::string& path) {
       checkKeys(part, {"file", "rest"}, reader, "part");
       if (part["file"])
         spec.part_file = reader.resolvePath(reader.scalar<std::string>(part["file"], "part.file"));
+      if (const YAML::Node rest = part["rest"]) {
+        if (rest.IsScalar() && rest.as<std::string>() == "auto") {
+          spec.rest_auto = true;
+        } else if (rest.IsSequence() && rest.size() == 4) {
+          Eigen::Matrix4d m;
+          for (int r = 0; r < 4; ++r) {
+            if (!rest[r].IsSequence() || rest[r].size() != 4)
+              reader.fail("part.rest: a matrix is 4 rows of 4 numbers");
+            for (int c = 0; c < 4; ++c) m(r, c) = reader.scalar<double>(rest[r][c], "part.rest");
+          }
+          if (!isRigid(m)) reader.fail("part.rest: not a rigid transform");
+          spec.rest_pose = Pose(m);
+        } else {
+          reader.fail(
+              "part.rest: expected auto or a 4x4 matrix (resting on a given face and planning "
+              "every "
+              "orientation are not supported yet)");
+        }
+      }
     }
     if (const YAML::Node roles = root["roles"]) {
       checkKeys(roles, {"priority", "fixture", "specular"}, reader, "roles");

@@ -193,6 +193,13 @@ TEST(Cli, PlanWithNothingToPlanIsExitCodeThree) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/plan.json")));
 }
 
+TEST(Cli, InfoListsRestOrientations) {
+  CommandResult r = run("info --rest " + test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("rest orientations: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("   1: down ("), std::string::npos) << r.out;
+}
+
 TEST(Cli, HelpIsExitCodeZero) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);

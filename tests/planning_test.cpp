@@ -230,6 +230,23 @@ TEST(Planning, DenseCandidatesDecideWhatIsCoverable) {
     EXPECT_EQ(coverable[i] != 0, points[i].normal.z() > -0.99) << points[i].position.transpose();
 }
 
+TEST(Planning, RestAutoStandsThePartOnItsSteadiestFace) {
+  // A long box lies on one of its two largest faces: the world z extent is its thickness.
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(20, 200, 50).Shape(), dir.file("box.brep").c_str());
+  Part part = importPart(dir.file("box.brep"));
+  Plan plan = planViews(part, specWith("part: {rest: auto}\n", dir));
+  double top = -1e300, bottom = 1e300;
+  for (const Vec3& v : part.mesh.vertices) {
+    top = std::max(top, (plan.part_to_world * v).z());
+    bottom = std::min(bottom, (plan.part_to_world * v).z());
+  }
+  EXPECT_NEAR(bottom, 0, 1e-6);
+  EXPECT_NEAR(top, 20, 1e-6);
+  test::writeText(dir.file("bad.yaml"), "part: {rest: 3}\n");
+  EXPECT_THROW(loadSpec(dir.file("bad.yaml")), InputError);
+}
+
 TEST(Planning, NothingToPlanIsAPlanningError) {
   test::TempDir dir;
   Part part = cube(dir);

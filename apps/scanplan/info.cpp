@@ -4,6 +4,7 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/localization.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -121,6 +122,7 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   struct Options {
     std::string file;
     bool json = false;
+    bool rest = false;
     ImportOptions import;
   };
   auto options = std::make_shared<Options>();
@@ -129,6 +131,8 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_option("file", options->file, "STEP, IGES, BREP, STL, OBJ, PLY or OFF file")
       ->required();
   command->add_flag("--json", options->json, "Print the information as one JSON object");
+  command->add_flag("--rest", options->rest,
+                    "Also list the stable rest orientations on the working plane, steadiest first");
   command->add_option("--deflection", options->import.linear_deflection,
                       "Chordal tolerance of the mesh in mm (default: from the part size)");
   command->add_option(
@@ -138,10 +142,33 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected
     selected = [options, &global] {
       Part part = importPart(options->file, options->import, terminalProgress(global.quiet));
       clearProgress();
-      if (options->json)
-        std::cout << infoJson(part).dump(2) << '\n';
-      else
-        printInfo(part);
+      nlohmann::json info = infoJson(part);
+      std::vector<RestOrientation> rests;
+      if (options->rest) {
+        rests = restOrientations(part);
+        info["rest_orientations"] = nlohmann::json::array();
+        for (const RestOrientation& r : rests)
+          info["rest_orientations"].push_back({{"down", toJson(r.down)},
+                                               {"margin", r.margin},
+                                               {"contact_area", r.contact_area},
+                                               {"height", r.height}});
+      }
+      if (options->json) {
+        std::cout << info.dump(2) << '\n';
+        return 0;
+      }
+      printInfo(part);
+      if (!options->rest) return 0;
+      fmt::print(
+          "rest orientations: {} (steadiest first; margin = distance from the centre of mass's "
+          "projection to the contact edge / its height)\n",
+          rests.size());
+      for (std::size_t k = 0; k < rests.size(); ++k)
+        fmt::print(
+            "  {:>2}: down ({:+.3f}, {:+.3f}, {:+.3f})  margin {:.3f}  contact {:.0f} mm²  height "
+            "{:.1f} mm\n",
+            k + 1, rests[k].down.x(), rests[k].down.y(), rests[k].down.z(), rests[k].margin,
+            rests[k].contact_area, rests[k].height);
       return 0;
     };
   });

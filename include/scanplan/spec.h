@@ -4,6 +4,7 @@
 
 #include <scanplan/cad/part.h>
 #include <scanplan/sensor.h>
+#include <scanplan/view.h>
 
 #include <cstdint>
 #include <optional>
@@ -41,6 +42,9 @@ struct Spec {
   std::string source;                  // the file it was read from, "" for defaults
   Scanner scanner;                     // `scanner:` preset name or mapping
   std::string part_file;               // part.file, resolved to the spec's folder, or ""
+  bool rest_auto = false;              // part.rest: auto (the steadiest rest orientation)
+  std::optional<Pose> rest_pose;       // part.rest: a 4x4 part-to-world matrix
+                                       // (neither: the CAD orientation, lifted onto the plane)
   std::vector<FaceSelector> priority;  // roles.priority
   std::vector<FaceSelector> fixture;   // roles.fixture: faces that only occlude
   std::vector<FaceSelector> specular;  // roles.specular

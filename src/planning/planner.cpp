@@ -1,6 +1,7 @@
 // Iterative pose adding and pruning by marginal coverage (DESIGN.md §5).
 
 #include <scanplan/errors.h>
+#include <scanplan/localization.h>
 #include <scanplan/planning.h>
 #include <scanplan/set_cover.h>
 #include <scanplan/visibility.h>
@@ -272,7 +273,9 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   };
   plan.part_file = part.file;
   plan.part_faces = part.faces.size();
-  plan.part_to_world = restingPlacement(part);
+  plan.part_to_world = spec.rest_pose   ? *spec.rest_pose
+                       : spec.rest_auto ? restOrientations(part).front().part_to_world
+                                        : restingPlacement(part);
   plan.scanner = spec.scanner;
 
   report(progress, "sampling", 0);
