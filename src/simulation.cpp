@@ -6,9 +6,6 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <random>
 

@@ -21,6 +21,16 @@ TEST(RayCaster, CubeIsClosedAndOutward) {
   EXPECT_EQ(edges.boundary + edges.non_manifold + edges.misoriented, 0u);
 }
 
+TEST(Mesh, ClosestPointOnTriangleInEachRegion) {
+  const Vec3 a(0, 0, 0), b(4, 0, 0), c(0, 4, 0);
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(1, 1, 5), a, b, c).isApprox(Vec3(1, 1, 0)));   // interior
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(-1, -1, 2), a, b, c).isApprox(a));             // vertex a
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(6, -1, 0), a, b, c).isApprox(b));              // vertex b
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(2, -3, 1), a, b, c).isApprox(Vec3(2, 0, 0)));  // edge ab
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(3, 3, 0), a, b, c).isApprox(Vec3(2, 2, 0)));   // edge bc
+  EXPECT_TRUE(closestPointOnTriangle(Vec3(-2, 1, 0), a, b, c).isApprox(Vec3(0, 1, 0)));  // edge ca
+}
+
 TEST(RayCaster, HitsEachSideAtKnownDistanceAndNormal) {
   RayCaster caster(unitCube());
   // From 2 units outside each face centre, towards the cube centre.

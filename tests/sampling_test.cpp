@@ -53,28 +53,6 @@ std::vector<int> allFaces(const Part& part) {
   return ids;
 }
 
-// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).
-Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 // Checks every `stride`-th sample against OCCT directly: its distance to the trimmed face
 // (on the surface and inside the trims), and its normal against the triangle of the
 // face's (outward, tested) mesh nearest to it.
@@ -93,8 +71,8 @@ void expectOnFacesAndOutward(const Part& part, const std::vector<Sample>& sample
     Vec3 normal = Vec3::Zero();
     for (int t = f.first_triangle; t < f.first_triangle + f.triangle_count; ++t) {
       const Vec3i& tri = part.mesh.triangles[t];
-      const Vec3 q = closestOnTriangle(s.position, part.mesh.vertices[tri[0]],
-                                       part.mesh.vertices[tri[1]], part.mesh.vertices[tri[2]]);
+      const Vec3 q = closestPointOnTriangle(s.position, part.mesh.vertices[tri[0]],
+                                            part.mesh.vertices[tri[1]], part.mesh.vertices[tri[2]]);
       if ((q - s.position).squaredNorm() < best && !part.mesh.normal(t).isZero()) {
         best = (q - s.position).squaredNorm();
         normal = part.mesh.normal(t);

@@ -2,9 +2,6 @@
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <map>
 
 namespace scanplan {

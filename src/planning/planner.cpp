@@ -78,6 +78,13 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
 
 namespace {
 
+// A unit baseline direction perpendicular to the view axis and horizontal (world +X when
+// the axis is vertical): the rotation about the axis tried first.
+Vec3 horizontalBaseline(const Vec3& axis) {
+  const Vec3 horizontal = Vec3::UnitZ().cross(axis);
+  return horizontal.norm() < 1e-6 ? Vec3::UnitX() : Vec3(horizontal.normalized());
+}
+
 // Poses aimed at one point from every direction of a `step`-degree grid within the
 // camera's glancing cone, at the standoff, with `rotations` rotations about the axis.
 std::vector<View> densePoses(const Scanner& scanner, const SurfacePoint& p,
@@ -86,9 +93,7 @@ std::vector<View> densePoses(const Scanner& scanner, const SurfacePoint& p,
   for (int c = 0; c < grid.cells(); ++c) {
     const Vec3 d = grid.direction(c);
     if (d.dot(p.normal) < std::cos(scanner.max_camera_angle * kDeg)) continue;
-    Vec3 horizontal = Vec3::UnitZ().cross(-d);
-    if (horizontal.norm() < 1e-6) horizontal = Vec3::UnitX();
-    horizontal.normalize();
+    const Vec3 horizontal = horizontalBaseline(-d);
     for (int r = 0; r < rotations; ++r) {
       View view;
       view.camera_to_world = lookAt(p.position + scanner.standoff * d, p.position,
@@ -181,9 +186,7 @@ class Planner {
     for (const Vec3& d : directions) {
       const Vec3 camera = mean_point + scanner_.standoff * d;
       const Vec3 axis = -d;
-      Vec3 horizontal = Vec3::UnitZ().cross(axis);
-      if (horizontal.norm() < 1e-6) horizontal = Vec3::UnitX();
-      horizontal.normalize();
+      const Vec3 horizontal = horizontalBaseline(axis);
       for (int r = 0; r < options_.rotations; ++r) {
         const Vec3 hint = Eigen::AngleAxisd(2 * M_PI * r / options_.rotations, axis) * horizontal;
         View view;
@@ -354,16 +357,15 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
       view.id = static_cast<int>(views.size()) + 1;
       view.task = std::string(toString(plan.samples[members.front()].sample.task));
       const std::vector<Loss> losses = simulator.measure(view, planner.points());
+      std::vector<char> is_member(plan.samples.size(), 0);
+      for (int i : members) is_member[i] = 1;
       std::vector<int> hits;
       for (std::size_t i = 0; i < losses.size(); ++i) {
         if (losses[i] == Loss::Measured) {
           hits.push_back(static_cast<int>(i));
-          if (plan.samples[i].measured_by.empty() &&
-              std::find(members.begin(), members.end(), i) != members.end())
-            --plan.samples[i].failures;
+          if (plan.samples[i].measured_by.empty() && is_member[i]) --plan.samples[i].failures;
           plan.samples[i].measured_by.push_back(view.id);
-        } else if (std::find(members.begin(), members.end(), static_cast<int>(i)) !=
-                   members.end()) {
+        } else if (is_member[i]) {
           plan.samples[i].last_loss = losses[i];
         }
       }
@@ -412,13 +414,16 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   report(progress,
          "selecting among " + std::to_string(views.size() + planner.candidates().size()) + " poses",
          0);
-  views.insert(views.end(), planner.candidates().begin(), planner.candidates().end());
   {
-    const auto coverage = simulator.measure(views, planner.points());
-    measured.assign(views.size(), {});
-    for (std::size_t v = 0; v < coverage.size(); ++v)
-      for (std::size_t i = 0; i < coverage[v].size(); ++i)
-        if (coverage[v][i] == Loss::Measured) measured[v].push_back(static_cast<int>(i));
+    // The added views' coverage is known; only the other candidates are simulated.
+    const auto coverage = simulator.measure(planner.candidates(), planner.points());
+    views.insert(views.end(), planner.candidates().begin(), planner.candidates().end());
+    for (const std::vector<Loss>& losses : coverage) {
+      std::vector<int> hits;
+      for (std::size_t i = 0; i < losses.size(); ++i)
+        if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
+      measured.push_back(std::move(hits));
+    }
   }
   // gain(v): (priority, other) samples v measures that are not yet covered.
   auto greedy = [&](const std::vector<std::size_t>& pool, bool priority_first) {

@@ -13,31 +13,6 @@
 #include <limits>
 
 namespace scanplan {
-namespace {
-
-// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-}  // namespace
 
 std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoint>& points,
                                  const std::string& source, const SamplingOptions& options) {
@@ -49,8 +24,8 @@ std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoin
     Vec3 best_point = Vec3::Zero();
     for (std::size_t t = 0; t < part.mesh.triangles.size(); ++t) {
       const Vec3i& tri = part.mesh.triangles[t];
-      const Vec3 q = closestOnTriangle(point.position, part.mesh.vertices[tri[0]],
-                                       part.mesh.vertices[tri[1]], part.mesh.vertices[tri[2]]);
+      const Vec3 q = closestPointOnTriangle(point.position, part.mesh.vertices[tri[0]],
+                                            part.mesh.vertices[tri[1]], part.mesh.vertices[tri[2]]);
       const double d = (q - point.position).squaredNorm();
       if (d < best) {
         best = d;

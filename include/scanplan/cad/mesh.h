@@ -38,6 +38,10 @@ struct EdgeReport {
 };
 EdgeReport edgeReport(const TriangleMesh& mesh, double weld_tolerance);
 
+// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection,
+// 5.1.5).
+Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Vertex index map that merges vertices closer than `tolerance` (mm): result[i] is the
 // representative of vertex i, the lowest index of its group.
 std::vector<int> weldVertices(const std::vector<Vec3>& vertices, double tolerance);
