@@ -242,6 +242,29 @@ std::vector<bool> Simulator::occluded(std::span<const Ray> rays) const {
 
 std::vector<SurfacePoint> Simulator::facetPoints() const { return impl_->facets; }
 
+std::vector<SurfacePoint> Simulator::surfacePoints(double spacing, std::uint64_t seed) const {
+  const Impl& d = *impl_;
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<SurfacePoint> points;
+  const double cell = spacing * spacing;
+  for (std::size_t t = 0; t < d.part_triangles; ++t) {
+    // Whole expected count, plus one more with the probability of the fraction.
+    const double expected = d.facet_area[t] / cell;
+    auto count = static_cast<std::size_t>(expected);
+    if (uniform(random) < expected - static_cast<double>(count)) ++count;
+    const auto& tri = d.world.triangles[t];
+    const Vec3 &a = d.world.vertices[tri[0]], &b = d.world.vertices[tri[1]],
+               &c = d.world.vertices[tri[2]];
+    for (std::size_t k = 0; k < count; ++k) {
+      double u = uniform(random), v = uniform(random);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      points.push_back({a + u * (b - a) + v * (c - a), d.facets[t].normal, d.facets[t].face});
+    }
+  }
+  return points;
+}
+
 std::vector<Loss> Simulator::measure(const View& view, std::span<const SurfacePoint> points) const {
   return impl_->measure(view, points, nullptr, nullptr);
 }
@@ -318,12 +341,13 @@ std::vector<Acquisition> Simulator::acquire(std::span<const View> views) const {
   return result;
 }
 
-PointCloud Simulator::cloud(const View& view, std::uint64_t seed) const {
+PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing) const {
   const Impl& d = *impl_;
   const Scanner& s = d.scanner;
   const ViewGeometry geometry(view, s);
-  const int columns = static_cast<int>(std::floor(s.fov_width / s.point_spacing));
-  const int rows = static_cast<int>(std::floor(s.fov_height / s.point_spacing));
+  if (!(spacing > 0)) spacing = s.point_spacing;
+  const int columns = static_cast<int>(std::floor(s.fov_width / spacing));
+  const int rows = static_cast<int>(std::floor(s.fov_height / spacing));
   const Eigen::Matrix3d rotation = view.camera_to_world.linear();
   const Vec3 camera = view.camera();
 
@@ -337,8 +361,8 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed) const {
     rays.reserve(static_cast<std::size_t>(last - first) * columns);
     for (int r = first; r < last; ++r)
       for (int c = 0; c < columns; ++c) {
-        Vec3 pixel(-s.fov_width / 2 + (c + 0.5) * s.point_spacing,
-                   -s.fov_height / 2 + (r + 0.5) * s.point_spacing, s.standoff);
+        Vec3 pixel(-s.fov_width / 2 + (c + 0.5) * spacing, -s.fov_height / 2 + (r + 0.5) * spacing,
+                   s.standoff);
         rays.push_back(Ray{camera, rotation * pixel.normalized()});
       }
     const auto hits = d.caster->intersect(rays);

@@ -159,8 +159,10 @@ Spec loadSpec(const std::string& path) {
   const SpecReader reader(path);
   if (!root.IsMap())
     reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
-  checkKeys(root, {"scanner", "part", "roles", "gdt", "markers", "tasks", "planner", "cell"},
-            reader, "the spec");
+  checkKeys(
+      root,
+      {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},
+      reader, "the spec");
   try {
     if (root["scanner"]) spec.scanner = loadScanner(path);
     if (const YAML::Node part = root["part"]) {
@@ -199,8 +201,56 @@ Spec loadSpec(const std::string& path) {
         reader.fail("gdt: expected from-file or none, got '" + value + "'");
       spec.gdt_from_file = value == "from-file";
     }
-    if (const YAML::Node markers = root["markers"])
-      spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
+    if (const YAML::Node markers = root["markers"]) {
+      if (markers.IsMap()) {
+        checkKeys(markers, {"grid", "margin", "on"}, reader, "markers");
+        if (markers["on"]) {
+          const std::string on = reader.scalar<std::string>(markers["on"], "markers.on");
+          if (on != "plate" && on != "part" && on != "both")
+            reader.fail("markers.on: expected plate, part or both, got '" + on + "'");
+          spec.markers_on_plate = on != "part";
+          spec.markers_on_part = on != "plate";
+        }
+        if (!markers["grid"]) reader.fail("markers: a generated grid needs grid: <step in mm>");
+        spec.marker_grid = reader.scalar<double>(markers["grid"], "markers.grid");
+        if (markers["margin"])
+          spec.marker_margin = reader.scalar<double>(markers["margin"], "markers.margin");
+        if (!(spec.marker_grid > 0)) reader.fail("markers.grid must be a positive step in mm");
+        if (!(spec.marker_margin >= 0)) reader.fail("markers.margin must not be negative");
+      } else {
+        spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
+      }
+    }
+    if (const YAML::Node node = root["registration"]) {
+      checkKeys(node,
+                {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing",
+                 "verify", "cloud_spacing", "perturbation", "tolerance", "bridging",
+                 "max_bridging_views"},
+                reader, "registration");
+      RegistrationOptions& r = spec.registration;
+      auto read = [&](const char* key, auto& value) {
+        if (node[key])
+          value = reader.scalar<std::decay_t<decltype(value)>>(node[key],
+                                                               std::string("registration.") + key);
+      };
+      read("min_markers", r.min_markers);
+      read("marker_spread", r.marker_spread);
+      read("min_overlap", r.min_overlap);
+      read("max_condition", r.max_condition);
+      read("point_spacing", r.point_spacing);
+      read("verify", r.verify);
+      read("cloud_spacing", r.cloud_spacing);
+      read("tolerance", r.tolerance);
+      read("bridging", r.bridging);
+      read("max_bridging_views", r.max_bridging_views);
+      if (const YAML::Node perturbation = node["perturbation"]) {
+        if (!perturbation.IsSequence() || perturbation.size() != 2)
+          reader.fail("registration.perturbation must be [mm, degrees]");
+        r.perturbation = reader.scalar<double>(perturbation[0], "registration.perturbation");
+        r.perturbation_angle = reader.scalar<double>(perturbation[1], "registration.perturbation");
+      }
+      validate(r, path);
+    }
     if (const YAML::Node tasks = root["tasks"]) {
       if (!tasks.IsSequence() || tasks.size() == 0) reader.fail("tasks must be a non-empty list");
       spec.tasks.clear();

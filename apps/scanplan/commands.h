@@ -23,6 +23,9 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
 // scanplan sample PART [--spec spec.yaml] [--out samples.ply|.json]
 void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
+// scanplan verify plan.json PART [--spec spec.yaml]
+void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan simulate PART --views views.json [--spec spec.yaml] [--cloud DIR] [--json]
 void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 

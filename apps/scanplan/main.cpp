@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   cli::addPlanCommand(app, global, action);
   cli::addSampleCommand(app, global, action);
   cli::addSimulateCommand(app, global, action);
+  cli::addVerifyCommand(app, global, action);
 
   try {
     app.parse(argc, argv);

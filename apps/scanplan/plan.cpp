@@ -1,6 +1,7 @@
 // scanplan plan: the main job, from a part and a spec to plan.json.
 
 #include "commands.h"
+#include "summary.h"
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
@@ -22,6 +23,7 @@ struct Options {
   std::string spec;
   std::string outdir = "scanplan-out";
   bool bound = false;
+  bool registration = true;
 };
 
 int run(const Options& options, const GlobalOptions& global) {
@@ -31,13 +33,9 @@ int run(const Options& options, const GlobalOptions& global) {
   std::filesystem::create_directories(options.outdir, ec);
   if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
   const Part part = importPart(options.part, {}, progress);
-  PlanningOptions planning;
-  planning.vm_step = spec.planner.vm_step;
-  planning.tilt_min = spec.planner.tilt_min;
-  planning.tilt_max = spec.planner.tilt_max;
-  planning.max_failures = spec.planner.max_failures;
-  planning.seed = spec.planner.seed;
+  PlanningOptions planning = planningOptionsFor(spec);
   planning.bound = options.bound;
+  planning.registration = options.registration;
   const Plan plan = planViews(part, spec, planning, progress);
   const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
   writePlan(plan, path);
@@ -57,10 +55,9 @@ int run(const Options& options, const GlobalOptions& global) {
   for (const auto& [key, row] : rows)
     fmt::print("{:<10} {:<9} {:>8} {:>9} {:>7.1f}%\n", key.first, key.second, row[0], row[1],
                100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
-  fmt::print("measured   {} of {} samples\n", plan.measuredCount(), plan.samples.size());
-  fmt::print("not coverable {}\n", plan.notCoverableCount());
+  printPlanSummary(plan);
+  fmt::print("{:<22} {}\n", "not coverable", plan.notCoverableCount());
   for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
-  fmt::print("views      {}\n", plan.views.size());
   if (plan.bound) {
     const PlanBound& b = *plan.bound;
     fmt::print(
@@ -88,6 +85,8 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_flag("--bound", options->bound,
                     "Also solve the exact set cover over the candidate poses (COIN-OR CBC) and "
                     "report planner / ILP views");
+  command->add_flag("!--no-registration", options->registration,
+                    "Skip the registration check, bridging and sequencing");
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };
   });

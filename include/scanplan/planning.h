@@ -1,11 +1,14 @@
 #pragma once
 // View planning (DESIGN.md §5): poses from clusters and their visibility maps, iterative
-// adding until nothing more can be covered, pruning by marginal coverage.
+// adding until nothing more can be covered, pruning by marginal coverage; then the
+// registration check with bridging views, and the sequence.
 
 #include <scanplan/cad/part.h>
 #include <scanplan/clustering.h>
 #include <scanplan/progress.h>
+#include <scanplan/registration.h>
 #include <scanplan/sampling.h>
+#include <scanplan/sequencing.h>
 #include <scanplan/simulation.h>
 #include <scanplan/spec.h>
 #include <scanplan/view.h>
@@ -26,6 +29,7 @@ struct PlanningOptions {
   double body_depth = 200;       // this margin, reaching this far behind the camera, mm
   bool bound = false;            // also solve the exact set cover over all candidate poses
   double bound_time_limit = 30;  // seconds for CBC
+  bool registration = true;      // check registration, bridge, and sequence the views
 };
 
 // The optimality check: the fewest candidate poses that measure every sample the plan
@@ -37,6 +41,9 @@ struct PlanBound {
   bool optimal = false;        // ilp_views is proven minimal
   double seconds = 0;
 };
+
+// The planner's options as the spec's planner section sets them.
+PlanningOptions planningOptionsFor(const Spec& spec);
 
 // Why a sample is not coverable.
 enum class Uncoverable { None, BelowWorkingPlane, OccludedByPart, NoValidPose, Lost };
@@ -57,9 +64,13 @@ struct StageTime {
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
+  std::size_t fixture_faces = 0;
   Pose part_to_world = Pose::Identity();
   Scanner scanner;
-  std::vector<View> views;  // ids 1..n in order of marginal coverage
+  std::vector<View> views;  // ids 1..n in order of marginal coverage, then bridging views
+  std::vector<Marker> markers;
+  std::optional<Registration> registration;  // per view, with PlanningOptions::registration
+  std::optional<Sequence> sequence;          // of the registered views
   std::vector<PlannedSample> samples;
   std::vector<StageTime> times;
   double seconds = 0;
@@ -67,7 +78,13 @@ struct Plan {
 
   std::size_t measuredCount() const;
   std::size_t notCoverableCount() const;
+  // Samples measured by a view that registers (all measured ones without registration).
+  std::size_t registeredMeasuredCount() const;
 };
+
+// The spec's markers: its CSV, or its grid around the footprint of the part placed by
+// `part_to_world` and/or on the part; none when it names neither.
+std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world);
 
 // The part standing on the working plane as it lies in its CAD frame: lifted so that its
 // lowest point is at z = 0 (rest orientations come with localization).
@@ -83,6 +100,22 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
 bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOptions& options);
 
 std::string_view toString(Uncoverable reason);
+
+// What `scanplan verify` finds when it checks a plan again on its part.
+struct PlanCheck {
+  Plan plan;  // the plan with measured_by, registration and path length recomputed
+  std::size_t coverage_differences = 0;      // samples whose measured_by differs from the file's
+  std::size_t registration_differences = 0;  // views whose registration state differs
+  std::size_t sequence_missing = 0;          // views not in the sequence, or in it more than once
+  std::size_t sequence_breaks = 0;  // registered views that follow no view they register to
+};
+
+// Simulates every view of `plan` on its samples again, checks the registration of its
+// views (no bridging) and walks its sequence, with the part placed as the plan says and
+// the spec's specular faces, markers (else the plan's) and registration thresholds.
+// \throw InputError when the part does not match the plan (face count).
+PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
+                     const PlanningOptions& options = {}, const Progress& progress = {});
 
 // Which samples some valid pose of a dense candidate set measures: the camera at the
 // standoff from the sample itself, looking at it, from every direction of a `step`-degree

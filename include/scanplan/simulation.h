@@ -92,8 +92,8 @@ class Simulator {
   // The cloud the camera records: one ray per pixel of a grid of `point_spacing` at the
   // standoff; a hit is kept when it passes the measurement test. Depth noise along the
   // camera ray, Gaussian with sigma = noise_sigma * (z / standoff)^2 / cos(incidence)
-  // (docs/simulation.md), seeded by `seed`.
-  PointCloud cloud(const View& view, std::uint64_t seed = 1) const;
+  // (docs/simulation.md), seeded by `seed`. A `spacing` > 0 replaces the scanner's.
+  PointCloud cloud(const View& view, std::uint64_t seed = 1, double spacing = 0) const;
 
   const Scanner& scanner() const;
   const SimulationOptions& options() const;
@@ -103,6 +103,9 @@ class Simulator {
   std::vector<bool> occluded(std::span<const Ray> rays) const;
   // The part's surface points in the world: facet centroids with their normals.
   std::vector<SurfacePoint> facetPoints() const;
+  // Points spread uniformly over the part's surface in the world, one per `spacing`² of
+  // area on average (each stands for that area), seeded by `seed`.
+  std::vector<SurfacePoint> surfacePoints(double spacing, std::uint64_t seed = 1) const;
 
  private:
   struct Impl;

@@ -3,6 +3,7 @@
 // default: an empty spec (or none) means one `global` task with the default scanner.
 
 #include <scanplan/cad/part.h>
+#include <scanplan/registration.h>
 #include <scanplan/sensor.h>
 #include <scanplan/view.h>
 
@@ -49,7 +50,12 @@ struct Spec {
   std::vector<FaceSelector> fixture;   // roles.fixture: faces that only occlude
   std::vector<FaceSelector> specular;  // roles.specular
   bool gdt_from_file = false;          // gdt: from-file
-  std::string markers_file;            // markers CSV, resolved, or ""
+  std::string markers_file;            // markers: a CSV (world frame), resolved, or ""
+  double marker_grid = 0;              // markers: {grid: step, margin: mm, on: ...}: a
+  double marker_margin = 100;          // generated grid (0: none) on the working plane
+  bool markers_on_plate = true;        // around the part, and/or on the part's upward
+  bool markers_on_part = false;        // faces
+  RegistrationOptions registration;    // registration: thresholds of the pair checks
   std::vector<Task> tasks;             // never empty: defaults to one global task
   PlannerSettings planner;
   bool working_plane = true;  // cell.working_plane: the plane z = 0 occludes

@@ -1,7 +1,15 @@
+#include "io/json_values.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/views_json.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 
 namespace scanplan {
@@ -10,6 +18,10 @@ namespace {
 using nlohmann::json;
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+double share(std::size_t part, std::size_t whole) {
+  return whole ? static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+}
 
 json matrix(const Pose& pose) {
   json rows = json::array();
@@ -23,13 +35,28 @@ json matrix(const Pose& pose) {
 json planJson(const Plan& plan) {
   const Scanner& s = plan.scanner;
   json views = json::array(), sequence = json::array(), samples = json::array();
-  for (const View& view : plan.views) {
-    views.push_back({{"id", view.id},
-                     {"camera_to_world", matrix(view.camera_to_world)},
-                     {"target", vec(view.target)},
-                     {"task", view.task},
-                     {"registration", nullptr}});
-    sequence.push_back(view.id);
+  const Registration* registration = plan.registration ? &*plan.registration : nullptr;
+  std::vector<int> unregistrable;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    const View& view = plan.views[v];
+    json entry = {{"id", view.id},
+                  {"camera_to_world", matrix(view.camera_to_world)},
+                  {"target", vec(view.target)},
+                  {"task", view.task},
+                  {"registration", nullptr}};
+    if (registration && v < registration->views.size()) {
+      const ViewRegistration& r = registration->views[v];
+      entry["registration"] = {
+          {"method", toString(r.method)}, {"to", r.to}, {"constrained", r.constrained}};
+      entry["bridge"] = r.bridge;
+      if (r.method == RegistrationMethod::None) unregistrable.push_back(view.id);
+    }
+    views.push_back(entry);
+  }
+  if (plan.sequence) {
+    sequence = plan.sequence->views;
+  } else {
+    for (const View& view : plan.views) sequence.push_back(view.id);
   }
   std::map<std::string, std::size_t> reasons;
   for (const PlannedSample& p : plan.samples) {
@@ -66,13 +93,17 @@ json planJson(const Plan& plan) {
         {"max_camera_angle", s.max_camera_angle},
         {"max_projector_angle", s.max_projector_angle},
         {"reflection_cone", s.reflection_cone},
-        {"point_spacing", s.point_spacing}}},
+        {"point_spacing", s.point_spacing},
+        {"noise_sigma", s.noise_sigma}}},
       {"views", views},
       {"sequence", sequence},
       {"samples", samples},
       {"summary",
-       {{"samples", plan.samples.size()},
+       {{"model_faces", plan.part_faces},
+        {"fixture_faces", plan.fixture_faces},
+        {"samples", plan.samples.size()},
         {"measured", plan.measuredCount()},
+        {"measured_share", share(plan.measuredCount(), plan.samples.size())},
         {"not_coverable", plan.notCoverableCount()},
         {"not_coverable_by_reason", reasons},
         {"views", plan.views.size()},
@@ -80,6 +111,41 @@ json planJson(const Plan& plan) {
         {"seconds", plan.seconds},
         {"stage_seconds", times}}},
   };
+  if (registration) {
+    json& summary = result["summary"];
+    summary["registrable_views"] = registration->registered();
+    summary["registered_share"] = share(registration->registered(), plan.views.size());
+    summary["measured_by_registered_views"] = plan.registeredMeasuredCount();
+    summary["bridging_views"] = registration->bridging_views;
+    summary["unregistrable_views"] = unregistrable;
+    summary["registration_components"] = registration->components;
+    if (plan.sequence) {
+      summary["path_length"] = plan.sequence->length;
+      summary["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
+    }
+    json pairs = json::array();
+    for (const PairCheck& p : registration->pairs) {
+      json pair = {{"views", {p.a, p.b}},
+                   {"shared_markers", p.shared_markers},
+                   {"markers", p.markers},
+                   {"overlap_area", p.overlap_area},
+                   {"overlap_share", {p.overlap_a, p.overlap_b}},
+                   {"condition", std::isfinite(p.condition) ? json(p.condition) : json(nullptr)},
+                   {"stable", p.stable},
+                   {"registrable", p.registrable()}};
+      if (p.icp)
+        pair["icp"] = {{"error", p.icp->error},       {"max_error", p.icp->max_error},
+                       {"rotation", p.icp->rotation}, {"fitness", p.icp->fitness},
+                       {"rmse", p.icp->rmse},         {"points", p.icp->points},
+                       {"passed", p.icp->passed}};
+      pairs.push_back(pair);
+    }
+    json markers = json::array();
+    for (const Marker& m : plan.markers)
+      markers.push_back({{"position", vec(m.position)}, {"normal", vec(m.normal)}});
+    result["registration"] = {
+        {"reference", registration->reference}, {"markers", markers}, {"pairs", pairs}};
+  }
   if (plan.bound) {
     const PlanBound& b = *plan.bound;
     result["summary"]["bound"] = {
@@ -97,6 +163,113 @@ json planJson(const Plan& plan) {
 
 void writePlan(const Plan& plan, const std::string& path) {
   writeFileAtomically(path, [&](std::ostream& out) { out << planJson(plan).dump(1) << '\n'; });
+}
+
+namespace {
+
+// The value of `key` in `object` as a T. \throw InputError naming the file and the key.
+template <typename T>
+T field(const json& object, const std::string& key, const std::string& path,
+        const std::string& where) {
+  if (!object.is_object() || !object.contains(key))
+    throw InputError(path, where + ": no '" + key + "'");
+  try {
+    return object[key].get<T>();
+  } catch (const json::exception&) {
+    throw InputError(path, where + ": '" + key + "' has the wrong type");
+  }
+}
+
+template <typename Enum, std::size_t N>
+Enum enumFrom(const std::string& text, const std::array<Enum, N>& values, const std::string& path,
+              const std::string& where) {
+  for (Enum value : values)
+    if (toString(value) == text) return value;
+  throw InputError(path, where + ": unknown value '" + text + "'");
+}
+
+}  // namespace
+
+Plan readPlan(const std::string& path) {
+  ViewsFile views = readViews(path);  // checks the file, the JSON and every view
+  std::ifstream in(path);
+  const json root = json::parse(in, nullptr, false);
+  if (field<std::string>(root, "format", path, "plan") != "scanplan.plan")
+    throw InputError(path, "not a scanplan plan (format is not 'scanplan.plan')");
+  Plan plan;
+  plan.part_to_world = views.part_to_world;
+  plan.views = std::move(views.views);
+  const json& part = root.contains("part") ? root["part"] : json();
+  plan.part_file = field<std::string>(part, "file", path, "part");
+  plan.part_faces = field<std::size_t>(part, "faces", path, "part");
+
+  const json& scanner = root.contains("scanner") ? root["scanner"] : json();
+  if (!scanner.is_object()) throw InputError(path, "no 'scanner' object");
+  Scanner& s = plan.scanner;
+  if (scanner.contains("name") && scanner["name"].is_string()) s.name = scanner["name"];
+  for (auto [key, value] : {std::pair<const char*, double*>{"standoff", &s.standoff},
+                            {"depth_of_field", &s.depth_of_field},
+                            {"fov_width", &s.fov_width},
+                            {"fov_height", &s.fov_height},
+                            {"triangulation_angle", &s.triangulation_angle},
+                            {"max_camera_angle", &s.max_camera_angle},
+                            {"max_projector_angle", &s.max_projector_angle},
+                            {"reflection_cone", &s.reflection_cone},
+                            {"point_spacing", &s.point_spacing},
+                            {"noise_sigma", &s.noise_sigma}})
+    if (scanner.contains(key)) *value = field<double>(scanner, key, path, "scanner");
+  validate(s, path);
+
+  const json& entries = root.contains("views") ? root["views"] : json::array();
+  std::vector<ViewRegistration> registration(plan.views.size());
+  bool registered = false;
+  for (std::size_t v = 0; v < plan.views.size() && v < entries.size(); ++v) {
+    const json& r = entries[v].value("registration", json());
+    if (!r.is_object()) continue;
+    const std::string where = "view " + std::to_string(plan.views[v].id) + " registration";
+    registration[v].method =
+        enumFrom(field<std::string>(r, "method", path, where),
+                 std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
+                            RegistrationMethod::Icp, RegistrationMethod::None},
+                 path, where);
+    registration[v].to = r.value("to", 0);
+    registration[v].bridge = entries[v].value("bridge", false);
+    registered = true;
+  }
+  if (registered) {
+    plan.registration.emplace();
+    plan.registration->views = registration;
+  }
+  if (root.contains("registration") && root["registration"].contains("markers"))
+    for (const json& m : root["registration"]["markers"])
+      plan.markers.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
+                              detail::vectorFrom(m.value("normal", json()), path, "marker")});
+
+  const json& samples = root.contains("samples") ? root["samples"] : json();
+  if (!samples.is_array()) throw InputError(path, "no 'samples' array");
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const json& entry = samples[i];
+    const std::string where = "sample " + std::to_string(i + 1);
+    PlannedSample p;
+    p.sample.position = detail::vectorFrom(entry.value("position", json()), path, where);
+    p.sample.normal = detail::vectorFrom(entry.value("normal", json()), path, where);
+    if (!(std::abs(p.sample.normal.norm() - 1) < 1e-3))
+      throw InputError(path, where + ": the normal is not a unit vector");
+    p.sample.face = field<int>(entry, "face", path, where);
+    p.sample.role = enumFrom(field<std::string>(entry, "role", path, where),
+                             std::array{Role::Priority, Role::Normal, Role::Fixture}, path, where);
+    p.sample.task = enumFrom(field<std::string>(entry, "task", path, where),
+                             std::array{TaskType::Gdt, TaskType::Trim, TaskType::Surface,
+                                        TaskType::Global, TaskType::Points},
+                             path, where);
+    p.measured_by = field<std::vector<int>>(entry, "measured_by", path, where);
+    plan.samples.push_back(p);
+  }
+  if (root.contains("sequence")) {
+    plan.sequence.emplace();
+    plan.sequence->views = field<std::vector<int>>(root, "sequence", path, "plan");
+  }
+  return plan;
 }
 
 }  // namespace scanplan

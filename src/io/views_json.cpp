@@ -1,3 +1,5 @@
+#include "io/json_values.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/io/views_json.h>
 
@@ -9,39 +11,7 @@
 
 namespace scanplan {
 
-namespace {
-
 using nlohmann::json;
-
-Eigen::Matrix4d matrixFrom(const json& value, const std::string& path, const std::string& what) {
-  if (!value.is_array() || value.size() != 4)
-    throw InputError(path, what + ": expected 4 rows of 4 numbers");
-  Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r) {
-    if (!value[r].is_array() || value[r].size() != 4)
-      throw InputError(path, what + ": row " + std::to_string(r + 1) + " is not 4 numbers");
-    for (int c = 0; c < 4; ++c) {
-      if (!value[r][c].is_number())
-        throw InputError(path, what + ": entry (" + std::to_string(r + 1) + ", " +
-                                   std::to_string(c + 1) + ") is not a number");
-      m(r, c) = value[r][c].get<double>();
-    }
-  }
-  if (!isRigid(m))
-    throw InputError(path, what +
-                               ": not a rigid transform (the rotation must be orthonormal with "
-                               "determinant +1 and the last row 0 0 0 1)");
-  return m;
-}
-
-Vec3 vectorFrom(const json& value, const std::string& path, const std::string& what) {
-  if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
-      !value[2].is_number())
-    throw InputError(path, what + ": expected 3 numbers");
-  return Vec3(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
-}
-
-}  // namespace
 
 ViewsFile readViews(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
@@ -59,7 +29,7 @@ ViewsFile readViews(const std::string& path) {
     views = &root["views"];
     if (root.contains("part") && root["part"].contains("part_to_world"))
       file.part_to_world.matrix() =
-          matrixFrom(root["part"]["part_to_world"], path, "part.part_to_world");
+          detail::matrixFrom(root["part"]["part_to_world"], path, "part.part_to_world");
   }
   if (!views->is_array()) throw InputError(path, "'views' is not an array");
   std::set<int> ids;
@@ -77,9 +47,9 @@ ViewsFile readViews(const std::string& path) {
     if (!ids.insert(view.id).second) throw InputError(path, what + ": id is used twice");
     if (!v.contains("camera_to_world")) throw InputError(path, what + ": no camera_to_world");
     view.camera_to_world.matrix() =
-        matrixFrom(v["camera_to_world"], path, what + " camera_to_world");
-    view.target =
-        v.contains("target") ? vectorFrom(v["target"], path, what + " target") : view.camera();
+        detail::matrixFrom(v["camera_to_world"], path, what + " camera_to_world");
+    view.target = v.contains("target") ? detail::vectorFrom(v["target"], path, what + " target")
+                                       : view.camera();
     if (v.contains("task") && v["task"].is_string()) view.task = v["task"].get<std::string>();
     file.views.push_back(view);
   }

@@ -37,6 +37,49 @@ std::size_t Plan::notCoverableCount() const {
                     [](const PlannedSample& s) { return s.uncoverable != Uncoverable::None; }));
 }
 
+std::size_t Plan::registeredMeasuredCount() const {
+  if (!registration) return measuredCount();
+  std::vector<char> registered;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const int id = views[v].id;
+    if (id >= static_cast<int>(registered.size())) registered.resize(id + 1, 0);
+    registered[id] =
+        v < registration->views.size() && registration->views[v].method != RegistrationMethod::None;
+  }
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(), [&](const PlannedSample& s) {
+        return std::any_of(s.measured_by.begin(), s.measured_by.end(), [&](int id) {
+          return id < static_cast<int>(registered.size()) && registered[id];
+        });
+      }));
+}
+
+PlanningOptions planningOptionsFor(const Spec& spec) {
+  PlanningOptions options;
+  options.vm_step = spec.planner.vm_step;
+  options.tilt_min = spec.planner.tilt_min;
+  options.tilt_max = spec.planner.tilt_max;
+  options.max_failures = spec.planner.max_failures;
+  options.seed = spec.planner.seed;
+  return options;
+}
+
+std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world) {
+  if (!spec.markers_file.empty()) return readMarkers(spec.markers_file);
+  if (!(spec.marker_grid > 0)) return {};
+  TriangleMesh world = part.mesh;
+  for (Vec3& v : world.vertices) v = part_to_world * v;
+  std::vector<Marker> markers;
+  if (spec.markers_on_part) markers = markersOnPart(world, spec.marker_grid);
+  if (spec.markers_on_plate) {
+    Box footprint;
+    for (const Vec3& v : world.vertices) footprint.add(v);
+    const auto plate = markerGrid(footprint, spec.marker_grid, spec.marker_margin);
+    markers.insert(markers.end(), plate.begin(), plate.end());
+  }
+  return markers;
+}
+
 Pose restingPlacement(const Part& part) {
   Pose placement = Pose::Identity();
   placement.translation() = Vec3(0, 0, -part.bounds().min.z());
@@ -300,6 +343,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   simulation.part_to_world = plan.part_to_world;
   simulation.working_plane = spec.working_plane;
   simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
+  plan.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
   const Simulator simulator(part, spec.scanner, simulation);
   Planner planner(simulator, plan.samples, options);
   lap("scene");
@@ -480,6 +524,25 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     plan.views.push_back(view);
     for (int i : measured[kept[k]]) plan.samples[i].measured_by.push_back(view.id);
   }
+  lap("pruning");
+
+  if (options.registration) {
+    plan.markers = specMarkers(spec, part, plan.part_to_world);
+    RegistrationOptions registration = spec.registration;
+    registration.seed = options.seed;
+    const std::size_t planned = plan.views.size();
+    plan.registration =
+        registerViews(simulator, plan.views, plan.markers, registration, options, progress);
+    for (std::size_t v = planned; v < plan.views.size(); ++v) {  // bridging views measure too
+      const std::vector<Loss> losses = simulator.measure(plan.views[v], planner.points());
+      for (std::size_t i = 0; i < losses.size(); ++i)
+        if (losses[i] == Loss::Measured) plan.samples[i].measured_by.push_back(plan.views[v].id);
+    }
+    lap("registration");
+    report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
+    plan.sequence = sequenceViews(simulator, plan.views, *plan.registration);
+    lap("sequencing");
+  }
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
     PlannedSample& s = plan.samples[i];
     if (!s.measured_by.empty()) continue;
@@ -488,7 +551,6 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
                     : s.last_loss == Loss::Measured                ? Uncoverable::NoValidPose
                                                                    : Uncoverable::Lost;
   }
-  lap("pruning");
 
   if (options.bound) {
     report(progress, "exact set cover over " + std::to_string(views.size()) + " poses", 0);

@@ -1,5 +1,5 @@
 #pragma once
-// A nanoflann k-d tree over sample positions (private to the library).
+// nanoflann k-d trees over sample and point positions (private to the library).
 
 #include <scanplan/sampling.h>
 
@@ -9,12 +9,16 @@
 
 namespace scanplan::detail {
 
-// nanoflann's dataset adaptor over Sample::position.
-struct SampleCloud {
-  const std::vector<Sample>& samples;
-  std::size_t kdtree_get_point_count() const { return samples.size(); }
+inline const Vec3& positionOf(const Sample& sample) { return sample.position; }
+inline const Vec3& positionOf(const Vec3& point) { return point; }
+
+// nanoflann's dataset adaptor over the positions of `items`.
+template <class Item>
+struct PositionCloud {
+  const std::vector<Item>& items;
+  std::size_t kdtree_get_point_count() const { return items.size(); }
   double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return samples[i].position[static_cast<int>(dim)];
+    return positionOf(items[i])[static_cast<int>(dim)];
   }
   template <class Box>
   bool kdtree_get_bbox(Box&) const {
@@ -22,9 +26,15 @@ struct SampleCloud {
   }
 };
 
-using SampleTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, SampleCloud>,
-                                        SampleCloud, 3>;
+template <class Item>
+using PositionTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionCloud<Item>>,
+                                        PositionCloud<Item>, 3>;
+
+using SampleCloud = PositionCloud<Sample>;
+using SampleTree = PositionTree<Sample>;
+using PointCloudAdaptor = PositionCloud<Vec3>;
+using PointTree = PositionTree<Vec3>;
 
 // Indices and squared distances of a radius search.
 using Neighbours = std::vector<std::pair<unsigned, double>>;

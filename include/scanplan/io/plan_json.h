@@ -11,11 +11,19 @@ namespace scanplan {
 
 // The plan as JSON: every field §7 requires (format, version, units, part, scanner,
 // views, sequence, samples with measured_by, summary) plus `not_coverable` reasons and
-// stage times. Views carry `registration: null` until registration is checked.
+// stage times; with registration, each view's registration and bridge flag, the
+// checked pairs and the markers, and the sequence.
 nlohmann::json planJson(const Plan& plan);
 
 // Writes planJson(plan) to `path` through a temporary file renamed into place.
 // \throw OutputError when it cannot be written.
 void writePlan(const Plan& plan, const std::string& path);
+
+// Reads a plan.json back: part file and faces, placement, scanner (every §4 parameter
+// the file gives, over the defaults), views with their bridge flags, markers, samples
+// with measured_by, and the sequence. Registration results and times are not read: they
+// are what `scanplan verify` checks again.
+// \throw InputError naming the file and the field that is missing or wrong.
+Plan readPlan(const std::string& path);
 
 }  // namespace scanplan

@@ -1,0 +1,44 @@
+#include "summary.h"
+
+#include <fmt/format.h>
+
+namespace scanplan::cli {
+
+void printPlanSummary(const Plan& plan) {
+  auto percent = [](std::size_t part, std::size_t whole) {
+    return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+  };
+  fmt::print("{:<22} {}\n", "model faces", plan.part_faces);
+  fmt::print("{:<22} {}\n", "fixture faces", plan.fixture_faces);
+  fmt::print("{:<22} {}\n", "target samples", plan.samples.size());
+  fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
+             percent(plan.measuredCount(), plan.samples.size()));
+  fmt::print("{:<22} {}\n", "views", plan.views.size());
+  if (!plan.registration) return;
+  const Registration& r = *plan.registration;
+  fmt::print("{:<22} {} ({:.1f}%)\n", "views registered", r.registered(),
+             percent(r.registered(), plan.views.size()));
+  fmt::print("{:<22} {} ({:.1f}%)\n", "measured, registered", plan.registeredMeasuredCount(),
+             percent(plan.registeredMeasuredCount(), plan.samples.size()));
+  fmt::print("{:<22} {}\n", "bridging views added", r.bridging_views);
+  if (r.registered() < plan.views.size()) {
+    std::string ids;
+    std::size_t unconstrained = 0;
+    for (std::size_t v = 0; v < plan.views.size() && v < r.views.size(); ++v)
+      if (r.views[v].method == RegistrationMethod::None) {
+        ids += fmt::format("{}{}", ids.empty() ? "" : " ", plan.views[v].id);
+        unconstrained += !r.views[v].constrained;
+      }
+    fmt::print("{:<22} {}\n", "unregistrable views", ids);
+    if (unconstrained)
+      fmt::print(
+          "{:<22} {} of them see too little to register to (a plane or a cylinder, "
+          "and too few markers): add markers\n",
+          "", unconstrained);
+  }
+  if (plan.sequence)
+    fmt::print("{:<22} {:.0f} mm (nearest neighbour {:.0f} mm)\n", "path length",
+               plan.sequence->length, plan.sequence->nearest_neighbour_length);
+}
+
+}  // namespace scanplan::cli

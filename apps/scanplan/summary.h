@@ -1,0 +1,12 @@
+#pragma once
+// The plan summary table that `scanplan plan` and `scanplan verify` print.
+
+#include <scanplan/planning.h>
+
+namespace scanplan::cli {
+
+// Model and fixture faces, target and measured samples, views, views registered,
+// bridging views added and path length, one per line.
+void printPlanSummary(const Plan& plan);
+
+}  // namespace scanplan::cli

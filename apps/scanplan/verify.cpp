@@ -1,0 +1,69 @@
+// scanplan verify: checks a plan again on its part: coverage, registration, sequence.
+
+#include "commands.h"
+#include "summary.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/planning.h>
+#include <scanplan/spec.h>
+
+#include <fmt/format.h>
+
+namespace scanplan::cli {
+namespace {
+
+struct Options {
+  std::string plan;
+  std::string part;
+  std::string spec;
+};
+
+int run(const Options& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global.quiet);
+  const Plan plan = readPlan(options.plan);
+  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const Part part = importPart(options.part, {}, progress);
+  const PlanCheck check = verifyPlan(plan, part, spec, planningOptionsFor(spec), progress);
+  clearProgress();
+
+  fmt::print("{:<22} {}\n", "plan", options.plan);
+  fmt::print("{:<22} {}\n", "part", part.file);
+  printPlanSummary(check.plan);
+  auto verdict = [](std::size_t differences, const std::string& what) {
+    return differences == 0 ? std::string("as planned") : fmt::format("{} {}", differences, what);
+  };
+  fmt::print("{:<22} {}\n", "coverage check",
+             verdict(check.coverage_differences, "samples measured otherwise than planned"));
+  fmt::print("{:<22} {}\n", "registration check",
+             verdict(check.registration_differences, "views registered otherwise than planned"));
+  fmt::print("{:<22} {}\n", "sequence check",
+             check.sequence_missing + check.sequence_breaks == 0
+                 ? std::string("every view once, each after one it registers to")
+                 : fmt::format("{} views missing or repeated, {} not after one they register to",
+                               check.sequence_missing, check.sequence_breaks));
+  const bool holds = check.coverage_differences == 0 && check.registration_differences == 0 &&
+                     check.sequence_missing == 0;
+  return holds ? kExitOk : kExitPlanning;
+}
+
+}  // namespace
+
+void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand(
+      "verify",
+      "Check a plan again on its part: coverage, registration and sequence (exit 3 when the "
+      "plan does not hold)");
+  command->add_option("plan", options->plan, "plan.json")->required();
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--spec", options->spec,
+                      "Inspection spec (YAML): specular faces, markers, registration thresholds");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

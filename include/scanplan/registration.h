@@ -1,0 +1,148 @@
+#pragma once
+// Registration feasibility (DESIGN.md §5): which views can be put together, by markers
+// they share or by ICP on the overlap of their simulated clouds, and the bridging views
+// that join the registration graph where it falls apart. docs/registration.md.
+
+#include <scanplan/geometry.h>
+#include <scanplan/progress.h>
+#include <scanplan/simulation.h>
+#include <scanplan/view.h>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+struct PlanningOptions;
+
+// A reference marker (a retro-reflective dot), world frame.
+struct Marker {
+  Vec3 position = Vec3::Zero();  // mm
+  Vec3 normal = Vec3::UnitZ();   // unit
+};
+
+// Markers from a CSV of `x,y,z[,nx,ny,nz]` in the world frame (io/points_csv.h); without
+// a normal a marker faces up. \throw InputError naming the file and line.
+std::vector<Marker> readMarkers(const std::string& path);
+
+// Markers on the working plane (z = 0) on a square grid of `step`, over `footprint` (a
+// world box, usually the part's) grown by `margin`; the grid cells under the footprint
+// itself are left out (the part covers them). \throw InputError for step <= 0.
+std::vector<Marker> markerGrid(const Box& footprint, double step, double margin);
+
+// Markers stuck on the part: a square grid of `step` over the part as it stands in the
+// world (`mesh`, world frame), each where a vertical ray from above first meets a
+// surface facing up within 45 degrees.
+std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step);
+
+struct RegistrationOptions {
+  // Markers: two views register when they share this many markers, not all within
+  // `marker_spread` of one line.
+  int min_markers = 3;
+  double marker_spread = 10;  // mm
+  // ICP: the surface both views measure, as a share of what each measures, and the
+  // condition number of its 6x6 point-to-plane covariance (Gelfand et al. 2003).
+  double min_overlap = 0.2;
+  double max_condition = 100;
+  double point_spacing = 0;  // surface points for overlaps, mm; 0: fov_height / 40
+  // Verification of the pairs the registration uses: Open3D point-to-plane ICP between
+  // the simulated noisy clouds, from a start perturbed by `perturbation` mm and
+  // `perturbation_angle` degrees; the pair fails when the points of the moved view end up,
+  // in RMS, more than `tolerance` mm from where they belong.
+  bool verify = true;
+  double cloud_spacing = 0;  // mm; 0: fov_height / 150 (about 1.5 mm for 225 mm)
+  double perturbation = 3;
+  double perturbation_angle = 2;
+  double tolerance = 0.1;
+  // Bridging: views added until the graph is connected, at most this many.
+  bool bridging = true;
+  int max_bridging_views = 20;
+  std::uint64_t seed = 1;
+};
+
+// \throw InputError naming `source` and the option out of range.
+void validate(const RegistrationOptions& options, const std::string& source);
+
+// The condition number (largest over smallest eigenvalue) of the covariance of
+// point-to-plane constraints [p x n; n] of the points, centred at their centroid and
+// scaled by their mean distance to it (Gelfand et al., "Geometrically stable sampling for
+// the ICP algorithm", 2003). Infinite for a plane, a sphere or a cylinder, and for fewer
+// than 6 points.
+double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals);
+
+// True when at least `min_count` points are given and they are not all within `spread`
+// of one line.
+bool markersRegister(std::span<const Vec3> positions, int min_count, double spread);
+
+// ICP between the simulated clouds of two views (docs/registration.md): where the points
+// of the moved view end up after ICP, against where they belong.
+struct IcpCheck {
+  double error = std::numeric_limits<double>::infinity();      // RMS displacement left, mm
+  double max_error = std::numeric_limits<double>::infinity();  // largest displacement, mm
+  double rotation = 0;     // angle of the rotation left, degrees
+  double fitness = 0;      // share of the moved cloud with a correspondence
+  double rmse = 0;         // of the correspondences, mm
+  std::size_t points = 0;  // of the moved cloud
+  bool passed = false;     // error <= tolerance
+};
+IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
+                  const RegistrationOptions& options);
+
+// What is known about one pair of views.
+struct PairCheck {
+  int a = 0, b = 0;  // view ids, a < b
+  std::size_t shared_markers = 0;
+  bool markers = false;                 // shared markers register them
+  double overlap_area = 0;              // mm², measured by both
+  double overlap_a = 0, overlap_b = 0;  // that area over what a, b measure
+  double condition = std::numeric_limits<double>::infinity();
+  bool stable = false;          // overlap and condition within the limits
+  std::optional<IcpCheck> icp;  // when verified
+  bool registrable() const { return markers || (stable && (!icp || icp->passed)); }
+};
+
+enum class RegistrationMethod { Reference, Markers, Icp, None };
+std::string_view toString(RegistrationMethod method);
+
+// How one view is registered: to the view `to` (an id; 0 for the reference view, which
+// fixes the frame, and for views that cannot be registered).
+struct ViewRegistration {
+  RegistrationMethod method = RegistrationMethod::None;
+  int to = 0;
+  bool bridge = false;  // added to join the registration graph
+  // Something could register to it: its own surface constrains ICP (condition within the
+  // limit) or it sees enough markers. A view that is not can only be registered by
+  // adding markers.
+  bool constrained = true;
+};
+
+struct Registration {
+  std::vector<ViewRegistration> views;  // per view, in the order of the views
+  std::vector<PairCheck> pairs;         // pairs that overlap or share markers
+  std::size_t markers = 0;              // markers in the cell
+  std::size_t components = 0;           // of the registration graph, after bridging
+  std::size_t bridging_views = 0;
+  int reference = 0;      // id of the reference view (0: no view)
+  bool verified = false;  // ICP pairs were verified
+
+  std::size_t registered() const;
+  // True when views a and b register to each other: they share markers, or their ICP
+  // pair passed verification (is stable, without verification).
+  bool linked(int a, int b) const;
+};
+
+// Checks every pair of `views`, keeps a spanning tree of registrable pairs (markers first,
+// then the most stable ICP pairs, each verified before it is used) and, with bridging,
+// appends views to `views` until the graph is connected or no bridge exists. Bridging
+// poses keep the scanner body (sized by `body`) clear. Ids of appended views follow the
+// largest id.
+Registration registerViews(const Simulator& simulator, std::vector<View>& views,
+                           const std::vector<Marker>& markers, const RegistrationOptions& options,
+                           const PlanningOptions& body, const Progress& progress = {});
+
+}  // namespace scanplan

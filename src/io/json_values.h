@@ -1,0 +1,47 @@
+#pragma once
+// Values of the plan format read from JSON, with errors that name the file and the field
+// (private to the library).
+
+#include <scanplan/errors.h>
+#include <scanplan/view.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace scanplan::detail {
+
+using nlohmann::json;
+
+// A rigid 4x4 matrix given as 4 rows of 4 numbers. \throw InputError naming `what`.
+inline Eigen::Matrix4d matrixFrom(const json& value, const std::string& path,
+                                  const std::string& what) {
+  if (!value.is_array() || value.size() != 4)
+    throw InputError(path, what + ": expected 4 rows of 4 numbers");
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r) {
+    if (!value[r].is_array() || value[r].size() != 4)
+      throw InputError(path, what + ": row " + std::to_string(r + 1) + " is not 4 numbers");
+    for (int c = 0; c < 4; ++c) {
+      if (!value[r][c].is_number())
+        throw InputError(path, what + ": entry (" + std::to_string(r + 1) + ", " +
+                                   std::to_string(c + 1) + ") is not a number");
+      m(r, c) = value[r][c].get<double>();
+    }
+  }
+  if (!isRigid(m))
+    throw InputError(path, what +
+                               ": not a rigid transform (the rotation must be orthonormal with "
+                               "determinant +1 and the last row 0 0 0 1)");
+  return m;
+}
+
+// Three numbers. \throw InputError naming `what`.
+inline Vec3 vectorFrom(const json& value, const std::string& path, const std::string& what) {
+  if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
+      !value[2].is_number())
+    throw InputError(path, what + ": expected 3 numbers");
+  return Vec3(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+}
+
+}  // namespace scanplan::detail

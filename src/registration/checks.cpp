@@ -1,0 +1,94 @@
+// Reference markers and the two pair tests: shared markers, ICP stability.
+
+#include <scanplan/errors.h>
+#include <scanplan/io/points_csv.h>
+#include <scanplan/raycast.h>
+#include <scanplan/registration.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace scanplan {
+
+std::vector<Marker> readMarkers(const std::string& path) {
+  std::vector<Marker> markers;
+  for (const ControlPoint& point : readPointsCsv(path))
+    markers.push_back({point.position, point.normal.value_or(Vec3::UnitZ())});
+  return markers;
+}
+
+std::vector<Marker> markerGrid(const Box& footprint, double step, double margin) {
+  if (!(step > 0)) throw InputError("markers", "the marker grid step must be positive");
+  if (!(margin >= 0)) throw InputError("markers", "the marker grid margin must not be negative");
+  std::vector<Marker> markers;
+  if (footprint.empty()) return markers;
+  const double x0 = footprint.min.x() - margin, y0 = footprint.min.y() - margin;
+  const auto columns = static_cast<int>(std::floor((footprint.max.x() + margin - x0) / step));
+  const auto rows = static_cast<int>(std::floor((footprint.max.y() + margin - y0) / step));
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c <= columns; ++c) {
+      const Vec3 p(x0 + c * step, y0 + r * step, 0);
+      const bool under_part = p.x() >= footprint.min.x() && p.x() <= footprint.max.x() &&
+                              p.y() >= footprint.min.y() && p.y() <= footprint.max.y();
+      if (!under_part) markers.push_back({p, Vec3::UnitZ()});
+    }
+  return markers;
+}
+
+std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step) {
+  if (!(step > 0)) throw InputError("markers", "the marker grid step must be positive");
+  Box box;
+  for (const Vec3& v : mesh.vertices) box.add(v);
+  std::vector<Marker> markers;
+  if (box.empty()) return markers;
+  std::vector<Ray> rays;
+  for (double y = box.min.y() + step / 2; y < box.max.y(); y += step)
+    for (double x = box.min.x() + step / 2; x < box.max.x(); x += step)
+      rays.push_back(Ray{Vec3(x, y, box.max.z() + 1), -Vec3::UnitZ()});
+  for (const auto& hit : castRays(mesh, rays))
+    if (hit && hit->normal.z() >= std::cos(M_PI / 4)) markers.push_back({hit->point, hit->normal});
+  return markers;
+}
+
+bool markersRegister(std::span<const Vec3> positions, int min_count, double spread) {
+  if (positions.size() < static_cast<std::size_t>(std::max(min_count, 3))) return false;
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : positions) centre += p;
+  centre /= static_cast<double>(positions.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : positions) scatter += (p - centre) * (p - centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  const Vec3 axis = solver.eigenvectors().col(2);  // the line of best fit
+  for (const Vec3& p : positions) {
+    const Vec3 d = p - centre;
+    if ((d - d.dot(axis) * axis).norm() > spread) return true;
+  }
+  return false;
+}
+
+double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals) {
+  const std::size_t n = std::min(points.size(), normals.size());
+  if (n < 6) return std::numeric_limits<double>::infinity();
+  Vec3 centre = Vec3::Zero();
+  for (std::size_t i = 0; i < n; ++i) centre += points[i];
+  centre /= static_cast<double>(n);
+  double scale = 0;
+  for (std::size_t i = 0; i < n; ++i) scale += (points[i] - centre).norm();
+  scale /= static_cast<double>(n);
+  if (!(scale > 0)) return std::numeric_limits<double>::infinity();
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::Matrix<double, 6, 1> row;
+    row << ((points[i] - centre) / scale).cross(normals[i]), normals[i];
+    covariance += row * row.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(covariance);
+  const auto& eigenvalues = solver.eigenvalues();  // ascending
+  const double largest = eigenvalues(5), smallest = eigenvalues(0);
+  if (!(smallest > largest * 1e-12)) return std::numeric_limits<double>::infinity();
+  return largest / smallest;
+}
+
+}  // namespace scanplan

@@ -1,0 +1,544 @@
+// The registration graph: pair checks, a spanning tree of verified pairs, bridging views.
+
+#include "sampling/sample_tree.h"
+
+#include <scanplan/errors.h>
+#include <scanplan/planning.h>
+#include <scanplan/registration.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace scanplan {
+
+std::string_view toString(RegistrationMethod method) {
+  switch (method) {
+    case RegistrationMethod::Reference: return "reference";
+    case RegistrationMethod::Markers: return "markers";
+    case RegistrationMethod::Icp: return "icp";
+    case RegistrationMethod::None: return "none";
+  }
+  return "unknown";
+}
+
+void validate(const RegistrationOptions& o, const std::string& source) {
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) throw InputError(source, "registration: " + what);
+  };
+  require(o.min_markers >= 3, "min_markers must be at least 3");
+  require(o.marker_spread > 0, "marker_spread must be positive");
+  require(o.min_overlap > 0 && o.min_overlap <= 1, "min_overlap must be in (0, 1]");
+  require(o.max_condition >= 1, "max_condition must be at least 1");
+  require(o.point_spacing >= 0 && o.cloud_spacing >= 0, "spacings must not be negative");
+  require(o.perturbation >= 0 && o.perturbation_angle >= 0 && o.perturbation_angle < 45,
+          "perturbation must be >= 0 mm and in [0, 45) degrees");
+  require(o.tolerance > 0, "tolerance must be positive");
+  require(o.max_bridging_views >= 0, "max_bridging_views must not be negative");
+}
+
+std::size_t Registration::registered() const {
+  return static_cast<std::size_t>(std::count_if(
+      views.begin(), views.end(), [](auto& v) { return v.method != RegistrationMethod::None; }));
+}
+
+bool Registration::linked(int a, int b) const {
+  if (a > b) std::swap(a, b);
+  for (const PairCheck& pair : pairs)
+    if (pair.a == a && pair.b == b)
+      return pair.markers || (pair.icp ? pair.icp->passed : pair.stable && !verified);
+  return false;
+}
+
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+// Poses at the standoff aimed at `target`: along its normal and tilted by 30 degrees
+// towards eight sides (to see the walls around it), each with two rotations about the
+// view axis.
+// The pose aimed at the point `t` of the way from a's target to b's, its orientation
+// `turn` of the way from a's to b's, at the standoff.
+View between(const View& a, const View& b, double t, double turn, double standoff) {
+  const Eigen::Quaterniond qa(a.camera_to_world.linear()), qb(b.camera_to_world.linear());
+  View view;
+  view.target = (1 - t) * a.target + t * b.target;
+  view.camera_to_world.linear() = qa.slerp(turn, qb).toRotationMatrix();
+  view.camera_to_world.translation() =
+      view.target - standoff * view.camera_to_world.linear().col(2);
+  return view;
+}
+
+std::vector<View> posesAt(const Scanner& scanner, const SurfacePoint& target) {
+  const Vec3 n = target.normal, u = n.unitOrthogonal(), w = n.cross(u);
+  std::vector<Vec3> directions{n};
+  for (int k = 0; k < 8; ++k)
+    directions.push_back(std::cos(30 * kDeg) * n +
+                         std::sin(30 * kDeg) *
+                             (std::cos(k * M_PI / 4) * u + std::sin(k * M_PI / 4) * w));
+  std::vector<View> poses;
+  for (const Vec3& d : directions)
+    for (const Vec3& hint : {u, w}) {
+      View view;
+      view.camera_to_world =
+          lookAt(target.position + scanner.standoff * d.normalized(), target.position, hint);
+      view.target = target.position;
+      poses.push_back(view);
+    }
+  return poses;
+}
+
+// What a view measures: surface points and markers, indices in ascending order.
+struct Observation {
+  std::vector<int> points;
+  std::vector<int> markers;
+};
+
+std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
+  std::vector<int> both;
+  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
+  return both;
+}
+
+class Graph {
+ public:
+  Graph(const Simulator& simulator, const RegistrationOptions& options,
+        const std::vector<Marker>& markers, const Progress& progress)
+      : simulator_(simulator), options_(options), progress_(progress) {
+    const Scanner& scanner = simulator.scanner();
+    spacing_ = options.point_spacing > 0 ? options.point_spacing : scanner.fov_height / 40;
+    points_ = simulator.surfacePoints(spacing_, options.seed);
+    for (const Marker& m : markers) markers_.push_back({m.position, m.normal, 0});
+  }
+
+  const std::vector<SurfacePoint>& points() const { return points_; }
+  double spacing() const { return spacing_; }
+
+  std::vector<Observation> observe(std::span<const View> views) const {
+    const auto on_points = simulator_.measure(views, points_);
+    const auto on_markers = markers_.empty() ? std::vector<std::vector<Loss>>(views.size())
+                                             : simulator_.measure(views, markers_);
+    std::vector<Observation> result(views.size());
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      for (std::size_t i = 0; i < on_points[v].size(); ++i)
+        if (on_points[v][i] == Loss::Measured) result[v].points.push_back(static_cast<int>(i));
+      for (std::size_t i = 0; i < on_markers[v].size(); ++i)
+        if (on_markers[v][i] == Loss::Measured) result[v].markers.push_back(static_cast<int>(i));
+    }
+    return result;
+  }
+
+  // The pair test without ICP verification.
+  PairCheck check(const View& a, const Observation& oa, const View& b,
+                  const Observation& ob) const {
+    PairCheck pair;
+    pair.a = std::min(a.id, b.id);
+    pair.b = std::max(a.id, b.id);
+    const std::vector<int> markers = shared(oa.markers, ob.markers);
+    pair.shared_markers = markers.size();
+    std::vector<Vec3> positions;
+    for (int m : markers) positions.push_back(markers_[m].position);
+    pair.markers = markersRegister(positions, options_.min_markers, options_.marker_spread);
+    const std::vector<int> overlap = shared(oa.points, ob.points);
+    if (overlap.empty()) return pair;
+    pair.overlap_area = static_cast<double>(overlap.size()) * spacing_ * spacing_;
+    const double share_a =
+        static_cast<double>(overlap.size()) / static_cast<double>(oa.points.size());
+    const double share_b =
+        static_cast<double>(overlap.size()) / static_cast<double>(ob.points.size());
+    pair.overlap_a = a.id < b.id ? share_a : share_b;
+    pair.overlap_b = a.id < b.id ? share_b : share_a;
+    std::vector<Vec3> p, n;
+    for (int i : overlap) {
+      p.push_back(points_[i].position);
+      n.push_back(points_[i].normal);
+    }
+    pair.condition = icpCondition(p, n);
+    pair.stable = std::min(share_a, share_b) >= options_.min_overlap &&
+                  pair.condition <= options_.max_condition;
+    return pair;
+  }
+
+  // Adds views and the checks of their pairs with every view before them; then joins the
+  // components by the new pairs (markers first, then the most stable, verified lazily).
+  void add(std::span<const View> views) {
+    const std::vector<Observation> seen = observe(views);
+    std::vector<std::size_t> fresh;
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      const auto pairs = insert(views[k], seen[k]);
+      fresh.insert(fresh.end(), pairs.begin(), pairs.end());
+    }
+    connect(fresh);
+  }
+
+  // A bridging view: aimed at the surface next to the main component, towards the
+  // component whose root is `towards`. The candidate kept registers to the main component
+  // (verified) and, when one does, to that component too; otherwise it brings the main
+  // component closer to it. Nothing when no candidate does either.
+  std::optional<View> bridge(const PlanningOptions& body, int id, int towards) {
+    const int main = mainComponent();
+    std::vector<char> in_main(views_.size()), in_other(views_.size());
+    std::vector<Vec3> main_points, other_points;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      in_main[v] = find(static_cast<int>(v)) == main;
+      in_other[v] = find(static_cast<int>(v)) == towards;
+      for (int i : seen_[v].points) {
+        if (in_main[v]) main_points.push_back(points_[i].position);
+        if (in_other[v]) other_points.push_back(points_[i].position);
+      }
+    }
+    if (main_points.empty() || other_points.empty()) return std::nullopt;
+    const std::vector<double> to_main = distances(main_points), to_other = distances(other_points);
+    double gap = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < views_.size(); ++v)
+      if (in_main[v])
+        for (int i : seen_[v].points) gap = std::min(gap, to_other[i]);
+
+    // Targets within reach of the main component, nearest to the others first, spread out.
+    const Scanner& scanner = simulator_.scanner();
+    std::vector<int> order;
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      if (to_main[i] <= scanner.fov_height / 2) order.push_back(static_cast<int>(i));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return to_other[a] < to_other[b]; });
+    std::vector<View> poses;
+    std::vector<Vec3> targets;
+    // The orientations of the main component's views, which see stably, are tried at
+    // every target besides the poses around its normal.
+    std::vector<Eigen::Matrix3d> orientations;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      const Eigen::Matrix3d r = views_[v].camera_to_world.linear();
+      const bool known = std::any_of(orientations.begin(), orientations.end(), [&](auto& o) {
+        return Eigen::AngleAxisd(o.transpose() * r).angle() < 10 * kDeg;
+      });
+      if (in_main[v] && !known) orientations.push_back(r);
+    }
+    for (int i : order) {
+      if (targets.size() == 32) break;
+      const Vec3& p = points_[i].position;
+      if (std::any_of(targets.begin(), targets.end(),
+                      [&](const Vec3& t) { return (t - p).norm() < scanner.fov_height / 4; }))
+        continue;
+      targets.push_back(p);
+      std::vector<View> around = posesAt(scanner, points_[i]);
+      for (const Eigen::Matrix3d& r : orientations) {
+        View view;
+        view.camera_to_world.linear() = r;
+        view.camera_to_world.translation() = p - scanner.standoff * r.col(2);
+        view.target = p;
+        around.push_back(view);
+      }
+      poses.insert(poses.end(), around.begin(), around.end());
+    }
+    // Poses between a view of the main component and a nearby view of another: target and
+    // orientation interpolated, and each one's orientation aimed at the other's target.
+    std::vector<std::pair<double, std::pair<std::size_t, std::size_t>>> near;
+    for (std::size_t m = 0; m < views_.size(); ++m)
+      for (std::size_t o = 0; o < views_.size(); ++o)
+        if (in_main[m] && in_other[o]) {
+          const double d = (views_[m].target - views_[o].target).norm();
+          if (d < 2 * scanner.fov_width) near.push_back({d, {m, o}});
+        }
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<std::size_t>(near.size(), 24));
+    for (const auto& [d, pair] : near) {
+      const View &a = views_[pair.first], &b = views_[pair.second];
+      for (const auto& [t, turn] :
+           {std::pair{1.0 / 3, 1.0 / 3}, {0.5, 0.5}, {2.0 / 3, 2.0 / 3}, {1.0, 0.0}, {0.0, 1.0}})
+        poses.push_back(between(a, b, t, turn, scanner.standoff));
+    }
+    std::erase_if(poses, [&](const View& pose) { return !poseIsValid(simulator_, pose, body); });
+    for (View& pose : poses) {
+      pose.id = id;
+      pose.task = "bridge";
+    }
+    const std::vector<Observation> seen = observe(poses);
+
+    // Candidates that register to the main component: the best partner there, whether
+    // they reach another component, and how near to the others they measure.
+    struct Candidate {
+      std::size_t pose;
+      std::size_t partner;
+      bool joins = false;
+      double nearest = 0;
+    };
+    std::vector<Candidate> candidates;
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      std::optional<std::size_t> partner;
+      PairCheck best;
+      bool joins = false;
+      for (std::size_t v = 0; v < views_.size(); ++v) {
+        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
+        if (!pair.markers && !pair.stable) continue;
+        if (in_other[v]) {
+          joins = true;
+        } else if (in_main[v] &&
+                   (!partner || (pair.markers && !best.markers) ||
+                    (pair.markers == best.markers && pair.condition < best.condition))) {
+          partner = v;
+          best = pair;
+        }
+      }
+      if (!partner) continue;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int i : seen[k].points) nearest = std::min(nearest, to_other[i]);
+      if (!joins && !(nearest < gap - spacing_)) continue;
+      candidates.push_back({k, *partner, joins, joins ? 0.0 : nearest});
+    }
+    std::stable_sort(candidates.begin(), candidates.end(), [](auto& a, auto& b) {
+      return a.joins != b.joins ? a.joins : a.nearest < b.nearest;
+    });
+    constexpr std::size_t kTries = 5;  // candidates verified before giving up
+    for (std::size_t c = 0; c < std::min(candidates.size(), kTries); ++c) {
+      const std::size_t v = candidates[c].partner, k = candidates[c].pose;
+      const std::size_t index = views_.size();
+      const std::vector<std::size_t> fresh = insert(poses[k], seen[k]);
+      const auto partner = std::find_if(fresh.begin(), fresh.end(),
+                                        [&](std::size_t p) { return ends_[p].first == v; });
+      if (partner != fresh.end() && verify(*partner)) {
+        connect(fresh);
+        return poses[k];
+      }
+      // Not registrable after all: take it back out.
+      views_.resize(index);
+      seen_.resize(index);
+      parent_.resize(index);
+      constrained_.resize(index);
+      pairs_.resize(pairs_.size() - fresh.size());
+      ends_.resize(pairs_.size());
+    }
+    return std::nullopt;
+  }
+
+  // Verifies the pair (when verification is on and it is an ICP pair).
+  bool verify(std::size_t p) {
+    PairCheck& pair = pairs_[p];
+    if (pair.markers) return true;
+    if (!pair.stable) return false;
+    if (!options_.verify) return true;
+    if (!pair.icp) {
+      report(
+          progress_,
+          "registration: ICP of views " + std::to_string(pair.a) + " and " + std::to_string(pair.b),
+          0);
+      pair.icp = checkIcp(simulator_, views_[ends_[p].first], views_[ends_[p].second], options_);
+    }
+    return pair.icp->passed;
+  }
+
+  int find(int v) {
+    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+
+  std::size_t components() {
+    std::size_t count = 0;
+    for (std::size_t v = 0; v < views_.size(); ++v)
+      count += find(static_cast<int>(v)) == static_cast<int>(v);
+    return count;
+  }
+
+  // The root of the largest component (ties: the one with the earliest view).
+  int mainComponent() {
+    std::map<int, std::size_t> sizes;
+    for (std::size_t v = 0; v < views_.size(); ++v) ++sizes[find(static_cast<int>(v))];
+    int best = -1;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      const int root = find(static_cast<int>(v));
+      if (best < 0 || sizes[root] > sizes[best]) best = root;
+    }
+    return best;
+  }
+
+  const std::vector<View>& views() const { return views_; }
+
+  // The roots of the components other than the main one that hold a view something
+  // could register to.
+  std::vector<int> bridgeable() {
+    const int main = mainComponent();
+    std::vector<int> roots;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      const int root = find(static_cast<int>(v));
+      if (root != main && constrained_[v] &&
+          std::find(roots.begin(), roots.end(), root) == roots.end())
+        roots.push_back(root);
+    }
+    std::sort(roots.begin(), roots.end());
+    return roots;
+  }
+  const std::vector<Observation>& seen() const { return seen_; }
+
+  // The registration of each view: a tree rooted at the reference view, over the pairs
+  // used. Views from `first_bridge` on are bridging views.
+  Registration result(std::size_t first_bridge) {
+    Registration registration;
+    registration.pairs = pairs_;
+    registration.verified = options_.verify;
+    registration.components = components();
+    registration.views.resize(views_.size());
+    for (std::size_t v = first_bridge; v < views_.size(); ++v) registration.views[v].bridge = true;
+    for (std::size_t v = 0; v < views_.size(); ++v)
+      registration.views[v].constrained = constrained_[v];
+    registration.bridging_views = views_.size() - first_bridge;
+    if (views_.empty()) return registration;
+    // The reference: in the main component, the view that sees the most markers, else the
+    // first.
+    const int main = mainComponent();
+    int reference = -1;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      if (find(static_cast<int>(v)) != main) continue;
+      if (reference < 0 || seen_[v].markers.size() > seen_[reference].markers.size())
+        reference = static_cast<int>(v);
+    }
+    registration.reference = views_[reference].id;
+    registration.views[reference].method = RegistrationMethod::Reference;
+    std::vector<int> queue{reference};
+    std::vector<char> reached(views_.size(), 0);
+    reached[reference] = 1;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const int v = queue[q];
+      for (std::size_t p : used_) {
+        const auto [i, j] = ends_[p];
+        const int other = static_cast<int>(i) == v   ? static_cast<int>(j)
+                          : static_cast<int>(j) == v ? static_cast<int>(i)
+                                                     : -1;
+        if (other < 0 || reached[other]) continue;
+        reached[other] = 1;
+        registration.views[other].method =
+            pairs_[p].markers ? RegistrationMethod::Markers : RegistrationMethod::Icp;
+        registration.views[other].to = views_[v].id;
+        queue.push_back(other);
+      }
+    }
+    return registration;
+  }
+
+ private:
+  // Stores the view and the checks of its pairs with every view before it; returns the
+  // indices of those pairs.
+  std::vector<std::size_t> insert(const View& view, const Observation& seen) {
+    const std::size_t index = views_.size();
+    views_.push_back(view);
+    seen_.push_back(seen);
+    parent_.push_back(static_cast<int>(index));
+    // Can anything register to it: its own surface constrains ICP, or it sees markers?
+    std::vector<Vec3> p, n, m;
+    for (int i : seen.points) {
+      p.push_back(points_[i].position);
+      n.push_back(points_[i].normal);
+    }
+    for (int i : seen.markers) m.push_back(markers_[i].position);
+    constrained_.push_back(icpCondition(p, n) <= options_.max_condition ||
+                           markersRegister(m, options_.min_markers, options_.marker_spread));
+    std::vector<std::size_t> fresh;
+    for (std::size_t j = 0; j < index; ++j) {
+      PairCheck pair = check(views_[j], seen_[j], views_[index], seen_[index]);
+      if (pair.shared_markers == 0 && pair.overlap_area == 0) continue;
+      pairs_.push_back(pair);
+      ends_.push_back({j, index});
+      fresh.push_back(pairs_.size() - 1);
+    }
+    return fresh;
+  }
+
+  // Distance from each surface point to the nearest of `to`.
+  std::vector<double> distances(const std::vector<Vec3>& to) const {
+    const detail::PointCloudAdaptor cloud{to};
+    detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree.buildIndex();
+    std::vector<double> result(points_.size());
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      unsigned nearest = 0;
+      double squared = 0;
+      tree.knnSearch(points_[i].position.data(), 1, &nearest, &squared);
+      result[i] = std::sqrt(squared);
+    }
+    return result;
+  }
+
+  void connect(std::vector<std::size_t> candidates) {
+    std::stable_sort(candidates.begin(), candidates.end(), [&](std::size_t x, std::size_t y) {
+      const PairCheck &a = pairs_[x], &b = pairs_[y];
+      if (a.markers != b.markers) return a.markers;
+      if (a.markers) return a.shared_markers > b.shared_markers;
+      return a.condition < b.condition;
+    });
+    for (std::size_t p : candidates) {
+      const PairCheck& pair = pairs_[p];
+      if (!pair.markers && !pair.stable) continue;
+      const int a = find(static_cast<int>(ends_[p].first));
+      const int b = find(static_cast<int>(ends_[p].second));
+      if (a == b || !verify(p)) continue;
+      parent_[std::max(a, b)] = std::min(a, b);
+      used_.push_back(p);
+    }
+  }
+
+  const Simulator& simulator_;
+  const RegistrationOptions& options_;
+  const Progress& progress_;
+  double spacing_ = 0;
+  std::vector<SurfacePoint> points_, markers_;
+  std::vector<View> views_;
+  std::vector<Observation> seen_;
+  std::vector<PairCheck> pairs_;
+  std::vector<std::pair<std::size_t, std::size_t>> ends_;  // view indices of each pair
+  std::vector<int> parent_;                                // union-find over view indices
+  std::vector<char> constrained_;  // per view: something could register to it
+  std::vector<std::size_t> used_;  // pairs of the spanning tree
+};
+
+}  // namespace
+
+Registration registerViews(const Simulator& simulator, std::vector<View>& views,
+                           const std::vector<Marker>& markers, const RegistrationOptions& options,
+                           const PlanningOptions& body, const Progress& progress) {
+  validate(options, "registration");
+  std::optional<Graph> graph;
+  graph.emplace(simulator, options, markers, progress);
+  report(progress, "registration: overlaps of " + std::to_string(views.size()) + " views", 0);
+  graph->add(views);
+  const std::size_t first_bridge = views.size();
+  int next_id = 1;
+  for (const View& view : views) next_id = std::max(next_id, view.id + 1);
+
+  // Bridging, component by component (those with a view something could register to):
+  // views are added one at a time towards it; those that only come closer are kept when,
+  // within kChain views, the chain joins it to the main component, and else taken back.
+  constexpr std::size_t kChain = 5;
+  std::optional<Graph> joined(*graph);
+  std::vector<int> hopeless;  // component roots no chain reached
+  const auto budget = static_cast<std::size_t>(options.max_bridging_views);
+  while (options.bridging && views.size() - first_bridge < budget) {
+    int towards = -1;
+    for (int root : graph->bridgeable())
+      if (std::find(hopeless.begin(), hopeless.end(), root) == hopeless.end()) {
+        towards = root;
+        break;
+      }
+    if (towards < 0) break;
+    report(progress,
+           "registration: bridging " + std::to_string(graph->components()) + " components", 0);
+    const std::size_t kept = views.size(), components = graph->components();
+    while (graph->components() == components && views.size() - kept < kChain &&
+           views.size() - first_bridge < budget) {
+      const std::optional<View> bridge = graph->bridge(body, next_id, towards);
+      if (!bridge) break;
+      views.push_back(*bridge);
+      ++next_id;
+    }
+    if (graph->components() < components) {
+      joined.emplace(*graph);
+    } else {
+      views.resize(kept);
+      graph.emplace(*joined);
+      hopeless.push_back(towards);
+    }
+  }
+  Registration registration = graph->result(first_bridge);
+  registration.markers = markers.size();
+  return registration;
+}
+
+}  // namespace scanplan

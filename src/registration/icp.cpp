@@ -1,0 +1,98 @@
+// Verification of a registration pair by real ICP (Open3D) between simulated clouds.
+
+#include <scanplan/registration.h>
+
+#include <open3d/geometry/KDTreeSearchParam.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/Registration.h>
+#include <open3d/pipelines/registration/TransformationEstimation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace scanplan {
+namespace {
+
+namespace registration = open3d::pipelines::registration;
+
+open3d::geometry::PointCloud toOpen3d(const PointCloud& cloud) {
+  open3d::geometry::PointCloud result;
+  result.points_ = cloud.points;
+  return result;
+}
+
+// A rigid motion of `distance` mm in a random direction and `angle` degrees about a random
+// axis through `centre`.
+Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
+                             std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto direction = [&] {
+    Vec3 d(normal(random), normal(random), normal(random));
+    return Vec3(d.normalized());
+  };
+  Pose motion = Pose::Identity();
+  const Vec3 axis = direction(), shift = direction();
+  motion.linear() = Eigen::AngleAxisd(angle * M_PI / 180, axis).toRotationMatrix();
+  motion.translation() = centre - motion.linear() * centre + distance * shift;
+  return motion.matrix();
+}
+
+}  // namespace
+
+IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
+                  const RegistrationOptions& options) {
+  const Scanner& scanner = simulator.scanner();
+  const double spacing =
+      options.cloud_spacing > 0 ? options.cloud_spacing : scanner.fov_height / 150;
+  const PointCloud fixed_cloud = simulator.cloud(fixed, options.seed, spacing);
+  const PointCloud moved_cloud = simulator.cloud(moved, options.seed, spacing);
+  IcpCheck check;
+  check.points = moved_cloud.points.size();
+  if (fixed_cloud.points.size() < 100 || moved_cloud.points.size() < 100) return check;
+
+  open3d::geometry::PointCloud target = toOpen3d(fixed_cloud), source = toOpen3d(moved_cloud);
+  target.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(4 * spacing, 30));
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : moved_cloud.points) centre += p;
+  centre /= static_cast<double>(moved_cloud.points.size());
+  double radius = 0;
+  for (const Vec3& p : moved_cloud.points) radius = std::max(radius, (p - centre).norm());
+  const Eigen::Matrix4d start =
+      perturbation(centre, options.perturbation, options.perturbation_angle,
+                   options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
+                       static_cast<std::uint64_t>(moved.id));
+  source.Transform(start);
+
+  // Coarse to fine: correspondences first within twice the largest displacement the
+  // perturbation causes, then down to one and a half point spacings (plus noise), where
+  // points past the edge of the overlap no longer pull.
+  const double largest = options.perturbation + options.perturbation_angle * M_PI / 180 * radius;
+  const double fine = 1.5 * spacing + 3 * scanner.noise_sigma;
+  Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
+  registration::RegistrationResult result;
+  for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine, fine}) {
+    result = registration::RegistrationICP(source, target, distance, estimate,
+                                           registration::TransformationEstimationPointToPlane(),
+                                           registration::ICPConvergenceCriteria(1e-8, 1e-8, 50));
+    estimate = result.transformation_;
+  }
+  // Where the registered cloud ends up against where it belongs.
+  const Pose residual(estimate * start);
+  double squares = 0, largest_error = 0;
+  for (const Vec3& p : moved_cloud.points) {
+    const double e = (residual * p - p).norm();
+    squares += e * e;
+    largest_error = std::max(largest_error, e);
+  }
+  check.error = std::sqrt(squares / static_cast<double>(moved_cloud.points.size()));
+  check.max_error = largest_error;
+  check.rotation = Eigen::AngleAxisd(residual.linear()).angle() * 180 / M_PI;
+  check.fitness = result.fitness_;
+  check.rmse = result.inlier_rmse_;
+  check.passed = check.error <= options.tolerance;
+  return check;
+}
+
+}  // namespace scanplan

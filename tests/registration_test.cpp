@@ -1,0 +1,347 @@
+// Registration feasibility against analytic cases: the stability of planes, cylinders
+// and corners, markers, ICP on simulated clouds, bridging, and the sequence.
+
+#include "support.h"
+
+#include <scanplan/errors.h>
+#include <scanplan/planning.h>
+#include <scanplan/registration.h>
+#include <scanplan/sequencing.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace scanplan {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+// A scanner that sees and lights the three faces of a cube corner at once.
+Scanner wideScanner() {
+  Scanner scanner;
+  scanner.triangulation_angle = 10;
+  scanner.max_camera_angle = 75;
+  scanner.max_projector_angle = 75;
+  return scanner;
+}
+
+View aimedAt(const Scanner& scanner, const Vec3& target, Vec3 direction, int id,
+             const Vec3& baseline = Vec3::UnitX()) {
+  View view;
+  direction.normalize();
+  view.camera_to_world = lookAt(target + scanner.standoff * direction, target, baseline);
+  view.target = target;
+  view.id = id;
+  return view;
+}
+
+TEST(IcpConditionTest, PlaneSphereAndCylinderAreDegenerateCornerIsNot) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(-50, 50);
+  std::vector<Vec3> points, normals;
+  for (int i = 0; i < 500; ++i) {
+    points.emplace_back(u(random), u(random), 0);
+    normals.emplace_back(0, 0, 1);
+  }
+  EXPECT_TRUE(std::isinf(icpCondition(points, normals)));
+
+  points.clear();
+  normals.clear();
+  for (int i = 0; i < 500; ++i) {  // a cylinder about z: free to turn about and slide along z
+    const double a = u(random) / 50 * M_PI;
+    points.emplace_back(40 * std::cos(a), 40 * std::sin(a), u(random));
+    normals.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  EXPECT_TRUE(std::isinf(icpCondition(points, normals)));
+
+  points.clear();
+  normals.clear();
+  for (int i = 0; i < 500; ++i) {  // a sphere: free to turn about its centre
+    const Vec3 n = Vec3(u(random), u(random), u(random)).normalized();
+    points.push_back(30 * n);
+    normals.push_back(n);
+  }
+  EXPECT_TRUE(std::isinf(icpCondition(points, normals)));
+
+  points.clear();
+  normals.clear();
+  for (int i = 0; i < 600; ++i) {  // three faces of a cube corner
+    const double a = u(random) + 50, b = u(random) + 50;
+    const int side = i % 3;
+    Vec3 p = Vec3::Zero(), n = Vec3::Zero();
+    p[side] = 0;
+    p[(side + 1) % 3] = a;
+    p[(side + 2) % 3] = b;
+    n[side] = -1;
+    points.push_back(p);
+    normals.push_back(n);
+  }
+  const double corner = icpCondition(points, normals);
+  EXPECT_TRUE(std::isfinite(corner));
+  EXPECT_LT(corner, 20);
+}
+
+TEST(MarkersTest, ThreeMarkersOffALineRegister) {
+  const std::vector<Vec3> line = {{0, 0, 0}, {50, 0, 0}, {100, 0.5, 0}, {150, 0, 0}};
+  EXPECT_FALSE(markersRegister(line, 3, 10));
+  const std::vector<Vec3> triangle = {{0, 0, 0}, {50, 0, 0}, {20, 30, 0}};
+  EXPECT_TRUE(markersRegister(triangle, 3, 10));
+  EXPECT_FALSE(markersRegister(std::span(triangle).first(2), 3, 10));
+  EXPECT_FALSE(markersRegister(triangle, 4, 10));
+}
+
+TEST(MarkersTest, GridLeavesTheFootprintOut) {
+  Box footprint;
+  footprint.add(Vec3(0, 0, 0));
+  footprint.add(Vec3(100, 100, 50));
+  const std::vector<Marker> markers = markerGrid(footprint, 50, 100);
+  // x and y from -100 to 200 by 50: 7 x 7 nodes, 3 x 3 of them under the footprint.
+  EXPECT_EQ(markers.size(), 49u - 9u);
+  for (const Marker& m : markers) EXPECT_EQ(m.position.z(), 0);
+  EXPECT_THROW(markerGrid(footprint, 0, 10), InputError);
+}
+
+// Two views of the corner of a 200 mm cube standing on the working plane.
+struct CornerScene {
+  Scanner scanner = wideScanner();
+  Part part;
+  std::vector<View> views;
+  CornerScene() {
+    TriangleMesh mesh;
+    test::addCube(mesh, Vec3(0, 0, 0), 200, 1);
+    part = test::meshPart(mesh);
+    const Vec3 corner(200, 200, 200);
+    // Along the diagonal, baseline horizontal across it, so that the projector lights
+    // the three faces as well as the camera sees them.
+    const Vec3 across(1, -1, 0);
+    views.push_back(aimedAt(scanner, corner - Vec3(30, 30, 30), Vec3(1, 0.9, 1), 1, across));
+    views.push_back(aimedAt(scanner, corner - Vec3(30, 30, 30), Vec3(0.9, 1, 1), 2, across));
+  }
+};
+
+TEST(IcpTest, CornerPairIsStableAndIcpRecoversThePerturbation) {
+  const CornerScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  RegistrationOptions options;
+  std::vector<View> views = scene.views;
+  const Registration registration = registerViews(simulator, views, {}, options, {});
+  ASSERT_EQ(registration.pairs.size(), 1u);
+  const PairCheck& pair = registration.pairs[0];
+  EXPECT_GT(pair.overlap_a, 0.5);
+  EXPECT_GT(pair.overlap_b, 0.5);
+  EXPECT_LT(pair.condition, options.max_condition);
+  EXPECT_TRUE(pair.stable);
+  ASSERT_TRUE(pair.icp.has_value());
+  EXPECT_LT(pair.icp->error, 0.1);
+  EXPECT_TRUE(pair.icp->passed);
+  EXPECT_EQ(registration.components, 1u);
+  EXPECT_EQ(registration.views[0].method, RegistrationMethod::Reference);
+  EXPECT_EQ(registration.views[1].method, RegistrationMethod::Icp);
+  EXPECT_EQ(registration.views[1].to, 1);
+}
+
+// A 1 m square plate, 10 mm above the working plane, seen from above by two views 120 mm
+// apart: they overlap by 60% but the overlap is a plane, free to slide.
+struct PlateScene {
+  Scanner scanner;
+  Part part;
+  std::vector<View> views;
+  PlateScene() {
+    TriangleMesh mesh;
+    test::addRectangle(mesh, Vec3(0, 0, 10), Vec3(500, 0, 0), Vec3(0, 500, 0), 1);
+    part = test::meshPart(mesh);
+    views.push_back(aimedAt(scanner, Vec3(-60, 0, 10), Vec3::UnitZ(), 1));
+    views.push_back(aimedAt(scanner, Vec3(60, 0, 10), Vec3::UnitZ(), 2));
+  }
+};
+
+TEST(RegistrationTest, PlaneOverlapIsNotRegistrableByIcp) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  std::vector<View> views = scene.views;
+  RegistrationOptions options;
+  options.bridging = false;
+  const Registration registration = registerViews(simulator, views, {}, options, {});
+  ASSERT_EQ(registration.pairs.size(), 1u);
+  const PairCheck& pair = registration.pairs[0];
+  EXPECT_NEAR(pair.overlap_a, 0.6, 0.05);
+  EXPECT_NEAR(pair.overlap_b, 0.6, 0.05);
+  EXPECT_TRUE(std::isinf(pair.condition));
+  EXPECT_FALSE(pair.stable);
+  EXPECT_FALSE(pair.registrable());
+  EXPECT_EQ(registration.components, 2u);
+  EXPECT_EQ(registration.registered(), 1u);  // the reference alone
+  EXPECT_EQ(registration.views[1].method, RegistrationMethod::None);
+}
+
+TEST(RegistrationTest, PlaneOverlapWithThreeSharedMarkersRegisters) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  std::vector<View> views = scene.views;
+  // Markers stuck on the plate in the overlap, and one that only the first view sees.
+  const std::vector<Marker> markers = {{Vec3(-40, -50, 10), Vec3::UnitZ()},
+                                       {Vec3(40, -50, 10), Vec3::UnitZ()},
+                                       {Vec3(0, 60, 10), Vec3::UnitZ()},
+                                       {Vec3(-180, 0, 10), Vec3::UnitZ()}};
+  const Registration registration = registerViews(simulator, views, markers, {}, {});
+  ASSERT_EQ(registration.pairs.size(), 1u);
+  EXPECT_EQ(registration.pairs[0].shared_markers, 3u);
+  EXPECT_TRUE(registration.pairs[0].markers);
+  EXPECT_EQ(registration.components, 1u);
+  EXPECT_EQ(registration.views[1].method, RegistrationMethod::Markers);
+  EXPECT_EQ(registration.views[1].to, 1);
+  EXPECT_EQ(registration.markers, 4u);
+
+  // Two shared markers are not enough; nor are three on one line.
+  std::vector<View> again = scene.views;
+  const std::vector<Marker> two(markers.begin() + 1, markers.end());
+  EXPECT_EQ(registerViews(simulator, again, two, {}, {}).components, 2u);
+  const std::vector<Marker> line = {{Vec3(0, -80, 10), Vec3::UnitZ()},
+                                    {Vec3(0, 0, 10), Vec3::UnitZ()},
+                                    {Vec3(0, 80, 10), Vec3::UnitZ()}};
+  again = scene.views;
+  EXPECT_EQ(registerViews(simulator, again, line, {}, {}).components, 2u);
+}
+
+// A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at
+// each end, far apart. Each view sees the top, the front and the sides of blocks.
+struct BarScene {
+  Scanner scanner = wideScanner();
+  Part part;
+  std::vector<View> views;
+  BarScene() {
+    TriangleMesh mesh;
+    for (int k = 0; k < 16; ++k) test::addCube(mesh, Vec3(-800 + 100 * k, 0, 0), 100, 1);
+    for (int k = 0; k < 26; ++k) test::addCube(mesh, Vec3(-770 + 60 * k, 30, 100), 40, 2);
+    part = test::meshPart(mesh);
+    const Vec3 tilt(0.5, -0.5, 0.8);
+    for (double x : {-640.0, -540.0, 540.0, 640.0})
+      views.push_back(aimedAt(scanner, Vec3(x, 50, 110), tilt, static_cast<int>(views.size()) + 1));
+  }
+};
+
+TEST(RegistrationTest, BridgingJoinsTwoGroupsFarApart) {
+  const BarScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  RegistrationOptions options;
+  options.bridging = false;
+  std::vector<View> views = scene.views;
+  const Registration apart = registerViews(simulator, views, {}, options, {});
+  EXPECT_EQ(apart.components, 2u);
+  EXPECT_EQ(apart.registered(), 2u);
+
+  options.bridging = true;
+  const Registration joined = registerViews(simulator, views, {}, options, {});
+  EXPECT_EQ(joined.components, 1u);
+  EXPECT_GT(joined.bridging_views, 0u);
+  EXPECT_EQ(views.size(), scene.views.size() + joined.bridging_views);
+  EXPECT_EQ(joined.registered(), views.size());
+  for (std::size_t v = scene.views.size(); v < views.size(); ++v) {
+    EXPECT_TRUE(joined.views[v].bridge);
+    EXPECT_EQ(views[v].id, static_cast<int>(v) + 1);
+  }
+  // Every ICP link of the tree passed verification.
+  for (const ViewRegistration& r : joined.views)
+    if (r.method == RegistrationMethod::Icp) {
+      EXPECT_NE(r.to, 0);
+    }
+  for (const PairCheck& pair : joined.pairs)
+    if (pair.icp) {
+      EXPECT_EQ(pair.icp->passed, pair.icp->error <= options.tolerance);
+    }
+
+  // The sequence visits every registered view once, from the reference, and is no longer
+  // than the nearest-neighbour order.
+  const Sequence sequence = sequenceViews(simulator, views, joined);
+  ASSERT_EQ(sequence.views.size(), views.size());
+  std::vector<int> ids = sequence.views;
+  std::sort(ids.begin(), ids.end());
+  for (std::size_t k = 0; k < ids.size(); ++k) EXPECT_EQ(ids[k], static_cast<int>(k) + 1);
+  EXPECT_EQ(sequence.views.front(), joined.reference);
+  EXPECT_LE(sequence.length, sequence.nearest_neighbour_length + 1e-9);
+  for (std::size_t k = 1; k < sequence.views.size(); ++k) {
+    bool follows = false;
+    for (std::size_t j = 0; j < k; ++j)
+      follows = follows || joined.linked(sequence.views[k], sequence.views[j]);
+    EXPECT_TRUE(follows) << "view " << sequence.views[k];
+  }
+}
+
+// Points on a plane, cost = distance.
+Eigen::MatrixXd planarCosts(const std::vector<Vec3>& points) {
+  const auto n = static_cast<Eigen::Index>(points.size());
+  Eigen::MatrixXd cost(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) cost(i, j) = (points[i] - points[j]).norm();
+  return cost;
+}
+
+TEST(SequencingTest, TwoOptIsNoLongerThanNearestNeighbour) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(0, 1000);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec3> points;
+    for (int i = 0; i < 40; ++i) points.emplace_back(u(random), u(random), 0);
+    const Eigen::MatrixXd cost = planarCosts(points);
+    const std::vector<int> nearest = nearestNeighbourOrder(cost, {}, 0);
+    const std::vector<int> improved = twoOpt(cost, {}, nearest);
+    EXPECT_LE(pathLength(cost, improved), pathLength(cost, nearest) + 1e-9);
+    std::vector<int> sorted = improved;
+    std::sort(sorted.begin(), sorted.end());
+    for (int i = 0; i < 40; ++i) EXPECT_EQ(sorted[i], i);
+    EXPECT_EQ(improved.front(), 0);
+  }
+  // Points on a line, shuffled: the best open path from one end is the line itself.
+  std::vector<Vec3> line;
+  for (int i : {0, 7, 3, 9, 1, 5, 8, 2, 6, 4}) line.emplace_back(100.0 * i, 0, 0);
+  const Eigen::MatrixXd cost = planarCosts(line);
+  EXPECT_NEAR(pathLength(cost, twoOpt(cost, {}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9})), 900, 1e-9);
+}
+
+TEST(SequencingTest, EachNodeComesAfterOneItIsLinkedTo) {
+  // Four points on a line at 0, 1, 2, 3 (x 100 mm), linked only as a chain 0-3, 3-1, 1-2:
+  // the shortest path 0, 1, 2, 3 would put 1 before any node it is linked to.
+  const std::vector<Vec3> points = {{0, 0, 0}, {100, 0, 0}, {200, 0, 0}, {300, 0, 0}};
+  const Eigen::MatrixXd cost = planarCosts(points);
+  std::vector<std::vector<char>> linked(4, std::vector<char>(4, 0));
+  auto link = [&](int a, int b) { linked[a][b] = linked[b][a] = 1; };
+  link(0, 3);
+  link(3, 1);
+  link(1, 2);
+  const std::vector<int> order = twoOpt(cost, linked, nearestNeighbourOrder(cost, linked, 0));
+  EXPECT_EQ(order, (std::vector<int>{0, 3, 1, 2}));
+}
+
+TEST(SequencingTest, ShortestPathsGoAroundWhatBlocksTheDirectMove) {
+  // A direct move 0-2 that costs more than going through 1.
+  Eigen::MatrixXd direct(3, 3);
+  direct << 0, 1, 10, 1, 0, 2, 10, 2, 0;
+  const Eigen::MatrixXd paths = shortestPaths(direct);
+  EXPECT_DOUBLE_EQ(paths(0, 2), 3);
+  EXPECT_DOUBLE_EQ(paths(2, 0), 3);
+  EXPECT_DOUBLE_EQ(paths(0, 1), 1);
+}
+
+TEST(SequencingTest, MovesThroughThePartGoOverIt) {
+  // Two cameras on either side of a 200 mm cube, level with it: the straight move crosses
+  // the cube, so it goes over the top (clearance 100 mm above z = 200).
+  TriangleMesh mesh;
+  test::addCube(mesh, Vec3(-100, -100, 0), 200, 1);
+  const Part part = test::meshPart(mesh);
+  const Simulator simulator(part, Scanner{});
+  std::vector<View> views;
+  views.push_back(aimedAt(Scanner{}, Vec3(-100, 0, 100), Vec3(-1, 0, 0), 1));
+  views.push_back(aimedAt(Scanner{}, Vec3(100, 0, 100), Vec3(1, 0, 0), 2));
+  SequenceOptions options;
+  options.rotation_arm = 0;
+  const Eigen::MatrixXd cost = directCosts(simulator, views, options);
+  // Up 200 from z = 100 to 300, across 1000, down 200.
+  EXPECT_NEAR(cost(0, 1), 200 + 1000 + 200, 1e-6);
+  options.rotation_arm = 200;
+  EXPECT_NEAR(directCosts(simulator, views, options)(0, 1), 1400 + 200 * M_PI, 1e-6);
+}
+
+}  // namespace
+}  // namespace scanplan
