@@ -5,6 +5,8 @@
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 namespace scanplan {
 namespace {
@@ -179,6 +181,55 @@ TEST(Cli, PlanWritesPlanJsonAndSummary) {
   ASSERT_TRUE(in.good());
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"format\": \"scanplan.plan\""), std::string::npos);
+}
+
+TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
+  test::TempDir dir;
+  const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  const std::string spec = test::example("specs/ctc01.yaml");
+  CommandResult r = run("plan " + part + " --spec " + spec + " -o " + dir.file("out") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* row : {"model faces", "fixture faces", "target samples", "measured samples",
+                          "views registered", "bridging views added", "path length"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+
+  r = run("verify " + dir.file("out/plan.json") + " " + part + " --spec " + spec + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("coverage check         as planned"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("registration check     as planned"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("each after one it registers to"), std::string::npos) << r.out;
+
+  // The plan checked against another part, a broken plan, a missing one.
+  r = run("verify " + dir.file("out/plan.json") + " " +
+          test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("faces where the plan's part has 117"), std::string::npos) << r.out;
+  test::writeText(dir.file("broken.json"), "{\"format\": \"scanplan.plan\", \"views\": []}");
+  r = run("verify " + dir.file("broken.json") + " " + part + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("error: " + dir.file("broken.json") + ": part: no 'file'"),
+            std::string::npos)
+      << r.out;
+  r = run("verify " + dir.file("none.json") + " " + part + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+}
+
+TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r = run("plan " + part + " -o " + dir.file("out") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  // Claim that the first sample is also measured by a view that does not exist.
+  std::ifstream in(dir.file("out/plan.json"));
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "\"measured_by\": [";
+  const std::size_t at = json.find(key);
+  ASSERT_NE(at, std::string::npos);
+  json.insert(at + key.size(), json[at + key.size()] == ']' ? "999" : "999,");
+  test::writeText(dir.file("tampered.json"), json);
+  r = run("verify " + dir.file("tampered.json") + " " + part + " -q");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("1 samples measured otherwise than planned"), std::string::npos) << r.out;
 }
 
 TEST(Cli, PlanWithNothingToPlanIsExitCodeThree) {

@@ -3,14 +3,18 @@
 
 #include "support.h"
 
+#include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
 #include <scanplan/registration.h>
 #include <scanplan/sequencing.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 namespace scanplan {
@@ -341,6 +345,147 @@ TEST(SequencingTest, MovesThroughThePartGoOverIt) {
   EXPECT_NEAR(cost(0, 1), 200 + 1000 + 200, 1e-6);
   options.rotation_arm = 200;
   EXPECT_NEAR(directCosts(simulator, views, options)(0, 1), 1400 + 200 * M_PI, 1e-6);
+}
+
+TEST(MarkersTest, OnThePartWhereItFacesUp) {
+  // A 200 mm cube with a 120 mm cube on top of it: markers on both tops, none on the sides.
+  TriangleMesh mesh;
+  test::addCube(mesh, Vec3(0, 0, 0), 200, 1);
+  test::addCube(mesh, Vec3(40, 40, 200), 120, 2);
+  const std::vector<Marker> markers = markersOnPart(mesh, 20);
+  EXPECT_EQ(markers.size(), 100u);  // a 10 x 10 grid over the 200 mm footprint
+  std::size_t high = 0;
+  for (const Marker& m : markers) {
+    EXPECT_NEAR(m.normal.z(), 1, 1e-12);
+    const bool on_top = std::abs(m.position.x() - 100) < 60 && std::abs(m.position.y() - 100) < 60;
+    EXPECT_NEAR(m.position.z(), on_top ? 320 : 200, 1e-9);
+    high += on_top;
+  }
+  EXPECT_EQ(high, 36u);  // grid lines 50 ... 150 over the top cube
+}
+
+// The bundled NIST CTC 01 planned with the example spec (markers on the plate and on the
+// part): the registration, the sequence and the plan file are consistent with each other
+// and with an independent check.
+class RegisteredPlan : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    part_ = new Part(importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp")));
+    spec_ = new Spec(loadSpec(test::example("specs/ctc01.yaml")));
+    plan_ = new Plan(planViews(*part_, *spec_, planningOptionsFor(*spec_)));
+  }
+  static void TearDownTestSuite() {
+    delete plan_;
+    delete spec_;
+    delete part_;
+  }
+  static Part* part_;
+  static Spec* spec_;
+  static Plan* plan_;
+};
+Part* RegisteredPlan::part_ = nullptr;
+Spec* RegisteredPlan::spec_ = nullptr;
+Plan* RegisteredPlan::plan_ = nullptr;
+
+TEST_F(RegisteredPlan, EveryRegisteredViewReachesTheReferenceByCheckedPairs) {
+  const Plan& plan = *plan_;
+  ASSERT_TRUE(plan.registration && plan.sequence);
+  const Registration& r = *plan.registration;
+  ASSERT_EQ(r.views.size(), plan.views.size());
+  EXPECT_GT(plan.markers.size(), 0u);
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) index[plan.views[v].id] = v;
+  std::size_t references = 0;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    const ViewRegistration& view = r.views[v];
+    if (view.method == RegistrationMethod::None) continue;
+    if (view.method == RegistrationMethod::Reference) {
+      ++references;
+      EXPECT_EQ(plan.views[v].id, r.reference);
+      continue;
+    }
+    // Its link is a checked pair that registers by the method named.
+    const auto pair = std::find_if(r.pairs.begin(), r.pairs.end(), [&](const PairCheck& p) {
+      return p.a == std::min(view.to, plan.views[v].id) &&
+             p.b == std::max(view.to, plan.views[v].id);
+    });
+    ASSERT_NE(pair, r.pairs.end()) << "view " << plan.views[v].id;
+    if (view.method == RegistrationMethod::Markers) {
+      EXPECT_TRUE(pair->markers);
+      EXPECT_GE(pair->shared_markers, 3u);
+    } else {
+      EXPECT_TRUE(pair->stable);
+      EXPECT_LE(pair->condition, spec_->registration.max_condition);
+      ASSERT_TRUE(pair->icp.has_value());
+      EXPECT_TRUE(pair->icp->passed);
+      EXPECT_LE(pair->icp->error, spec_->registration.tolerance);
+    }
+    // Following the links leads to the reference without a loop.
+    int id = plan.views[v].id;
+    for (std::size_t step = 0; step <= plan.views.size() && id != r.reference; ++step) {
+      const ViewRegistration& next = r.views[index.at(id)];
+      ASSERT_NE(next.method, RegistrationMethod::None);
+      id = next.to;
+    }
+    EXPECT_EQ(id, r.reference);
+  }
+  EXPECT_EQ(references, 1u);
+  // With the markers, most views register; bridging views were added and measure.
+  EXPECT_GT(r.registered(), plan.views.size() / 3);
+  const std::size_t unregistered = plan.views.size() - r.registered();
+  EXPECT_GE(r.components, 1 + (unregistered > 0 ? 1u : 0u));
+  EXPECT_LE(r.components, 1 + unregistered);
+  EXPECT_GT(r.bridging_views, 0u);
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    EXPECT_EQ(r.views[v].bridge, v >= plan.views.size() - r.bridging_views);
+}
+
+TEST_F(RegisteredPlan, SequenceVisitsEveryViewOnceAndBeatsNearestNeighbour) {
+  const Plan& plan = *plan_;
+  const Sequence& sequence = *plan.sequence;
+  std::vector<int> ids = sequence.views, expected;
+  for (const View& view : plan.views) expected.push_back(view.id);
+  std::sort(ids.begin(), ids.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(ids, expected);
+  EXPECT_EQ(sequence.views.front(), plan.registration->reference);
+  EXPECT_LE(sequence.length, sequence.nearest_neighbour_length + 1e-9);
+  EXPECT_GT(sequence.length, 0);
+}
+
+TEST_F(RegisteredPlan, MarkersOnThePartRegisterMoreViews) {
+  Spec plate_only = *spec_;
+  plate_only.markers_on_part = false;
+  const Plan plan = planViews(*part_, plate_only, planningOptionsFor(plate_only));
+  EXPECT_LT(plan.registration->registered(), plan_->registration->registered());
+  EXPECT_LT(plan.registeredMeasuredCount(), plan_->registeredMeasuredCount());
+}
+
+TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
+  test::TempDir dir;
+  writePlan(*plan_, dir.file("plan.json"));
+  const Plan read = readPlan(dir.file("plan.json"));
+  ASSERT_EQ(read.views.size(), plan_->views.size());
+  EXPECT_EQ(read.markers.size(), plan_->markers.size());
+  EXPECT_EQ(read.samples.size(), plan_->samples.size());
+  EXPECT_EQ(read.sequence->views, plan_->sequence->views);
+  const PlanCheck check = verifyPlan(read, *part_, *spec_, planningOptionsFor(*spec_));
+  EXPECT_EQ(check.coverage_differences, 0u);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.sequence_missing, 0u);
+  EXPECT_EQ(check.sequence_breaks, 0u);
+  EXPECT_EQ(check.plan.registration->registered(), plan_->registration->registered());
+  EXPECT_EQ(check.plan.registration->bridging_views, plan_->registration->bridging_views);
+  EXPECT_NEAR(check.plan.sequence->length, plan_->sequence->length, 1e-6);
+
+  // A plan that claims a view measures what it does not is caught.
+  Plan wrong = read;
+  for (PlannedSample& s : wrong.samples)
+    if (s.measured_by.empty()) {
+      s.measured_by.push_back(wrong.views.front().id);
+      break;
+    }
+  EXPECT_EQ(verifyPlan(wrong, *part_, *spec_, planningOptionsFor(*spec_)).coverage_differences, 1u);
 }
 
 }  // namespace

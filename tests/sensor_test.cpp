@@ -99,7 +99,38 @@ TEST(Scanner, BadSpecs) {
   EXPECT_TRUE(contains(reason("roles: {specular: [0]}\n"), "face ids start at 1"));
   EXPECT_TRUE(contains(reason("sanner: x\n"), "unknown key 'sanner'"));
   EXPECT_TRUE(contains(reason("scanner: [1, 2\n"), "not valid YAML"));
+  EXPECT_TRUE(contains(reason("markers: {grid: 0}\n"), "markers.grid must be a positive"));
+  EXPECT_TRUE(contains(reason("markers: {grid: 50, on: floor}\n"), "expected plate, part or both"));
+  EXPECT_TRUE(contains(reason("markers: {margin: 50}\n"), "needs grid"));
+  EXPECT_TRUE(contains(reason("registration: {min_overlap: 2}\n"), "min_overlap must be in"));
+  EXPECT_TRUE(contains(reason("registration: {min_markers: 2}\n"), "at least 3"));
+  EXPECT_TRUE(contains(reason("registration: {perturbation: 3}\n"), "[mm, degrees]"));
+  EXPECT_TRUE(contains(reason("registration: {tolerence: 1}\n"), "unknown key 'tolerence'"));
   EXPECT_TRUE(contains(reasonOf([] { loadSpec("/nonexistent/spec.yaml"); }), "no such file"));
+}
+
+TEST(Scanner, SpecMarkersAndRegistration) {
+  test::TempDir dir;
+  test::writeText(dir.file("markers.csv"), "x,y,z\n0,0,0\n");
+  test::writeText(dir.file("a.yaml"),
+                  "markers: markers.csv\n"
+                  "registration: {min_overlap: 0.3, max_condition: 50, perturbation: [5, 3],\n"
+                  "               verify: false, bridging: false, max_bridging_views: 4}\n");
+  const Spec a = loadSpec(dir.file("a.yaml"));
+  EXPECT_EQ(a.markers_file, dir.file("markers.csv"));
+  EXPECT_DOUBLE_EQ(a.registration.min_overlap, 0.3);
+  EXPECT_DOUBLE_EQ(a.registration.max_condition, 50);
+  EXPECT_DOUBLE_EQ(a.registration.perturbation, 5);
+  EXPECT_DOUBLE_EQ(a.registration.perturbation_angle, 3);
+  EXPECT_FALSE(a.registration.verify);
+  EXPECT_FALSE(a.registration.bridging);
+  EXPECT_EQ(a.registration.max_bridging_views, 4);
+  test::writeText(dir.file("b.yaml"), "markers: {grid: 40, margin: 80, on: part}\n");
+  const Spec b = loadSpec(dir.file("b.yaml"));
+  EXPECT_DOUBLE_EQ(b.marker_grid, 40);
+  EXPECT_DOUBLE_EQ(b.marker_margin, 80);
+  EXPECT_TRUE(b.markers_on_part);
+  EXPECT_FALSE(b.markers_on_plate);
 }
 
 TEST(ViewsFile, PlanFormatAndBareArray) {
