@@ -93,7 +93,13 @@ std::vector<View> posesAt(const Scanner& scanner, const SurfacePoint& target) {
 struct Observation {
   std::vector<int> points;
   std::vector<int> markers;
+  Box box;  // around both
 };
+
+bool disjoint(const Box& a, const Box& b) {
+  return a.empty() || b.empty() || (a.max.array() < b.min.array()).any() ||
+         (b.max.array() < a.min.array()).any();
+}
 
 std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
   std::vector<int> both;
@@ -121,10 +127,17 @@ class Graph {
                                              : simulator_.measure(views, markers_);
     std::vector<Observation> result(views.size());
     for (std::size_t v = 0; v < views.size(); ++v) {
+      Observation& seen = result[v];
       for (std::size_t i = 0; i < on_points[v].size(); ++i)
-        if (on_points[v][i] == Loss::Measured) result[v].points.push_back(static_cast<int>(i));
+        if (on_points[v][i] == Loss::Measured) {
+          seen.points.push_back(static_cast<int>(i));
+          seen.box.add(points_[i].position);
+        }
       for (std::size_t i = 0; i < on_markers[v].size(); ++i)
-        if (on_markers[v][i] == Loss::Measured) result[v].markers.push_back(static_cast<int>(i));
+        if (on_markers[v][i] == Loss::Measured) {
+          seen.markers.push_back(static_cast<int>(i));
+          seen.box.add(markers_[i].position);
+        }
     }
     return result;
   }
@@ -135,6 +148,7 @@ class Graph {
     PairCheck pair;
     pair.a = std::min(a.id, b.id);
     pair.b = std::max(a.id, b.id);
+    if (disjoint(oa.box, ob.box)) return pair;
     const std::vector<int> markers = shared(oa.markers, ob.markers);
     pair.shared_markers = markers.size();
     std::vector<Vec3> positions;

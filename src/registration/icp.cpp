@@ -75,7 +75,7 @@ IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& mov
   for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine, fine}) {
     result = registration::RegistrationICP(source, target, distance, estimate,
                                            registration::TransformationEstimationPointToPlane(),
-                                           registration::ICPConvergenceCriteria(1e-8, 1e-8, 50));
+                                           registration::ICPConvergenceCriteria(1e-6, 1e-6, 30));
     estimate = result.transformation_;
   }
   // Where the registered cloud ends up against where it belongs.
