@@ -1,6 +1,8 @@
 // View planning on real parts: the gdt task (faces of the AP242 PMI) on every NIST model
 // and the global task on a die-cast part. Reports samples, coverage of the coverable
 // priority samples, views, views / ILP optimum over the same candidates, and seconds.
+// BM_Register: registration, bridging and sequencing of NIST plans, with and without
+// markers.
 //
 //   build/release/bench/scanplan_bench --benchmark_filter=Plan
 //
@@ -31,6 +33,7 @@ void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   }
   PlanningOptions options;
   options.bound = true;
+  options.registration = false;  // BM_Register measures it
   Plan plan;
   double seconds = 0;
   for (auto _ : state) {
@@ -71,7 +74,53 @@ void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   state.counters["plan_seconds"] = seconds - bound_seconds;
 }
 
+// Registration, bridging and sequencing after the gdt and global tasks on a NIST model,
+// without markers and with markers every 50 mm on the plate and on the part.
+void registerPart(benchmark::State& state, const std::string& name, bool markers) {
+  const std::string path = std::string(SCANPLAN_SHARED_DATA) + "/nist/" + name;
+  if (!std::filesystem::exists(path)) return state.SkipWithError("shared data not found");
+  const Part part = importPart(path);
+  Spec spec = defaultSpec();
+  spec.gdt_from_file = true;
+  spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+  if (markers) {
+    spec.marker_grid = 50;
+    spec.markers_on_part = true;
+  }
+  Plan plan;
+  for (auto _ : state) plan = planViews(part, spec, planningOptionsFor(spec));
+  const Registration& r = *plan.registration;
+  std::size_t verified = 0, passed = 0, unconstrained = 0;
+  for (const PairCheck& pair : r.pairs)
+    if (pair.icp) {
+      ++verified;
+      passed += pair.icp->passed;
+    }
+  for (const ViewRegistration& view : r.views)
+    unconstrained += view.method == RegistrationMethod::None && !view.constrained;
+  for (const StageTime& t : plan.times)
+    if (t.stage == "registration") state.counters["registration_seconds"] = t.seconds;
+  state.counters["views"] = static_cast<double>(plan.views.size());
+  state.counters["registered"] = static_cast<double>(r.registered());
+  state.counters["bridging"] = static_cast<double>(r.bridging_views);
+  state.counters["unconstrained"] = static_cast<double>(unconstrained);
+  state.counters["icp_verified"] = static_cast<double>(verified);
+  state.counters["icp_passed"] = static_cast<double>(passed);
+  state.counters["measured"] = static_cast<double>(plan.measuredCount());
+  state.counters["measured_registered"] = static_cast<double>(plan.registeredMeasuredCount());
+  state.counters["path_m"] = plan.sequence->length / 1000;
+  state.counters["nn_path_m"] = plan.sequence->nearest_neighbour_length / 1000;
+}
+
 const int registered = [] {
+  for (const char* name : {"nist_ctc_01_asme1_ap242-e1.stp", "nist_ctc_03_asme1_ap242-e2.stp",
+                           "nist_ftc_06_asme1_ap242-e1.stp"})
+    for (const bool markers : {false, true})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_Register/") + name + (markers ? "/markers" : "/no_markers")).c_str(),
+          [name, markers](benchmark::State& state) { registerPart(state, name, markers); })
+          ->Unit(benchmark::kSecond)
+          ->Iterations(1);
   for (const char* name : {"nist_ctc_01_asme1_ap242-e1.stp", "nist_ctc_02_asme1_ap242-e2.stp",
                            "nist_ctc_03_asme1_ap242-e2.stp", "nist_ctc_04_asme1_ap242-e1.stp",
                            "nist_ftc_06_asme1_ap242-e1.stp", "nist_ftc_07_asme1_ap242-e2.stp",

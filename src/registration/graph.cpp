@@ -118,9 +118,6 @@ class Graph {
     for (const Marker& m : markers) markers_.push_back({m.position, m.normal, 0});
   }
 
-  const std::vector<SurfacePoint>& points() const { return points_; }
-  double spacing() const { return spacing_; }
-
   std::vector<Observation> observe(std::span<const View> views) const {
     const auto on_points = simulator_.measure(views, points_);
     const auto on_markers = markers_.empty() ? std::vector<std::vector<Loss>>(views.size())
@@ -365,8 +362,6 @@ class Graph {
     return best;
   }
 
-  const std::vector<View>& views() const { return views_; }
-
   // The roots of the components other than the main one that hold a view something
   // could register to.
   std::vector<int> bridgeable() {
@@ -381,7 +376,6 @@ class Graph {
     std::sort(roots.begin(), roots.end());
     return roots;
   }
-  const std::vector<Observation>& seen() const { return seen_; }
 
   // The registration of each view: a tree rooted at the reference view, over the pairs
   // used. Views from `first_bridge` on are bridging views.
