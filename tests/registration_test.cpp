@@ -138,7 +138,9 @@ TEST(IcpTest, CornerPairIsStableAndIcpRecoversThePerturbation) {
   EXPECT_LT(pair.condition, options.max_condition);
   EXPECT_TRUE(pair.stable);
   ASSERT_TRUE(pair.icp.has_value());
-  EXPECT_LT(pair.icp->error, 0.1);
+  EXPECT_LT(pair.icp->error, 0.1);      // RMS over the moved cloud
+  EXPECT_LT(pair.icp->max_error, 0.1);  // and every point of it
+  EXPECT_LT(pair.icp->rotation, 0.05);  // degrees left of the 2 degrees
   EXPECT_TRUE(pair.icp->passed);
   EXPECT_EQ(registration.components, 1u);
   EXPECT_EQ(registration.views[0].method, RegistrationMethod::Reference);
