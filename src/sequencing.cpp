@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace scanplan {
 
@@ -56,6 +57,19 @@ Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct) {
     for (Eigen::Index v = 0; v < n; ++v) distance(source, v) = d[v];
   }
   return distance;
+}
+
+std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
+                                                 const Registration& registration) {
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = v;
+  std::vector<std::vector<char>> links(views.size(), std::vector<char>(views.size(), 0));
+  for (const PairCheck& pair : registration.pairs) {
+    const auto a = index.find(pair.a), b = index.find(pair.b);
+    if (a != index.end() && b != index.end() && registration.links(pair))
+      links[a->second][b->second] = links[b->second][a->second] = 1;
+  }
+  return links;
 }
 
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order) {
@@ -141,10 +155,7 @@ Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
   for (std::size_t v = 0; v < n; ++v)
     if (views[v].id == registration.reference) start = static_cast<int>(v);
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views, options));
-  std::vector<std::vector<char>> linked(n, std::vector<char>(n, 0));
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = i + 1; j < n; ++j)
-      linked[i][j] = linked[j][i] = registration.linked(views[i].id, views[j].id);
+  const std::vector<std::vector<char>> linked = registrationLinks(views, registration);
 
   const std::vector<int> nearest = nearestNeighbourOrder(cost, linked, start);
   std::vector<int> best = twoOpt(cost, linked, nearest);

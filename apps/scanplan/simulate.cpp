@@ -6,6 +6,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
 #include <scanplan/io/views_json.h>
+#include <scanplan/planning.h>
 #include <scanplan/simulation.h>
 #include <scanplan/spec.h>
 
@@ -38,10 +39,8 @@ int run(const Options& options, const GlobalOptions& global) {
   ViewsFile views = readViews(options.views);
   Part part = importPart(options.part, {}, progress);
 
-  SimulationOptions simulation;
-  simulation.part_to_world = views.part_to_world;
-  simulation.working_plane = spec.working_plane && !options.no_working_plane;
-  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
+  SimulationOptions simulation = simulationOptionsFor(part, spec, views.part_to_world);
+  simulation.working_plane = simulation.working_plane && !options.no_working_plane;
   report(progress, "building ray-casting scene", 0);
   Simulator simulator(part, spec.scanner, simulation);
 

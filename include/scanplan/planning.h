@@ -45,6 +45,11 @@ struct PlanBound {
 // The planner's options as the spec's planner section sets them.
 PlanningOptions planningOptionsFor(const Spec& spec);
 
+// The simulation of `part` placed by `part_to_world` as the spec sets it: working plane
+// and specular faces. \throw InputError for a specular face the part does not have.
+SimulationOptions simulationOptionsFor(const Part& part, const Spec& spec,
+                                       const Pose& part_to_world);
+
 // Why a sample is not coverable.
 enum class Uncoverable { None, BelowWorkingPlane, OccludedByPart, NoValidPose, Lost };
 

@@ -131,8 +131,10 @@ struct Registration {
   bool verified = false;  // ICP pairs were verified
 
   std::size_t registered() const;
-  // True when views a and b register to each other: they share markers, or their ICP
-  // pair passed verification (is stable, without verification).
+  // True when the pair registers: its views share markers, or it passed ICP verification
+  // (is stable, without verification).
+  bool links(const PairCheck& pair) const;
+  // links() of the pair of views a and b; false when they were not checked.
   bool linked(int a, int b) const;
 };
 

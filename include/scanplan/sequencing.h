@@ -31,6 +31,10 @@ Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> vi
 // All-pairs shortest paths (Dijkstra from every view) over the complete graph of `direct`.
 Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct);
 
+// links[i][j] != 0 when views i and j register to each other (Registration::linked).
+std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
+                                                 const Registration& registration);
+
 // Length of the open path through `order` (indices into cost).
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order);
 

@@ -64,6 +64,15 @@ PlanningOptions planningOptionsFor(const Spec& spec) {
   return options;
 }
 
+SimulationOptions simulationOptionsFor(const Part& part, const Spec& spec,
+                                       const Pose& part_to_world) {
+  SimulationOptions simulation;
+  simulation.part_to_world = part_to_world;
+  simulation.working_plane = spec.working_plane;
+  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
+  return simulation;
+}
+
 std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world) {
   if (!spec.markers_file.empty()) return readMarkers(spec.markers_file);
   if (!(spec.marker_grid > 0)) return {};
@@ -339,12 +348,9 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   lap("sampling");
 
   report(progress, "building the scene", 0);
-  SimulationOptions simulation;
-  simulation.part_to_world = plan.part_to_world;
-  simulation.working_plane = spec.working_plane;
-  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
   plan.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
-  const Simulator simulator(part, spec.scanner, simulation);
+  const Simulator simulator(part, spec.scanner,
+                            simulationOptionsFor(part, spec, plan.part_to_world));
   Planner planner(simulator, plan.samples, options);
   lap("scene");
 
@@ -533,11 +539,12 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     const std::size_t planned = plan.views.size();
     plan.registration =
         registerViews(simulator, plan.views, plan.markers, registration, options, progress);
-    for (std::size_t v = planned; v < plan.views.size(); ++v) {  // bridging views measure too
-      const std::vector<Loss> losses = simulator.measure(plan.views[v], planner.points());
-      for (std::size_t i = 0; i < losses.size(); ++i)
-        if (losses[i] == Loss::Measured) plan.samples[i].measured_by.push_back(plan.views[v].id);
-    }
+    // Bridging views measure samples too.
+    const auto bridges = std::span<const View>(plan.views).subspan(planned);
+    const auto losses = simulator.measure(bridges, planner.points());
+    for (std::size_t b = 0; b < bridges.size(); ++b)
+      for (std::size_t i = 0; i < losses[b].size(); ++i)
+        if (losses[b][i] == Loss::Measured) plan.samples[i].measured_by.push_back(bridges[b].id);
     lap("registration");
     report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
     plan.sequence = sequenceViews(simulator, plan.views, *plan.registration);

@@ -18,11 +18,8 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
   Plan& again = check.plan;
   again = plan;
   again.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
-  SimulationOptions simulation;
-  simulation.part_to_world = plan.part_to_world;
-  simulation.working_plane = spec.working_plane;
-  simulation.specular_faces = resolveFaces(part, spec.specular, spec.source);
-  const Simulator simulator(part, plan.scanner, simulation);
+  const Simulator simulator(part, plan.scanner,
+                            simulationOptionsFor(part, spec, plan.part_to_world));
 
   report(progress, "simulating " + std::to_string(plan.views.size()) + " views", 0);
   std::vector<SurfacePoint> points;
@@ -72,11 +69,11 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
       if (index.count(id) && seen[id]++ == 0) order.push_back(index[id]);
   check.sequence_missing = views.size() - order.size() +
                            (plan.sequence ? plan.sequence->views.size() - order.size() : 0);
+  const std::vector<std::vector<char>> links = registrationLinks(views, *again.registration);
   for (std::size_t k = 1; k < order.size(); ++k) {
     if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
     bool follows = false;
-    for (std::size_t j = 0; j < k && !follows; ++j)
-      follows = again.registration->linked(views[order[k]].id, views[order[j]].id);
+    for (std::size_t j = 0; j < k && !follows; ++j) follows = links[order[k]][order[j]];
     check.sequence_breaks += !follows;
   }
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
@@ -84,7 +81,7 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
   for (int k : order) again.sequence->views.push_back(views[k].id);
   again.sequence->length = pathLength(cost, order);
   again.sequence->nearest_neighbour_length =
-      pathLength(cost, nearestNeighbourOrder(cost, {}, order.empty() ? 0 : order.front()));
+      pathLength(cost, nearestNeighbourOrder(cost, links, order.empty() ? 0 : order.front()));
   return check;
 }
 

@@ -43,11 +43,14 @@ std::size_t Registration::registered() const {
       views.begin(), views.end(), [](auto& v) { return v.method != RegistrationMethod::None; }));
 }
 
+bool Registration::links(const PairCheck& pair) const {
+  return pair.markers || (pair.icp ? pair.icp->passed : pair.stable && !verified);
+}
+
 bool Registration::linked(int a, int b) const {
   if (a > b) std::swap(a, b);
   for (const PairCheck& pair : pairs)
-    if (pair.a == a && pair.b == b)
-      return pair.markers || (pair.icp ? pair.icp->passed : pair.stable && !verified);
+    if (pair.a == a && pair.b == b) return links(pair);
   return false;
 }
 
