@@ -173,7 +173,10 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
     part.face(id);  // throws for an unknown id
     d.specular[id] = 1;
   }
-  d.offset = std::max(options.surface_offset * part.bounds().diagonal(), 1e-4);
+  // Points on the exact surface lie up to the mesh's chordal tolerance under its facets
+  // where the surface is concave: the rays start above that.
+  d.offset = std::max(
+      {options.surface_offset * part.bounds().diagonal(), 1e-4, 1.1 * part.linear_deflection});
   d.options = std::move(options);
 
   // The part in the world, then the fixtures (face id 0).

@@ -259,13 +259,16 @@ Spec loadSpec(const std::string& path) {
       spec.tasks = {Task{TaskType::Gdt, {}, {}}};  // gdt: from-file alone asks for a gdt task
     }
     if (const YAML::Node planner = root["planner"]) {
-      checkKeys(planner, {"seed", "vm_step", "tilt", "max_failures"}, reader, "planner");
+      checkKeys(planner, {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap"}, reader,
+                "planner");
       PlannerSettings& p = spec.planner;
       if (planner["seed"]) p.seed = reader.scalar<std::uint64_t>(planner["seed"], "planner.seed");
       if (planner["vm_step"])
         p.vm_step = reader.scalar<double>(planner["vm_step"], "planner.vm_step");
       if (planner["max_failures"])
         p.max_failures = reader.scalar<int>(planner["max_failures"], "planner.max_failures");
+      if (planner["sweep_overlap"])
+        p.sweep_overlap = reader.scalar<double>(planner["sweep_overlap"], "planner.sweep_overlap");
       if (const YAML::Node tilt = planner["tilt"]) {
         if (!tilt.IsSequence() || tilt.size() != 2)
           reader.fail("planner.tilt must be [min, max] in degrees");
@@ -277,6 +280,8 @@ Spec loadSpec(const std::string& path) {
       if (!(p.tilt_min >= 0 && p.tilt_min <= p.tilt_max && p.tilt_max < 90))
         reader.fail("planner.tilt must be [min, max] with 0 <= min <= max < 90 degrees");
       if (p.max_failures < 1) reader.fail("planner.max_failures must be at least 1");
+      if (!(p.sweep_overlap >= 0 && p.sweep_overlap <= 0.8))
+        reader.fail("planner.sweep_overlap must be within [0, 0.8]");
     }
     if (const YAML::Node cell = root["cell"]) {
       checkKeys(cell, {"working_plane"}, reader, "cell");

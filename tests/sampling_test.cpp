@@ -380,6 +380,7 @@ TEST(SpecSampling, SpecErrors) {
   EXPECT_TRUE(has(reason("tasks:\n  - {type: scan}\n"), "unknown task type 'scan'"));
   EXPECT_TRUE(has(reason("gdt: from-file\n"), "carries no GD&T"));
   EXPECT_TRUE(has(reason("planner: {tilt: [60, 30]}\n"), "planner.tilt"));
+  EXPECT_TRUE(has(reason("planner: {sweep_overlap: 0.95}\n"), "planner.sweep_overlap"));
   test::writeText(dir.file("far.csv"), "10,10,80\n");
   EXPECT_TRUE(has(reason("tasks:\n  - {type: points, file: far.csv}\n"), "mm from the part"));
   test::writeText(dir.file("bad.csv"), "1,2\n");

@@ -36,7 +36,14 @@ int run(const Options& options, const GlobalOptions& global) {
   PlanningOptions planning = planningOptionsFor(spec);
   planning.bound = options.bound;
   planning.registration = options.registration;
-  const Plan plan = planViews(part, spec, planning, progress);
+  Plan plan = planViews(part, spec, planning, progress);
+  // The surface task's interpolated patches, to be looked at beside the plan.
+  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
+    Sweep& sweep = plan.sweeps[k];
+    if (!sweep.patch) continue;
+    sweep.patch_file = fmt::format("patch-{}.step", k + 1);
+    writePatch(*sweep.patch, (std::filesystem::path(options.outdir) / sweep.patch_file).string());
+  }
   const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
   writePlan(plan, path);
   clearProgress();

@@ -14,6 +14,14 @@ void printPlanSummary(const Plan& plan) {
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
              percent(plan.measuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "views", plan.views.size());
+  for (const Sweep& sweep : plan.sweeps) {
+    std::string faces;
+    for (int id : sweep.faces) faces += fmt::format("{}{}", faces.empty() ? "" : " ", id);
+    fmt::print(
+        "{:<22} {} views over {} tiles, {} face(s): {}{}\n", "sweep", sweep.views.size(),
+        sweep.tiles, sweep.faces.size(), faces.size() > 40 ? faces.substr(0, 40) + "..." : faces,
+        sweep.patch ? fmt::format(" (patch within {:.3f} mm)", sweep.patch->max_deviation) : "");
+  }
   if (!plan.registration) return;
   const Registration& r = *plan.registration;
   fmt::print("{:<22} {} ({:.1f}%)\n", "views registered", r.registered(),

@@ -11,6 +11,7 @@
 #include <scanplan/sequencing.h>
 #include <scanplan/simulation.h>
 #include <scanplan/spec.h>
+#include <scanplan/sweep.h>
 #include <scanplan/view.h>
 
 #include <optional>
@@ -24,6 +25,7 @@ struct PlanningOptions {
   double tilt_min = 30, tilt_max = 50;  // preferred tilt of tilted positioning, degrees
   int max_failures = 3;                 // a sample not measured after more attempts is excluded
   int rotations = 8;                    // rotations about the view axis tried per direction
+  double sweep_overlap = 0.3;           // share of the field of view sweep tiles share
   std::uint64_t seed = 1;
   double body_margin = 60;       // scanner body: box around camera and projector, grown by
   double body_depth = 200;       // this margin, reaching this far behind the camera, mm
@@ -66,6 +68,18 @@ struct StageTime {
   double seconds = 0;
 };
 
+// A surface wider than the field of view covered tile by tile (DESIGN.md §5, Sweep
+// positioning): the gdt task's wide faces over their own parameters, the surface task's
+// faces over an interpolated patch per set of like-facing faces.
+struct Sweep {
+  TaskType task = TaskType::Surface;
+  std::vector<int> faces;
+  std::size_t tiles = 0;                   // tiles holding part of the surface
+  std::vector<int> views;                  // ids of the tiles' views, boustrophedon order
+  std::optional<InterpolatedPatch> patch;  // surface task: the patch swept along
+  std::string patch_file;  // where the patch was written, beside plan.json; "" if not
+};
+
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
@@ -76,6 +90,7 @@ struct Plan {
   std::vector<Marker> markers;
   std::optional<Registration> registration;  // per view, with PlanningOptions::registration
   std::optional<Sequence> sequence;          // of the registered views
+  std::vector<Sweep> sweeps;                 // their views come first, in sweep order
   std::vector<PlannedSample> samples;
   std::vector<StageTime> times;
   double seconds = 0;

@@ -45,6 +45,7 @@ struct SimulationOptions {
   std::vector<TriangleMesh> fixtures;     // extra occluders, world frame, mm
   double surface_offset = 1e-5;           // ray origin offset along the normal, as a
                                           // fraction of the part's bounding-box diagonal
+                                          // (at least 1.1 x the mesh's chordal tolerance)
 };
 
 // The measurement of one view over the part's mesh facets (triangles).

@@ -36,7 +36,8 @@ struct PlannerSettings {
   double vm_step = 5;      // visibility-map grid step, degrees
   double tilt_min = 30;    // preferred tilt of tilted positioning, degrees
   double tilt_max = 50;
-  int max_failures = 3;  // attempts before a sample is declared not coverable
+  int max_failures = 3;        // attempts before a sample is declared not coverable
+  double sweep_overlap = 0.3;  // share of the field of view neighbouring sweep tiles share
 };
 
 struct Spec {

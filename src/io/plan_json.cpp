@@ -146,6 +146,27 @@ json planJson(const Plan& plan) {
     result["registration"] = {
         {"reference", registration->reference}, {"markers", markers}, {"pairs", pairs}};
   }
+  if (!plan.sweeps.empty()) {
+    json sweeps = json::array();
+    std::size_t sweep_views = 0;
+    for (const Sweep& sweep : plan.sweeps) {
+      json entry = {{"task", toString(sweep.task)},
+                    {"faces", sweep.faces},
+                    {"tiles", sweep.tiles},
+                    {"views", sweep.views},
+                    {"patch", nullptr}};
+      if (sweep.patch)
+        entry["patch"] = {
+            {"direction", vec(plan.part_to_world.linear() * sweep.patch->frame.linear().col(2))},
+            {"max_deviation", sweep.patch->max_deviation},
+            {"tolerance", sweep.patch->tolerance},
+            {"file", sweep.patch_file.empty() ? json(nullptr) : json(sweep.patch_file)}};
+      sweep_views += sweep.views.size();
+      sweeps.push_back(entry);
+    }
+    result["sweeps"] = sweeps;
+    result["summary"]["sweep_views"] = sweep_views;
+  }
   if (plan.bound) {
     const PlanBound& b = *plan.bound;
     result["summary"]["bound"] = {

@@ -1,5 +1,7 @@
 // Iterative pose adding and pruning by marginal coverage (DESIGN.md §5).
 
+#include "sampling/sample_tree.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/localization.h>
 #include <scanplan/planning.h>
@@ -11,6 +13,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <set>
 
 namespace scanplan {
 
@@ -60,6 +63,7 @@ PlanningOptions planningOptionsFor(const Spec& spec) {
   options.tilt_min = spec.planner.tilt_min;
   options.tilt_max = spec.planner.tilt_max;
   options.max_failures = spec.planner.max_failures;
+  options.sweep_overlap = spec.planner.sweep_overlap;
   options.seed = spec.planner.seed;
   return options;
 }
@@ -301,6 +305,29 @@ class Planner {
     return best;
   }
 
+  // The view of a sweep tile: along its normal with the field of view's width across,
+  // or, when that pose is not valid or misses some of the tile's samples, the best tilted
+  // pose for them if it measures more.
+  std::optional<View> tilePose(const SweepTile& tile, const std::vector<int>& members) {
+    View view;
+    view.camera_to_world =
+        lookAt(tile.centre + scanner_.standoff * tile.normal, tile.centre, tile.across);
+    view.target = tile.centre;
+    std::vector<SurfacePoint> targets;
+    for (int i : members) targets.push_back(points_[i]);
+    auto measuredCount = [&](const View& v) {
+      const auto losses = simulator_.measure(v, targets);
+      return static_cast<std::size_t>(std::count(losses.begin(), losses.end(), Loss::Measured));
+    };
+    const std::size_t count = poseIsValid(simulator_, view, options_) ? measuredCount(view) : 0;
+    if (count == members.size()) return view;
+    std::vector<Visibility> status;
+    const std::optional<View> tilted = bestPose(members, tile.centre, tile.normal, false, status);
+    if (tilted && measuredCount(*tilted) > count) return tilted;
+    if (count > 0) return view;
+    return std::nullopt;
+  }
+
   const std::vector<SurfacePoint>& points() const { return points_; }
   const std::vector<View>& candidates() const { return candidates_; }
 
@@ -312,6 +339,83 @@ class Planner {
   std::vector<SurfacePoint> points_;
   std::vector<View> candidates_;  // every valid pose evaluated
 };
+
+struct SweepTarget {
+  Sweep sweep;
+  SurfaceGrid grid;  // world frame
+};
+
+SurfaceGrid toWorld(SurfaceGrid grid, const Pose& part_to_world) {
+  for (Vec3& p : grid.points) p = part_to_world * p;
+  for (Vec3& n : grid.normals) n = part_to_world.linear() * n;
+  return grid;
+}
+
+// The sweeps the samples ask for: one per set of like-facing faces of the surface task,
+// over its interpolated patch; one per gdt face whose samples spread over twice the field
+// of view, over the face's parameters (its own patch on a mesh part).
+std::vector<SweepTarget> sweepTargets(const Part& part, const std::vector<PlannedSample>& samples,
+                                      const Pose& part_to_world, const Scanner& scanner) {
+  const double grid_spacing = std::min(scanner.fov_width, scanner.fov_height) / 16;
+  const double fit_spacing = std::min(scanner.fov_width, scanner.fov_height) / 12;
+  std::set<int> surface_faces;
+  std::map<int, std::vector<Vec3>> gdt_faces;
+  for (const PlannedSample& s : samples) {
+    if (s.sample.task == TaskType::Surface) surface_faces.insert(s.sample.face);
+    if (s.sample.task == TaskType::Gdt) gdt_faces[s.sample.face].push_back(s.sample.position);
+  }
+  std::vector<SweepTarget> targets;
+  if (!surface_faces.empty())
+    for (const std::vector<int>& set :
+         segmentByNormal(part, {surface_faces.begin(), surface_faces.end()})) {
+      SweepTarget target;
+      target.sweep.task = TaskType::Surface;
+      target.sweep.faces = set;
+      target.sweep.patch = interpolatedPatch(part, set, fit_spacing, grid_spacing);
+      target.grid = toWorld(target.sweep.patch->grid, part_to_world);
+      targets.push_back(std::move(target));
+    }
+  for (const auto& [face, points] : gdt_faces) {
+    if (!needsSweep(points, scanner)) continue;
+    SweepTarget target;
+    target.sweep.task = TaskType::Gdt;
+    target.sweep.faces = {face};
+    target.grid =
+        toWorld(part.brep ? faceGrid(part, face, grid_spacing)
+                          : interpolatedPatch(part, {face}, fit_spacing, grid_spacing).grid,
+                part_to_world);
+    targets.push_back(std::move(target));
+  }
+  return targets;
+}
+
+// The samples of `target` by tile: each goes to the tile of its nearest inside grid node.
+std::vector<std::vector<int>> tileMembers(const SweepTarget& target,
+                                          const std::vector<SweepTile>& tiles,
+                                          const std::vector<PlannedSample>& samples) {
+  std::vector<Vec3> nodes;
+  std::vector<int> node_tile;
+  for (std::size_t t = 0; t < tiles.size(); ++t)
+    for (std::size_t k : tiles[t].nodes) {
+      nodes.push_back(target.grid.points[k]);
+      node_tile.push_back(static_cast<int>(t));
+    }
+  std::vector<std::vector<int>> members(tiles.size());
+  if (nodes.empty()) return members;
+  const detail::PointCloudAdaptor cloud{nodes};
+  detail::PointTree tree(3, cloud);
+  tree.buildIndex();
+  const std::set<int> faces(target.sweep.faces.begin(), target.sweep.faces.end());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Sample& s = samples[i].sample;
+    if (s.task != target.sweep.task || !faces.count(s.face)) continue;
+    unsigned nearest = 0;
+    double distance = 0;
+    tree.knnSearch(s.position.data(), 1, &nearest, &distance);
+    members[node_tile[nearest]].push_back(static_cast<int>(i));
+  }
+  return members;
+}
 
 }  // namespace
 
@@ -354,9 +458,42 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   Planner planner(simulator, plan.samples, options);
   lap("scene");
 
-  // Iterative pose adding.
   std::vector<View> views;
   std::vector<std::vector<int>> measured;  // per view: sample indices it measures
+
+  // Sweep positioning: one view per tile, kept through the selection below.
+  std::vector<std::size_t> pinned;  // indices into `views` of the sweeps' views
+  std::vector<std::vector<std::size_t>> sweep_views;
+  for (SweepTarget& target : sweepTargets(part, plan.samples, plan.part_to_world, spec.scanner)) {
+    report(progress,
+           "sweep positioning over " + std::to_string(target.sweep.faces.size()) + " face(s)", 0);
+    const std::vector<SweepTile> tiles =
+        sweepTiles(target.grid, spec.scanner, options.sweep_overlap);
+    const std::vector<std::vector<int>> members = tileMembers(target, tiles, plan.samples);
+    target.sweep.tiles = tiles.size();
+    sweep_views.emplace_back();
+    for (std::size_t t = 0; t < tiles.size(); ++t) {
+      if (members[t].empty()) continue;
+      std::optional<View> view = planner.tilePose(tiles[t], members[t]);
+      if (!view) continue;
+      view->task = std::string(toString(target.sweep.task));
+      const std::vector<Loss> losses = simulator.measure(*view, planner.points());
+      std::vector<int> hits;
+      for (std::size_t i = 0; i < losses.size(); ++i)
+        if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
+      if (hits.empty()) continue;
+      view->id = static_cast<int>(views.size()) + 1;
+      for (int i : hits) plan.samples[i].measured_by.push_back(view->id);
+      sweep_views.back().push_back(views.size());
+      pinned.push_back(views.size());
+      views.push_back(*view);
+      measured.push_back(std::move(hits));
+    }
+    plan.sweeps.push_back(std::move(target.sweep));
+  }
+  lap("sweeps");
+
+  // Iterative pose adding.
   std::vector<Visibility> visibility(plan.samples.size(), Visibility::Free);
   ClusteringOptions clustering = clusteringOptionsFor(spec.scanner, options.seed);
   for (int round = 1;; ++round) {
@@ -476,9 +613,14 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     }
   }
   // gain(v): (priority, other) samples v measures that are not yet covered.
+  // The sweeps' views are chosen first and stay.
   auto greedy = [&](const std::vector<std::size_t>& pool, bool priority_first) {
     std::vector<char> covered(plan.samples.size(), 0), used(views.size(), 0);
-    std::vector<std::size_t> chosen;
+    std::vector<std::size_t> chosen = pinned;
+    for (std::size_t v : pinned) {
+      used[v] = 1;
+      for (int i : measured[v]) covered[i] = 1;
+    }
     for (;;) {
       std::size_t best = views.size();
       std::pair<std::size_t, std::size_t> best_gain{0, 0};
@@ -506,7 +648,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   std::vector<int> times_measured(plan.samples.size(), 0);
   for (std::size_t v : kept)
     for (int i : measured[v]) ++times_measured[i];
-  for (std::size_t k = kept.size(); k-- > 0;) {
+  for (std::size_t k = kept.size(); k-- > pinned.size();) {
     const auto& mine = measured[kept[k]];
     if (std::all_of(mine.begin(), mine.end(), [&](int i) { return times_measured[i] > 1; })) {
       for (int i : mine) --times_measured[i];
@@ -530,6 +672,10 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     plan.views.push_back(view);
     for (int i : measured[kept[k]]) plan.samples[i].measured_by.push_back(view.id);
   }
+  for (std::size_t s = 0; s < plan.sweeps.size(); ++s)
+    for (std::size_t v : sweep_views[s])
+      plan.sweeps[s].views.push_back(
+          static_cast<int>(std::find(pinned.begin(), pinned.end(), v) - pinned.begin()) + 1);
   lap("pruning");
 
   if (options.registration) {
