@@ -140,4 +140,34 @@ std::vector<RestOrientation> restOrientations(const Part& part) {
   return result;
 }
 
+RestOrientation restOnFace(const Part& part, int face_id, const std::string& source) {
+  const Face& face = part.face(face_id);
+  const std::string name = "part.rest: face " + std::to_string(face_id);
+  Vec3 normal = Vec3::Zero();
+  for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
+    const Vec3 n = part.mesh.normal(t);
+    if (n.isZero()) continue;
+    if (!normal.isZero() && n.dot(normal.normalized()) < std::cos(1e-3))
+      throw InputError(source, name + " is not flat: the part cannot rest on it");
+    normal += part.mesh.area(t) * n;
+  }
+  if (normal.isZero()) throw InputError(source, name + " has no area to rest on");
+  normal.normalize();
+  const double tolerance = 1e-6 * part.bounds().diagonal() + 1e-6;
+  for (const RestOrientation& rest : restOrientations(part)) {
+    if (rest.down.dot(normal) < std::cos(1e-6)) continue;
+    bool on_plane = true;  // the face lies in the hull face the part stands on
+    for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count && on_plane;
+         ++t)
+      for (int corner : part.mesh.triangles[t])
+        on_plane = on_plane && std::abs((rest.part_to_world * part.mesh.vertices[corner]).z()) <
+                                   std::max(tolerance, part.linear_deflection);
+    if (on_plane) return rest;
+  }
+  throw InputError(source,
+                   name +
+                       " is not a stable rest face: it is not on the part's convex hull, "
+                       "or the part would tip over resting on it (see scanplan info --rest)");
+}
+
 }  // namespace scanplan

@@ -172,6 +172,11 @@ Spec loadSpec(const std::string& path) {
       if (const YAML::Node rest = part["rest"]) {
         if (rest.IsScalar() && rest.as<std::string>() == "auto") {
           spec.rest_auto = true;
+        } else if (rest.IsScalar() && rest.as<std::string>() == "all") {
+          spec.rest_all = true;
+        } else if (int face = 0; rest.IsScalar() && YAML::convert<int>::decode(rest, face)) {
+          if (face < 1) reader.fail("part.rest: face ids start at 1");
+          spec.rest_face = face;
         } else if (rest.IsSequence() && rest.size() == 4) {
           Eigen::Matrix4d m;
           for (int r = 0; r < 4; ++r) {
@@ -182,10 +187,7 @@ Spec loadSpec(const std::string& path) {
           if (!isRigid(m)) reader.fail("part.rest: not a rigid transform");
           spec.rest_pose = Pose(m);
         } else {
-          reader.fail(
-              "part.rest: expected auto or a 4x4 matrix (resting on a given face and planning "
-              "every "
-              "orientation are not supported yet)");
+          reader.fail("part.rest: expected auto, all, a face id or a 4x4 matrix");
         }
       }
     }

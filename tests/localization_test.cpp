@@ -3,11 +3,14 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
 #include <scanplan/localization.h>
 
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
 
 namespace scanplan {
 namespace {
@@ -76,6 +79,60 @@ TEST(RestOrientations, LShapedSolid) {
   EXPECT_NEAR(rests[2].margin, 20 / centre.z(), 1e-9);
   EXPECT_TRUE(rests[4].down.isApprox(Vec3(1, 0, 1).normalized(), 1e-9));  // the diagonal
   for (const RestOrientation& r : rests) expectOnThePlane(part, r);
+}
+
+TEST(RestOrientations, OnAGivenFace) {
+  test::TempDir dir;
+  TopoDS_Shape l = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeBox(100, 40, 20).Shape(),
+                                    BRepPrimAPI_MakeBox(20, 40, 100).Shape())
+                       .Shape();
+  ShapeUpgrade_UnifySameDomain unify(l);  // one face per plane
+  unify.Build();
+  Part part = brepPart(unify.Shape(), dir, "l.brep");
+  // Flat faces by where they are: the bottom, a side, the column's top, the base's top.
+  auto faceAt = [&](const Vec3& lo, const Vec3& hi) {
+    for (const Face& face : part.faces)
+      if (face.bounds.min.isApprox(lo, 1e-6) && face.bounds.max.isApprox(hi, 1e-6)) return face.id;
+    ADD_FAILURE() << "no face spanning " << lo.transpose() << " .. " << hi.transpose();
+    return 0;
+  };
+  const int bottom = faceAt(Vec3(0, 0, 0), Vec3(100, 40, 0));
+  const int side = faceAt(Vec3(0, 0, 0), Vec3(100, 0, 100));
+  const int column_top = faceAt(Vec3(0, 0, 100), Vec3(20, 40, 100));
+  const int base_top = faceAt(Vec3(20, 0, 20), Vec3(100, 40, 20));
+
+  const RestOrientation on_bottom = restOnFace(part, bottom, "spec.yaml");
+  EXPECT_TRUE(on_bottom.down.isApprox(-Vec3::UnitZ(), 1e-9));
+  expectOnThePlane(part, on_bottom);
+  EXPECT_TRUE(restOnFace(part, side, "spec.yaml").down.isApprox(-Vec3::UnitY(), 1e-9));
+
+  auto error = [&](int face) {
+    try {
+      restOnFace(part, face, "spec.yaml");
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("spec.yaml"), std::string::npos);
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "face " << face << " accepted";
+    return std::string();
+  };
+  EXPECT_NE(error(column_top).find("not a stable rest face"), std::string::npos);  // tips over
+  EXPECT_NE(error(base_top).find("not a stable rest face"), std::string::npos);    // not on hull
+  EXPECT_THROW(restOnFace(part, 999, "spec.yaml"), InputError);
+
+  const Part cylinder = brepPart(BRepPrimAPI_MakeCylinder(20, 50).Shape(), dir, "c.brep");
+  for (const Face& face : cylinder.faces)
+    if (face.type == SurfaceType::Cylinder)
+      EXPECT_THROW(
+          {
+            try {
+              restOnFace(cylinder, face.id, "spec.yaml");
+            } catch (const InputError& e) {
+              EXPECT_NE(std::string(e.what()).find("not flat"), std::string::npos) << e.what();
+              throw;
+            }
+          },
+          InputError);
 }
 
 TEST(RestOrientations, MeshPartUsesItsClosedMesh) {

@@ -37,6 +37,68 @@ Spec specWith(const std::string& text, const test::TempDir& dir) {
   return loadSpec(dir.file("spec.yaml"));
 }
 
+TEST(Planning, RestAllMeasuresEverySideOfACube) {
+  test::TempDir dir;
+  Part part = cube(dir);
+  const Spec spec = specWith("part: {rest: all}\n", dir);
+  const Plan plan = planViews(part, spec);
+  // The steadiest orientation leaves the face it stands on; the next one measures it.
+  ASSERT_EQ(plan.orientations.size(), 2u);
+  EXPECT_TRUE(plan.part_to_world.isApprox(plan.orientations[0].rest.part_to_world));
+  EXPECT_EQ(plan.measuredCount(), plan.samples.size());
+  std::set<int> first(plan.orientations[0].views.begin(), plan.orientations[0].views.end());
+  std::set<int> second(plan.orientations[1].views.begin(), plan.orientations[1].views.end());
+  EXPECT_FALSE(second.empty());
+  EXPECT_EQ(first.size() + second.size(), plan.views.size());
+  for (int id : first) EXPECT_FALSE(second.count(id)) << id;
+  std::size_t bottom = 0;
+  for (const PlannedSample& s : plan.samples) {
+    if (s.sample.normal.z() > -0.99) continue;  // the face the cube stands on first
+    ++bottom;
+    for (int id : s.measured_by) EXPECT_TRUE(second.count(id)) << id;
+  }
+  EXPECT_GT(bottom, 0u);
+  // Each orientation registers and sequences its own views, one after the other.
+  ASSERT_TRUE(plan.registration && plan.sequence);
+  EXPECT_EQ(plan.sequence->views.size(), plan.views.size());
+  EXPECT_TRUE(first.count(plan.sequence->views.front()));
+  EXPECT_TRUE(second.count(plan.sequence->views.back()));
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    const int to = plan.registration->views[v].to;
+    if (to > 0) EXPECT_EQ(first.count(to), first.count(plan.views[v].id)) << plan.views[v].id;
+  }
+
+  // Each orientation's views, simulated again in their own placement, measure what the
+  // plan says, also after a round trip through plan.json.
+  PlanCheck check = verifyPlan(plan, part, spec);
+  EXPECT_EQ(check.coverage_differences, 0u);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.sequence_missing + check.sequence_breaks, 0u);
+  writePlan(plan, dir.file("plan.json"));
+  const Plan read = readPlan(dir.file("plan.json"));
+  ASSERT_EQ(read.orientations.size(), 2u);
+  EXPECT_EQ(read.orientations[1].views, plan.orientations[1].views);
+  check = verifyPlan(read, part, spec);
+  EXPECT_EQ(check.coverage_differences, 0u);
+  EXPECT_EQ(check.registration_differences, 0u);
+}
+
+TEST(Planning, RestsOnAGivenFace) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 60).Shape(), dir.file("box.brep").c_str());
+  const Part part = importPart(dir.file("box.brep"));
+  int end = 0;  // the 100 x 60 face at x = 200
+  for (const Face& face : part.faces)
+    if (face.bounds.min.x() > 199.9) end = face.id;
+  ASSERT_GT(end, 0);
+  const Spec spec = specWith("part: {rest: " + std::to_string(end) + "}\n", dir);
+  const Pose placement = placementFor(part, spec);
+  EXPECT_TRUE((placement.linear() * Vec3::UnitX()).isApprox(-Vec3::UnitZ(), 1e-9));
+  EXPECT_NEAR((placement * Vec3(200, 50, 30)).z(), 0, 1e-9);
+  const Plan plan = planViews(part, spec);
+  EXPECT_TRUE(plan.part_to_world.isApprox(placement));
+}
+
 TEST(Planning, CubeOnThePlane) {
   test::TempDir dir;
   Part part = cube(dir);
@@ -243,7 +305,7 @@ TEST(Planning, RestAutoStandsThePartOnItsSteadiestFace) {
   }
   EXPECT_NEAR(bottom, 0, 1e-6);
   EXPECT_NEAR(top, 20, 1e-6);
-  test::writeText(dir.file("bad.yaml"), "part: {rest: 3}\n");
+  test::writeText(dir.file("bad.yaml"), "part: {rest: sideways}\n");
   EXPECT_THROW(loadSpec(dir.file("bad.yaml")), InputError);
 }
 

@@ -14,6 +14,12 @@ void printPlanSummary(const Plan& plan) {
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
              percent(plan.measuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "views", plan.views.size());
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+    const PlannedOrientation& o = plan.orientations[k];
+    fmt::print("{:<22} {}: down ({:+.3f}, {:+.3f}, {:+.3f}), margin {:.3f}, {} views\n",
+               k == 0 ? "rest orientations" : "", k + 1, o.rest.down.x(), o.rest.down.y(),
+               o.rest.down.z(), o.rest.margin, o.views.size());
+  }
   for (const Sweep& sweep : plan.sweeps) {
     std::string faces;
     for (int id : sweep.faces) faces += fmt::format("{}{}", faces.empty() ? "" : " ", id);

@@ -5,6 +5,7 @@
 #include <scanplan/cad/part.h>
 #include <scanplan/view.h>
 
+#include <string>
 #include <vector>
 
 namespace scanplan {
@@ -28,5 +29,10 @@ Vec3 centreOfMass(const Part& part);
 // which the centre of mass projects inside, sorted by decreasing margin (ties by larger
 // contact area, then hull order). \throw InputError for a part with no volume.
 std::vector<RestOrientation> restOrientations(const Part& part);
+
+// The rest orientation in which the part stands on face `face` (a flat face lying in the
+// hull face it rests on). \throw InputError naming `source` for an unknown, curved or
+// unstable face.
+RestOrientation restOnFace(const Part& part, int face, const std::string& source);
 
 }  // namespace scanplan

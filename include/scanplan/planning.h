@@ -5,6 +5,7 @@
 
 #include <scanplan/cad/part.h>
 #include <scanplan/clustering.h>
+#include <scanplan/localization.h>
 #include <scanplan/progress.h>
 #include <scanplan/registration.h>
 #include <scanplan/sampling.h>
@@ -80,6 +81,15 @@ struct Sweep {
   std::string patch_file;  // where the patch was written, beside plan.json; "" if not
 };
 
+// One rest orientation of a plan over several (part.rest: all): the views planned with
+// the part standing that way, registered and sequenced among themselves.
+struct PlannedOrientation {
+  RestOrientation rest;
+  std::vector<int> views;       // ids
+  int reference = 0;            // its registration's reference view id
+  std::vector<Marker> markers;  // world frame of this orientation
+};
+
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
@@ -91,6 +101,11 @@ struct Plan {
   std::optional<Registration> registration;  // per view, with PlanningOptions::registration
   std::optional<Sequence> sequence;          // of the registered views
   std::vector<Sweep> sweeps;                 // their views come first, in sweep order
+  // part.rest: all: the orientations planned, steadiest first. part_to_world and the
+  // samples' frame are the first one's; each view is planned in the world of the
+  // orientation that lists it; registration and sequence are per orientation, one after
+  // the other. Empty for a plan with one placement.
+  std::vector<PlannedOrientation> orientations;
   std::vector<PlannedSample> samples;
   std::vector<StageTime> times;
   double seconds = 0;
@@ -110,7 +125,14 @@ std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& 
 // lowest point is at z = 0 (rest orientations come with localization).
 Pose restingPlacement(const Part& part);
 
-// Plans the views for the spec's tasks. \throw PlanningError when the spec leaves nothing
+// Where the spec puts the part: part.rest's matrix, the rest orientation on its face, the
+// steadiest one (auto, and the first of all), else restingPlacement. \throw InputError
+// for a rest face the part cannot stand on.
+Pose placementFor(const Part& part, const Spec& spec);
+
+// Plans the views for the spec's tasks; with part.rest: all, in every rest orientation in
+// turn, steadiest first, each aiming at the samples the earlier ones left unmeasured.
+// \throw PlanningError when the spec leaves nothing
 // to plan (no samples, or all targets on fixture faces); InputError for a bad spec.
 Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options = {},
                const Progress& progress = {});

@@ -138,6 +138,11 @@ struct Registration {
   bool linked(int a, int b) const;
 };
 
+// Appends `from`, the registration of views registered apart from `into`'s (in another rest
+// orientation), with its view ids shifted by `id_offset`: views, pairs and counts; the
+// reference stays `into`'s, unless it has none.
+void appendRegistration(Registration& into, Registration from, int id_offset);
+
 // Checks every pair of `views`, keeps a spanning tree of registrable pairs (markers first,
 // then the most stable ICP pairs, each verified before it is used) and, with bridging,
 // appends views to `views` until the graph is connected or no bridge exists. Bridging

@@ -45,6 +45,8 @@ struct Spec {
   Scanner scanner;                     // `scanner:` preset name or mapping
   std::string part_file;               // part.file, resolved to the spec's folder, or ""
   bool rest_auto = false;              // part.rest: auto (the steadiest rest orientation)
+  bool rest_all = false;               // part.rest: all (plan every rest orientation, merged)
+  int rest_face = 0;                   // part.rest: a face id to rest on (0: none)
   std::optional<Pose> rest_pose;       // part.rest: a 4x4 part-to-world matrix
                                        // (neither: the CAD orientation, lifted onto the plane)
   std::vector<FaceSelector> priority;  // roles.priority

@@ -30,6 +30,13 @@ json matrix(const Pose& pose) {
   return rows;
 }
 
+json markersJson(const std::vector<Marker>& markers) {
+  json list = json::array();
+  for (const Marker& m : markers)
+    list.push_back({{"position", vec(m.position)}, {"normal", vec(m.normal)}});
+  return list;
+}
+
 }  // namespace
 
 json planJson(const Plan& plan) {
@@ -140,11 +147,27 @@ json planJson(const Plan& plan) {
                        {"passed", p.icp->passed}};
       pairs.push_back(pair);
     }
-    json markers = json::array();
-    for (const Marker& m : plan.markers)
-      markers.push_back({{"position", vec(m.position)}, {"normal", vec(m.normal)}});
-    result["registration"] = {
-        {"reference", registration->reference}, {"markers", markers}, {"pairs", pairs}};
+    result["registration"] = {{"reference", registration->reference},
+                              {"markers", markersJson(plan.markers)},
+                              {"pairs", pairs}};
+  }
+  if (!plan.orientations.empty()) {
+    json orientations = json::array();
+    std::map<int, int> orientation_of;
+    for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+      const PlannedOrientation& o = plan.orientations[k];
+      for (int id : o.views) orientation_of[id] = static_cast<int>(k) + 1;
+      orientations.push_back({{"id", k + 1},
+                              {"part_to_world", matrix(o.rest.part_to_world)},
+                              {"down", vec(o.rest.down)},
+                              {"margin", o.rest.margin},
+                              {"views", o.views},
+                              {"reference", o.reference},
+                              {"markers", markersJson(o.markers)}});
+    }
+    for (json& view : result["views"]) view["orientation"] = orientation_of[view["id"].get<int>()];
+    result["orientations"] = orientations;
+    result["summary"]["orientations"] = plan.orientations.size();
   }
   if (!plan.sweeps.empty()) {
     json sweeps = json::array();
@@ -261,10 +284,32 @@ Plan readPlan(const std::string& path) {
     plan.registration.emplace();
     plan.registration->views = registration;
   }
-  if (root.contains("registration") && root["registration"].contains("markers"))
-    for (const json& m : root["registration"]["markers"])
-      plan.markers.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
-                              detail::vectorFrom(m.value("normal", json()), path, "marker")});
+  auto readMarkers = [&](const json& list) {
+    std::vector<Marker> markers;
+    if (list.is_array())
+      for (const json& m : list)
+        markers.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
+                           detail::vectorFrom(m.value("normal", json()), path, "marker")});
+    return markers;
+  };
+  if (root.contains("registration") && root["registration"].is_object())
+    plan.markers = readMarkers(root["registration"].value("markers", json()));
+  if (root.contains("orientations")) {
+    const json& list = root["orientations"];
+    if (!list.is_array()) throw InputError(path, "'orientations' is not an array");
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::string where = "orientation " + std::to_string(k + 1);
+      PlannedOrientation o;
+      o.rest.part_to_world =
+          Pose(detail::matrixFrom(list[k].value("part_to_world", json()), path, where));
+      o.rest.down = detail::vectorFrom(list[k].value("down", json()), path, where);
+      o.rest.margin = list[k].value("margin", 0.0);
+      o.views = field<std::vector<int>>(list[k], "views", path, where);
+      o.reference = list[k].value("reference", 0);
+      o.markers = readMarkers(list[k].value("markers", json()));
+      plan.orientations.push_back(std::move(o));
+    }
+  }
 
   const json& samples = root.contains("samples") ? root["samples"] : json();
   if (!samples.is_array()) throw InputError(path, "no 'samples' array");

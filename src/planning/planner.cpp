@@ -355,12 +355,15 @@ SurfaceGrid toWorld(SurfaceGrid grid, const Pose& part_to_world) {
 // over its interpolated patch; one per gdt face whose samples spread over twice the field
 // of view, over the face's parameters (its own patch on a mesh part).
 std::vector<SweepTarget> sweepTargets(const Part& part, const std::vector<PlannedSample>& samples,
-                                      const Pose& part_to_world, const Scanner& scanner) {
+                                      const Pose& part_to_world, const Scanner& scanner,
+                                      const std::vector<char>& done) {
   const double grid_spacing = std::min(scanner.fov_width, scanner.fov_height) / 16;
   const double fit_spacing = std::min(scanner.fov_width, scanner.fov_height) / 12;
   std::set<int> surface_faces;
   std::map<int, std::vector<Vec3>> gdt_faces;
-  for (const PlannedSample& s : samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!done.empty() && done[i]) continue;
+    const PlannedSample& s = samples[i];
     if (s.sample.task == TaskType::Surface) surface_faces.insert(s.sample.face);
     if (s.sample.task == TaskType::Gdt) gdt_faces[s.sample.face].push_back(s.sample.position);
   }
@@ -392,7 +395,8 @@ std::vector<SweepTarget> sweepTargets(const Part& part, const std::vector<Planne
 // The samples of `target` by tile: each goes to the tile of its nearest inside grid node.
 std::vector<std::vector<int>> tileMembers(const SweepTarget& target,
                                           const std::vector<SweepTile>& tiles,
-                                          const std::vector<PlannedSample>& samples) {
+                                          const std::vector<PlannedSample>& samples,
+                                          const std::vector<char>& done) {
   std::vector<Vec3> nodes;
   std::vector<int> node_tile;
   for (std::size_t t = 0; t < tiles.size(); ++t)
@@ -408,7 +412,7 @@ std::vector<std::vector<int>> tileMembers(const SweepTarget& target,
   const std::set<int> faces(target.sweep.faces.begin(), target.sweep.faces.end());
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Sample& s = samples[i].sample;
-    if (s.task != target.sweep.task || !faces.count(s.face)) continue;
+    if (s.task != target.sweep.task || !faces.count(s.face) || (!done.empty() && done[i])) continue;
     unsigned nearest = 0;
     double distance = 0;
     tree.knnSearch(s.position.data(), 1, &nearest, &distance);
@@ -419,8 +423,14 @@ std::vector<std::vector<int>> tileMembers(const SweepTarget& target,
 
 }  // namespace
 
-Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
-               const Progress& progress) {
+namespace {
+
+// Plans the views for `sampled` (part frame) with the part placed by `part_to_world`;
+// samples marked in `done` (measured in another placement) are not aimed at and count as
+// covered in the selection.
+Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>& sampled,
+                   const Pose& part_to_world, const std::vector<char>& done,
+                   const PlanningOptions& options, const Progress& progress) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto stage_start = start;
@@ -432,24 +442,18 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   };
   plan.part_file = part.file;
   plan.part_faces = part.faces.size();
-  plan.part_to_world = spec.rest_pose   ? *spec.rest_pose
-                       : spec.rest_auto ? restOrientations(part).front().part_to_world
-                                        : restingPlacement(part);
+  plan.part_to_world = part_to_world;
   plan.scanner = spec.scanner;
-
-  report(progress, "sampling", 0);
-  std::vector<Sample> sampled = sampleSpec(part, spec, samplingOptionsFor(spec.scanner));
-  if (sampled.empty())
-    throw PlanningError(spec.source, "the spec's tasks leave no sample to plan for");
-  for (Sample& s : sampled) {
+  for (std::size_t i = 0; i < sampled.size(); ++i) {
     PlannedSample planned;
-    planned.sample = s;
-    planned.sample.position = plan.part_to_world * s.position;
-    planned.sample.normal = plan.part_to_world.linear() * s.normal;
-    planned.sample.tangent = plan.part_to_world.linear() * s.tangent;
+    planned.sample = sampled[i];
+    planned.sample.position = part_to_world * sampled[i].position;
+    planned.sample.normal = part_to_world.linear() * sampled[i].normal;
+    planned.sample.tangent = part_to_world.linear() * sampled[i].tangent;
+    if (!done.empty() && done[i]) planned.failures = options.max_failures;  // never pending
     plan.samples.push_back(planned);
   }
-  lap("sampling");
+  auto isDone = [&](std::size_t i) { return !done.empty() && done[i]; };
 
   report(progress, "building the scene", 0);
   plan.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
@@ -464,12 +468,13 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   // Sweep positioning: one view per tile, kept through the selection below.
   std::vector<std::size_t> pinned;  // indices into `views` of the sweeps' views
   std::vector<std::vector<std::size_t>> sweep_views;
-  for (SweepTarget& target : sweepTargets(part, plan.samples, plan.part_to_world, spec.scanner)) {
+  for (SweepTarget& target :
+       sweepTargets(part, plan.samples, plan.part_to_world, spec.scanner, done)) {
     report(progress,
            "sweep positioning over " + std::to_string(target.sweep.faces.size()) + " face(s)", 0);
     const std::vector<SweepTile> tiles =
         sweepTiles(target.grid, spec.scanner, options.sweep_overlap);
-    const std::vector<std::vector<int>> members = tileMembers(target, tiles, plan.samples);
+    const std::vector<std::vector<int>> members = tileMembers(target, tiles, plan.samples, done);
     target.sweep.tiles = tiles.size();
     sweep_views.emplace_back();
     for (std::size_t t = 0; t < tiles.size(); ++t) {
@@ -570,7 +575,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   report(progress, "aiming at the samples left", 0);
   const VisibilityMap dense_grid(10);
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
-    if (!plan.samples[i].measured_by.empty()) continue;
+    if (!plan.samples[i].measured_by.empty() || isDone(i)) continue;
     const SurfacePoint& point = planner.points()[i];
     const std::vector<View> poses = densePoses(spec.scanner, point, dense_grid, 8);
     const std::vector<SurfacePoint> same(poses.size(), point);
@@ -616,6 +621,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   // The sweeps' views are chosen first and stay.
   auto greedy = [&](const std::vector<std::size_t>& pool, bool priority_first) {
     std::vector<char> covered(plan.samples.size(), 0), used(views.size(), 0);
+    for (std::size_t i = 0; i < covered.size(); ++i) covered[i] = isDone(i);
     std::vector<std::size_t> chosen = pinned;
     for (std::size_t v : pinned) {
       used[v] = 1;
@@ -650,7 +656,8 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     for (int i : measured[v]) ++times_measured[i];
   for (std::size_t k = kept.size(); k-- > pinned.size();) {
     const auto& mine = measured[kept[k]];
-    if (std::all_of(mine.begin(), mine.end(), [&](int i) { return times_measured[i] > 1; })) {
+    if (std::all_of(mine.begin(), mine.end(),
+                    [&](int i) { return times_measured[i] > 1 || isDone(i); })) {
       for (int i : mine) --times_measured[i];
       kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(k));
     }
@@ -698,7 +705,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   }
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
     PlannedSample& s = plan.samples[i];
-    if (!s.measured_by.empty()) continue;
+    if (!s.measured_by.empty() || isDone(i)) continue;
     s.uncoverable = visibility[i] == Visibility::BelowWorkingPlane ? Uncoverable::BelowWorkingPlane
                     : visibility[i] == Visibility::OccludedByPart  ? Uncoverable::OccludedByPart
                     : s.last_loss == Loss::Measured                ? Uncoverable::NoValidPose
@@ -723,6 +730,108 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   }
   plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return plan;
+}
+
+// Appends `part` (planned in a later rest orientation) to `merged`: its views, registration,
+// sequence and sweeps with ids shifted past merged's, and the samples it measures.
+void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
+  const int offset = static_cast<int>(merged.views.size());
+  auto shift = [&](int& id) {
+    if (id > 0) id += offset;
+  };
+  PlannedOrientation orientation;
+  orientation.rest = rest;
+  orientation.markers = part.markers;
+  for (View& view : part.views) {
+    shift(view.id);
+    orientation.views.push_back(view.id);
+    merged.views.push_back(view);
+  }
+  if (part.registration) {
+    const int reference = part.registration->reference;
+    orientation.reference = reference > 0 ? reference + offset : 0;
+    appendRegistration(*merged.registration, std::move(*part.registration), offset);
+  }
+  if (part.sequence) {
+    for (int id : part.sequence->views) merged.sequence->views.push_back(id + offset);
+    merged.sequence->length += part.sequence->length;
+    merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
+  }
+  for (Sweep& sweep : part.sweeps) {
+    for (int& id : sweep.views) shift(id);
+    merged.sweeps.push_back(std::move(sweep));
+  }
+  for (std::size_t i = 0; i < merged.samples.size(); ++i) {
+    PlannedSample& s = merged.samples[i];
+    for (int id : part.samples[i].measured_by) s.measured_by.push_back(id + offset);
+    // Still not measured: the reason found in the latest orientation.
+    s.uncoverable = s.measured_by.empty() ? part.samples[i].uncoverable : Uncoverable::None;
+    s.last_loss = part.samples[i].last_loss;
+  }
+  for (const StageTime& t : part.times) {
+    auto same = std::find_if(merged.times.begin(), merged.times.end(),
+                             [&](const StageTime& m) { return m.stage == t.stage; });
+    if (same == merged.times.end())
+      merged.times.push_back(t);
+    else
+      same->seconds += t.seconds;
+  }
+  merged.orientations.push_back(std::move(orientation));
+}
+
+}  // namespace
+
+Pose placementFor(const Part& part, const Spec& spec) {
+  if (spec.rest_pose) return *spec.rest_pose;
+  if (spec.rest_face) return restOnFace(part, spec.rest_face, spec.source).part_to_world;
+  if (spec.rest_auto || spec.rest_all) return restOrientations(part).front().part_to_world;
+  return restingPlacement(part);
+}
+
+Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
+               const Progress& progress) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  report(progress, "sampling", 0);
+  const std::vector<Sample> sampled = sampleSpec(part, spec, samplingOptionsFor(spec.scanner));
+  if (sampled.empty())
+    throw PlanningError(spec.source, "the spec's tasks leave no sample to plan for");
+  const StageTime sampling{"sampling", std::chrono::duration<double>(Clock::now() - start).count()};
+  auto finish = [&](Plan& plan) {
+    plan.times.insert(plan.times.begin(), sampling);
+    plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return plan;
+  };
+  if (!spec.rest_all) {
+    Plan plan = planPlacement(part, spec, sampled, placementFor(part, spec), {}, options, progress);
+    return finish(plan);
+  }
+
+  // Every rest orientation in turn, steadiest first, each aiming at what the earlier ones
+  // left unmeasured; an orientation that adds no view is left out (but the first).
+  const std::vector<RestOrientation> rests = restOrientations(part);
+  Plan merged;
+  std::vector<char> done(sampled.size(), 0);
+  for (std::size_t k = 0; k < rests.size(); ++k) {
+    if (k > 0 && std::all_of(done.begin(), done.end(), [](char d) { return d != 0; })) break;
+    report(progress,
+           "rest orientation " + std::to_string(k + 1) + " of " + std::to_string(rests.size()), 0);
+    Plan plan = planPlacement(part, spec, sampled, rests[k].part_to_world, done, options, progress);
+    if (k > 0 && plan.views.empty()) continue;
+    for (std::size_t i = 0; i < plan.samples.size(); ++i)
+      done[i] = done[i] || !plan.samples[i].measured_by.empty();
+    if (k == 0) {
+      merged = plan;
+      merged.views.clear();
+      merged.sweeps.clear();
+      merged.times.clear();
+      for (PlannedSample& s : merged.samples) s.measured_by.clear();
+      if (plan.registration) merged.registration = Registration{};
+      if (plan.sequence) merged.sequence = Sequence{};
+    }
+    mergeOrientation(merged, std::move(plan), rests[k]);
+  }
+  return finish(merged);
 }
 
 }  // namespace scanplan

@@ -5,15 +5,15 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 namespace scanplan {
 
-PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
-                     const PlanningOptions& options, const Progress& progress) {
-  if (plan.part_faces != part.faces.size())
-    throw InputError(part.file, "has " + std::to_string(part.faces.size()) +
-                                    " faces where the plan's part has " +
-                                    std::to_string(plan.part_faces));
+namespace {
+
+// verifyPlan of a plan with one placement.
+PlanCheck verifyPlacement(const Plan& plan, const Part& part, const Spec& spec,
+                          const PlanningOptions& options, const Progress& progress) {
   PlanCheck check;
   Plan& again = check.plan;
   again = plan;
@@ -82,6 +82,77 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
   again.sequence->length = pathLength(cost, order);
   again.sequence->nearest_neighbour_length =
       pathLength(cost, nearestNeighbourOrder(cost, links, order.empty() ? 0 : order.front()));
+  return check;
+}
+
+// The part of `plan` planned in orientation `o`: its views, the samples in its world,
+// the claims of its views only.
+Plan orientationPlan(const Plan& plan, const PlannedOrientation& o) {
+  Plan sub = plan;
+  sub.orientations.clear();
+  sub.part_to_world = o.rest.part_to_world;
+  sub.markers = o.markers;
+  const Pose to_world = o.rest.part_to_world * plan.part_to_world.inverse();
+  const std::set<int> ids(o.views.begin(), o.views.end());
+  auto mine = [&](int id) { return ids.count(id) > 0; };
+  sub.views.clear();
+  if (sub.registration) sub.registration->views.clear();
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    if (!mine(plan.views[v].id)) continue;
+    sub.views.push_back(plan.views[v]);
+    if (plan.registration && v < plan.registration->views.size())
+      sub.registration->views.push_back(plan.registration->views[v]);
+  }
+  for (PlannedSample& s : sub.samples) {
+    s.sample.position = to_world * s.sample.position;
+    s.sample.normal = to_world.linear() * s.sample.normal;
+    std::erase_if(s.measured_by, [&](int id) { return !mine(id); });
+  }
+  if (sub.sequence) std::erase_if(sub.sequence->views, [&](int id) { return !mine(id); });
+  return sub;
+}
+
+}  // namespace
+
+PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
+                     const PlanningOptions& options, const Progress& progress) {
+  if (plan.part_faces != part.faces.size())
+    throw InputError(part.file, "has " + std::to_string(part.faces.size()) +
+                                    " faces where the plan's part has " +
+                                    std::to_string(plan.part_faces));
+  if (plan.orientations.empty()) return verifyPlacement(plan, part, spec, options, progress);
+
+  // Each orientation on its own, then the results merged.
+  PlanCheck check;
+  check.plan = plan;
+  Plan& again = check.plan;
+  for (PlannedSample& s : again.samples) s.measured_by.clear();
+  if (options.registration) {
+    again.registration = Registration{};
+    again.sequence = Sequence{};
+  }
+  for (PlannedOrientation& o : again.orientations) {
+    PlanCheck part_check = verifyPlacement(orientationPlan(plan, o), part, spec, options, progress);
+    check.coverage_differences += part_check.coverage_differences;
+    check.registration_differences += part_check.registration_differences;
+    check.sequence_missing += part_check.sequence_missing;
+    check.sequence_breaks += part_check.sequence_breaks;
+    for (std::size_t i = 0; i < again.samples.size(); ++i) {
+      std::vector<int>& by = again.samples[i].measured_by;
+      const std::vector<int>& found = part_check.plan.samples[i].measured_by;
+      by.insert(by.end(), found.begin(), found.end());
+    }
+    if (!options.registration) continue;
+    o.markers = part_check.plan.markers;
+    o.reference = part_check.plan.registration->reference;
+    appendRegistration(*again.registration, std::move(*part_check.plan.registration), 0);
+    const Sequence& sequence = *part_check.plan.sequence;
+    again.sequence->views.insert(again.sequence->views.end(), sequence.views.begin(),
+                                 sequence.views.end());
+    again.sequence->length += sequence.length;
+    again.sequence->nearest_neighbour_length += sequence.nearest_neighbour_length;
+  }
+  for (PlannedSample& s : again.samples) std::sort(s.measured_by.begin(), s.measured_by.end());
   return check;
 }
 

@@ -6,6 +6,9 @@
 #include <scanplan/planning.h>
 #include <scanplan/registration.h>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -277,8 +280,8 @@ class Graph {
       bool joins = false;
       double nearest = 0;
     };
-    std::vector<Candidate> candidates;
-    for (std::size_t k = 0; k < poses.size(); ++k) {
+    std::vector<std::optional<Candidate>> found(poses.size());
+    tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t k) {
       std::optional<std::size_t> partner;
       PairCheck best;
       bool joins = false;
@@ -294,12 +297,15 @@ class Graph {
           best = pair;
         }
       }
-      if (!partner) continue;
+      if (!partner) return;
       double nearest = std::numeric_limits<double>::infinity();
       for (int i : seen[k].points) nearest = std::min(nearest, to_other[i]);
-      if (!joins && !(nearest < gap - spacing_)) continue;
-      candidates.push_back({k, *partner, joins, joins ? 0.0 : nearest});
-    }
+      if (!joins && !(nearest < gap - spacing_)) return;
+      found[k] = Candidate{k, *partner, joins, joins ? 0.0 : nearest};
+    });
+    std::vector<Candidate> candidates;
+    for (const auto& candidate : found)
+      if (candidate) candidates.push_back(*candidate);
     std::stable_sort(candidates.begin(), candidates.end(), [](auto& a, auto& b) {
       return a.joins != b.joins ? a.joins : a.nearest < b.nearest;
     });
@@ -442,9 +448,13 @@ class Graph {
     for (int i : seen.markers) m.push_back(markers_[i].position);
     constrained_.push_back(icpCondition(p, n) <= options_.max_condition ||
                            markersRegister(m, options_.min_markers, options_.marker_spread));
+    std::vector<PairCheck> checks(index);
+    tbb::parallel_for(std::size_t{0}, index, [&](std::size_t j) {
+      checks[j] = check(views_[j], seen_[j], views_[index], seen_[index]);
+    });
     std::vector<std::size_t> fresh;
     for (std::size_t j = 0; j < index; ++j) {
-      PairCheck pair = check(views_[j], seen_[j], views_[index], seen_[index]);
+      PairCheck& pair = checks[j];
       if (pair.shared_markers == 0 && pair.overlap_area == 0) continue;
       pairs_.push_back(pair);
       ends_.push_back({j, index});
@@ -475,15 +485,46 @@ class Graph {
       if (a.markers) return a.shared_markers > b.shared_markers;
       return a.condition < b.condition;
     });
-    for (std::size_t p : candidates) {
+    std::size_t verified_up_to = 0;  // candidates before this index were ICP-verified ahead
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const std::size_t p = candidates[k];
       const PairCheck& pair = pairs_[p];
       if (!pair.markers && !pair.stable) continue;
       const int a = find(static_cast<int>(ends_[p].first));
       const int b = find(static_cast<int>(ends_[p].second));
-      if (a == b || !verify(p)) continue;
+      if (a == b) continue;
+      if (k >= verified_up_to) verified_up_to = verifyAhead(candidates, k);
+      if (!verify(p)) continue;
       parent_[std::max(a, b)] = std::min(a, b);
       used_.push_back(p);
     }
+  }
+
+  // Runs the ICP checks of the next few candidates from `first` that would join two
+  // components as things stand, in parallel; returns the index after the last one looked
+  // at. Some may turn out not to be needed once an earlier one joins their components;
+  // the tree is the same as with one check at a time.
+  std::size_t verifyAhead(const std::vector<std::size_t>& candidates, std::size_t first) {
+    if (!options_.verify) return candidates.size();
+    const std::size_t batch_size =
+        2 * static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+    std::vector<std::size_t> batch;
+    std::size_t k = first;
+    for (; k < candidates.size() && batch.size() < batch_size; ++k) {
+      const std::size_t p = candidates[k];
+      const PairCheck& pair = pairs_[p];
+      if (pair.markers || !pair.stable || pair.icp) continue;
+      if (find(static_cast<int>(ends_[p].first)) == find(static_cast<int>(ends_[p].second)))
+        continue;
+      batch.push_back(p);
+    }
+    report(progress_, "registration: ICP of " + std::to_string(batch.size()) + " view pairs", 0);
+    tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t b) {
+      const std::size_t p = batch[b];
+      pairs_[p].icp =
+          checkIcp(simulator_, views_[ends_[p].first], views_[ends_[p].second], options_);
+    });
+    return k;
   }
 
   const Simulator& simulator_;
@@ -550,6 +591,28 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
   Registration registration = graph->result(first_bridge);
   registration.markers = markers.size();
   return registration;
+}
+
+void appendRegistration(Registration& into, Registration from, int id_offset) {
+  auto shift = [&](int& id) {
+    if (id > 0) id += id_offset;
+  };
+  const bool first = into.views.empty();
+  for (ViewRegistration& r : from.views) {
+    shift(r.to);
+    into.views.push_back(r);
+  }
+  for (PairCheck& pair : from.pairs) {
+    shift(pair.a);
+    shift(pair.b);
+    into.pairs.push_back(pair);
+  }
+  into.markers += from.markers;
+  into.components += from.components;
+  into.bridging_views += from.bridging_views;
+  into.verified = first ? from.verified : into.verified && from.verified;
+  shift(from.reference);
+  if (into.reference == 0) into.reference = from.reference;
 }
 
 }  // namespace scanplan
