@@ -44,8 +44,9 @@ struct PatchSurface {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
-constexpr int kMaxGrid = 400;  // nodes per direction of a sweep grid
-constexpr int kMaxFit = 120;   // fitted heights per direction of a patch
+constexpr int kMaxGrid = 400;          // nodes per direction of a sweep grid
+constexpr int kMaxFit = 120;           // fitted heights per direction of a patch
+constexpr double kMaxTileSpread = 40;  // degrees between a tile's normals and its mean
 
 int nodesFor(double length, double spacing, int most) {
   return std::clamp(static_cast<int>(std::ceil(length / spacing)) + 1, 2, most);
@@ -163,6 +164,27 @@ std::vector<std::vector<int>> segmentByNormal(const Part& part, const std::vecto
     sets.push_back(std::move(set));
   }
   return sets;
+}
+
+double normalSpread(const Part& part, const std::vector<int>& faces) {
+  Vec3 sum = Vec3::Zero();
+  for (int id : faces) {
+    const Face& face = part.face(id);
+    for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t)
+      sum += part.mesh.area(t) * part.mesh.normal(t);
+  }
+  if (sum.norm() < 1e-9 * std::max(1.0, part.area())) return 180;
+  const Vec3 mean = sum.normalized();
+  double spread = 0;
+  for (int id : faces) {
+    const Face& face = part.face(id);
+    for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
+      const Vec3 n = part.mesh.normal(t);
+      if (!n.isZero())
+        spread = std::max(spread, std::acos(std::clamp(n.dot(mean), -1.0, 1.0)) / kDeg);
+    }
+  }
+  return spread;
 }
 
 double InterpolatedPatch::height(double x, double y) const {
@@ -407,8 +429,8 @@ void writePatch(const InterpolatedPatch& patch, const std::string& path) {
   const bool step = extension == ".step" || extension == ".stp";
   if (!step && extension != ".brep")
     throw OutputError(path, "a patch is written as .step, .stp or .brep");
-  // The patch restricted to the fitted cells whose corners all lie over a face, one face
-  // per run of such cells along x, in the part frame.
+  // The patch restricted to the fitted cells with a corner over a face (so that it covers
+  // the faces), one face per run of such cells along x, in the part frame.
   const int nx = patch.nx, ny = patch.ny;
   const double dx = (patch.x1 - patch.x0) / (nx - 1), dy = (patch.y1 - patch.y0) / (ny - 1);
   std::vector<char> over(static_cast<std::size_t>(nx) * ny, 0);
@@ -436,7 +458,7 @@ void writePatch(const InterpolatedPatch& patch, const std::string& path) {
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx;) {
       auto cell = [&](int a) {
-        return over[a + nx * j] && over[a + 1 + nx * j] && over[a + nx * (j + 1)] &&
+        return over[a + nx * j] || over[a + 1 + nx * j] || over[a + nx * (j + 1)] ||
                over[a + 1 + nx * (j + 1)];
       };
       if (!cell(i)) {
@@ -508,6 +530,8 @@ std::vector<int> tileBounds(const std::vector<double>& length, int count) {
 
 struct TileFit {
   double width = 0, height = 0, depth = 0;
+  double spread = 0;          // largest angle between a node's normal and the tile's, degrees
+  bool turns_along_u = true;  // the normals turn more along u than along v
 };
 
 // Fills the tile's frame and extents from its nodes; `along_u` when the field of view's
@@ -540,7 +564,18 @@ TileFit frameTile(const SurfaceGrid& grid, SweepTile& tile, bool along_u) {
   tile.width = a1 - a0;
   tile.height = b1 - b0;
   tile.centre = 0.5 * (a0 + a1) * tile.across + 0.5 * (b0 + b1) * along + mean_c * tile.normal;
-  return {tile.width, tile.height, c1 - c0};
+  TileFit fit{tile.width, tile.height, c1 - c0};
+  double turn_u = 0, turn_v = 0;
+  for (std::size_t k : tile.nodes) {
+    const Vec3& n = grid.normals[k];
+    fit.spread = std::max(fit.spread, std::acos(std::clamp(n.dot(tile.normal), -1.0, 1.0)) / kDeg);
+    const int i = static_cast<int>(k % grid.nu), j = static_cast<int>(k / grid.nu);
+    if (i + 1 < grid.nu) turn_u += std::acos(std::clamp(n.dot(grid.normals[k + 1]), -1.0, 1.0));
+    if (j + 1 < grid.nv)
+      turn_v += std::acos(std::clamp(n.dot(grid.normals[k + grid.nu]), -1.0, 1.0));
+  }
+  fit.turns_along_u = turn_u >= turn_v;
+  return fit;
 }
 
 }  // namespace
@@ -560,7 +595,7 @@ std::vector<SweepTile> sweepTiles(const SurfaceGrid& grid, const Scanner& scanne
   int tiles_u = count(length_u.back(), width_along_u ? w : h);
   int tiles_v = count(length_v.back(), width_along_u ? h : w);
   constexpr int kMaxTiles = 4000;
-  for (;;) {
+  for (int round = 0;; ++round) {
     const std::vector<int> bu = tileBounds(length_u, std::min(tiles_u, grid.nu));
     const std::vector<int> bv = tileBounds(length_v, std::min(tiles_v, grid.nv));
     tiles_u = static_cast<int>(bu.size()) - 1;
@@ -583,17 +618,20 @@ std::vector<SweepTile> sweepTiles(const SurfaceGrid& grid, const Scanner& scanne
         const TileFit fit = frameTile(grid, tile, width_along_u);
         wide = wide || fit.width > scanner.fov_width * (1 - overlap) * 1.02;
         tall = tall || fit.height > scanner.fov_height * (1 - overlap) * 1.02;
-        // A tile deeper than the measuring volume is cut across its longer side.
+        // A tile deeper than the measuring volume is cut across its longer side; one whose
+        // normals turn too far to be seen from one direction, across the turn.
         if (fit.depth > 0.8 * scanner.depth_of_field)
           (fit.width / scanner.fov_width >= fit.height / scanner.fov_height ? wide : tall) = true;
+        if (fit.spread > kMaxTileSpread) (fit.turns_along_u == width_along_u ? wide : tall) = true;
         tiles.push_back(std::move(tile));
       }
-    const bool can_grow = (tiles_u + 1) * (tiles_v + 1) <= kMaxTiles &&
+    const bool can_grow = round < 30 && (tiles_u + 1) * (tiles_v + 1) <= kMaxTiles &&
                           (tiles_u < grid.nu - 1 || tiles_v < grid.nv - 1);
     if (!(wide || tall) || !can_grow) return tiles;
     // Cut more finely in the parameter direction that carries the extent too large.
-    if (wide) (width_along_u ? tiles_u : tiles_v) += 1;
-    if (tall) (width_along_u ? tiles_v : tiles_u) += 1;
+    auto grow = [](int& n) { n += std::max(1, n / 4); };
+    if (wide) grow(width_along_u ? tiles_u : tiles_v);
+    if (tall) grow(width_along_u ? tiles_v : tiles_u);
   }
 }
 

@@ -232,6 +232,28 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("1 samples measured otherwise than planned"), std::string::npos) << r.out;
 }
 
+TEST(Cli, SurfacePlanOverEveryRestOrientationWritesPatchesAndVerifies) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(
+      dir.file("spec.yaml"),
+      "part: {rest: all}\ntasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
+  CommandResult r =
+      run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " + dir.file("out") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("rest orientations      1:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("measured samples       1348 (100.0%)"), std::string::npos) << r.out;
+  // The flat sets' patches are written beside the plan and read back as faces.
+  ASSERT_TRUE(std::filesystem::exists(dir.file("out/patch-1.step"))) << r.out;
+  r = run("info " + dir.file("out/patch-1.step") + " -q");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("BSpline"), std::string::npos) << r.out;
+  r = run("verify " + dir.file("out/plan.json") + " " + part + " --spec " + dir.file("spec.yaml") +
+          " -q");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("coverage check         as planned"), std::string::npos) << r.out;
+}
+
 TEST(Cli, PlanWithNothingToPlanIsExitCodeThree) {
   test::TempDir dir;
   test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: trim}\n");

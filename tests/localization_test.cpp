@@ -122,7 +122,7 @@ TEST(RestOrientations, OnAGivenFace) {
 
   const Part cylinder = brepPart(BRepPrimAPI_MakeCylinder(20, 50).Shape(), dir, "c.brep");
   for (const Face& face : cylinder.faces)
-    if (face.type == SurfaceType::Cylinder)
+    if (face.type == SurfaceType::Cylinder) {
       EXPECT_THROW(
           {
             try {
@@ -133,6 +133,7 @@ TEST(RestOrientations, OnAGivenFace) {
             }
           },
           InputError);
+    }
 }
 
 TEST(RestOrientations, MeshPartUsesItsClosedMesh) {

@@ -65,7 +65,9 @@ TEST(Planning, RestAllMeasuresEverySideOfACube) {
   EXPECT_TRUE(second.count(plan.sequence->views.back()));
   for (std::size_t v = 0; v < plan.views.size(); ++v) {
     const int to = plan.registration->views[v].to;
-    if (to > 0) EXPECT_EQ(first.count(to), first.count(plan.views[v].id)) << plan.views[v].id;
+    if (to > 0) {
+      EXPECT_EQ(first.count(to), first.count(plan.views[v].id)) << plan.views[v].id;
+    }
   }
 
   // Each orientation's views, simulated again in their own placement, measure what the

@@ -83,12 +83,9 @@ TEST(Sweep, PlateTilesCoverWithTheOverlap) {
     const double across = std::abs(step.dot(a.camera_to_world.linear().col(0)));
     const double along = std::abs(step.dot(a.camera_to_world.linear().col(1)));
     const bool same_row = along < across;
-    if (same_row)
-      EXPECT_LE(across, plan.scanner.fov_width * (1 - overlap) + 1)
-          << "views " << a.id << ", " << b.id;
-    else
-      EXPECT_LE(along, plan.scanner.fov_height * (1 - overlap) + 1)
-          << "views " << a.id << ", " << b.id;
+    const double step_limit =
+        (same_row ? plan.scanner.fov_width : plan.scanner.fov_height) * (1 - overlap) + 1;
+    EXPECT_LE(same_row ? across : along, step_limit) << "views " << a.id << ", " << b.id;
     const auto la = simulator.measure(a, grid), lb = simulator.measure(b, grid);
     std::size_t common = 0, in_a = 0;
     for (std::size_t i = 0; i < grid.size(); ++i) {

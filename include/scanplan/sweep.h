@@ -30,11 +30,15 @@ struct SurfaceGrid {
 // or an unknown face.
 SurfaceGrid faceGrid(const Part& part, int face, double spacing);
 
-// Faces split into sets whose area-weighted normals all lie within `max_angle` degrees of
-// the set's mean direction (grown from the largest face over shared edges, then by
-// direction alone), largest set first.
+// Faces split into sets whose triangle normals all lie within `max_angle` degrees of the
+// set's area-weighted mean direction, grown by direction alone from the largest face not
+// yet taken; a face that turns further than that on its own forms a set alone.
 std::vector<std::vector<int>> segmentByNormal(const Part& part, const std::vector<int>& faces,
                                               double max_angle = 80);
+
+// Largest angle, degrees, between a triangle normal of `faces` and their area-weighted
+// mean normal; 180 when the normals cancel out (a closed cylinder).
+double normalSpread(const Part& part, const std::vector<int>& faces);
 
 namespace detail {
 struct PatchSurface;  // the OCCT B-spline surface, defined in src/sweep.cpp
@@ -65,7 +69,8 @@ struct InterpolatedPatch {
 InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& faces, double spacing,
                                     double grid_spacing, double tolerance = 0.05);
 
-// Writes the patch trimmed to where it lies over a face, as STEP (.step, .stp) or BREP
+// Writes the patch trimmed to the fitted cells with a corner over a face, as STEP (.step, .stp) or
+// BREP
 // (.brep), in the part frame. \throw OutputError when the file cannot be written or its
 // extension is neither.
 void writePatch(const InterpolatedPatch& patch, const std::string& path);

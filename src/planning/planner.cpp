@@ -368,18 +368,28 @@ std::vector<SweepTarget> sweepTargets(const Part& part, const std::vector<Planne
     if (s.sample.task == TaskType::Gdt) gdt_faces[s.sample.face].push_back(s.sample.position);
   }
   std::vector<SweepTarget> targets;
+  constexpr double kMaxSpread = 80;  // degrees: a set seen along one direction
   if (!surface_faces.empty())
     for (const std::vector<int>& set :
-         segmentByNormal(part, {surface_faces.begin(), surface_faces.end()})) {
+         segmentByNormal(part, {surface_faces.begin(), surface_faces.end()}, kMaxSpread)) {
       SweepTarget target;
       target.sweep.task = TaskType::Surface;
       target.sweep.faces = set;
-      target.sweep.patch = interpolatedPatch(part, set, fit_spacing, grid_spacing);
-      target.grid = toWorld(target.sweep.patch->grid, part_to_world);
+      if (normalSpread(part, set) <= kMaxSpread) {
+        target.sweep.patch = interpolatedPatch(part, set, fit_spacing, grid_spacing);
+        target.grid = toWorld(target.sweep.patch->grid, part_to_world);
+      } else if (part.brep) {
+        // One face turning too far to be seen along one direction (a cylinder): swept
+        // over its own parameters.
+        target.grid = toWorld(faceGrid(part, set.front(), grid_spacing), part_to_world);
+      } else {
+        continue;  // left to iterative adding
+      }
       targets.push_back(std::move(target));
     }
   for (const auto& [face, points] : gdt_faces) {
     if (!needsSweep(points, scanner)) continue;
+    if (!part.brep && normalSpread(part, {face}) > kMaxSpread) continue;
     SweepTarget target;
     target.sweep.task = TaskType::Gdt;
     target.sweep.faces = {face};
