@@ -37,6 +37,24 @@ int topFace(const Part& part) {
   return best;
 }
 
+// Samples of `plan` that some valid dense candidate pose measures, and how many of those
+// the plan measures.
+std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part, const Plan& plan) {
+  SimulationOptions simulation;
+  simulation.part_to_world = plan.part_to_world;
+  const Simulator simulator(part, plan.scanner, simulation);
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : plan.samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
+  std::size_t can = 0, measured = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    can += coverable[i];
+    measured += coverable[i] && !plan.samples[i].measured_by.empty();
+  }
+  return {can, measured};
+}
+
 PlanningOptions withoutRegistration() {
   PlanningOptions options;
   options.registration = false;
@@ -168,18 +186,7 @@ TEST(Sweep, CurvedPanelUnderAnInterpolatedPatch) {
   ASSERT_EQ(plan.sweeps.size(), 1u);
   ASSERT_TRUE(plan.sweeps.front().patch);
   EXPECT_FALSE(plan.sweeps.front().views.empty());
-  SimulationOptions simulation;
-  simulation.part_to_world = plan.part_to_world;
-  const Simulator simulator(part, plan.scanner, simulation);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
-  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
-  std::size_t can = 0, measured = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    can += coverable[i];
-    measured += coverable[i] && !plan.samples[i].measured_by.empty();
-  }
+  const auto [can, measured] = coverableAndMeasured(part, plan);
   ASSERT_GT(can, 0u);
   EXPECT_GE(static_cast<double>(measured), 0.99 * static_cast<double>(can));
 }
@@ -208,18 +215,7 @@ TEST(Sweep, SheetMetalBasePlate) {
       dir);
   const Plan plan = planViews(part, spec, withoutRegistration());
   ASSERT_EQ(plan.sweeps.size(), 1u);
-  SimulationOptions simulation;
-  simulation.part_to_world = plan.part_to_world;
-  const Simulator simulator(part, plan.scanner, simulation);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
-  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
-  std::size_t can = 0, measured = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    can += coverable[i];
-    measured += coverable[i] && !plan.samples[i].measured_by.empty();
-  }
+  const auto [can, measured] = coverableAndMeasured(part, plan);
   ASSERT_GT(can, 0u);
   EXPECT_GE(static_cast<double>(measured), 0.95 * static_cast<double>(can));
 }
