@@ -32,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 namespace scanplan {
 
@@ -193,29 +194,44 @@ double InterpolatedPatch::height(double x, double y) const {
 
 namespace {
 
-// Heights of `faces` seen from above along z of `frame`, on the nodes of a regular grid
-// of nx x ny nodes spanning [x0, x1] x [y0, y1] (the border rays nudged inwards so that
-// faces ending on the border are hit): the exact intersection with the hit face (B-Rep),
-// else the mesh hit. NaN where no face lies under the node. On a B-Rep, nodes within
-// two nodes of a hit continue the neighbouring face's surface past its trims.
-std::vector<double> faceHeights(const Part& part, const std::vector<int>& faces,
-                                const InterpolatedPatch& patch, double top) {
-  const RayCaster caster(part.meshOf(faces));
-  const Vec3 down = -patch.frame.linear().col(2);
-  const int nx = patch.nx, ny = patch.ny;
-  const double nudge_x = 1e-4 * (patch.x1 - patch.x0), nudge_y = 1e-4 * (patch.y1 - patch.y0);
+// The points (x, y) of an nx x ny grid over the patch's extent, nudged inwards at the
+// border so that faces ending there are hit, and the closest hits of rays cast down onto
+// the faces along z from height `top`.
+struct DownHits {
   std::vector<Eigen::Vector2d> xy;
   std::vector<Ray> rays;
+  std::vector<std::optional<RayHit>> hits;
+};
+DownHits castDown(const RayCaster& caster, const InterpolatedPatch& patch, int nx, int ny,
+                  double top) {
+  const Vec3 down = -patch.frame.linear().col(2);
+  const double nudge_x = 1e-4 * (patch.x1 - patch.x0), nudge_y = 1e-4 * (patch.y1 - patch.y0);
+  DownHits result;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const double x = std::clamp(patch.x0 + (patch.x1 - patch.x0) * i / (nx - 1),
                                   patch.x0 + nudge_x, patch.x1 - nudge_x);
       const double y = std::clamp(patch.y0 + (patch.y1 - patch.y0) * j / (ny - 1),
                                   patch.y0 + nudge_y, patch.y1 - nudge_y);
-      xy.emplace_back(x, y);
-      rays.push_back(Ray{patch.frame * Vec3(x, y, top), down});
+      result.xy.emplace_back(x, y);
+      result.rays.push_back(Ray{patch.frame * Vec3(x, y, top), down});
     }
-  const auto hits = caster.intersect(rays);
+  result.hits = caster.intersect(result.rays);
+  return result;
+}
+
+// Heights of `faces` (cast onto by `caster`) seen from above along z of the patch frame,
+// on the patch's nx x ny fitting grid: the exact intersection with the hit face (B-Rep),
+// else the mesh hit. NaN where no face lies under the node. On a B-Rep, nodes within two
+// nodes of a hit continue the neighbouring face's surface past its trims.
+std::vector<double> faceHeights(const Part& part, const RayCaster& caster,
+                                const InterpolatedPatch& patch, double top) {
+  const Vec3 down = -patch.frame.linear().col(2);
+  const int nx = patch.nx, ny = patch.ny;
+  const DownHits cast = castDown(caster, patch, nx, ny, top);
+  const std::vector<Eigen::Vector2d>& xy = cast.xy;
+  const std::vector<Ray>& rays = cast.rays;
+  const std::vector<std::optional<RayHit>>& hits = cast.hits;
   std::vector<double> heights(rays.size(), std::nan(""));
   for (std::size_t k = 0; k < rays.size(); ++k)
     if (hits[k]) heights[k] = top - hits[k]->t;
@@ -373,7 +389,8 @@ InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& fa
   patch.ny = nodesFor(patch.y1 - patch.y0, spacing, kMaxFit);
   const int nx = patch.nx, ny = patch.ny;
   const double dx = (patch.x1 - patch.x0) / (nx - 1), dy = (patch.y1 - patch.y0) / (ny - 1);
-  std::vector<double> heights = faceHeights(part, faces, patch, top);
+  const RayCaster caster(mesh);
+  std::vector<double> heights = faceHeights(part, caster, patch, top);
   const std::vector<double> exact = heights;
   fillHoles(heights, nx, ny);
   TColStd_Array2OfReal values(1, nx, 1, ny);
@@ -401,25 +418,17 @@ InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& fa
   SurfaceGrid& grid = patch.grid;
   grid.nu = nodesFor(patch.x1 - patch.x0, grid_spacing, kMaxGrid);
   grid.nv = nodesFor(patch.y1 - patch.y0, grid_spacing, kMaxGrid);
-  const RayCaster caster(mesh);
-  std::vector<Ray> rays;
   for (int j = 0; j < grid.nv; ++j)
     for (int i = 0; i < grid.nu; ++i) {
-      const double px = patch.x0 + (patch.x1 - patch.x0) * i / (grid.nu - 1),
-                   py = patch.y0 + (patch.y1 - patch.y0) * j / (grid.nv - 1);
       gp_Pnt p;
       gp_Vec du, dv;
-      surface->surface->D1(px, py, p, du, dv);
+      surface->surface->D1(patch.x0 + (patch.x1 - patch.x0) * i / (grid.nu - 1),
+                           patch.y0 + (patch.y1 - patch.y0) * j / (grid.nv - 1), p, du, dv);
       const gp_Vec n = du.Crossed(dv);
       grid.points.push_back(patch.frame * Vec3(p.X(), p.Y(), p.Z()));
       grid.normals.push_back(patch.frame.linear() * Vec3(n.X(), n.Y(), n.Z()).normalized());
-      const double nudge_x = 1e-4 * (patch.x1 - patch.x0), nudge_y = 1e-4 * (patch.y1 - patch.y0);
-      rays.push_back(
-          Ray{patch.frame * Vec3(std::clamp(px, patch.x0 + nudge_x, patch.x1 - nudge_x),
-                                 std::clamp(py, patch.y0 + nudge_y, patch.y1 - nudge_y), top),
-              -z});
     }
-  const auto hits = caster.intersect(rays);
+  const auto hits = castDown(caster, patch, grid.nu, grid.nv, top).hits;
   for (const auto& hit : hits) grid.inside.push_back(hit.has_value());
   return patch;
 }
