@@ -52,3 +52,22 @@ target_link_libraries(scanplan_occt INTERFACE
   TKernel TKMath TKG2d TKG3d TKGeomBase TKBRep TKGeomAlgo TKTopAlgo TKPrim TKBO
   TKShHealing TKMesh TKLCAF TKCAF TKXSBase TKSTEPBase TKSTEP TKIGES TKXCAF TKXDESTEP
   TKXDEIGES TKSTL TKRWMesh TKGeomAlgo)
+
+scanplan_require(TinyGLTF libtinygltf-dev CONFIG)
+pkg_check_modules(STB IMPORTED_TARGET stb)
+if(NOT STB_FOUND)
+  message(FATAL_ERROR "scanplan needs stb: install the Debian package 'libstb-dev' "
+                      "(scripts/install-deps.sh installs every dependency)")
+endif()
+
+# The report's 3D viewer is bundled with three.js by esbuild, both from the npm registry
+# (web/package.json, installed by scripts/install-deps.sh with npm ci).
+# The platform's own esbuild binary first (it runs even where npm skipped install scripts).
+file(GLOB esbuild_platform_bins ${PROJECT_SOURCE_DIR}/web/node_modules/@esbuild/*/bin)
+find_program(SCANPLAN_ESBUILD esbuild
+             PATHS ${esbuild_platform_bins} ${PROJECT_SOURCE_DIR}/web/node_modules/.bin
+             NO_DEFAULT_PATH)
+if(NOT SCANPLAN_ESBUILD)
+  message(FATAL_ERROR "scanplan needs the report's web packages: run scripts/install-deps.sh "
+                      "(it runs npm ci in web/)")
+endif()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds scanplan and runs it on the bundled example part
 # (NIST CTC 01, STEP AP242 with semantic GD&T): what it reads, then the plan of its
-# GD&T faces and of its whole shape, written to example-out/plan.json.
+# GD&T faces and of its whole shape, written to example-out/plan.json with its 3D report
+# example-out/report.html and a picture example-out/plan.png.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -10,4 +11,5 @@ cmake --preset release
 cmake --build --preset release --target scanplan_cli
 build/release/apps/scanplan/scanplan info examples/parts/nist_ctc_01_asme1_ap242-e1.stp
 build/release/apps/scanplan/scanplan plan examples/parts/nist_ctc_01_asme1_ap242-e1.stp \
-  --spec examples/specs/ctc01.yaml -o example-out
+  --spec examples/specs/ctc01.yaml -o example-out --png
+echo "Open example-out/report.html in a browser to see the plan."

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Installs every Debian package scanplan needs to build, test and run (Debian 12).
+# Installs every Debian package scanplan needs to build, test and run (Debian 12), then
+# the report's web packages (three.js, esbuild, playwright-core) from the npm registry
+# into web/node_modules, pinned by web/package-lock.json.
 # Idempotent: installs only what is missing. Runs as root, or through sudo.
 set -euo pipefail
 
@@ -9,7 +11,8 @@ packages=(
   libocct-ocaf-dev libocct-data-exchange-dev libocct-visualization-dev
   libembree-dev libeigen3-dev libtbb-dev libnanoflann-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev libqhull-dev
-  libopen3d-dev
+  libopen3d-dev libtinygltf-dev libstb-dev
+  chromium
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
@@ -18,8 +21,20 @@ for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
     missing+=("$package")
 done
+# Node.js and npm: the machine's own when it has them, else Debian's.
+command -v npm >/dev/null || missing+=(nodejs npm)
+
+install_web() {
+  if [ ! -d web/node_modules/three ] || [ web/package-lock.json -nt web/node_modules/.package-lock.json ]; then
+    echo "install-deps: installing the report's web packages (npm ci in web/)"
+    (cd web && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+}
+
+cd "$(dirname "$0")/.."
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages are installed"
+  install_web
   exit 0
 fi
 
@@ -32,3 +47,4 @@ echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_web

@@ -420,25 +420,45 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
   return cloud;
 }
 
-void writePly(const PointCloud& cloud, const std::string& path) {
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "ply\nformat binary_little_endian 1.0\ncomment scanplan simulated cloud, mm\n"
-        << "element vertex " << cloud.points.size() << "\n"
-        << "property float x\nproperty float y\nproperty float z\n"
-        << "property float nx\nproperty float ny\nproperty float nz\n"
-        << "property int face\nproperty float incidence\nend_header\n";
-    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-      float values[6];
-      for (int k = 0; k < 3; ++k) {
-        values[k] = static_cast<float>(cloud.points[i][k]);
-        values[3 + k] = static_cast<float>(cloud.normals[i][k]);
-      }
-      out.write(reinterpret_cast<const char*>(values), sizeof values);
-      const std::int32_t face = cloud.faces[i];
-      out.write(reinterpret_cast<const char*>(&face), sizeof face);
-      out.write(reinterpret_cast<const char*>(&cloud.incidence[i]), sizeof(float));
-    }
-  });
+PlyData cloudPly(const PointCloud& cloud) {
+  PlyElement vertex{"vertex", cloud.points.size(), {}};
+  const char* axes[3] = {"x", "y", "z"};
+  const char* normal_axes[3] = {"nx", "ny", "nz"};
+  auto column = [&](auto value) {
+    std::vector<double> values(cloud.points.size());
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = value(i);
+    return values;
+  };
+  for (int k = 0; k < 3; ++k)
+    vertex.add(axes[k], PlyType::Float32,
+               column([&](std::size_t i) { return cloud.points[i][k]; }));
+  for (int k = 0; k < 3; ++k)
+    vertex.add(normal_axes[k], PlyType::Float32,
+               column([&](std::size_t i) { return cloud.normals[i][k]; }));
+  vertex.add("face", PlyType::Int32, column([&](std::size_t i) { return cloud.faces[i]; }));
+  vertex.add("incidence", PlyType::Float32,
+             column([&](std::size_t i) { return cloud.incidence[i]; }));
+  return {{"scanplan simulated cloud, mm"}, {std::move(vertex)}};
+}
+
+void writePly(const PointCloud& cloud, const std::string& path) { writePly(cloudPly(cloud), path); }
+
+PointCloud readCloudPly(const std::string& path) {
+  const PlyData data = readPly(path);
+  auto column = [&](const char* name) -> const std::vector<double>& {
+    return plyColumn(data, "vertex", name, path);
+  };
+  const std::vector<double>&x = column("x"), &y = column("y"), &z = column("z");
+  const std::vector<double>&nx = column("nx"), &ny = column("ny"), &nz = column("nz");
+  const std::vector<double>&face = column("face"), &incidence = column("incidence");
+  PointCloud cloud;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    cloud.points.emplace_back(x[i], y[i], z[i]);
+    cloud.normals.emplace_back(nx[i], ny[i], nz[i]);
+    cloud.faces.push_back(static_cast<int>(face[i]));
+    cloud.incidence.push_back(static_cast<float>(incidence[i]));
+  }
+  return cloud;
 }
 
 }  // namespace scanplan

@@ -2,11 +2,17 @@
 
 #include "support.h"
 
+#include <scanplan/io/plan_json.h>
+#include <scanplan/io/ply.h>
+#include <scanplan/io/views_csv.h>
+#include <scanplan/report.h>
+
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <set>
 
 namespace scanplan {
 namespace {
@@ -144,7 +150,10 @@ TEST(Cli, SampleGdtFromFileWritesPlyAndJson) {
   EXPECT_NE(r.out.find("task gdt"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("task global"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("clusters  "), std::string::npos) << r.out;
-  EXPECT_TRUE(std::filesystem::exists(dir.file("s.ply")));
+  const PlyData samples = readPly(dir.file("s.ply"));
+  ASSERT_NE(samples.find("vertex"), nullptr);
+  EXPECT_GT(samples.find("vertex")->count, 0u);
+  EXPECT_NE(samples.find("vertex")->find("cluster"), nullptr);
   r = run("sample -q " + part + " --out " + dir.file("s.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream in(dir.file("s.json"));
@@ -277,6 +286,57 @@ TEST(Cli, HelpIsExitCodeZero) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.out.find("info"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  const std::string out = dir.file("out");
+  CommandResult r = run("plan " + part + " -o " + out + " --png -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("report     " + out + "/report.html"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.html"));
+  EXPECT_GT(readPng(out + "/plan.png").width, 0);
+  const Plan plan = readPlan(out + "/plan.json");
+
+  r = run("export " + out + "/plan.json --format csv -o " + dir.file("views.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(readViewsCsv(dir.file("views.csv")).size(), plan.views.size());
+  r = run("export " + out + "/plan.json " + part + " --format samples-ply -o " +
+          dir.file("samples.ply") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(readPly(dir.file("samples.ply")).find("vertex")->count, plan.samples.size());
+  // Without PART: the part file the plan names.
+  r = run("export " + out + "/plan.json --format clouds-ply -o " + dir.file("clouds.ply") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const PlyData clouds = readPly(dir.file("clouds.ply"));
+  std::set<double> views(plyColumn(clouds, "vertex", "view", "clouds").begin(),
+                         plyColumn(clouds, "vertex", "view", "clouds").end());
+  EXPECT_EQ(views.size(), plan.views.size());
+  r = run("export " + out + "/plan.json --format glb -o " + dir.file("plan.glb") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("plan.glb")));
+  r = run("report " + out + "/plan.json -o " + dir.file("again.html") + " --png " +
+          dir.file("again.png") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.file("again.html")));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("again.png")));
+
+  // Bad input: an unknown format is a usage error, a missing plan an input error; neither
+  // leaves a file behind.
+  r = run("export " + out + "/plan.json --format obj -o " + dir.file("x.obj"));
+  EXPECT_EQ(r.code, 1) << r.out;
+  r = run("export " + dir.file("missing.json") + " --format csv -o " + dir.file("x.csv"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("missing.json"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.obj")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.csv")));
 }
 
 }  // namespace

@@ -26,6 +26,12 @@ void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& select
 // scanplan verify plan.json PART [--spec spec.yaml]
 void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
+// scanplan report plan.json [PART] [-o report.html] [--png picture.png]
+void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
+// scanplan export plan.json [PART] --format glb|samples-ply|clouds-ply|csv|png -o FILE
+void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan simulate PART --views views.json [--spec spec.yaml] [--cloud DIR] [--json]
 void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 

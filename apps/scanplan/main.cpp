@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   cli::addSampleCommand(app, global, action);
   cli::addSimulateCommand(app, global, action);
   cli::addVerifyCommand(app, global, action);
+  cli::addReportCommand(app, global, action);
+  cli::addExportCommand(app, global, action);
 
   try {
     app.parse(argc, argv);

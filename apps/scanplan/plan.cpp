@@ -1,4 +1,4 @@
-// scanplan plan: the main job, from a part and a spec to plan.json.
+// scanplan plan: the main job, from a part and a spec to plan.json and report.html.
 
 #include "commands.h"
 #include "summary.h"
@@ -8,10 +8,12 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
+#include <scanplan/report.h>
 #include <scanplan/spec.h>
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <filesystem>
 #include <map>
 
@@ -24,6 +26,8 @@ struct Options {
   std::string outdir = "scanplan-out";
   bool bound = false;
   bool registration = true;
+  bool report = true;
+  bool png = false;
 };
 
 int run(const Options& options, const GlobalOptions& global) {
@@ -46,6 +50,13 @@ int run(const Options& options, const GlobalOptions& global) {
   }
   const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
   writePlan(plan, path);
+  const std::filesystem::path outdir(options.outdir);
+  const auto report_start = std::chrono::steady_clock::now();
+  if (options.report)
+    writeReport(plan, part, spec, (outdir / "report.html").string(), {}, progress);
+  const double report_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
+  if (options.png) writePng(renderScene(planScene(plan, part)), (outdir / "plan.png").string());
   clearProgress();
 
   // Summary: samples per task and role, measured, not coverable by reason.
@@ -76,7 +87,10 @@ int run(const Options& options, const GlobalOptions& global) {
                     : 0.0);
   }
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
+  if (options.report) fmt::print("  {:<16} {:.2f} s\n", "report", report_seconds);
   fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);
+  if (options.report) fmt::print("report     {}\n", (outdir / "report.html").string());
+  if (options.png) fmt::print("picture    {}\n", (outdir / "plan.png").string());
   return 0;
 }
 
@@ -94,6 +108,11 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
                     "report planner / ILP views");
   command->add_flag("!--no-registration", options->registration,
                     "Skip the registration check, bridging and sequencing");
+  command->add_flag("!--no-report", options->report,
+                    "Do not write report.html (the 3D HTML report) beside plan.json");
+  command->add_flag("--png", options->png,
+                    "Also write plan.png, a picture of the part coloured by coverage with the "
+                    "views and the path");
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };
   });

@@ -7,6 +7,7 @@
 #include <scanplan/clustering.h>
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
+#include <scanplan/io/ply.h>
 #include <scanplan/planning.h>
 #include <scanplan/sampling.h>
 #include <scanplan/spec.h>
@@ -60,27 +61,24 @@ void writeSamples(const std::string& path, const std::vector<Sample>& samples,
   }
   if (ext != ".ply")
     throw OutputError(path, "unsupported output type '" + ext + "' (expected .ply or .json)");
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "ply\nformat binary_little_endian 1.0\ncomment scanplan samples, mm, part frame\n"
-        << "element vertex " << samples.size()
-        << "\nproperty float x\nproperty float y\nproperty float z\n"
-        << "property float nx\nproperty float ny\nproperty float nz\nproperty int face\nproperty "
-           "int cluster\n"
-        << "property uchar role\nproperty uchar task\nend_header\n";
-    for (const Sample& s : samples) {
-      float values[6];
-      for (int k = 0; k < 3; ++k) {
-        values[k] = static_cast<float>(s.position[k]);
-        values[3 + k] = static_cast<float>(s.normal[k]);
-      }
-      out.write(reinterpret_cast<const char*>(values), sizeof values);
-      const std::int32_t ints[2] = {s.face, s.cluster};
-      out.write(reinterpret_cast<const char*>(ints), sizeof ints);
-      const unsigned char codes[2] = {static_cast<unsigned char>(s.role),
-                                      static_cast<unsigned char>(s.task)};
-      out.write(reinterpret_cast<const char*>(codes), sizeof codes);
-    }
-  });
+  PlyElement vertex{"vertex", samples.size(), {}};
+  auto add = [&](const char* name, PlyType type, auto value) {
+    std::vector<double> values;
+    values.reserve(samples.size());
+    for (const Sample& sample : samples) values.push_back(static_cast<double>(value(sample)));
+    vertex.add(name, type, std::move(values));
+  };
+  const char* axes[3] = {"x", "y", "z"};
+  const char* normal_axes[3] = {"nx", "ny", "nz"};
+  for (int k = 0; k < 3; ++k)
+    add(axes[k], PlyType::Float32, [k](auto& s) { return s.position[k]; });
+  for (int k = 0; k < 3; ++k)
+    add(normal_axes[k], PlyType::Float32, [k](auto& s) { return s.normal[k]; });
+  add("face", PlyType::Int32, [](auto& s) { return s.face; });
+  add("cluster", PlyType::Int32, [](auto& s) { return s.cluster; });
+  add("role", PlyType::UInt8, [](auto& s) { return static_cast<int>(s.role); });
+  add("task", PlyType::UInt8, [](auto& s) { return static_cast<int>(s.task); });
+  writePly(PlyData{{"scanplan samples, mm, part frame"}, {std::move(vertex)}}, path);
 }
 
 int run(const Options& options, const GlobalOptions& global) {

@@ -4,6 +4,7 @@
 #include "cad/brep_import.h"
 
 #include <scanplan/errors.h>
+#include <scanplan/io/ply.h>
 
 #include <OSD_Path.hxx>
 #include <Poly_Triangulation.hxx>
@@ -142,151 +143,40 @@ RawMesh readOff(const std::string& path) {
   return mesh;
 }
 
-// PLY (ascii, binary_little_endian, binary_big_endian): vertices x, y, z and a face list
-// vertex_indices; a face scalar named group, face_id or segment becomes the group.
-class PlyReader {
- public:
-  explicit PlyReader(const std::string& path) : path_(path), in_(path, std::ios::binary) {}
-
-  RawMesh read() {
-    readHeader();
-    RawMesh mesh;
-    std::map<long, int> group_ids;
-    for (const Element& element : elements_) {
-      for (long i = 0; i < element.count; ++i) {
-        Vec3 p = Vec3::Zero();
-        std::vector<int> polygon;
-        long group = -1;
-        bool has_group = false;
-        for (const Property& property : element.properties) {
-          if (property.is_list) {
-            auto n = static_cast<long>(value(property.count_type));
-            if (n < 0 || n > 1 << 20) fail("a face has an invalid vertex count");
-            std::vector<int> items(n);
-            for (int& item : items) item = static_cast<int>(value(property.type));
-            if (property.name == "vertex_indices" || property.name == "vertex_index")
-              polygon = std::move(items);
-            continue;
-          }
-          double v = value(property.type);
-          if (element.name == "vertex") {
-            if (property.name == "x") p.x() = v;
-            if (property.name == "y") p.y() = v;
-            if (property.name == "z") p.z() = v;
-          } else if (element.name == "face" &&
-                     (property.name == "group" || property.name == "face_id" ||
-                      property.name == "segment")) {
-            group = std::lround(v);
-            has_group = true;
-          }
-        }
-        if (element.name == "vertex") mesh.vertices.push_back(p);
-        if (element.name == "face") {
-          int g = -1;
-          if (has_group) {
-            auto [it, inserted] = group_ids.emplace(group, static_cast<int>(group_ids.size()));
-            if (inserted) mesh.group_names.push_back("group " + std::to_string(group));
-            g = it->second;
-          }
-          addPolygon(mesh, polygon, g, path_);
-        }
-      }
+// PLY (any format readPly reads): vertices x, y, z and a face list vertex_indices (or
+// vertex_index); a face scalar named group, face_id or segment becomes the group.
+RawMesh readPlyMesh(const std::string& path) {
+  const PlyData data = readPly(path);
+  RawMesh mesh;
+  const PlyElement* vertices = data.find("vertex");
+  if (vertices != nullptr) {
+    const std::vector<double>& x = plyColumn(data, "vertex", "x", path);
+    const std::vector<double>& y = plyColumn(data, "vertex", "y", path);
+    const std::vector<double>& z = plyColumn(data, "vertex", "z", path);
+    for (std::size_t i = 0; i < vertices->count; ++i) mesh.vertices.emplace_back(x[i], y[i], z[i]);
+  }
+  const PlyElement* faces = data.find("face");
+  if (faces == nullptr) return mesh;
+  const PlyProperty* indices = faces->find("vertex_indices");
+  if (indices == nullptr) indices = faces->find("vertex_index");
+  if (indices == nullptr || !indices->is_list) return mesh;
+  const PlyProperty* group = nullptr;
+  for (const char* name : {"group", "face_id", "segment"})
+    if (group == nullptr && faces->find(name) != nullptr && !faces->find(name)->is_list)
+      group = faces->find(name);
+  std::map<long, int> group_ids;
+  for (std::size_t i = 0; i < faces->count; ++i) {
+    int g = -1;
+    if (group != nullptr) {
+      const long key = std::lround(group->values[i]);
+      auto [it, inserted] = group_ids.emplace(key, static_cast<int>(group_ids.size()));
+      if (inserted) mesh.group_names.push_back("group " + std::to_string(key));
+      g = it->second;
     }
-    return mesh;
+    addPolygon(mesh, indices->lists[i], g, path);
   }
-
- private:
-  struct Property {
-    std::string name, type, count_type;
-    bool is_list = false;
-  };
-  struct Element {
-    std::string name;
-    long count = 0;
-    std::vector<Property> properties;
-  };
-
-  [[noreturn]] void fail(const std::string& why) { throw InputError(path_, why); }
-
-  void readHeader() {
-    std::string line;
-    if (!std::getline(in_, line) || line.substr(0, 3) != "ply")
-      fail("not a PLY file: it does not begin with 'ply'");
-    while (std::getline(in_, line)) {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      std::istringstream words(line);
-      std::string keyword;
-      words >> keyword;
-      if (keyword == "format") {
-        words >> format_;
-        if (format_ != "ascii" && format_ != "binary_little_endian" &&
-            format_ != "binary_big_endian")
-          fail("unknown PLY format '" + format_ + "'");
-      } else if (keyword == "element") {
-        Element element;
-        if (!(words >> element.name >> element.count) || element.count < 0)
-          fail("malformed PLY element line: " + line);
-        elements_.push_back(element);
-      } else if (keyword == "property") {
-        if (elements_.empty()) fail("PLY property before any element");
-        Property property;
-        words >> property.type;
-        if (property.type == "list") {
-          property.is_list = true;
-          words >> property.count_type >> property.type;
-        }
-        words >> property.name;
-        for (const std::string& t : {property.type, property.count_type})
-          if (!t.empty() && typeSize(t) == 0) fail("unknown PLY property type '" + t + "'");
-        elements_.back().properties.push_back(property);
-      } else if (keyword == "end_header") {
-        return;
-      }
-    }
-    fail("truncated PLY file: no end_header");
-  }
-
-  static std::size_t typeSize(const std::string& type) {
-    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-    if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
-        type == "float32")
-      return 4;
-    if (type == "double" || type == "float64") return 8;
-    return 0;
-  }
-
-  double value(const std::string& type) {
-    if (format_ == "ascii") {
-      double v;
-      if (!(in_ >> v)) fail("truncated or malformed PLY data");
-      return v;
-    }
-    unsigned char bytes[8];
-    std::size_t size = typeSize(type);
-    if (!in_.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(size)))
-      fail("truncated PLY file: the data ends before the header's counts");
-    bool big = format_ == "binary_big_endian";
-    if (big != (std::endian::native == std::endian::big)) std::reverse(bytes, bytes + size);
-    auto as = [&](auto v) {
-      std::memcpy(&v, bytes, sizeof v);
-      return static_cast<double>(v);
-    };
-    if (type == "char" || type == "int8") return as(std::int8_t{});
-    if (type == "uchar" || type == "uint8") return as(std::uint8_t{});
-    if (type == "short" || type == "int16") return as(std::int16_t{});
-    if (type == "ushort" || type == "uint16") return as(std::uint16_t{});
-    if (type == "int" || type == "int32") return as(std::int32_t{});
-    if (type == "uint" || type == "uint32") return as(std::uint32_t{});
-    if (type == "float" || type == "float32") return as(float{});
-    return as(double{});
-  }
-
-  std::string path_;
-  std::ifstream in_;
-  std::string format_ = "ascii";
-  std::vector<Element> elements_;
-};
+  return mesh;
+}
 
 // Splits the triangles into faces: connected regions of one group, or, without groups,
 // regions whose neighbouring triangles meet at less than `sharp_angle` (radians).
@@ -333,7 +223,7 @@ Part importMesh(const std::string& path, const std::string& format, const Import
   report(progress, "reading " + format, 0);
   RawMesh raw = format == "STL"   ? readStl(path)
                 : format == "OBJ" ? readObj(path)
-                : format == "PLY" ? PlyReader(path).read()
+                : format == "PLY" ? readPlyMesh(path)
                                   : readOff(path);
   if (raw.triangles.empty()) throw InputError(path, "no triangles: the mesh is empty");
   for (const Vec3& p : raw.vertices)

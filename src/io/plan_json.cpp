@@ -329,6 +329,12 @@ Plan readPlan(const std::string& path) {
                                         TaskType::Global, TaskType::Points},
                              path, where);
     p.measured_by = field<std::vector<int>>(entry, "measured_by", path, where);
+    if (entry.contains("not_coverable"))
+      p.uncoverable =
+          enumFrom(field<std::string>(entry, "not_coverable", path, where),
+                   std::array{Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
+                              Uncoverable::NoValidPose, Uncoverable::Lost},
+                   path, where);
     plan.samples.push_back(p);
   }
   if (root.contains("sequence")) {

@@ -1,0 +1,135 @@
+// scanplan report and scanplan export: what a written plan shows, checked again on its
+// part (coverage and registration as `verify` finds them), as the HTML report, a picture,
+// or files for other tools.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/io/views_csv.h>
+#include <scanplan/planning.h>
+#include <scanplan/report.h>
+#include <scanplan/spec.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace scanplan::cli {
+namespace {
+
+struct Input {
+  std::string plan;
+  std::string part;  // "" : the plan's own part file
+  std::string spec;
+};
+
+struct Checked {
+  Plan plan;
+  Part part;
+  Spec spec;
+};
+
+// The plan re-simulated and its registration re-checked on its part, as verify does.
+Checked check(const Input& input, const Progress& progress) {
+  Plan plan = readPlan(input.plan);
+  const std::string part_file = input.part.empty() ? plan.part_file : input.part;
+  if (part_file.empty())
+    throw InputError(input.plan, "names no part file; give the part on the command line");
+  Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
+  Part part = importPart(part_file, {}, progress);
+  PlanCheck checked = verifyPlan(plan, part, spec, planningOptionsFor(spec), progress);
+  return {std::move(checked.plan), std::move(part), std::move(spec)};
+}
+
+void addInput(CLI::App& command, Input& input) {
+  command.add_option("plan", input.plan, "plan.json")->required();
+  command.add_option("part", input.part,
+                     "CAD or mesh file of the part (default: the file the plan names)");
+  command.add_option("--spec", input.spec,
+                     "Inspection spec (YAML) of the plan: specular faces, markers, fixtures");
+}
+
+struct ReportCommand {
+  Input input;
+  std::string out;
+  std::string png;
+};
+
+int runReport(const ReportCommand& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global.quiet);
+  const Checked c = check(options.input, progress);
+  const std::string out =
+      options.out.empty()
+          ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
+          : options.out;
+  writeReport(c.plan, c.part, c.spec, out, {}, progress);
+  if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part)), options.png);
+  clearProgress();
+  fmt::print("report     {}\n", out);
+  if (!options.png.empty()) fmt::print("picture    {}\n", options.png);
+  return kExitOk;
+}
+
+struct ExportCommand {
+  Input input;
+  std::string format;
+  std::string out;
+};
+
+int runExport(const ExportCommand& options, const GlobalOptions& global) {
+  if (options.format == "csv") {
+    writeViewsCsv(readPlan(options.input.plan).views, options.out);
+  } else {
+    Progress progress = terminalProgress(global.quiet);
+    const Checked c = check(options.input, progress);
+    if (options.format == "glb") {
+      writeGlb(planScene(c.plan, c.part), options.out);
+    } else if (options.format == "samples-ply") {
+      writePly(samplesPly(c.plan), options.out);
+    } else if (options.format == "clouds-ply") {
+      const std::vector<PointCloud> clouds = sceneClouds(c.plan, c.part, c.spec, 0, progress);
+      writePly(cloudsPly(planScene(c.plan, c.part), clouds), options.out);
+    } else if (options.format == "png") {
+      writePng(renderScene(planScene(c.plan, c.part)), options.out);
+    }
+    clearProgress();
+  }
+  fmt::print("written    {} ({})\n", options.out, options.format);
+  return kExitOk;
+}
+
+}  // namespace
+
+void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<ReportCommand>();
+  CLI::App* command =
+      app.add_subcommand("report", "Write the 3D HTML report of a plan, checked again on its part");
+  addInput(*command, options->input);
+  command->add_option("-o,--out", options->out, "HTML file (default: report.html beside the plan)");
+  command->add_option("--png", options->png, "Also write a picture of the scene to this PNG file");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return runReport(*options, global); };
+  });
+}
+
+void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<ExportCommand>();
+  CLI::App* command = app.add_subcommand(
+      "export", "Write a plan for other tools: glTF scene, PLY of samples or clouds, CSV of views");
+  addInput(*command, options->input);
+  command
+      ->add_option("--format", options->format,
+                   "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
+                   "clouds-ply (every view's simulated cloud), csv (views), png (picture)")
+      ->required()
+      ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png"}));
+  command->add_option("-o,--out", options->out, "Output file")->required();
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return runExport(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

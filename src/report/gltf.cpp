@@ -1,0 +1,198 @@
+// The plan's scene as glTF 2.0 binary (tinygltf): one buffer, a node per kind of thing.
+// glTF is metres and Y up; the scene is written in mm, Z up, under a root node that
+// scales by 0.001 and turns Z up into Y up, so that viewers show it upright and to size.
+
+#include <scanplan/io/atomic_file.h>
+#include <scanplan/report.h>
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+namespace scanplan {
+namespace {
+
+class GlbBuilder {
+ public:
+  // Appends float VEC3 positions (and optional unsigned-byte normalized colours) as a
+  // primitive of `mode` with its own material.
+  void addMesh(const std::string& name, const std::vector<Vec3>& positions,
+               const std::vector<Rgb>& colours, int mode, const Rgb& base, bool lit) {
+    if (positions.empty()) return;
+    tinygltf::Primitive primitive;
+    primitive.mode = mode;
+    primitive.attributes["POSITION"] = addPositions(positions);
+    if (!colours.empty()) primitive.attributes["COLOR_0"] = addColours(colours);
+    primitive.material = addMaterial(name, base, lit);
+    tinygltf::Mesh mesh;
+    mesh.name = name;
+    mesh.primitives.push_back(primitive);
+    model_.meshes.push_back(mesh);
+    tinygltf::Node node;
+    node.name = name;
+    node.mesh = static_cast<int>(model_.meshes.size() - 1);
+    model_.nodes.push_back(node);
+    children_.push_back(static_cast<int>(model_.nodes.size() - 1));
+  }
+
+  void write(const std::string& path) {
+    tinygltf::Node root;
+    root.name = "scanplan plan (mm, Z up)";
+    root.scale = {0.001, 0.001, 0.001};
+    root.rotation = {-0.7071067811865476, 0, 0, 0.7071067811865476};  // Z up to Y up
+    root.children = children_;
+    model_.nodes.push_back(root);
+    tinygltf::Scene scene;
+    scene.nodes = {static_cast<int>(model_.nodes.size() - 1)};
+    model_.scenes.push_back(scene);
+    model_.defaultScene = 0;
+    model_.asset.version = "2.0";
+    model_.asset.generator = "scanplan";
+    model_.buffers.push_back(buffer_);
+    writeFileAtomically(path, [&](std::ostream& out) {
+      tinygltf::TinyGLTF writer;
+      if (!writer.WriteGltfSceneToStream(&model_, out, false, true))
+        throw std::runtime_error("tinygltf could not write the scene");
+    });
+  }
+
+ private:
+  int addView(const void* data, std::size_t bytes, int target) {
+    while (buffer_.data.size() % 4 != 0) buffer_.data.push_back(0);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = buffer_.data.size();
+    view.byteLength = bytes;
+    view.target = target;
+    const auto* begin = static_cast<const unsigned char*>(data);
+    buffer_.data.insert(buffer_.data.end(), begin, begin + bytes);
+    model_.bufferViews.push_back(view);
+    return static_cast<int>(model_.bufferViews.size() - 1);
+  }
+
+  int addPositions(const std::vector<Vec3>& positions) {
+    std::vector<float> values;
+    values.reserve(positions.size() * 3);
+    Box box;
+    for (const Vec3& p : positions) {
+      box.add(p.cast<float>().cast<double>());
+      for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>(p[k]));
+    }
+    tinygltf::Accessor accessor;
+    accessor.bufferView =
+        addView(values.data(), values.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    accessor.type = TINYGLTF_TYPE_VEC3;
+    accessor.count = positions.size();
+    accessor.minValues = {box.min.x(), box.min.y(), box.min.z()};
+    accessor.maxValues = {box.max.x(), box.max.y(), box.max.z()};
+    model_.accessors.push_back(accessor);
+    return static_cast<int>(model_.accessors.size() - 1);
+  }
+
+  int addColours(const std::vector<Rgb>& colours) {
+    std::vector<std::uint8_t> values;
+    values.reserve(colours.size() * 4);
+    for (const Rgb& c : colours) values.insert(values.end(), {c[0], c[1], c[2], 255});
+    tinygltf::Accessor accessor;
+    accessor.bufferView = addView(values.data(), values.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    accessor.normalized = true;
+    accessor.type = TINYGLTF_TYPE_VEC4;
+    accessor.count = colours.size();
+    model_.accessors.push_back(accessor);
+    return static_cast<int>(model_.accessors.size() - 1);
+  }
+
+  int addMaterial(const std::string& name, const Rgb& base, bool lit) {
+    tinygltf::Material material;
+    material.name = name;
+    material.pbrMetallicRoughness.baseColorFactor = {base[0] / 255.0, base[1] / 255.0,
+                                                     base[2] / 255.0, 1.0};
+    material.pbrMetallicRoughness.metallicFactor = 0;
+    material.pbrMetallicRoughness.roughnessFactor = 0.8;
+    material.doubleSided = true;
+    if (!lit)
+      material.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
+    model_.materials.push_back(material);
+    if (!lit && std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(),
+                          "KHR_materials_unlit") == model_.extensionsUsed.end())
+      model_.extensionsUsed.push_back("KHR_materials_unlit");
+    return static_cast<int>(model_.materials.size() - 1);
+  }
+
+  tinygltf::Model model_;
+  tinygltf::Buffer buffer_;
+  std::vector<int> children_;
+};
+
+}  // namespace
+
+std::vector<Vec3> priorityOutlines(const PlanScene& scene) {
+  const TriangleMesh& mesh = scene.mesh;
+  const std::vector<int> weld = weldVertices(mesh.vertices, 1e-6 * scene.bounds.diagonal());
+  // Per (face, welded edge): how many of the face's triangles use it, and its corners.
+  std::map<std::tuple<int, int, int>, std::pair<int, std::array<int, 2>>> edges;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int face = mesh.triangle_faces[t];
+    if (face < 1 || face > static_cast<int>(scene.faces.size()) || !scene.faces[face - 1].priority)
+      continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (weld[a] == weld[b]) continue;
+      auto& [uses, ends] = edges[{face, std::min(weld[a], weld[b]), std::max(weld[a], weld[b])}];
+      ++uses;
+      ends = {a, b};
+    }
+  }
+  std::vector<Vec3> lines;
+  for (const auto& [key, edge] : edges)
+    if (edge.first == 1) {
+      lines.push_back(mesh.vertices[edge.second[0]]);
+      lines.push_back(mesh.vertices[edge.second[1]]);
+    }
+  return lines;
+}
+
+void writeGlb(const PlanScene& scene, const std::string& path) {
+  GlbBuilder glb;
+  std::vector<Vec3> triangles;
+  std::vector<Rgb> colours;
+  const TriangleMesh& mesh = scene.mesh;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int face = mesh.triangle_faces[t];
+    const Rgb c = face >= 1 && face <= static_cast<int>(scene.faces.size())
+                      ? colour(scene.faces[face - 1].coverage)
+                      : colour(FaceCoverage::NotTarget);
+    for (int k = 0; k < 3; ++k) {
+      triangles.push_back(mesh.vertices[mesh.triangles[t][k]]);
+      colours.push_back(c);
+    }
+  }
+  glb.addMesh("part, coloured by coverage", triangles, colours, TINYGLTF_MODE_TRIANGLES,
+              {255, 255, 255}, true);
+  glb.addMesh("priority faces", priorityOutlines(scene), {}, TINYGLTF_MODE_LINE, {0, 0, 0}, false);
+
+  std::vector<Vec3> frusta;
+  std::vector<Rgb> frusta_colours;
+  for (const SceneView& v : scene.views) {
+    const std::array<Vec3, 5> f = frustum(v.view, scene.scanner);
+    for (int k = 1; k <= 4; ++k) {
+      for (const Vec3& p : {f[0], f[k], f[k], f[k % 4 + 1]}) {
+        frusta.push_back(p);
+        frusta_colours.push_back(colour(v.state));
+      }
+    }
+  }
+  glb.addMesh("views", frusta, frusta_colours, TINYGLTF_MODE_LINE, {255, 255, 255}, false);
+  std::vector<Vec3> route;
+  for (int i : scene.path) route.push_back(scene.views[i].view.camera());
+  glb.addMesh("path", route, {}, TINYGLTF_MODE_LINE_STRIP, {240, 120, 0}, false);
+  glb.addMesh("markers", scene.markers, {}, TINYGLTF_MODE_POINTS, {250, 220, 0}, false);
+  glb.write(path);
+}
+
+}  // namespace scanplan

@@ -1,0 +1,294 @@
+// The HTML report: the page (web/src/report.html) with the viewer bundle (three.js and
+// web/src/viewer.js) and the plan's data inlined, so that the one file opens from disk.
+// Bulk arrays travel as base64 of little-endian typed arrays, which the page views as
+// Float32Array, Uint8Array, ... without parsing numbers.
+
+#include <scanplan/clustering.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/report.h>
+#include <scanplan/visibility.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string_view>
+
+namespace scanplan {
+namespace assets {
+extern const std::string_view viewer_js;
+extern const std::string_view report_html;
+}  // namespace assets
+
+namespace {
+
+using nlohmann::json;
+
+std::string base64(const void* data, std::size_t size) {
+  static constexpr char kDigits[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  for (std::size_t i = 0; i < size; i += 3) {
+    const unsigned v =
+        bytes[i] << 16 | (i + 1 < size ? bytes[i + 1] << 8 : 0) | (i + 2 < size ? bytes[i + 2] : 0);
+    out += kDigits[v >> 18 & 63];
+    out += kDigits[v >> 12 & 63];
+    out += i + 1 < size ? kDigits[v >> 6 & 63] : '=';
+    out += i + 2 < size ? kDigits[v & 63] : '=';
+  }
+  return out;
+}
+
+template <typename T>
+std::string base64(const std::vector<T>& values) {
+  static_assert(std::endian::native == std::endian::little, "typed arrays are little-endian");
+  return base64(values.data(), values.size() * sizeof(T));
+}
+
+std::vector<float> floats(const std::vector<Vec3>& points) {
+  std::vector<float> values;
+  values.reserve(points.size() * 3);
+  for (const Vec3& p : points)
+    for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>(p[k]));
+  return values;
+}
+
+json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+json meshJson(const PlanScene& scene) {
+  std::vector<std::uint32_t> indices;
+  for (const Vec3i& t : scene.mesh.triangles)
+    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<std::uint32_t>(t[k]));
+  std::vector<std::int32_t> faces(scene.mesh.triangle_faces.begin(),
+                                  scene.mesh.triangle_faces.end());
+  return {{"positions", base64(floats(scene.mesh.vertices))},
+          {"indices", base64(indices)},
+          {"faces", base64(faces)},
+          {"outlines", base64(floats(priorityOutlines(scene)))}};
+}
+
+json facesJson(const PlanScene& scene, const Part& part) {
+  json faces = json::array();
+  for (const FaceStatus& f : scene.faces) {
+    const Face& face = part.faces[f.id - 1];
+    faces.push_back({{"id", f.id},
+                     {"type", toString(face.type)},
+                     {"name", face.name},
+                     {"area", face.area},
+                     {"samples", f.samples},
+                     {"measured", f.measured},
+                     {"not_coverable", f.not_coverable},
+                     {"coverage", toString(f.coverage)},
+                     {"priority", f.priority},
+                     {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)}});
+  }
+  return faces;
+}
+
+json samplesJson(const Plan& plan) {
+  std::vector<Vec3> positions;
+  std::vector<std::uint8_t> state, task, role, reason;
+  std::vector<std::int32_t> face;
+  for (const PlannedSample& s : plan.samples) {
+    positions.push_back(s.sample.position);
+    state.push_back(!s.measured_by.empty() ? 0 : s.uncoverable == Uncoverable::None ? 1 : 2);
+    task.push_back(static_cast<std::uint8_t>(s.sample.task));
+    role.push_back(static_cast<std::uint8_t>(s.sample.role));
+    reason.push_back(static_cast<std::uint8_t>(s.uncoverable));
+    face.push_back(s.sample.face);
+  }
+  json tasks = json::array(), roles = json::array(), reasons = json::array();
+  for (TaskType t :
+       {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
+    tasks.push_back(toString(t));
+  for (Role r : {Role::Priority, Role::Normal, Role::Fixture}) roles.push_back(toString(r));
+  for (Uncoverable u : {Uncoverable::None, Uncoverable::BelowWorkingPlane,
+                        Uncoverable::OccludedByPart, Uncoverable::NoValidPose, Uncoverable::Lost})
+    reasons.push_back(toString(u));
+  return {{"count", plan.samples.size()},
+          {"positions", base64(floats(positions))},
+          {"state", base64(state)},
+          {"task", base64(task)},
+          {"role", base64(role)},
+          {"reason", base64(reason)},
+          {"face", base64(face)},
+          {"tasks", tasks},
+          {"roles", roles},
+          {"reasons", reasons}};
+}
+
+json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<PointCloud>& clouds) {
+  std::map<int, std::set<int>> faces_of_view;
+  for (const PlannedSample& s : plan.samples)
+    for (int id : s.measured_by) faces_of_view[id].insert(s.sample.face);
+  json views = json::array();
+  for (std::size_t i = 0; i < scene.views.size(); ++i) {
+    const SceneView& v = scene.views[i];
+    json corners = json::array();
+    for (const Vec3& p : frustum(v.view, scene.scanner)) corners.push_back(vec(p));
+    json matrix = json::array();
+    for (int r = 0; r < 4; ++r)
+      matrix.push_back({v.view.camera_to_world(r, 0), v.view.camera_to_world(r, 1),
+                        v.view.camera_to_world(r, 2), v.view.camera_to_world(r, 3)});
+    json entry = {{"id", v.view.id},
+                  {"order", v.order},
+                  {"state", toString(v.state)},
+                  {"orientation", v.orientation},
+                  {"task", v.view.task},
+                  {"target", vec(v.view.target)},
+                  {"frustum", corners},
+                  {"camera_to_world", matrix},
+                  {"measured", v.measured},
+                  {"faces", faces_of_view[v.view.id]}};
+    if (plan.registration && i < plan.registration->views.size()) {
+      const ViewRegistration& r = plan.registration->views[i];
+      entry["registration"] = {{"method", toString(r.method)}, {"to", r.to}};
+    }
+    if (i < clouds.size() && !clouds[i].points.empty()) {
+      std::vector<std::uint8_t> incidence;
+      for (float a : clouds[i].incidence)
+        incidence.push_back(static_cast<std::uint8_t>(std::clamp(std::lround(a), 0L, 90L)));
+      entry["cloud"] = {{"points", clouds[i].points.size()},
+                        {"positions", base64(floats(clouds[i].points))},
+                        {"incidence", base64(incidence)}};
+    }
+    views.push_back(entry);
+  }
+  return views;
+}
+
+// Each cluster of the plan's samples with its Combined Visibility Map, the part placed as
+// the plan's first placement puts it.
+json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Progress& progress) {
+  std::vector<Sample> samples;
+  for (const PlannedSample& s : plan.samples) samples.push_back(s.sample);
+  const std::vector<Cluster> clusters =
+      clusterSamples(samples, clusteringOptionsFor(plan.scanner, spec.planner.seed));
+  const Simulator simulator(part, plan.scanner,
+                            simulationOptionsFor(part, spec, plan.part_to_world));
+  VisibilityOptions vo;
+  vo.step = spec.planner.vm_step;
+  vo.cone = plan.scanner.max_camera_angle;
+  vo.reach = plan.scanner.standoff;
+  vo.working_plane = spec.working_plane;
+  json list = json::array();
+  for (std::size_t c = 0; c < clusters.size(); ++c) {
+    report(progress, "visibility maps",
+           static_cast<double>(c) / static_cast<double>(clusters.size()));
+    const VisibilityMap map = combinedVisibilityMap(simulator, samples, clusters[c].samples, vo);
+    std::vector<std::uint8_t> cells(map.counts.size());
+    const double top = std::max<std::uint32_t>(map.max(), 1);
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      cells[i] = static_cast<std::uint8_t>(std::lround(255.0 * map.counts[i] / top));
+    std::vector<std::uint32_t> members(clusters[c].samples.begin(), clusters[c].samples.end());
+    list.push_back({{"id", c + 1},
+                    {"samples", clusters[c].samples.size()},
+                    {"position", vec(clusters[c].mean_position)},
+                    {"normal", vec(clusters[c].mean_normal)},
+                    {"members", base64(members)},
+                    {"azimuths", map.azimuths},
+                    {"elevations", map.elevations},
+                    {"step", map.step},
+                    {"max", map.max()},
+                    {"cvm", base64(cells)}});
+  }
+  report(progress, "visibility maps", 1);
+  return list;
+}
+
+json gdtJson(const Part& part, const PlanScene& scene) {
+  json list = json::array();
+  for (const GeometricTolerance& t : part.gdt.tolerances) {
+    std::size_t samples = 0, measured = 0, faces_measured = 0;
+    for (int face : t.faces) {
+      if (face < 1 || face > static_cast<int>(scene.faces.size())) continue;
+      const FaceStatus& f = scene.faces[face - 1];
+      samples += f.samples;
+      measured += f.measured;
+      if (f.coverage == FaceCoverage::Measured) ++faces_measured;
+    }
+    list.push_back({{"type", t.type},
+                    {"value", t.value},
+                    {"datums", t.datums},
+                    {"faces", t.faces},
+                    {"faces_measured", faces_measured},
+                    {"samples", samples},
+                    {"measured", measured}});
+  }
+  return list;
+}
+
+}  // namespace
+
+void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
+                 const ReportOptions& options, const Progress& progress) {
+  const PlanScene scene = planScene(plan, part);
+  Box part_box;
+  for (const Vec3& v : scene.mesh.vertices) part_box.add(v);
+  std::vector<PointCloud> clouds;
+  if (options.clouds) {
+    // About 2,500 points over the field of view, finer on a part much smaller than it.
+    const double spacing =
+        options.cloud_spacing > 0
+            ? options.cloud_spacing
+            : std::max(std::min(std::sqrt(plan.scanner.fov_width * plan.scanner.fov_height / 2500),
+                                part_box.diagonal() / 60),
+                       plan.scanner.point_spacing);
+    clouds = sceneClouds(plan, part, spec, spacing, progress);
+  }
+  json plan_json = planJson(plan);
+  plan_json.erase("samples");
+  json data = {{"title", std::filesystem::path(plan.part_file).filename().string()},
+               {"plan", plan_json},
+               {"mesh", meshJson(scene)},
+               {"faces", facesJson(scene, part)},
+               {"samples", samplesJson(plan)},
+               {"views", viewsJson(scene, plan, clouds)},
+               {"path", scene.path},
+               {"markers", base64(floats(scene.markers))},
+               {"gdt", gdtJson(part, scene)},
+               {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
+               {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},
+               {"clusters", options.visibility_maps && !plan.samples.empty()
+                                ? clustersJson(plan, part, spec, progress)
+                                : json::array()}};
+  json palette = json::object();
+  for (FaceCoverage c : {FaceCoverage::NotTarget, FaceCoverage::Measured, FaceCoverage::Partly,
+                         FaceCoverage::NotMeasured})
+    palette[std::string(toString(c))] = colour(c);
+  for (ViewState s :
+       {ViewState::Registered, ViewState::Bridge, ViewState::Unregistrable, ViewState::Unchecked})
+    palette[std::string(toString(s))] = colour(s);
+  data["palette"] = palette;
+
+  // JSON inside <script>: "</" would end the element; "<\/" is the same JSON string.
+  std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+    text.replace(at, 2, "<\\/");
+
+  std::string page(assets::report_html);
+  auto fill = [&](std::string_view slot, std::string_view content) {
+    const std::size_t at = page.find(slot);
+    if (at == std::string::npos) throw std::logic_error("report template without a slot");
+    page.replace(at, slot.size(), content);
+  };
+  // The same for the script: "<\/script" in its strings reads as "</script".
+  std::string viewer(assets::viewer_js);
+  for (std::size_t at = viewer.find("</script"); at != std::string::npos;
+       at = viewer.find("</script", at + 3))
+    viewer.replace(at, 2, "<\\/");
+  fill("/*@VIEWER@*/", viewer);
+  fill("/*@DATA@*/", text);
+  writeFileAtomically(path, [&](std::ostream& out) { out << page; });
+}
+
+}  // namespace scanplan

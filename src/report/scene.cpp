@@ -1,0 +1,176 @@
+// The scene of a plan: coverage per face, views with their sequence and registration
+// state, all in the frame of the plan's first placement.
+
+#include <scanplan/errors.h>
+#include <scanplan/report.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+
+namespace scanplan {
+
+std::string_view toString(FaceCoverage coverage) {
+  switch (coverage) {
+    case FaceCoverage::NotTarget: return "not a target";
+    case FaceCoverage::Measured: return "measured";
+    case FaceCoverage::Partly: return "partly measured";
+    case FaceCoverage::NotMeasured: return "not measured";
+  }
+  return "?";
+}
+
+std::string_view toString(ViewState state) {
+  switch (state) {
+    case ViewState::Registered: return "registered";
+    case ViewState::Bridge: return "bridge";
+    case ViewState::Unregistrable: return "unregistrable";
+    case ViewState::Unchecked: return "not checked";
+  }
+  return "?";
+}
+
+Rgb colour(FaceCoverage coverage) {
+  switch (coverage) {
+    case FaceCoverage::NotTarget: return {176, 180, 186};
+    case FaceCoverage::Measured: return {46, 160, 67};
+    case FaceCoverage::Partly: return {230, 170, 30};
+    case FaceCoverage::NotMeasured: return {210, 50, 45};
+  }
+  return {0, 0, 0};
+}
+
+Rgb colour(ViewState state) {
+  switch (state) {
+    case ViewState::Registered: return {30, 110, 220};
+    case ViewState::Bridge: return {150, 60, 200};
+    case ViewState::Unregistrable: return {220, 40, 40};
+    case ViewState::Unchecked: return {90, 90, 90};
+  }
+  return {0, 0, 0};
+}
+
+std::array<Vec3, 5> frustum(const View& view, const Scanner& scanner) {
+  const double far = scanner.standoff + scanner.depth_of_field / 2;
+  const double half_w = scanner.fov_width / 2 * far / scanner.standoff;
+  const double half_h = scanner.fov_height / 2 * far / scanner.standoff;
+  std::array<Vec3, 5> corners;
+  corners[0] = view.camera();
+  corners[1] = view.camera_to_world * Vec3(-half_w, -half_h, far);
+  corners[2] = view.camera_to_world * Vec3(half_w, -half_h, far);
+  corners[3] = view.camera_to_world * Vec3(half_w, half_h, far);
+  corners[4] = view.camera_to_world * Vec3(-half_w, half_h, far);
+  return corners;
+}
+
+namespace {
+
+// Per view id, the pose that carries its world into the scene frame.
+std::map<int, Pose> sceneFrames(const Plan& plan, std::map<int, int>& orientation_of) {
+  std::map<int, Pose> frames;
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+    const Pose to_scene = plan.part_to_world * plan.orientations[k].rest.part_to_world.inverse();
+    for (int id : plan.orientations[k].views) {
+      frames[id] = to_scene;
+      orientation_of[id] = static_cast<int>(k + 1);
+    }
+  }
+  return frames;
+}
+
+}  // namespace
+
+PlanScene planScene(const Plan& plan, const Part& part) {
+  if (plan.part_faces != 0 && plan.part_faces != part.faces.size())
+    throw InputError(part.file, fmt::format("the part has {} faces where the plan has {}",
+                                            part.faces.size(), plan.part_faces));
+  PlanScene scene;
+  scene.scanner = plan.scanner;
+  scene.mesh = part.mesh;
+  for (Vec3& v : scene.mesh.vertices) {
+    v = plan.part_to_world * v;
+    scene.bounds.add(v);
+  }
+
+  std::vector<std::map<Uncoverable, std::size_t>> reasons(part.faces.size());
+  scene.faces.resize(part.faces.size());
+  for (std::size_t f = 0; f < part.faces.size(); ++f) scene.faces[f].id = static_cast<int>(f + 1);
+  for (const GeometricTolerance& t : part.gdt.tolerances)
+    for (int face : t.faces)
+      if (face >= 1 && face <= static_cast<int>(part.faces.size()))
+        scene.faces[face - 1].priority = true;
+  for (const Datum& d : part.gdt.datums)
+    for (int face : d.faces)
+      if (face >= 1 && face <= static_cast<int>(part.faces.size()))
+        scene.faces[face - 1].priority = true;
+  std::map<int, std::size_t> measured_by_view;
+  for (const PlannedSample& s : plan.samples) {
+    for (int id : s.measured_by) ++measured_by_view[id];
+    const int face = s.sample.face;
+    if (face < 1 || face > static_cast<int>(part.faces.size())) continue;
+    FaceStatus& status = scene.faces[face - 1];
+    ++status.samples;
+    if (!s.measured_by.empty()) ++status.measured;
+    if (s.uncoverable != Uncoverable::None) {
+      ++status.not_coverable;
+      ++reasons[face - 1][s.uncoverable];
+    }
+  }
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    FaceStatus& status = scene.faces[f];
+    status.coverage = status.samples == 0                 ? FaceCoverage::NotTarget
+                      : status.measured == status.samples ? FaceCoverage::Measured
+                      : status.measured > 0               ? FaceCoverage::Partly
+                                                          : FaceCoverage::NotMeasured;
+    if (!reasons[f].empty())
+      status.reason = std::max_element(reasons[f].begin(), reasons[f].end(), [](auto& a, auto& b) {
+                        return a.second < b.second;
+                      })->first;
+  }
+
+  std::map<int, int> orientation_of;
+  const std::map<int, Pose> frames = sceneFrames(plan, orientation_of);
+  std::map<int, int> order;
+  if (plan.sequence)
+    for (std::size_t i = 0; i < plan.sequence->views.size(); ++i)
+      order.emplace(plan.sequence->views[i], static_cast<int>(i + 1));
+  std::map<int, int> index_of;
+  for (std::size_t i = 0; i < plan.views.size(); ++i) {
+    SceneView v;
+    v.view = plan.views[i];
+    if (auto it = frames.find(v.view.id); it != frames.end()) {
+      v.view.camera_to_world = it->second * v.view.camera_to_world;
+      v.view.target = it->second * v.view.target;
+      v.orientation = orientation_of.at(v.view.id);
+    }
+    if (auto it = order.find(v.view.id); it != order.end()) v.order = it->second;
+    if (plan.registration && i < plan.registration->views.size()) {
+      const ViewRegistration& r = plan.registration->views[i];
+      v.state = r.method == RegistrationMethod::None ? ViewState::Unregistrable
+                : r.bridge                           ? ViewState::Bridge
+                                                     : ViewState::Registered;
+    }
+    if (auto it = measured_by_view.find(v.view.id); it != measured_by_view.end())
+      v.measured = it->second;
+    index_of[v.view.id] = static_cast<int>(i);
+    scene.bounds.add(v.view.camera());
+    scene.views.push_back(v);
+  }
+  if (plan.sequence)
+    for (int id : plan.sequence->views)
+      if (auto it = index_of.find(id); it != index_of.end()) scene.path.push_back(it->second);
+
+  // Markers: the plan's are in the first placement's world; an orientation's own markers
+  // are carried into the scene like its views.
+  for (const Marker& m : plan.markers) scene.markers.push_back(m.position);
+  for (const PlannedOrientation& o : plan.orientations) {
+    if (&o == &plan.orientations.front()) continue;
+    const Pose to_scene = plan.part_to_world * o.rest.part_to_world.inverse();
+    for (const Marker& m : o.markers) scene.markers.push_back(to_scene * m.position);
+  }
+  for (const Vec3& m : scene.markers) scene.bounds.add(m);
+  return scene;
+}
+
+}  // namespace scanplan

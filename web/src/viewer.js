@@ -1,0 +1,397 @@
+// The report's page: reads the plan's data from the page, draws the 3D scene with three.js
+// and fills the tables. Bundled with three.js by esbuild into one script (src/CMakeLists.txt).
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { CSS2DRenderer, CSS2DObject } from 'three/addons/renderers/CSS2DRenderer.js';
+
+const data = JSON.parse(document.getElementById('scanplan-data').textContent);
+const plan = data.plan;
+
+// ---- typed arrays from base64 -------------------------------------------------------------
+function bytes(b64) {
+  const s = atob(b64 || '');
+  const out = new Uint8Array(s.length);
+  for (let i = 0; i < s.length; ++i) out[i] = s.charCodeAt(i);
+  return out;
+}
+const f32 = (b64) => new Float32Array(bytes(b64).buffer);
+const u32 = (b64) => new Uint32Array(bytes(b64).buffer);
+const i32 = (b64) => new Int32Array(bytes(b64).buffer);
+
+// ---- small DOM helpers ----------------------------------------------------------------------
+const $ = (id) => document.getElementById(id);
+function el(tag, attrs = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === 'class') e.className = v;
+    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+    else e.setAttribute(k, v);
+  }
+  for (const c of children) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
+  return e;
+}
+const fmt = (x, digits = 1) => (typeof x === 'number' ? x.toFixed(digits) : String(x ?? ''));
+const pct = (a, b) => (b > 0 ? `${((100 * a) / b).toFixed(1)} %` : '–');
+const rgb = (c) => `rgb(${c[0]},${c[1]},${c[2]})`;
+const colour3 = (c) => new THREE.Color(c[0] / 255, c[1] / 255, c[2] / 255);
+
+// A table: columns [{title, num}], rows of cells; onPick(rowIndex) makes rows clickable.
+function table(columns, rows, onPick) {
+  const head = el('tr', {}, ...columns.map((c) => el('th', c.num ? { class: 'num' } : {}, c.title)));
+  const body = rows.map((cells, i) => {
+    const tr = el('tr', onPick ? { class: 'pick', onclick: () => onPick(i) } : {},
+      ...cells.map((cell, k) => el('td', columns[k].num ? { class: 'num' } : {}, cell)));
+    return tr;
+  });
+  return el('table', {}, el('thead', {}, head), el('tbody', {}, ...body));
+}
+
+// Blue at normal incidence through green to red at 90°, as the PLY export colours it.
+function incidenceColour(degrees) {
+  const t = Math.min(Math.max(degrees / 90, 0), 1);
+  const r = Math.min(2 * t, 1), b = Math.min(Math.max(2 - 2 * t, 0), 1);
+  const g = 1 - Math.abs(2 * t - 1);
+  return [r, 0.78 * g, b];
+}
+
+// ---- header and legend ----------------------------------------------------------------------
+const summary = plan.summary;
+document.title = `scanplan report – ${data.title}`;
+$('title').textContent = `scanplan report – ${data.title}`;
+$('headline').textContent =
+  `${summary.views} views, ${summary.measured} of ${summary.samples} samples measured ` +
+  `(${pct(summary.measured, summary.samples)}), ${summary.not_coverable} not coverable` +
+  (summary.registrable_views !== undefined && summary.registrable_views !== null
+    ? `, ${summary.registrable_views} views registered` : '') +
+  (summary.path_length !== undefined ? `, path ${fmt(summary.path_length / 1000, 2)} m` : '');
+$('view-count').textContent = `(${data.views.length})`;
+document.body.dataset.views = String(data.views.length);
+
+const legend = $('legend');
+for (const [name, title] of [['measured', 'face measured'], ['partly measured', 'face partly measured'],
+  ['not measured', 'face not measured'], ['not a target', 'not a target'],
+  ['registered', 'view registered'], ['bridge', 'bridging view'], ['unregistrable', 'view unregistrable']]) {
+  legend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
+}
+legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#f07800' }), 'path'));
+legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#fac800' }), 'markers'));
+
+// ---- 3D scene ---------------------------------------------------------------------------------
+const viewport = $('viewport');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.setClearColor(0xeef1f4);
+viewport.append(renderer.domElement);
+const labels = new CSS2DRenderer();
+labels.domElement.style.position = 'absolute';
+labels.domElement.style.top = '0';
+labels.domElement.style.pointerEvents = 'none';
+viewport.append(labels.domElement);
+
+const scene = new THREE.Scene();
+// Frames a box: the part at first, the whole cell on request.
+function box(b) {
+  const min = new THREE.Vector3(...b.min), max = new THREE.Vector3(...b.max);
+  return { centre: min.clone().add(max).multiplyScalar(0.5), radius: Math.max(min.distanceTo(max) / 2, 1) };
+}
+const all = box(data.bounds), partBox = box(data.part_bounds);
+const radius = all.radius;
+const camera = new THREE.PerspectiveCamera(40, 1, radius / 1000, radius * 100);
+camera.up.set(0, 0, 1);
+const controls = new OrbitControls(camera, renderer.domElement);
+function frameOn({ centre, radius: r }) {
+  camera.position.copy(centre).add(new THREE.Vector3(0.9, -1.2, 0.9).normalize().multiplyScalar(r * 3));
+  controls.target.copy(centre);
+}
+frameOn(partBox);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
+const headlight = new THREE.DirectionalLight(0xffffff, 1.4);
+camera.add(headlight);
+scene.add(camera);
+
+// The part, coloured per face by coverage.
+const positions = f32(data.mesh.positions);
+const indices = u32(data.mesh.indices);
+const triangleFaces = i32(data.mesh.faces);
+const partGeometry = new THREE.BufferGeometry();
+partGeometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+partGeometry.setIndex(new THREE.BufferAttribute(indices, 1));
+const vertexColours = new Float32Array(positions.length);
+for (let t = 0; t < triangleFaces.length; ++t) {
+  const face = data.faces[triangleFaces[t] - 1];
+  const c = data.palette[face ? face.coverage : 'not a target'];
+  for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
+}
+partGeometry.setAttribute('color', new THREE.BufferAttribute(vertexColours, 3));
+partGeometry.computeVertexNormals();
+const part = new THREE.Mesh(partGeometry, new THREE.MeshLambertMaterial({
+  vertexColors: true, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+}));
+scene.add(part);
+
+function lines(points, colour, opacity = 1) {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(points, 3));
+  return new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: colour, transparent: opacity < 1, opacity }));
+}
+const outlines = lines(f32(data.mesh.outlines), 0x111111);
+scene.add(outlines);
+
+// Samples: measured green, not measured amber, not coverable red.
+const sampleState = bytes(data.samples.state);
+const samplePositions = f32(data.samples.positions);
+const sampleColours = new Float32Array(samplePositions.length);
+const stateColour = [data.palette.measured, data.palette['partly measured'], data.palette['not measured']];
+for (let i = 0; i < sampleState.length; ++i) {
+  const c = stateColour[sampleState[i]];
+  sampleColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * i);
+}
+const sampleGeometry = new THREE.BufferGeometry();
+sampleGeometry.setAttribute('position', new THREE.BufferAttribute(samplePositions, 3));
+sampleGeometry.setAttribute('color', new THREE.BufferAttribute(sampleColours, 3));
+const samples = new THREE.Points(sampleGeometry, new THREE.PointsMaterial({ size: 4, sizeAttenuation: false, vertexColors: true }));
+samples.visible = false;
+scene.add(samples);
+
+// Views: short frusta (a quarter of the measuring frustum, so that the part stays visible)
+// coloured by registration state, a pickable ball at each camera, a label with the view's
+// place in the sequence. The selected view shows its whole frustum.
+const views = new THREE.Group();
+const cameraBalls = [];
+const ballGeometry = new THREE.SphereGeometry(Math.min(radius / 60, partBox.radius / 8), 12, 8);
+data.views.forEach((v, index) => {
+  const f = v.frustum.map((p) => new THREE.Vector3(...p));
+  for (let k = 1; k <= 4; ++k) f[k].lerp(f[0], 0.75);
+  const segments = [];
+  for (let k = 1; k <= 4; ++k) segments.push(f[0], f[k], f[k], f[(k % 4) + 1]);
+  const g = new THREE.BufferGeometry().setFromPoints(segments);
+  const colour = colour3(data.palette[v.state]);
+  const frustum = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: colour }));
+  frustum.userData.index = index;
+  views.add(frustum);
+  const ball = new THREE.Mesh(ballGeometry, new THREE.MeshBasicMaterial({ color: colour }));
+  ball.position.copy(f[0]);
+  ball.userData.index = index;
+  cameraBalls.push(ball);
+  views.add(ball);
+  const label = new CSS2DObject(el('div', { class: 'label' }, v.order > 0 ? String(v.order) : `#${v.id}`));
+  label.position.copy(f[0]);
+  label.center.set(-0.3, 1.2);
+  views.add(label);
+});
+scene.add(views);
+
+// The path through the views in sequence order.
+const route = data.path.map((i) => new THREE.Vector3(...data.views[i].frustum[0]));
+const path = new THREE.Line(new THREE.BufferGeometry().setFromPoints(route), new THREE.LineBasicMaterial({ color: 0xf07800 }));
+scene.add(path);
+
+const markerPositions = f32(data.markers);
+const markerGeometry = new THREE.BufferGeometry();
+markerGeometry.setAttribute('position', new THREE.BufferAttribute(markerPositions, 3));
+const markers = new THREE.Points(markerGeometry, new THREE.PointsMaterial({ color: 0xfac800, size: 6, sizeAttenuation: false }));
+scene.add(markers);
+
+let cloud = null;      // the selected view's simulated cloud
+let clusterPoints = null;  // the selected cluster's samples
+const selectedMarker = new THREE.Mesh(new THREE.SphereGeometry(Math.min(radius / 35, partBox.radius / 5), 16, 12),
+  new THREE.MeshBasicMaterial({ color: 0xff00aa, wireframe: true }));
+selectedMarker.visible = false;
+scene.add(selectedMarker);
+const selectedFrustum = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xff00aa }));
+scene.add(selectedFrustum);
+
+// Framing buttons and toggles for each layer.
+$('toggles').append(el('button', { onclick: () => frameOn(partBox) }, 'part'), ' ',
+  el('button', { onclick: () => frameOn(all) }, 'all views'));
+for (const [name, object] of [['part', part], ['priority outlines', outlines], ['samples', samples],
+  ['views', views], ['path', path], ['markers', markers]]) {
+  const box = el('input', { type: 'checkbox' });
+  box.checked = object.visible;
+  box.addEventListener('change', () => { object.visible = box.checked; labels.domElement.style.display = views.visible ? '' : 'none'; });
+  $('toggles').append(el('label', {}, box, ` ${name}`));
+}
+
+function resize() {
+  const w = viewport.clientWidth, h = viewport.clientHeight;
+  renderer.setSize(w, h);
+  labels.setSize(w, h);
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+resize();
+function frame() {
+  controls.update();
+  renderer.render(scene, camera);
+  labels.render(scene, camera);
+  requestAnimationFrame(frame);
+}
+
+// ---- selection ---------------------------------------------------------------------------------
+const viewRows = [];
+function selectView(index) {
+  const v = data.views[index];
+  viewRows.forEach((row, i) => row.classList.toggle('selected', i === index));
+  viewRows[index]?.scrollIntoView({ block: 'nearest' });
+  if (cloud) { scene.remove(cloud); cloud.geometry.dispose(); cloud = null; }
+  const details = [['view', `${v.id}${v.order > 0 ? `, number ${v.order} in the sequence` : ', not in the sequence'}`],
+    ['task', v.task || '–'], ['registration', v.registration ? `${v.state}: ${v.registration.method}${v.registration.to ? ` to view ${v.registration.to}` : ''}` : v.state],
+    ['measures', `${v.measured} samples on ${v.faces.length} faces`], ['faces', v.faces.join(', ') || '–']];
+  if (v.orientation) details.push(['rest orientation', String(v.orientation)]);
+  if (v.cloud) {
+    const p = f32(v.cloud.positions), a = bytes(v.cloud.incidence);
+    const colours = new Float32Array(p.length);
+    let sum = 0;
+    for (let i = 0; i < a.length; ++i) { colours.set(incidenceColour(a[i]), 3 * i); sum += a[i]; }
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(p, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+    cloud = new THREE.Points(g, new THREE.PointsMaterial({ size: 3, sizeAttenuation: false, vertexColors: true }));
+    scene.add(cloud);
+    details.push(['simulated cloud', `${v.cloud.points} points shown, mean incidence ${fmt(sum / Math.max(a.length, 1))}° (blue 0°, red 90°)`]);
+  }
+  const m = v.camera_to_world;
+  details.push(['camera to world', m.map((r) => r.map((x) => fmt(x, 3)).join('  ')).join('\n')]);
+  selectedMarker.position.set(...v.frustum[0]);
+  selectedMarker.visible = true;
+  const f = v.frustum.map((p) => new THREE.Vector3(...p));
+  const segments = [];
+  for (let k = 1; k <= 4; ++k) segments.push(f[0], f[k], f[k], f[(k % 4) + 1]);
+  selectedFrustum.geometry.dispose();
+  selectedFrustum.geometry = new THREE.BufferGeometry().setFromPoints(segments);
+  $('selection').replaceChildren(table([{ title: '' }, { title: '' }], details.map(([k, val]) =>
+    [k, k === 'camera to world' ? el('pre', { style: 'margin:0;font-size:11px' }, val) : val])));
+}
+
+function selectFace(id) {
+  const f = data.faces[id - 1];
+  if (!f) return;
+  const rows = [['face', `${f.id} (${f.type}${f.name ? `, ${f.name}` : ''})`], ['area', `${fmt(f.area)} mm²`],
+    ['coverage', f.coverage], ['samples', `${f.measured} of ${f.samples} measured`],
+    ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no']];
+  $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
+}
+
+const raycaster = new THREE.Raycaster();
+let down = null;
+renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+renderer.domElement.addEventListener('pointerup', (e) => {
+  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+  const r = renderer.domElement.getBoundingClientRect();
+  raycaster.setFromCamera(new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1), camera);
+  const ball = views.visible ? raycaster.intersectObjects(cameraBalls)[0] : null;
+  if (ball) return selectView(ball.object.userData.index);
+  const hit = part.visible ? raycaster.intersectObject(part)[0] : null;
+  if (hit) selectFace(triangleFaces[hit.faceIndex]);
+});
+
+// ---- tables ---------------------------------------------------------------------------------------
+$('views-table').append(table(
+  [{ title: 'no.', num: true }, { title: 'id', num: true }, { title: 'task' }, { title: 'state' }, { title: 'samples', num: true }],
+  data.views.map((v) => [v.order || '–', v.id, v.task || '', v.state, v.measured]), selectView));
+viewRows.push(...$('views-table').querySelectorAll('tbody tr'));
+
+const summaryRows = [
+  ['model faces', summary.model_faces], ['fixture faces', summary.fixture_faces], ['samples', summary.samples],
+  ['measured', `${summary.measured} (${pct(summary.measured, summary.samples)})`],
+  ['not coverable', summary.not_coverable], ['views', summary.views]];
+for (const [reason, count] of Object.entries(summary.not_coverable_by_reason || {})) summaryRows.push([`  not coverable: ${reason}`, count]);
+if (summary.registrable_views !== null && summary.registrable_views !== undefined) {
+  summaryRows.push(['views registered', `${summary.registrable_views} (${pct(summary.registrable_views, summary.views)})`],
+    ['measured by registered views', summary.measured_by_registered_views], ['bridging views', summary.bridging_views],
+    ['unregistrable views', (summary.unregistrable_views || []).join(', ') || 'none'],
+    ['registration components', summary.registration_components]);
+}
+if (summary.path_length !== undefined) {
+  summaryRows.push(['path length', `${fmt(summary.path_length)} mm (nearest neighbour: ${fmt(summary.nearest_neighbour_path_length)} mm)`]);
+}
+if (summary.orientations !== undefined) summaryRows.push(['rest orientations', summary.orientations]);
+if (summary.sweep_views !== undefined) summaryRows.push(['sweep views', summary.sweep_views]);
+summaryRows.push(['planning time', `${fmt(summary.seconds, 2)} s`]);
+for (const [stage, seconds] of Object.entries(summary.stage_seconds || {})) summaryRows.push([`  ${stage}`, `${fmt(seconds, 2)} s`]);
+$('summary').append(table([{ title: 'quantity' }, { title: 'value' }], summaryRows));
+
+// Per task and role: samples, measured, not coverable.
+{
+  const task = bytes(data.samples.task), role = bytes(data.samples.role);
+  const groups = new Map();
+  for (let i = 0; i < task.length; ++i) {
+    const key = `${data.samples.tasks[task[i]]}|${data.samples.roles[role[i]]}`;
+    const g = groups.get(key) || [0, 0, 0];
+    g[0] += 1; if (sampleState[i] === 0) g[1] += 1; if (sampleState[i] === 2) g[2] += 1;
+    groups.set(key, g);
+  }
+  $('tasks').append(table([{ title: 'task' }, { title: 'role' }, { title: 'samples', num: true }, { title: 'measured', num: true },
+    { title: 'share', num: true }, { title: 'not coverable', num: true }],
+  [...groups.entries()].map(([k, g]) => [...k.split('|'), g[0], g[1], pct(g[1], g[0]), g[2]])));
+}
+
+if (data.gdt.length === 0) {
+  $('gdt').append(el('p', { class: 'muted' }, 'The part carries no GD&T the reader found.'));
+} else {
+  $('gdt').append(el('div', { class: 'scroll' }, table([{ title: 'tolerance' }, { title: 'value', num: true }, { title: 'datums' },
+    { title: 'faces' }, { title: 'faces measured', num: true }, { title: 'samples measured', num: true }],
+  data.gdt.map((t) => [t.type, fmt(t.value, 3), t.datums.join(' | ') || '–', t.faces.join(', '),
+    `${t.faces_measured} of ${t.faces.length}`, `${t.measured} of ${t.samples} (${pct(t.measured, t.samples)})`]))));
+}
+
+{
+  const reg = plan.registration;
+  if (!reg) {
+    $('registration').append(el('p', { class: 'muted' }, 'The plan was made without the registration check.'));
+  } else {
+    const pairs = reg.pairs || [];
+    const rows = [['reference view', reg.reference], ['pairs checked', pairs.length],
+      ['pairs that register', pairs.filter((p) => p.registrable).length],
+      ['by shared markers', pairs.filter((p) => p.markers).length],
+      ['by ICP', pairs.filter((p) => !p.markers && p.registrable).length],
+      ['markers in the cell', (reg.markers || []).length]];
+    $('registration').append(table([{ title: 'quantity' }, { title: 'value' }], rows));
+  }
+}
+
+$('faces').append(el('div', { class: 'scroll' }, table([{ title: 'face', num: true }, { title: 'type' }, { title: 'area mm²', num: true },
+  { title: 'priority' }, { title: 'coverage' }, { title: 'samples', num: true }, { title: 'measured', num: true }, { title: 'not coverable' }],
+data.faces.filter((f) => f.samples > 0 || f.priority).map((f) => [f.id, f.type, fmt(f.area), f.priority ? 'yes' : '',
+  f.coverage, f.samples, f.measured, f.not_coverable ? `${f.not_coverable} (${f.reason})` : '']),
+(i) => selectFace(data.faces.filter((f) => f.samples > 0 || f.priority)[i].id))));
+
+// ---- Combined Visibility Maps --------------------------------------------------------------------
+function showCluster(index) {
+  const c = data.clusters[index];
+  const canvas = $('cvm-canvas');
+  const scale = Math.max(2, Math.floor(720 / c.azimuths));
+  canvas.width = c.azimuths * scale;
+  canvas.height = c.elevations * scale;
+  const g = canvas.getContext('2d');
+  const cells = bytes(c.cvm);
+  for (let a = 0; a < c.azimuths; ++a) {
+    for (let e = 0; e < c.elevations; ++e) {
+      const v = cells[a * c.elevations + e] / 255;
+      g.fillStyle = v === 0 ? '#20242c' : `hsl(${(1 - v) * 240}, 85%, ${35 + 25 * v}%)`;
+      g.fillRect(a * scale, (c.elevations - 1 - e) * scale, scale, scale);
+    }
+  }
+  $('cvm-info').textContent = `${c.samples} samples; the brightest direction sees ${c.max}; grid ${c.step}°`;
+  if (clusterPoints) { scene.remove(clusterPoints); clusterPoints.geometry.dispose(); }
+  const members = u32(c.members);
+  const p = new Float32Array(members.length * 3);
+  members.forEach((m, i) => p.set(samplePositions.subarray(3 * m, 3 * m + 3), 3 * i));
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(p, 3));
+  clusterPoints = new THREE.Points(geometry, new THREE.PointsMaterial({ color: 0xff00cc, size: 5, sizeAttenuation: false }));
+  scene.add(clusterPoints);
+}
+if (data.clusters.length === 0) {
+  $('cvm-select').disabled = true;
+  $('cvm-info').textContent = 'not computed for this report';
+} else {
+  data.clusters.forEach((c, i) => $('cvm-select').append(el('option', { value: i }, `${c.id} (${c.samples} samples)`)));
+  $('cvm-select').addEventListener('change', (e) => showCluster(Number(e.target.value)));
+  showCluster(0);
+}
+
+frame();
+requestAnimationFrame(() => { document.body.dataset.ready = '1'; });
