@@ -128,6 +128,14 @@ TEST(ImportErrors, TruncatedBinaryPly) {
   EXPECT_NE(importError(dir.file("cut.ply")).find("truncated PLY file"), std::string::npos);
 }
 
+TEST(ImportErrors, PlyHeaderClaimingMoreThanTheFileHolds) {
+  test::TempDir dir;
+  test::writeText(dir.file("huge.ply"),
+                  "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\n"
+                  "property float x\nproperty float y\nproperty float z\nend_header\n");
+  EXPECT_NE(importError(dir.file("huge.ply")).find("truncated PLY file"), std::string::npos);
+}
+
 TEST(ImportErrors, FaceIndexOutOfRange) {
   test::TempDir dir;
   test::writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");

@@ -35,9 +35,14 @@ struct Checked {
 // The plan re-simulated and its registration re-checked on its part, as verify does.
 Checked check(const Input& input, const Progress& progress) {
   Plan plan = readPlan(input.plan);
-  const std::string part_file = input.part.empty() ? plan.part_file : input.part;
+  std::string part_file = input.part.empty() ? plan.part_file : input.part;
   if (part_file.empty())
     throw InputError(input.plan, "names no part file; give the part on the command line");
+  // The part file the plan names, else a file of that name beside the plan.
+  const std::filesystem::path beside =
+      std::filesystem::path(input.plan).parent_path() / std::filesystem::path(part_file).filename();
+  if (input.part.empty() && !std::filesystem::exists(part_file) && std::filesystem::exists(beside))
+    part_file = beside.string();
   Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
   Part part = importPart(part_file, {}, progress);
   PlanCheck checked = verifyPlan(plan, part, spec, planningOptionsFor(spec), progress);

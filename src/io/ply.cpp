@@ -52,23 +52,26 @@ class Reader {
 
   PlyData read() {
     readHeader();
+    // Storage grows as items are read, so that a header claiming more items than the
+    // file holds ends in "truncated", not in a huge allocation.
+    constexpr std::size_t kReserve = 1 << 20;
     for (PlyElement& element : data_.elements) {
+      if (element.properties.empty()) continue;  // its items take no bytes
       for (PlyProperty& p : element.properties) {
         if (p.is_list)
-          p.lists.resize(element.count);
+          p.lists.reserve(std::min(element.count, kReserve));
         else
-          p.values.resize(element.count);
+          p.values.reserve(std::min(element.count, kReserve));
       }
       for (std::size_t i = 0; i < element.count; ++i)
         for (PlyProperty& p : element.properties) {
           if (!p.is_list) {
-            p.values[i] = value(p.type);
+            p.values.push_back(value(p.type));
             continue;
           }
           const double n = value(p.count_type);
           if (n < 0 || n > (1 << 20)) fail("a list of element '" + element.name + "' is too long");
-          std::vector<int>& list = p.lists[i];
-          list.resize(static_cast<std::size_t>(n));
+          std::vector<int>& list = p.lists.emplace_back(static_cast<std::size_t>(n));
           for (int& item : list) item = static_cast<int>(value(p.type));
         }
     }

@@ -87,6 +87,7 @@ const labels = new CSS2DRenderer();
 labels.domElement.style.position = 'absolute';
 labels.domElement.style.top = '0';
 labels.domElement.style.pointerEvents = 'none';
+labels.domElement.style.zIndex = '1';  // its labels stay under the legend and toggles
 viewport.append(labels.domElement);
 
 const scene = new THREE.Scene();
@@ -159,7 +160,7 @@ scene.add(samples);
 // place in the sequence. The selected view shows its whole frustum.
 const views = new THREE.Group();
 const cameraBalls = [];
-const ballGeometry = new THREE.SphereGeometry(Math.min(radius / 60, partBox.radius / 8), 12, 8);
+const ballGeometry = new THREE.SphereGeometry(Math.min(radius / 120, partBox.radius / 20), 12, 8);
 data.views.forEach((v, index) => {
   const f = v.frustum.map((p) => new THREE.Vector3(...p));
   for (let k = 1; k <= 4; ++k) f[k].lerp(f[0], 0.75);
@@ -195,7 +196,7 @@ scene.add(markers);
 
 let cloud = null;      // the selected view's simulated cloud
 let clusterPoints = null;  // the selected cluster's samples
-const selectedMarker = new THREE.Mesh(new THREE.SphereGeometry(Math.min(radius / 35, partBox.radius / 5), 16, 12),
+const selectedMarker = new THREE.Mesh(new THREE.SphereGeometry(Math.min(radius / 60, partBox.radius / 12), 16, 12),
   new THREE.MeshBasicMaterial({ color: 0xff00aa, wireframe: true }));
 selectedMarker.visible = false;
 scene.add(selectedMarker);
@@ -363,17 +364,27 @@ function showCluster(index) {
   const c = data.clusters[index];
   const canvas = $('cvm-canvas');
   const scale = Math.max(2, Math.floor(720 / c.azimuths));
-  canvas.width = c.azimuths * scale;
-  canvas.height = c.elevations * scale;
+  const left = 44, bottom = 30;  // room for the axes' labels
+  const w = c.azimuths * scale, h = c.elevations * scale;
+  canvas.width = left + w + 24;
+  canvas.height = h + bottom + 10;
   const g = canvas.getContext('2d');
+  g.fillStyle = '#fff';
+  g.fillRect(0, 0, canvas.width, canvas.height);
   const cells = bytes(c.cvm);
   for (let a = 0; a < c.azimuths; ++a) {
     for (let e = 0; e < c.elevations; ++e) {
       const v = cells[a * c.elevations + e] / 255;
       g.fillStyle = v === 0 ? '#20242c' : `hsl(${(1 - v) * 240}, 85%, ${35 + 25 * v}%)`;
-      g.fillRect(a * scale, (c.elevations - 1 - e) * scale, scale, scale);
+      g.fillRect(left + a * scale, 10 + (c.elevations - 1 - e) * scale, scale, scale);
     }
   }
+  g.fillStyle = '#333';
+  g.font = '11px system-ui, sans-serif';
+  g.textAlign = 'center';
+  for (let az = 0; az <= 360; az += 45) g.fillText(`${az}°`, left + (az / 360) * w, h + 26);
+  g.textAlign = 'right';
+  for (let el = -90; el <= 90; el += 45) g.fillText(`${el}°`, left - 6, 14 + ((90 - el) / 180) * h);
   $('cvm-info').textContent = `${c.samples} samples; the brightest direction sees ${c.max}; grid ${c.step}°`;
   if (clusterPoints) { scene.remove(clusterPoints); clusterPoints.geometry.dispose(); }
   const members = u32(c.members);
