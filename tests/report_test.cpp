@@ -152,16 +152,20 @@ TEST(Report, CloudPlyRoundTripsThroughTheReader) {
     EXPECT_EQ(back.faces[i], clouds.front().faces[i]);
     EXPECT_FLOAT_EQ(back.incidence[i], clouds.front().incidence[i]);
   }
-  // All clouds in one file, each point tagged with its view.
-  const PlanScene scene = planScene(cube.plan, cube.part);
-  writePly(cloudsPly(scene, clouds), dir.file("all.ply"));
-  const PlyData all = readPly(dir.file("all.ply"));
-  const std::vector<double>& view = plyColumn(all, "vertex", "view", dir.file("all.ply"));
+  // All clouds in one file, written view by view: the same points, each tagged with its view.
+  writeCloudsPly(cube.plan, cube.part, defaultSpec(), 5, dir.file("all.ply"));
+  const std::string path = dir.file("all.ply");
+  const PlyData all = readPly(path);
+  const std::vector<double>& view = plyColumn(all, "vertex", "view", path);
+  const std::vector<double>& x = plyColumn(all, "vertex", "x", path);
+  const std::vector<double>& incidence = plyColumn(all, "vertex", "incidence", path);
   std::size_t at = 0;
   for (std::size_t v = 0; v < clouds.size(); ++v)
     for (std::size_t i = 0; i < clouds[v].points.size(); ++i, ++at) {
       ASSERT_LT(at, view.size());
       EXPECT_EQ(view[at], cube.plan.views[v].id);
+      EXPECT_NEAR(x[at], clouds[v].points[i].x(), 1e-4);
+      EXPECT_FLOAT_EQ(static_cast<float>(incidence[at]), clouds[v].incidence[i]);
     }
   EXPECT_EQ(at, view.size());
 }

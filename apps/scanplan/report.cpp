@@ -82,6 +82,7 @@ struct ExportCommand {
   Input input;
   std::string format;
   std::string out;
+  double spacing = 1;
 };
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
@@ -95,8 +96,7 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
     } else if (options.format == "samples-ply") {
       writePly(samplesPly(c.plan), options.out);
     } else if (options.format == "clouds-ply") {
-      const std::vector<PointCloud> clouds = sceneClouds(c.plan, c.part, c.spec, 0, progress);
-      writePly(cloudsPly(planScene(c.plan, c.part), clouds), options.out);
+      writeCloudsPly(c.plan, c.part, c.spec, options.spacing, options.out, progress);
     } else if (options.format == "png") {
       writePng(renderScene(planScene(c.plan, c.part)), options.out);
     }
@@ -132,6 +132,11 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       ->required()
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png"}));
   command->add_option("-o,--out", options->out, "Output file")->required();
+  command
+      ->add_option("--spacing", options->spacing,
+                   "clouds-ply: mm between the camera rays of each view (default 1; 0: the "
+                   "scanner's point spacing, which makes files of gigabytes for large plans)")
+      ->check(CLI::NonNegativeNumber);
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return runExport(*options, global); };
   });

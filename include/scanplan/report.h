@@ -83,13 +83,17 @@ std::vector<Vec3> priorityOutlines(const PlanScene& scene);
 PlyData samplesPly(const Plan& plan);
 
 // Each view's simulated cloud in the scene frame, the part placed as the view's
-// orientation places it; `spacing` mm between camera rays (0: the scanner's).
+// orientation places it; `spacing` mm between camera rays (0: the scanner's); view i is
+// seeded i + 1.
 std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
                                     double spacing, const Progress& progress = {});
 
-// All clouds in one PLY: x y z nx ny nz, face, incidence, view (id), red green blue by
-// incidence.
-PlyData cloudsPly(const PlanScene& scene, const std::vector<PointCloud>& clouds);
+// Writes every view's simulated cloud (as sceneClouds makes them) into one binary PLY,
+// one view at a time so that memory stays that of one cloud: x y z nx ny nz, face,
+// incidence (degrees), view (id), red green blue by incidence.
+// \throw OutputError when it cannot be written.
+void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
+                    const std::string& path, const Progress& progress = {});
 
 // The scene as glTF 2.0 binary (.glb): the part with vertex colours by face coverage, the
 // priority faces' outlines, the frusta, the path and the markers, each a node of its own.

@@ -1,7 +1,10 @@
 // Point exports of a plan: its samples with their coverage, and the simulated clouds of
 // its views, as PLY that MeshLab and CloudCompare colour by the red, green, blue columns.
 
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/report.h>
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <map>
@@ -33,6 +36,35 @@ Rgb incidenceColour(double degrees) {
   const double g = 1 - std::abs(2 * t - 1);
   return {static_cast<std::uint8_t>(255 * r), static_cast<std::uint8_t>(200 * g),
           static_cast<std::uint8_t>(255 * b)};
+}
+
+// Calls `take(index, cloud)` with each view's simulated cloud in the scene frame, one view
+// at a time, the part placed as the view's orientation places it; view i is seeded i + 1.
+template <typename Take>
+void forEachSceneCloud(const Plan& plan, const Part& part, const Spec& spec, double spacing,
+                       const Progress& progress, Take take) {
+  std::vector<Pose> placements{plan.part_to_world};
+  std::map<int, std::size_t> placement_of;
+  for (std::size_t k = 1; k < plan.orientations.size(); ++k) {
+    placements.push_back(plan.orientations[k].rest.part_to_world);
+    for (int id : plan.orientations[k].views) placement_of[id] = k;
+  }
+  std::size_t done = 0;
+  for (std::size_t k = 0; k < placements.size(); ++k) {
+    const Simulator simulator(part, plan.scanner, simulationOptionsFor(part, spec, placements[k]));
+    const Pose to_scene = plan.part_to_world * placements[k].inverse();
+    for (std::size_t i = 0; i < plan.views.size(); ++i) {
+      auto it = placement_of.find(plan.views[i].id);
+      if ((it == placement_of.end() ? 0 : it->second) != k) continue;
+      report(progress, "simulated clouds",
+             static_cast<double>(done++) / static_cast<double>(plan.views.size()));
+      PointCloud cloud = simulator.cloud(plan.views[i], static_cast<std::uint64_t>(i + 1), spacing);
+      for (Vec3& p : cloud.points) p = to_scene * p;
+      for (Vec3& v : cloud.normals) v = to_scene.linear() * v;
+      take(i, std::move(cloud));
+    }
+  }
+  report(progress, "simulated clouds", 1);
 }
 
 }  // namespace
@@ -81,55 +113,47 @@ PlyData samplesPly(const Plan& plan) {
 
 std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
                                     double spacing, const Progress& progress) {
-  // Each orientation's placement, and which one each view belongs to.
-  std::vector<Pose> placements{plan.part_to_world};
-  std::map<int, std::size_t> placement_of;
-  for (std::size_t k = 1; k < plan.orientations.size(); ++k) {
-    placements.push_back(plan.orientations[k].rest.part_to_world);
-    for (int id : plan.orientations[k].views) placement_of[id] = k;
-  }
   std::vector<PointCloud> clouds(plan.views.size());
-  std::size_t done = 0;
-  for (std::size_t k = 0; k < placements.size(); ++k) {
-    SimulationOptions options = simulationOptionsFor(part, spec, placements[k]);
-    const Simulator simulator(part, plan.scanner, options);
-    const Pose to_scene = plan.part_to_world * placements[k].inverse();
-    for (std::size_t i = 0; i < plan.views.size(); ++i) {
-      auto it = placement_of.find(plan.views[i].id);
-      if ((it == placement_of.end() ? 0 : it->second) != k) continue;
-      report(progress, "simulated clouds",
-             static_cast<double>(done++) / static_cast<double>(plan.views.size()));
-      PointCloud cloud = simulator.cloud(plan.views[i], static_cast<std::uint64_t>(i + 1), spacing);
-      for (Vec3& p : cloud.points) p = to_scene * p;
-      for (Vec3& v : cloud.normals) v = to_scene.linear() * v;
-      clouds[i] = std::move(cloud);
-    }
-  }
-  report(progress, "simulated clouds", 1);
+  forEachSceneCloud(plan, part, spec, spacing, progress,
+                    [&](std::size_t i, PointCloud&& cloud) { clouds[i] = std::move(cloud); });
   return clouds;
 }
 
-PlyData cloudsPly(const PlanScene& scene, const std::vector<PointCloud>& clouds) {
-  PointCloud all;
-  std::vector<double> view_ids;
-  for (std::size_t v = 0; v < clouds.size() && v < scene.views.size(); ++v) {
-    const PointCloud& c = clouds[v];
-    all.points.insert(all.points.end(), c.points.begin(), c.points.end());
-    all.normals.insert(all.normals.end(), c.normals.begin(), c.normals.end());
-    all.faces.insert(all.faces.end(), c.faces.begin(), c.faces.end());
-    all.incidence.insert(all.incidence.end(), c.incidence.begin(), c.incidence.end());
-    view_ids.insert(view_ids.end(), c.points.size(), scene.views[v].view.id);
-  }
-  PlyData data = cloudPly(all);
-  data.comments = {
-      "scanplan simulated clouds of every view, mm, world frame of the plan's "
-      "first placement; view: view id; colour by incidence (blue 0, red 90 degrees)"};
-  PlyElement& vertex = data.elements.front();
-  vertex.add("view", PlyType::Int32, std::move(view_ids));
-  std::vector<Rgb> colours(all.points.size());
-  for (std::size_t i = 0; i < colours.size(); ++i) colours[i] = incidenceColour(all.incidence[i]);
-  addColours(vertex, colours);
-  return data;
+void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
+                    const std::string& path, const Progress& progress) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    // The point count is known at the end: written into a fixed-width field then.
+    out << "ply\nformat binary_little_endian 1.0\n"
+        << "comment scanplan simulated clouds of every view, mm, world frame of the plan's "
+           "first placement; view: view id; colour by incidence (blue 0, red 90 degrees)\n"
+        << "element vertex ";
+    const std::streampos count_at = out.tellp();
+    out << "000000000000\n"
+        << "property float x\nproperty float y\nproperty float z\n"
+        << "property float nx\nproperty float ny\nproperty float nz\n"
+        << "property int face\nproperty float incidence\nproperty int view\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    std::size_t count = 0;
+    forEachSceneCloud(plan, part, spec, spacing, progress, [&](std::size_t v, PointCloud&& c) {
+      const std::int32_t view = plan.views[v].id;
+      std::string buffer;
+      auto put = [&](const auto& value) {
+        buffer.append(reinterpret_cast<const char*>(&value), sizeof value);
+      };
+      for (std::size_t i = 0; i < c.points.size(); ++i) {
+        for (int k = 0; k < 3; ++k) put(static_cast<float>(c.points[i][k]));
+        for (int k = 0; k < 3; ++k) put(static_cast<float>(c.normals[i][k]));
+        put(static_cast<std::int32_t>(c.faces[i]));
+        put(c.incidence[i]);
+        put(view);
+        put(incidenceColour(c.incidence[i]));
+      }
+      out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      count += c.points.size();
+    });
+    out.seekp(count_at);
+    out << fmt::format("{:012d}", count);
+  });
 }
 
 }  // namespace scanplan
