@@ -1,0 +1,59 @@
+#pragma once
+// The inspection cell's robot: a 6-axis industrial arm with a spherical wrist, described
+// by its ortho-parallel ("OPW") kinematic parameters, with the closed-form inverse
+// kinematics of Brandstötter, Angerer and Hofbaur, "An analytical solution of the inverse
+// kinematics problem of industrial serial manipulators with an ortho-parallel basis and a
+// spherical wrist", Austrian Robotics Workshop 2014 (docs/cell.md).
+
+#include <scanplan/view.h>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+using Joints = std::array<double, 6>;  // radians, as the controller counts them
+
+// Ortho-parallel parameters (the paper's figure 1), mm: a1 shoulder offset along x, a2
+// elbow offset, b lateral offset, c1 base height, c2 upper arm, c3 forearm, c4 wrist to
+// flange. Joint i as the controller counts it is (model angle + offset[i]) * sign[i].
+struct RobotModel {
+  std::string name;
+  double a1 = 0, a2 = 0, b = 0, c1 = 0, c2 = 0, c3 = 0, c4 = 0;
+  Joints offsets{};  // radians
+  std::array<int, 6> signs{1, 1, 1, 1, 1, 1};
+  Joints lower{}, upper{};  // joint limits, radians
+  Joints speeds{};          // largest joint speeds, radians per second
+
+  // Distance from the shoulder axis to the wrist centre when stretched, mm.
+  double reach() const;
+};
+
+// The presets: "kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205".
+std::vector<std::string> robotPresets();
+// \throw InputError (naming `source`) for an unknown preset.
+RobotModel robotPreset(std::string_view name, const std::string& source = "spec");
+
+// The flange pose in the robot's base frame for `joints`.
+Pose forwardKinematics(const RobotModel& robot, const Joints& joints);
+
+// Every solution (up to 8: shoulder left/right x elbow up/down x wrist flip) that puts the
+// flange at `flange` (base frame) within the joint limits; each joint taken as the
+// equivalent (a multiple of 360° away) nearest to `near` that the limits allow. Empty when
+// the pose is out of reach or every solution breaks a limit.
+std::vector<Joints> inverseKinematics(const RobotModel& robot, const Pose& flange,
+                                      const Joints& near = {});
+
+// Why inverseKinematics found nothing: out of reach (no arm configuration at all), or
+// configurations that all break a joint limit.
+enum class Reach { Reachable, OutOfReach, JointLimits };
+std::string_view toString(Reach reach);
+Reach reachOf(const RobotModel& robot, const Pose& flange);
+
+// Largest joint travel time between two joint vectors, seconds (the joints move together).
+double travelTime(const RobotModel& robot, const Joints& from, const Joints& to);
+
+}  // namespace scanplan

@@ -1,0 +1,237 @@
+// Forward and closed-form inverse kinematics of ortho-parallel robots with a spherical
+// wrist (Brandstötter, Angerer, Hofbaur 2014): the wrist centre C = flange - c4 * z gives
+// joints 1-3 (two shoulder solutions, each with elbow up and down), the rotation left for
+// the wrist gives joints 4-6 (and the flipped wrist).
+
+#include <scanplan/errors.h>
+#include <scanplan/robot.h>
+
+#include <Eigen/SVD>
+
+#include <cmath>
+
+namespace scanplan {
+namespace {
+
+constexpr double kDegree = M_PI / 180;
+
+Joints degrees(std::initializer_list<double> values) {
+  Joints q{};
+  std::size_t i = 0;
+  for (double v : values) q[i++] = v * kDegree;
+  return q;
+}
+
+// The model angles (the paper's theta) of a controller joint vector, and back.
+Joints modelAngles(const RobotModel& r, const Joints& q) {
+  Joints theta{};
+  for (int i = 0; i < 6; ++i) theta[i] = q[i] * r.signs[i] - r.offsets[i];
+  return theta;
+}
+
+Joints controllerJoints(const RobotModel& r, const Joints& theta) {
+  Joints q{};
+  for (int i = 0; i < 6; ++i) q[i] = (theta[i] + r.offsets[i]) * r.signs[i];
+  return q;
+}
+
+// The equivalent of `angle` (a multiple of 2 pi away) within [lower, upper] nearest to
+// `near`, if any.
+std::optional<double> withinLimits(double angle, double lower, double upper, double near) {
+  angle = near + std::remainder(angle - near, 2 * M_PI);
+  if (angle >= lower && angle <= upper) return angle;
+  // The nearest turn lies outside: try the others that the limits allow, nearest first.
+  std::optional<double> best;
+  for (int k = -3; k <= 3; ++k) {
+    const double a = angle + 2 * M_PI * k;
+    if (a >= lower && a <= upper && (!best || std::abs(a - near) < std::abs(*best - near)))
+      best = a;
+  }
+  return best;
+}
+
+}  // namespace
+
+double RobotModel::reach() const { return c2 + std::hypot(a2, c3) + c4; }
+
+std::vector<std::string> robotPresets() {
+  return {"kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205"};
+}
+
+RobotModel robotPreset(std::string_view name, const std::string& source) {
+  RobotModel r;
+  r.name = std::string(name);
+  if (name == "kuka-kr6-r700-sixx") {
+    // KUKA KR 6 R700 sixx (KR AGILUS), 706 mm reach: dimensions, axis ranges and speeds
+    // from KUKA's specification of the KR AGILUS sixx; OPW form as in ROS-Industrial's
+    // kuka_experimental support package.
+    r.a1 = 25, r.a2 = -35, r.b = 0, r.c1 = 400, r.c2 = 315, r.c3 = 365, r.c4 = 80;
+    r.offsets = degrees({0, -90, 0, 0, 0, 0});
+    r.signs = {-1, 1, 1, -1, 1, -1};
+    r.lower = degrees({-170, -190, -120, -185, -120, -350});
+    r.upper = degrees({170, 45, 156, 185, 120, 350});
+    r.speeds = degrees({360, 300, 360, 381, 388, 615});
+  } else if (name == "abb-irb2400-10") {
+    // ABB IRB 2400/10, 1.55 m reach: ABB product specification IRB 2400 (3HAC042195),
+    // axis working ranges and speeds of the /10 variant.
+    r.a1 = 100, r.a2 = -135, r.b = 0, r.c1 = 615, r.c2 = 705, r.c3 = 755, r.c4 = 85;
+    r.offsets = degrees({0, 0, -90, 0, 0, 0});
+    r.lower = degrees({-180, -100, -60, -200, -120, -400});
+    r.upper = degrees({180, 110, 65, 200, 120, 400});
+    r.speeds = degrees({150, 150, 150, 360, 360, 450});
+  } else if (name == "abb-irb4600-60-205") {
+    // ABB IRB 4600-60/2.05, 2.05 m reach: ABB product specification IRB 4600
+    // (3HAC032885), axis working ranges and speeds; OPW form as in ROS-Industrial's
+    // abb_irb4600_support package.
+    r.a1 = 175, r.a2 = -175, r.b = 0, r.c1 = 495, r.c2 = 900, r.c3 = 960, r.c4 = 135;
+    r.offsets = degrees({0, 0, -90, 0, 0, 0});
+    r.lower = degrees({-180, -90, -180, -400, -125, -400});
+    r.upper = degrees({180, 150, 75, 400, 120, 400});
+    r.speeds = degrees({175, 175, 175, 250, 250, 360});
+  } else {
+    std::string known;
+    for (const std::string& p : robotPresets()) known += (known.empty() ? "" : ", ") + p;
+    throw InputError(source,
+                     "unknown robot preset '" + std::string(name) + "' (known: " + known + ")");
+  }
+  return r;
+}
+
+Pose forwardKinematics(const RobotModel& r, const Joints& joints) {
+  const Joints q = modelAngles(r, joints);
+  const double psi3 = std::atan2(r.a2, r.c3), k = std::hypot(r.a2, r.c3);
+  // Wrist centre in the plane of the arm, then turned by joint 1.
+  const double x1 = r.c2 * std::sin(q[1]) + k * std::sin(q[1] + q[2] + psi3) + r.a1;
+  const double z1 = r.c2 * std::cos(q[1]) + k * std::cos(q[1] + q[2] + psi3);
+  const Vec3 centre(x1 * std::cos(q[0]) - r.b * std::sin(q[0]),
+                    x1 * std::sin(q[0]) + r.b * std::cos(q[0]), z1 + r.c1);
+  using Eigen::AngleAxisd;
+  const Eigen::Matrix3d arm =
+      (AngleAxisd(q[0], Vec3::UnitZ()) * AngleAxisd(q[1] + q[2], Vec3::UnitY())).toRotationMatrix();
+  const Eigen::Matrix3d wrist = (AngleAxisd(q[3], Vec3::UnitZ()) * AngleAxisd(q[4], Vec3::UnitY()) *
+                                 AngleAxisd(q[5], Vec3::UnitZ()))
+                                    .toRotationMatrix();
+  Pose flange = Pose::Identity();
+  flange.linear() = arm * wrist;
+  flange.translation() = centre + r.c4 * flange.linear().col(2);
+  return flange;
+}
+
+namespace {
+
+// The up to 8 model-angle solutions, NaN where a configuration does not exist.
+std::array<Joints, 8> solutions(const RobotModel& r, const Pose& flange) {
+  const Eigen::Matrix3d& m = flange.linear();
+  const Vec3 c = flange.translation() - r.c4 * m.col(2);
+  const double nx1 = std::sqrt(c.x() * c.x() + c.y() * c.y() - r.b * r.b) - r.a1;
+  const double towards = std::atan2(c.y(), c.x()), lateral = std::atan2(r.b, nx1 + r.a1);
+  const double theta1[2] = {towards - lateral, towards + lateral - M_PI};
+  const double height = c.z() - r.c1;
+  const double s1_2 = nx1 * nx1 + height * height;
+  const double s2_2 = (nx1 + 2 * r.a1) * (nx1 + 2 * r.a1) + height * height;
+  const double kappa_2 = r.a2 * r.a2 + r.c3 * r.c3, c2_2 = r.c2 * r.c2;
+  const double s1 = std::sqrt(s1_2), s2 = std::sqrt(s2_2);
+  const double elbow1 = std::acos((s1_2 + c2_2 - kappa_2) / (2 * s1 * r.c2));
+  const double elbow2 = std::acos((s2_2 + c2_2 - kappa_2) / (2 * s2 * r.c2));
+  const double front = std::atan2(nx1, height), back = std::atan2(nx1 + 2 * r.a1, height);
+  const double theta2[4] = {-elbow1 + front, elbow1 + front, -elbow2 - back, elbow2 - back};
+  const double psi3 = std::atan2(r.a2, r.c3), k2 = 2 * r.c2 * std::sqrt(kappa_2);
+  const double bend1 = std::acos((s1_2 - c2_2 - kappa_2) / k2);
+  const double bend2 = std::acos((s2_2 - c2_2 - kappa_2) / k2);
+  const double theta3[4] = {bend1 - psi3, -bend1 - psi3, bend2 - psi3, -bend2 - psi3};
+
+  std::array<Joints, 8> out{};
+  for (int i = 0; i < 4; ++i) {
+    const double q1 = theta1[i / 2];
+    const double sin1 = std::sin(q1), cos1 = std::cos(q1);
+    const double s23 = std::sin(theta2[i] + theta3[i]), c23 = std::cos(theta2[i] + theta3[i]);
+    const double cos5 = m(0, 2) * s23 * cos1 + m(1, 2) * s23 * sin1 + m(2, 2) * c23;
+    const double q4 = std::atan2(m(1, 2) * cos1 - m(0, 2) * sin1,
+                                 m(0, 2) * c23 * cos1 + m(1, 2) * c23 * sin1 - m(2, 2) * s23);
+    const double q5 = std::atan2(std::sqrt(std::max(0.0, 1 - cos5 * cos5)), cos5);
+    const double q6 = std::atan2(m(0, 1) * s23 * cos1 + m(1, 1) * s23 * sin1 + m(2, 1) * c23,
+                                 -m(0, 0) * s23 * cos1 - m(1, 0) * s23 * sin1 - m(2, 0) * c23);
+    out[i] = {q1, theta2[i], theta3[i], q4, q5, q6};
+    out[i + 4] = {q1, theta2[i], theta3[i], q4 + M_PI, -q5, q6 - M_PI};
+  }
+  return out;
+}
+
+bool exists(const Joints& theta) {
+  for (double t : theta)
+    if (!std::isfinite(t)) return false;
+  return true;
+}
+
+// The error of `flange` against `target`: position (mm) and rotation vector (radians).
+Eigen::Matrix<double, 6, 1> poseError(const Pose& flange, const Pose& target) {
+  Eigen::Matrix<double, 6, 1> e;
+  e.head<3>() = target.translation() - flange.translation();
+  const Eigen::AngleAxisd turn(target.linear() * flange.linear().transpose());
+  e.tail<3>() = turn.angle() * turn.axis();
+  return e;
+}
+
+// The closed form loses digits where acos works near +-1 (stretched arm, straight wrist):
+// Gauss-Newton steps on the forward kinematics (numerical Jacobian, least-squares solve
+// that tolerates the singular wrist) bring such a solution back to machine precision.
+Joints refine(const RobotModel& r, Joints q, const Pose& target) {
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    const Eigen::Matrix<double, 6, 1> e = poseError(forwardKinematics(r, q), target);
+    if (e.head<3>().norm() < 1e-11 && e.tail<3>().norm() < 1e-13) break;
+    Eigen::Matrix<double, 6, 6> jacobian;
+    constexpr double h = 1e-7;
+    for (int j = 0; j < 6; ++j) {
+      Joints moved = q;
+      moved[j] += h;
+      jacobian.col(j) = -poseError(forwardKinematics(r, moved), forwardKinematics(r, q)) / h;
+    }
+    const Eigen::Matrix<double, 6, 1> step =
+        jacobian.jacobiSvd(Eigen::ComputeFullU | Eigen::ComputeFullV).solve(-e);
+    for (int j = 0; j < 6; ++j) q[j] -= step[j];
+  }
+  return q;
+}
+
+}  // namespace
+
+std::vector<Joints> inverseKinematics(const RobotModel& r, const Pose& flange, const Joints& near) {
+  std::vector<Joints> result;
+  for (const Joints& theta : solutions(r, flange)) {
+    if (!exists(theta)) continue;
+    Joints q = refine(r, controllerJoints(r, theta), flange);
+    bool inside = true;
+    for (int i = 0; i < 6 && inside; ++i) {
+      const std::optional<double> a = withinLimits(q[i], r.lower[i], r.upper[i], near[i]);
+      inside = a.has_value();
+      if (a) q[i] = *a;
+    }
+    if (inside) result.push_back(q);
+  }
+  return result;
+}
+
+std::string_view toString(Reach reach) {
+  switch (reach) {
+    case Reach::Reachable: return "reachable";
+    case Reach::OutOfReach: return "out_of_reach";
+    case Reach::JointLimits: return "joint_limits";
+  }
+  return "?";
+}
+
+Reach reachOf(const RobotModel& r, const Pose& flange) {
+  if (!inverseKinematics(r, flange).empty()) return Reach::Reachable;
+  for (const Joints& theta : solutions(r, flange))
+    if (exists(theta)) return Reach::JointLimits;
+  return Reach::OutOfReach;
+}
+
+double travelTime(const RobotModel& r, const Joints& from, const Joints& to) {
+  double seconds = 0;
+  for (int i = 0; i < 6; ++i)
+    if (r.speeds[i] > 0) seconds = std::max(seconds, std::abs(to[i] - from[i]) / r.speeds[i]);
+  return seconds;
+}
+
+}  // namespace scanplan

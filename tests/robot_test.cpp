@@ -1,0 +1,104 @@
+// Robot kinematics: forward kinematics against hand-computed poses, and the closed-form
+// inverse against forward kinematics on random poses of every preset.
+
+#include "support.h"
+
+#include <scanplan/errors.h>
+#include <scanplan/robot.h>
+
+#include <random>
+
+namespace scanplan {
+namespace {
+
+// Joint vectors uniform within the limits.
+std::vector<Joints> randomJoints(const RobotModel& robot, int count, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::vector<Joints> result(count);
+  for (Joints& q : result)
+    for (int i = 0; i < 6; ++i)
+      q[i] = std::uniform_real_distribution<double>(robot.lower[i], robot.upper[i])(random);
+  return result;
+}
+
+double poseError(const Pose& a, const Pose& b) {
+  return std::max((a.translation() - b.translation()).norm(),
+                  (a.linear() - b.linear()).cwiseAbs().maxCoeff());
+}
+
+TEST(Robot, HomePoseOfTheKukaIsItsDrawing) {
+  // KR 6 R700 sixx at A2 = -90°, A3 = 90°: the upper arm vertical, the forearm and the
+  // flange horizontal along +x.
+  const RobotModel kuka = robotPreset("kuka-kr6-r700-sixx");
+  const Pose home = forwardKinematics(kuka, {0, -M_PI / 2, M_PI / 2, 0, 0, 0});
+  // Model angles (0, 0, 90°, 0, 0, 0): wrist centre at x = a1 + c3, z = c1 + c2 - a2.
+  const Vec3 centre(kuka.a1 + kuka.c3, 0, kuka.c1 + kuka.c2 - kuka.a2);
+  EXPECT_LT((home.translation() - (centre + kuka.c4 * home.linear().col(2))).norm(), 1e-12);
+  EXPECT_LT((home.linear().col(2) - Vec3::UnitX()).norm(), 1e-12);
+  EXPECT_NEAR(home.translation().x(), 25 + 365 + 80, 1e-9);
+  EXPECT_NEAR(home.translation().z(), 400 + 315 + 35, 1e-9);
+}
+
+TEST(Robot, InverseOfForwardOnRandomPosesOfEveryPreset) {
+  for (const std::string& name : robotPresets()) {
+    SCOPED_TRACE(name);
+    const RobotModel robot = robotPreset(name);
+    double worst = 0;
+    int found_original = 0;
+    for (const Joints& q : randomJoints(robot, 10000, 7)) {
+      const Pose pose = forwardKinematics(robot, q);
+      const std::vector<Joints> solutions = inverseKinematics(robot, pose, q);
+      ASSERT_FALSE(solutions.empty());
+      ASSERT_LE(solutions.size(), 8u);
+      bool original = false;
+      for (const Joints& s : solutions) {
+        worst = std::max(worst, poseError(forwardKinematics(robot, s), pose));
+        for (int i = 0; i < 6; ++i) {
+          ASSERT_GE(s[i], robot.lower[i]);
+          ASSERT_LE(s[i], robot.upper[i]);
+        }
+        double difference = 0;
+        for (int i = 0; i < 6; ++i) difference = std::max(difference, std::abs(s[i] - q[i]));
+        original = original || difference < 1e-6;
+      }
+      found_original += original;
+    }
+    EXPECT_LT(worst, 1e-9) << "mm and rotation entries";
+    // The original joints are among the solutions, but where the wrist is nearly straight
+    // (joint 5 near 0) and joints 4 and 6 are not unique.
+    EXPECT_GE(found_original, 9990);
+  }
+}
+
+TEST(Robot, PosesBeyondReachHaveNoSolution) {
+  for (const std::string& name : robotPresets()) {
+    const RobotModel robot = robotPreset(name);
+    Pose far = Pose::Identity();
+    far.translation() = Vec3(robot.reach() * 1.5 + robot.a1, 0, robot.c1);
+    EXPECT_TRUE(inverseKinematics(robot, far).empty()) << name;
+    EXPECT_EQ(reachOf(robot, far), Reach::OutOfReach) << name;
+  }
+}
+
+TEST(Robot, SolutionsOutsideTheLimitsAreRejectedWithTheirReason) {
+  RobotModel robot = robotPreset("abb-irb2400-10");
+  const Pose pose = forwardKinematics(robot, {1, 0.2, 0.1, 0.3, 0.5, 0.2});
+  EXPECT_EQ(reachOf(robot, pose), Reach::Reachable);
+  robot.lower[0] = -0.1;  // joint 1 may no longer turn to 1 rad (nor to 1 - pi)
+  robot.upper[0] = 0.1;
+  EXPECT_TRUE(inverseKinematics(robot, pose).empty());
+  EXPECT_EQ(reachOf(robot, pose), Reach::JointLimits);
+}
+
+TEST(Robot, TravelTimeIsTheSlowestJoint) {
+  const RobotModel robot = robotPreset("abb-irb2400-10");
+  Joints to{};
+  to[0] = 150 * M_PI / 180;  // 1 s at 150°/s
+  to[5] = 225 * M_PI / 180;  // 0.5 s at 450°/s
+  EXPECT_NEAR(travelTime(robot, {}, to), 1.0, 1e-12);
+}
+
+TEST(Robot, UnknownPresetIsAnInputError) { EXPECT_THROW(robotPreset("kuka-kr1000"), InputError); }
+
+}  // namespace
+}  // namespace scanplan
