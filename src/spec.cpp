@@ -97,6 +97,143 @@ class SpecReader {
     return selectors;
   }
 
+  // `count` numbers.
+  std::vector<double> numbers(const YAML::Node& node, std::size_t count,
+                              const std::string& key) const {
+    if (!node.IsSequence() || node.size() != count)
+      fail(key + ": expected " + std::to_string(count) + " numbers");
+    std::vector<double> values;
+    for (const YAML::Node& item : node) values.push_back(scalar<double>(item, key));
+    return values;
+  }
+
+  Vec3 vector(const YAML::Node& node, const std::string& key) const {
+    const std::vector<double> v = numbers(node, 3, key);
+    return {v[0], v[1], v[2]};
+  }
+
+  // Six joint values in degrees (degree: true) or plain numbers, as radians.
+  Joints joints(const YAML::Node& node, const std::string& key, bool degree = true) const {
+    const std::vector<double> v = numbers(node, 6, key);
+    Joints q{};
+    for (int i = 0; i < 6; ++i) q[i] = degree ? v[i] * M_PI / 180 : v[i];
+    return q;
+  }
+
+  // A frame: a 4x4 matrix, or {position: [x, y, z] mm, rotation: [rx, ry, rz] degrees}
+  // (turned about the fixed X, then Y, then Z axes).
+  Pose frame(const YAML::Node& node, const std::string& key) const {
+    if (node.IsSequence()) {
+      if (node.size() != 4) fail(key + ": a matrix is 4 rows of 4 numbers");
+      Eigen::Matrix4d m;
+      for (int r = 0; r < 4; ++r) {
+        const std::vector<double> row = numbers(node[r], 4, key);
+        for (int c = 0; c < 4; ++c) m(r, c) = row[c];
+      }
+      if (!isRigid(m)) fail(key + ": not a rigid transform");
+      return Pose(m);
+    }
+    if (!node.IsMap()) fail(key + ": expected {position: [x, y, z], rotation: [rx, ry, rz]}");
+    for (const auto& item : node) {
+      const std::string field = item.first.as<std::string>();
+      if (field != "position" && field != "rotation") fail(key + ": unknown field '" + field + "'");
+    }
+    Pose pose = Pose::Identity();
+    if (node["position"]) pose.translation() = vector(node["position"], key + ".position");
+    if (node["rotation"]) {
+      const Vec3 r = vector(node["rotation"], key + ".rotation") * (M_PI / 180);
+      pose.linear() =
+          (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+           Eigen::AngleAxisd(r.x(), Vec3::UnitX()))
+              .toRotationMatrix();
+    }
+    return pose;
+  }
+
+  RobotModel robot(const YAML::Node& node) const {
+    const std::string key = "cell.robot";
+    if (!node.IsMap()) fail(key + " must be a mapping");
+    static const std::set<std::string> fields = {"preset", "a1",    "a2",     "b",       "c1",
+                                                 "c2",     "c3",    "c4",     "offsets", "signs",
+                                                 "lower",  "upper", "speeds", "base",    "name"};
+    for (const auto& item : node)
+      if (!fields.count(item.first.as<std::string>()))
+        fail(key + ": unknown field '" + item.first.as<std::string>() + "'");
+    RobotModel r;
+    if (node["preset"]) {
+      const std::string preset = scalar<std::string>(node["preset"], key + ".preset");
+      const std::vector<std::string> known = robotPresets();
+      if (std::find(known.begin(), known.end(), preset) == known.end()) {
+        std::string list;
+        for (const std::string& name : known) list += (list.empty() ? "" : ", ") + name;
+        fail(key + ".preset: unknown robot '" + preset + "' (known: " + list + ")");
+      }
+      r = robotPreset(preset, path_);
+    } else {
+      for (const char* needed : {"a1", "a2", "b", "c1", "c2", "c3", "c4", "lower", "upper"})
+        if (!node[needed])
+          fail(key +
+               ": give a preset, or every OPW parameter (a1, a2, b, c1, c2, c3, c4) and "
+               "the joint limits (lower, upper); missing '" +
+               std::string(needed) + "'");
+      r.name = node["name"] ? scalar<std::string>(node["name"], key + ".name") : "custom";
+      r.speeds.fill(100 * M_PI / 180);  // unless given: 100°/s on every joint
+    }
+    double* lengths[] = {&r.a1, &r.a2, &r.b, &r.c1, &r.c2, &r.c3, &r.c4};
+    const char* names[] = {"a1", "a2", "b", "c1", "c2", "c3", "c4"};
+    for (int i = 0; i < 7; ++i)
+      if (node[names[i]]) *lengths[i] = scalar<double>(node[names[i]], key + "." + names[i]);
+    if (node["offsets"]) r.offsets = joints(node["offsets"], key + ".offsets");
+    if (node["lower"]) r.lower = joints(node["lower"], key + ".lower");
+    if (node["upper"]) r.upper = joints(node["upper"], key + ".upper");
+    if (node["speeds"]) r.speeds = joints(node["speeds"], key + ".speeds");
+    if (node["signs"]) {
+      const Joints signs = joints(node["signs"], key + ".signs", false);
+      for (int i = 0; i < 6; ++i) {
+        if (signs[i] != 1 && signs[i] != -1) fail(key + ".signs: each sign is 1 or -1");
+        r.signs[i] = static_cast<int>(signs[i]);
+      }
+    }
+    if (!(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
+      fail(key + ": c2 and c3 must be positive and c4 not negative (mm)");
+    for (int i = 0; i < 6; ++i) {
+      if (!(r.lower[i] < r.upper[i]))
+        fail(key + ": joint " + std::to_string(i + 1) + " has lower >= upper");
+      if (!(r.speeds[i] > 0))
+        fail(key + ".speeds: joint " + std::to_string(i + 1) + " needs a positive speed");
+    }
+    return r;
+  }
+
+  RotaryTable table(const YAML::Node& node) const {
+    const std::string key = "cell.table";
+    if (!node.IsMap()) fail(key + " must be a mapping");
+    for (const auto& item : node) {
+      const std::string field = item.first.as<std::string>();
+      if (field != "origin" && field != "axis" && field != "range" && field != "step")
+        fail(key + ": unknown field '" + field + "'");
+    }
+    RotaryTable t;
+    if (node["origin"]) t.origin = vector(node["origin"], key + ".origin");
+    if (node["axis"]) {
+      t.axis = vector(node["axis"], key + ".axis");
+      if (t.axis.norm() < 1e-9) fail(key + ".axis must not be zero");
+      t.axis.normalize();
+    }
+    if (node["range"]) {
+      const std::vector<double> range = numbers(node["range"], 2, key + ".range");
+      t.lower = range[0] * M_PI / 180;
+      t.upper = range[1] * M_PI / 180;
+      if (!(t.lower <= 0 && 0 <= t.upper))
+        fail(key + ".range must hold 0 (the angle the plan is made at)");
+    }
+    if (node["step"]) {
+      t.step = scalar<double>(node["step"], key + ".step") * M_PI / 180;
+      if (!(t.step > 0)) fail(key + ".step must be positive (degrees)");
+    }
+    return t;
+  }
+
   Task task(const YAML::Node& node, std::size_t index) const {
     const std::string key = "tasks[" + std::to_string(index + 1) + "]";
     if (!node.IsMap() || !node["type"])
@@ -286,9 +423,21 @@ Spec loadSpec(const std::string& path) {
         reader.fail("planner.sweep_overlap must be within [0, 0.8]");
     }
     if (const YAML::Node cell = root["cell"]) {
-      checkKeys(cell, {"working_plane"}, reader, "cell");
+      checkKeys(cell, {"working_plane", "robot", "mount", "table"}, reader, "cell");
       if (cell["working_plane"])
         spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
+      if (cell["robot"]) {
+        Cell c;
+        c.robot = reader.robot(cell["robot"]);
+        if (cell["robot"]["base"]) c.base = reader.frame(cell["robot"]["base"], "cell.robot.base");
+        // Default mount: the camera 150 mm out along the flange's axis, looking along it.
+        c.mount.translation() = Vec3(0, 0, 150);
+        if (cell["mount"]) c.mount = reader.frame(cell["mount"], "cell.mount");
+        if (cell["table"]) c.table = reader.table(cell["table"]);
+        spec.cell = c;
+      } else if (cell["mount"] || cell["table"]) {
+        reader.fail("cell: a mount or a table needs a robot (cell.robot)");
+      }
     }
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.what());

@@ -33,6 +33,7 @@ struct PlanningOptions {
   bool bound = false;            // also solve the exact set cover over all candidate poses
   double bound_time_limit = 30;  // seconds for CBC
   bool registration = true;      // check registration, bridge, and sequence the views
+  std::optional<Cell> cell;      // the robot must reach every view (spec cell.robot)
 };
 
 // The optimality check: the fewest candidate poses that measure every sample the plan
@@ -54,7 +55,14 @@ SimulationOptions simulationOptionsFor(const Part& part, const Spec& spec,
                                        const Pose& part_to_world);
 
 // Why a sample is not coverable.
-enum class Uncoverable { None, BelowWorkingPlane, OccludedByPart, NoValidPose, Lost };
+enum class Uncoverable {
+  None,
+  BelowWorkingPlane,
+  OccludedByPart,
+  NoValidPose,
+  Lost,
+  Unreachable  // poses clear of the part measure it, but the cell's robot reaches none
+};
 
 struct PlannedSample {
   Sample sample;                 // world frame
@@ -107,6 +115,11 @@ struct Plan {
   // the other. Empty for a plan with one placement.
   std::vector<PlannedOrientation> orientations;
   std::vector<PlannedSample> samples;
+  // With a cell (spec cell.robot): the cell, and how it takes each view (per view, in the
+  // order of the views; none where it cannot), the joints chosen along the sequence for
+  // the least joint travel.
+  std::optional<Cell> cell;
+  std::vector<std::optional<CellPose>> cell_poses;
   std::vector<StageTime> times;
   double seconds = 0;
   std::optional<PlanBound> bound;  // with PlanningOptions::bound
@@ -138,10 +151,32 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
                const Progress& progress = {});
 
 // True when the scanner body at `view` stays clear of the part, fixtures and the working
-// plane.
+// plane, and the cell's robot (PlanningOptions::cell) reaches it.
 bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOptions& options);
 
 std::string_view toString(Uncoverable reason);
+
+// How the cell takes each of `views` when they are visited in `order` (ids): of the
+// inverse-kinematics solutions of each view (at the table angle nearest 0 that reaches
+// it), the ones whose joints travel least from view to view over the whole order
+// (dynamic programming). Per view, in the order of `views`; none where the cell cannot
+// reach the view.
+std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
+                                               const std::vector<int>& order);
+
+// The joint motion of a sequence of cell poses: the largest change of any joint between
+// consecutive reached views (radians), the travel time (seconds, joints at their largest
+// speeds, the table at `table_speed` rad/s) and how often the table turns.
+struct JointMotion {
+  double max_step = 0;
+  int max_step_joint = 0;  // 1-based
+  double seconds = 0;
+  std::size_t table_moves = 0;
+  std::size_t unreached = 0;  // views the cell cannot reach
+};
+JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
+                        const std::vector<View>& views, const std::vector<int>& order,
+                        double table_speed = M_PI / 2);
 
 // What `scanplan verify` finds when it checks a plan again on its part.
 struct PlanCheck {

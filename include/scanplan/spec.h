@@ -3,6 +3,7 @@
 // default: an empty spec (or none) means one `global` task with the default scanner.
 
 #include <scanplan/cad/part.h>
+#include <scanplan/cell.h>
 #include <scanplan/registration.h>
 #include <scanplan/sensor.h>
 #include <scanplan/view.h>
@@ -62,6 +63,7 @@ struct Spec {
   std::vector<Task> tasks;             // never empty: defaults to one global task
   PlannerSettings planner;
   bool working_plane = true;  // cell.working_plane: the plane z = 0 occludes
+  std::optional<Cell> cell;   // cell.robot, cell.mount, cell.table: views must be reachable
 };
 
 // The default spec: the generic structured-light scanner, one global task.

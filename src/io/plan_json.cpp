@@ -169,6 +169,42 @@ json planJson(const Plan& plan) {
     result["orientations"] = orientations;
     result["summary"]["orientations"] = plan.orientations.size();
   }
+  if (plan.cell) {
+    const Cell& cell = *plan.cell;
+    auto degrees = [](const Joints& q) {
+      json values = json::array();
+      for (double a : q) values.push_back(a * 180 / M_PI);
+      return values;
+    };
+    json robot = {{"model", cell.robot.name},
+                  {"base", matrix(cell.base)},
+                  {"mount", matrix(cell.mount)},
+                  {"lower", degrees(cell.robot.lower)},
+                  {"upper", degrees(cell.robot.upper)},
+                  {"speeds", degrees(cell.robot.speeds)},
+                  {"table", nullptr}};
+    if (cell.table)
+      robot["table"] = {
+          {"origin", vec(cell.table->origin)},
+          {"axis", vec(cell.table->axis)},
+          {"range", {cell.table->lower * 180 / M_PI, cell.table->upper * 180 / M_PI}}};
+    result["cell"] = robot;
+    for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
+      const std::optional<CellPose>& pose = plan.cell_poses[v];
+      result["views"][v]["robot"] =
+          pose ? json{{"joints", degrees(pose->joints)},
+                      {"table", pose->table_angle * 180 / M_PI},
+                      {"flange", matrix(forwardKinematics(cell.robot, pose->joints))}}
+               : json(nullptr);
+    }
+    const JointMotion motion =
+        jointMotion(cell, plan.cell_poses, plan.views, result["sequence"].get<std::vector<int>>());
+    result["summary"]["robot"] = {{"max_joint_step", motion.max_step * 180 / M_PI},
+                                  {"max_joint_step_joint", motion.max_step_joint},
+                                  {"travel_seconds", motion.seconds},
+                                  {"table_moves", motion.table_moves},
+                                  {"unreached_views", motion.unreached}};
+  }
   if (!plan.sweeps.empty()) {
     json sweeps = json::array();
     std::size_t sweep_views = 0;
@@ -330,11 +366,11 @@ Plan readPlan(const std::string& path) {
                              path, where);
     p.measured_by = field<std::vector<int>>(entry, "measured_by", path, where);
     if (entry.contains("not_coverable"))
-      p.uncoverable =
-          enumFrom(field<std::string>(entry, "not_coverable", path, where),
-                   std::array{Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
-                              Uncoverable::NoValidPose, Uncoverable::Lost},
-                   path, where);
+      p.uncoverable = enumFrom(
+          field<std::string>(entry, "not_coverable", path, where),
+          std::array{Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
+                     Uncoverable::NoValidPose, Uncoverable::Lost, Uncoverable::Unreachable},
+          path, where);
     plan.samples.push_back(p);
   }
   if (root.contains("sequence")) {

@@ -24,6 +24,7 @@ std::string_view toString(Uncoverable reason) {
     case Uncoverable::OccludedByPart: return "occluded_by_part";
     case Uncoverable::NoValidPose: return "no_valid_pose";
     case Uncoverable::Lost: return "lost_in_simulation";
+    case Uncoverable::Unreachable: return "unreachable_by_robot";
   }
   return "unknown";
 }
@@ -65,6 +66,7 @@ PlanningOptions planningOptionsFor(const Spec& spec) {
   options.max_failures = spec.planner.max_failures;
   options.sweep_overlap = spec.planner.sweep_overlap;
   options.seed = spec.planner.seed;
+  options.cell = spec.cell;
   return options;
 }
 
@@ -129,7 +131,8 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
       if (!(i & bit)) segments.push_back(Ray{world[i], world[i | bit] - world[i], 0, 1});
   for (int i = 0; i < 4; ++i) segments.push_back(Ray{world[i], world[7 - i] - world[i], 0, 1});
   const auto blocked = simulator.occluded(segments);
-  return std::none_of(blocked.begin(), blocked.end(), [](bool b) { return b; });
+  if (std::any_of(blocked.begin(), blocked.end(), [](bool b) { return b; })) return false;
+  return !options.cell || reachView(*options.cell, view).reachable();
 }
 
 namespace {
@@ -721,6 +724,22 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
                     : s.last_loss == Loss::Measured                ? Uncoverable::NoValidPose
                                                                    : Uncoverable::Lost;
   }
+  if (options.cell) {
+    // No valid pose: because of the robot, when poses clear of the part measure it.
+    std::vector<std::size_t> unposed;
+    std::vector<SurfacePoint> points;
+    for (std::size_t i = 0; i < plan.samples.size(); ++i)
+      if (plan.samples[i].uncoverable == Uncoverable::NoValidPose) {
+        unposed.push_back(i);
+        points.push_back(planner.points()[i]);
+      }
+    PlanningOptions free = options;
+    free.cell.reset();
+    const std::vector<char> coverable =
+        coverableByDenseCandidates(simulator, points, free, options.vm_step * 2, options.rotations);
+    for (std::size_t k = 0; k < unposed.size(); ++k)
+      if (coverable[k]) plan.samples[unposed[k]].uncoverable = Uncoverable::Unreachable;
+  }
 
   if (options.bound) {
     report(progress, "exact set cover over " + std::to_string(views.size()) + " poses", 0);
@@ -808,6 +827,14 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     throw PlanningError(spec.source, "the spec's tasks leave no sample to plan for");
   const StageTime sampling{"sampling", std::chrono::duration<double>(Clock::now() - start).count()};
   auto finish = [&](Plan& plan) {
+    if (options.cell) {
+      std::vector<int> order;
+      if (plan.sequence) order = plan.sequence->views;
+      for (const View& v : plan.views)
+        if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
+      plan.cell = options.cell;
+      plan.cell_poses = cellPoses(*options.cell, plan.views, order);
+    }
     plan.times.insert(plan.times.begin(), sampling);
     plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return plan;

@@ -111,8 +111,9 @@ json samplesJson(const Plan& plan) {
        {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
     tasks.push_back(toString(t));
   for (Role r : {Role::Priority, Role::Normal, Role::Fixture}) roles.push_back(toString(r));
-  for (Uncoverable u : {Uncoverable::None, Uncoverable::BelowWorkingPlane,
-                        Uncoverable::OccludedByPart, Uncoverable::NoValidPose, Uncoverable::Lost})
+  for (Uncoverable u :
+       {Uncoverable::None, Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
+        Uncoverable::NoValidPose, Uncoverable::Lost, Uncoverable::Unreachable})
     reasons.push_back(toString(u));
   return {{"count", plan.samples.size()},
           {"positions", base64(floats(positions))},

@@ -1,0 +1,97 @@
+// Joints for the views of a plan: per view the inverse-kinematics solutions, then the
+// path through them with the least joint travel time (a shortest path over layers of at
+// most 8 solutions, one layer per view in visiting order).
+
+#include <scanplan/planning.h>
+
+#include <limits>
+#include <map>
+
+namespace scanplan {
+namespace {
+
+// Seconds from one cell pose to the next: the slowest joint, or the table.
+double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
+  return std::max(travelTime(cell.robot, a.joints, b.joints),
+                  std::abs(a.table_angle - b.table_angle) / table_speed);
+}
+
+}  // namespace
+
+std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
+                                               const std::vector<int>& order) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
+  // Layers of solutions, reachable views only, in visiting order.
+  std::vector<std::size_t> visited;
+  std::vector<std::vector<CellPose>> layers;
+  for (int id : order) {
+    auto it = index.find(id);
+    if (it == index.end()) continue;
+    CellReach reach = reachView(cell, views[it->second]);
+    if (!reach.reachable()) continue;
+    visited.push_back(it->second);
+    layers.push_back(std::move(reach.poses));
+  }
+  std::vector<std::optional<CellPose>> result(views.size());
+  if (layers.empty()) return result;
+  // cost[k][s]: least time to reach solution s of layer k; from[k][s]: its predecessor.
+  constexpr double kTableSpeed = M_PI / 2;
+  std::vector<std::vector<double>> cost(layers.size());
+  std::vector<std::vector<std::size_t>> from(layers.size());
+  cost[0].assign(layers[0].size(), 0);
+  from[0].assign(layers[0].size(), 0);
+  for (std::size_t k = 1; k < layers.size(); ++k) {
+    cost[k].assign(layers[k].size(), std::numeric_limits<double>::infinity());
+    from[k].assign(layers[k].size(), 0);
+    for (std::size_t s = 0; s < layers[k].size(); ++s)
+      for (std::size_t p = 0; p < layers[k - 1].size(); ++p) {
+        const double c =
+            cost[k - 1][p] + moveTime(cell, layers[k - 1][p], layers[k][s], kTableSpeed);
+        if (c < cost[k][s]) {
+          cost[k][s] = c;
+          from[k][s] = p;
+        }
+      }
+  }
+  std::size_t s = static_cast<std::size_t>(
+      std::min_element(cost.back().begin(), cost.back().end()) - cost.back().begin());
+  for (std::size_t k = layers.size(); k-- > 0;) {
+    result[visited[k]] = layers[k][s];
+    s = from[k][s];
+  }
+  return result;
+}
+
+JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
+                        const std::vector<View>& views, const std::vector<int>& order,
+                        double table_speed) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
+  JointMotion motion;
+  const CellPose* previous = nullptr;
+  for (int id : order) {
+    auto it = index.find(id);
+    if (it == index.end() || it->second >= poses.size()) continue;
+    const std::optional<CellPose>& pose = poses[it->second];
+    if (!pose) {
+      ++motion.unreached;
+      continue;
+    }
+    if (previous) {
+      for (int j = 0; j < 6; ++j) {
+        const double step = std::abs(pose->joints[j] - previous->joints[j]);
+        if (step > motion.max_step) {
+          motion.max_step = step;
+          motion.max_step_joint = j + 1;
+        }
+      }
+      motion.seconds += moveTime(cell, *previous, *pose, table_speed);
+      motion.table_moves += std::abs(pose->table_angle - previous->table_angle) > 1e-9;
+    }
+    previous = &*pose;
+  }
+  return motion;
+}
+
+}  // namespace scanplan

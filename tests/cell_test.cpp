@@ -1,0 +1,187 @@
+// The cell: views rejected with their reason (beyond reach, behind the base), a rotary
+// table bringing the far side within reach, the spec's cell section, and plans that keep
+// every view reachable and move the joints smoothly.
+
+#include "support.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/cell.h>
+#include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/planning.h>
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepTools.hxx>
+
+namespace scanplan {
+namespace {
+
+// A view with its camera at `camera` looking at `target`.
+View viewAt(const Vec3& camera, const Vec3& target) {
+  View view;
+  view.camera_to_world = lookAt(camera, target);
+  view.target = target;
+  return view;
+}
+
+Cell irb2400At(const Vec3& position) {
+  Cell cell;
+  cell.robot = robotPreset("abb-irb2400-10");
+  cell.base.translation() = position;
+  cell.mount.translation() = Vec3(0, 0, 150);
+  return cell;
+}
+
+TEST(Cell, ViewBeyondReachIsRejectedAsOutOfReach) {
+  const Cell cell = irb2400At(Vec3::Zero());
+  const CellReach near = reachView(cell, viewAt({900, 0, 600}, {900, 0, 0}));
+  EXPECT_TRUE(near.reachable());
+  const CellReach far = reachView(cell, viewAt({3000, 0, 600}, {3000, 0, 0}));
+  EXPECT_FALSE(far.reachable());
+  EXPECT_EQ(far.failure, CellFailure::OutOfReach);
+}
+
+TEST(Cell, ViewBehindTheBaseNeedsJointOneToTurn) {
+  Cell cell = irb2400At(Vec3::Zero());
+  const View behind = viewAt({-900, 0, 600}, {-900, 0, 0});
+  EXPECT_TRUE(reachView(cell, behind).reachable());  // axis 1 turns +-180°
+  cell.robot.lower[0] = -M_PI / 2;                   // a cell that fences axis 1 to +-90°
+  cell.robot.upper[0] = M_PI / 2;
+  const CellReach fenced = reachView(cell, behind);
+  EXPECT_FALSE(fenced.reachable());
+  EXPECT_EQ(fenced.failure, CellFailure::JointLimits);
+}
+
+TEST(Cell, RotaryTableBringsTheFarSideWithinReach) {
+  // A robot 1.3 m from a part; a view of the part's far side, 500 mm beyond it.
+  Cell cell = irb2400At({-1300, 50, 0});
+  const View far_side = viewAt({550, 50, 50}, {100, 50, 50});
+  EXPECT_FALSE(reachView(cell, far_side).reachable());
+  cell.table = RotaryTable{};
+  cell.table->origin = Vec3(50, 50, 0);
+  const CellReach turned = reachView(cell, far_side);
+  ASSERT_TRUE(turned.reachable());
+  EXPECT_GT(std::abs(turned.poses.front().table_angle), M_PI / 2);
+  // The joints found put the scanner where the turned view is.
+  for (const CellPose& pose : turned.poses) {
+    const Pose flange = forwardKinematics(cell.robot, pose.joints);
+    EXPECT_TRUE(flange.isApprox(flangeFor(cell, far_side, pose.table_angle), 1e-9));
+  }
+}
+
+Spec specWith(const test::TempDir& dir, const std::string& text) {
+  test::writeText(dir.file("spec.yaml"), text);
+  return loadSpec(dir.file("spec.yaml"));
+}
+
+TEST(Cell, SpecReadsTheCell) {
+  test::TempDir dir;
+  const Spec spec = specWith(dir,
+                             "cell:\n"
+                             "  robot: {preset: abb-irb4600-60-205,\n"
+                             "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
+                             "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
+                             "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
+                             "step: 10}\n");
+  ASSERT_TRUE(spec.cell);
+  EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
+  EXPECT_TRUE(spec.cell->base.translation().isApprox(Vec3(-1000, 0, 0)));
+  EXPECT_TRUE((spec.cell->base.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY()));
+  EXPECT_NEAR(spec.cell->mount.translation().z(), 120, 1e-12);
+  ASSERT_TRUE(spec.cell->table);
+  EXPECT_NEAR(spec.cell->table->upper, M_PI / 2, 1e-12);
+  EXPECT_NEAR(spec.cell->table->step, M_PI / 18, 1e-12);
+  // Explicit parameters instead of a preset.
+  const Spec custom = specWith(dir,
+                               "cell:\n  robot: {a1: 100, a2: -135, b: 0, c1: 615, c2: 705, "
+                               "c3: 755, c4: 85,\n    lower: [-180, -100, -60, -200, -120, -400],\n"
+                               "    upper: [180, 110, 65, 200, 120, 400], offsets: [0, 0, -90, 0, "
+                               "0, 0]}\n");
+  ASSERT_TRUE(custom.cell);
+  const RobotModel preset = robotPreset("abb-irb2400-10");
+  const Joints q{0.3, 0.2, -0.1, 0.5, 0.4, 0.1};
+  EXPECT_TRUE(forwardKinematics(custom.cell->robot, q).isApprox(forwardKinematics(preset, q)));
+}
+
+TEST(Cell, SpecRejectsABadCell) {
+  test::TempDir dir;
+  for (const char* text :
+       {"cell:\n  robot: {preset: kuka-kr1000}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {range: [10, 90]}\n",
+        "cell:\n  mount: {position: [0, 0, 100]}\n", "cell:\n  robot: {a1: 100}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10, base: {turn: [0, 0, 1]}}\n"}) {
+    test::writeText(dir.file("bad.yaml"), text);
+    try {
+      loadSpec(dir.file("bad.yaml"));
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("cell"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A 100 mm cube on the plane, an IRB 2400 1.3 m away on one side: its far side is out of
+// reach, unless a table turns the cube.
+Plan cubePlanInCell(const test::TempDir& dir, bool table) {
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 100).Shape(), dir.file("cube.brep").c_str());
+  const Part part = importPart(dir.file("cube.brep"));
+  Spec spec = defaultSpec();
+  spec.cell = irb2400At({-1300, 50, 0});
+  if (table) {
+    spec.cell->table = RotaryTable{};
+    spec.cell->table->origin = Vec3(50, 50, 0);
+  }
+  return planViews(part, spec, planningOptionsFor(spec));
+}
+
+TEST(Cell, PlanKeepsOnlyReachableViewsAndSaysWhatIsOutOfReach) {
+  test::TempDir dir;
+  const Plan plan = cubePlanInCell(dir, false);
+  ASSERT_TRUE(plan.cell);
+  ASSERT_EQ(plan.cell_poses.size(), plan.views.size());
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    ASSERT_TRUE(plan.cell_poses[v]) << plan.views[v].id;
+    EXPECT_TRUE(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints)
+                    .isApprox(flangeFor(*plan.cell, plan.views[v], 0), 1e-9));
+  }
+  std::size_t unreachable = 0, far_side = 0;
+  for (const PlannedSample& s : plan.samples) {
+    if (s.sample.normal.x() > 0.99) {
+      ++far_side;
+      EXPECT_TRUE(s.measured_by.empty());
+      EXPECT_EQ(s.uncoverable, Uncoverable::Unreachable);
+    }
+    unreachable += s.uncoverable == Uncoverable::Unreachable;
+  }
+  EXPECT_GT(far_side, 0u);
+  EXPECT_GE(unreachable, far_side);
+  // The reason and the joints are in plan.json.
+  writePlan(plan, dir.file("plan.json"));
+  const Plan back = readPlan(dir.file("plan.json"));
+  std::size_t unreachable_back = 0;
+  for (const PlannedSample& s : back.samples)
+    unreachable_back += s.uncoverable == Uncoverable::Unreachable;
+  EXPECT_EQ(unreachable_back, unreachable);
+  const nlohmann::json json = planJson(plan);
+  EXPECT_EQ(json["views"][0]["robot"]["joints"].size(), 6u);
+  EXPECT_EQ(json["summary"]["robot"]["unreached_views"], 0);
+}
+
+TEST(Cell, RotaryTableMeasuresTheFarSide) {
+  test::TempDir dir;
+  const Plan plan = cubePlanInCell(dir, true);
+  bool turned = false;
+  for (const std::optional<CellPose>& pose : plan.cell_poses) {
+    ASSERT_TRUE(pose);
+    turned = turned || std::abs(pose->table_angle) > 1e-9;
+  }
+  EXPECT_TRUE(turned);
+  for (const PlannedSample& s : plan.samples) {
+    if (s.sample.normal.z() < -0.99) continue;  // the face the cube stands on
+    EXPECT_FALSE(s.measured_by.empty()) << s.sample.position.transpose();
+  }
+}
+
+}  // namespace
+}  // namespace scanplan
