@@ -185,3 +185,33 @@ TEST(Cell, RotaryTableMeasuresTheFarSide) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+// A NIST part (CTC 03, 303 x 485 x 163 mm) planned for its GD&T and whole shape in a cell
+// with an IRB 4600 1.15 m from it: the joints chosen along the sequence never jump by
+// 180° or more between consecutive views.
+TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
+  const Part part = importPart(test::testData("nist_ctc_03_asme1_ap242-e2.stp"));
+  Spec spec = defaultSpec();
+  spec.gdt_from_file = true;
+  spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+  Cell cell;
+  cell.robot = robotPreset("abb-irb4600-60-205");
+  cell.base.translation() = Vec3(-1150, 240, 0);
+  cell.mount.translation() = Vec3(0, 0, 150);
+  spec.cell = cell;
+  const Plan plan = planViews(part, spec, planningOptionsFor(spec));
+  ASSERT_TRUE(plan.sequence);
+  const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, plan.sequence->views);
+  EXPECT_EQ(motion.unreached, 0u);
+  EXPECT_GT(plan.views.size(), 10u);
+  // A wrist flip turns joints 4 and 6 by 180°: every step stays below that (143° on joint
+  // 4 when written, 51 views, 9.6 s of joint travel).
+  RecordProperty("largest_joint_step_degrees", std::to_string(motion.max_step * 180 / M_PI));
+  EXPECT_LT(motion.max_step, M_PI);
+}
+
+}  // namespace
+}  // namespace scanplan

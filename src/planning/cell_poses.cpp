@@ -1,6 +1,6 @@
-// Joints for the views of a plan: per view the inverse-kinematics solutions, then the
-// path through them with the least joint travel time (a shortest path over layers of at
-// most 8 solutions, one layer per view in visiting order).
+// Joints for the views of a plan: per view the inverse-kinematics solutions (and their
+// other turns of wide joints), then the path through them with the least joint travel
+// time: a shortest path over layers of solutions, one layer per view in visiting order.
 
 #include <scanplan/planning.h>
 
@@ -14,6 +14,22 @@ namespace {
 double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
   return std::max(travelTime(cell.robot, a.joints, b.joints),
                   std::abs(a.table_angle - b.table_angle) / table_speed);
+}
+
+// `poses` with, for joints whose range exceeds a turn, each other turn the limits allow:
+// the same flange pose reached with a joint 360° further, which may travel less.
+std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPose> poses) {
+  for (int j = 0; j < 6; ++j) {
+    const std::size_t n = poses.size();
+    for (std::size_t i = 0; i < n; ++i)
+      for (double turn : {-2 * M_PI, 2 * M_PI}) {
+        CellPose other = poses[i];
+        other.joints[j] += turn;
+        if (other.joints[j] >= robot.lower[j] && other.joints[j] <= robot.upper[j])
+          poses.push_back(other);
+      }
+  }
+  return poses;
 }
 
 }  // namespace
@@ -31,7 +47,7 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
     CellReach reach = reachView(cell, views[it->second]);
     if (!reach.reachable()) continue;
     visited.push_back(it->second);
-    layers.push_back(std::move(reach.poses));
+    layers.push_back(withOtherTurns(cell.robot, std::move(reach.poses)));
   }
   std::vector<std::optional<CellPose>> result(views.size());
   if (layers.empty()) return result;
