@@ -341,3 +341,46 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("spec.yaml"),
+                  "cell:\n  robot: {preset: abb-irb4600-60-205, base: {position: [-1000, 0, 0]}}\n"
+                  "  mount: {position: [0, 0, 150]}\n");
+  const std::string out = dir.file("out");
+  CommandResult r =
+      run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " + out + " --no-report -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Plan plan = readPlan(out + "/plan.json");
+  std::ifstream in(out + "/plan.json");
+  const std::string json{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_NE(json.find("\"robot\""), std::string::npos);
+  const std::string spec = " --spec " + dir.file("spec.yaml") + " -q";
+  for (const char* format : {"krl", "rapid", "urscript", "robot-json"}) {
+    r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file("cell_plan.txt") +
+            spec);
+    ASSERT_EQ(r.code, 0) << format << ": " << r.out;
+  }
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("cell_plan.src") + spec);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream src(dir.file("cell_plan.src"));
+  const std::string krl{std::istreambuf_iterator<char>(src), {}};
+  EXPECT_NE(krl.find("DEF cell_plan()"), std::string::npos);  // named as its file
+  std::size_t moves = 0;
+  for (std::size_t at = krl.find("PTP {E6AXIS"); at != std::string::npos;
+       at = krl.find("PTP {E6AXIS", at + 1))
+    ++moves;
+  EXPECT_EQ(moves, plan.views.size());
+  // Without a cell in the spec there is no robot to write for.
+  r = run("export " + out + "/plan.json --format rapid -o " + dir.file("x.mod") + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("cell"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.mod")));
+}
+
+}  // namespace
+}  // namespace scanplan

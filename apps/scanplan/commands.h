@@ -29,7 +29,8 @@ void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& select
 // scanplan report plan.json [PART] [-o report.html] [--png picture.png]
 void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
-// scanplan export plan.json [PART] --format glb|samples-ply|clouds-ply|csv|png -o FILE
+// scanplan export plan.json [PART] --format glb|samples-ply|clouds-ply|csv|png|krl|rapid|
+//                                          urscript|robot-json -o FILE
 void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
 // scanplan simulate PART --views views.json [--spec spec.yaml] [--cloud DIR] [--json]

@@ -11,6 +11,7 @@
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
 #include <scanplan/report.h>
+#include <scanplan/robot_program.h>
 #include <scanplan/spec.h>
 
 #include <fmt/format.h>
@@ -99,6 +100,17 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
       writeCloudsPly(c.plan, c.part, c.spec, options.spacing, options.out, progress);
     } else if (options.format == "png") {
       writePng(renderScene(planScene(c.plan, c.part)), options.out);
+    } else {  // a robot program
+      if (!c.spec.cell)
+        throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
+                         "robot programs need the cell: give a spec with cell.robot (--spec)");
+      // KRL wants the program named as its file.
+      const std::string name = std::filesystem::path(options.out).stem().string();
+      const RobotProgram program = robotProgram(c.plan, *c.spec.cell, name, options.input.plan);
+      const std::string language = options.format == "robot-json" ? "json" : options.format;
+      writeRobotProgram(program, language, options.out);
+      if (!program.unreached.empty())
+        fmt::print("left out  {} views the cell cannot reach\n", program.unreached.size());
     }
     clearProgress();
   }
@@ -123,14 +135,18 @@ void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& select
 void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
   auto options = std::make_shared<ExportCommand>();
   CLI::App* command = app.add_subcommand(
-      "export", "Write a plan for other tools: glTF scene, PLY of samples or clouds, CSV of views");
+      "export",
+      "Write a plan for other tools: glTF scene, PLY of samples or clouds, CSV of views, robot "
+      "programs");
   addInput(*command, options->input);
   command
       ->add_option("--format", options->format,
                    "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
-                   "clouds-ply (every view's simulated cloud), csv (views), png (picture)")
+                   "clouds-ply (every view's simulated cloud), csv (views), png (picture), "
+                   "krl, rapid, urscript, robot-json (robot programs; the spec's cell)")
       ->required()
-      ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png"}));
+      ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
+                             "urscript", "robot-json"}));
   command->add_option("-o,--out", options->out, "Output file")->required();
   command
       ->add_option("--spacing", options->spacing,

@@ -1,0 +1,44 @@
+#pragma once
+// What the cell runs: the plan's views in sequence order as a robot program that moves to
+// each view and triggers a scan there (docs/cell.md). KUKA KRL (.src), ABB RAPID (.mod),
+// Universal Robots URScript (.script), and a neutral JSON of joints and flange poses.
+
+#include <scanplan/cell.h>
+#include <scanplan/planning.h>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+struct ProgramStep {
+  int view = 0;      // view id in the plan
+  std::string task;  // the task that asked for it
+  CellPose pose;     // joints (radians) and table angle
+  Pose flange;       // the flange in the robot's base frame, mm
+};
+
+struct RobotProgram {
+  std::string name;       // a valid identifier in every language: letters, digits, _
+  std::string source;     // what it was made from, for the header comment
+  Cell cell;
+  std::vector<ProgramStep> steps;  // in sequence order
+  std::vector<int> unreached;      // views of the plan the cell cannot take (left out)
+};
+
+// The program of `plan` in `cell`: its views in sequence order (then any outside the
+// sequence), each with the joints cellPoses chooses. `name` is made a valid identifier.
+RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
+                          const std::string& source);
+
+std::string krlProgram(const RobotProgram& program);
+std::string rapidProgram(const RobotProgram& program);
+std::string urScript(const RobotProgram& program);
+std::string programJson(const RobotProgram& program);
+
+// "krl", "rapid", "urscript" or "json". \throw OutputError when it cannot be written.
+void writeRobotProgram(const RobotProgram& program, std::string_view format,
+                       const std::string& path);
+
+}  // namespace scanplan

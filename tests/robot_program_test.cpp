@@ -1,0 +1,225 @@
+// Robot programs against golden files, and each checked line by line against the grammar
+// of the statements it uses (KUKA KRL, ABB RAPID, URScript) and read back: the joints and
+// poses in the text are the program's.
+//
+// SCANPLAN_UPDATE_GOLDEN=1 rewrites the golden files from the current writers.
+
+#include "support.h"
+
+#include <scanplan/robot_program.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace scanplan {
+namespace {
+
+// Three views of an IRB 2400 on a rotary table; one view left out as unreachable.
+RobotProgram program() {
+  RobotProgram p;
+  p.name = "ctc01_plan";
+  p.source = "plan.json";
+  p.cell.robot = robotPreset("abb-irb2400-10");
+  p.cell.base.translation() = Vec3(-1000, 0, 0);
+  p.cell.mount.translation() = Vec3(0, 0, 150);
+  p.cell.table = RotaryTable{};
+  const Joints joints[3] = {{0.1, 0.2, -0.3, 0.4, 0.5, 0.6},
+                            {-0.2, 0.4, 0.1, -1.0, 0.8, 2.0},
+                            {0.5, -0.1, 0.3, 0.2, -0.6, -1.5}};
+  const double table[3] = {0, M_PI / 2, 0};
+  const int views[3] = {4, 2, 7};
+  const char* tasks[3] = {"gdt", "global", ""};
+  for (int k = 0; k < 3; ++k)
+    p.steps.push_back({views[k], tasks[k], CellPose{table[k], joints[k]},
+                       forwardKinematics(p.cell.robot, joints[k])});
+  p.unreached = {9};
+  return p;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> result;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) result.push_back(line);
+  return result;
+}
+
+void expectGolden(const std::string& text, const std::string& name) {
+  const std::string path = test::testData("golden/" + name);
+  if (std::getenv("SCANPLAN_UPDATE_GOLDEN")) std::ofstream(path, std::ios::binary) << text;
+  std::ifstream in(path, std::ios::binary);
+  ASSERT_TRUE(in) << path;
+  const std::string golden{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_EQ(text, golden) << name << " differs from its golden file";
+}
+
+std::vector<double> numbersIn(const std::string& text) {
+  static const std::regex number(R"([-+]?\d+(\.\d+)?([eE][-+]?\d+)?)");
+  std::vector<double> values;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), number);
+       it != std::sregex_iterator(); ++it)
+    values.push_back(std::stod(it->str()));
+  return values;
+}
+
+constexpr double kDegree = 180 / M_PI;
+
+TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
+  const RobotProgram p = program();
+  const std::string text = krlProgram(p);
+  expectGolden(text, "program.src");
+  // The statements the writer uses (KUKA System Software 8 programming manual).
+  const std::string n = R"([-+]?\d+(\.\d+)?)";
+  std::string axes;
+  for (int j = 1; j <= 6; ++j) axes += "A" + std::to_string(j) + " " + n + ", ";
+  const std::vector<std::regex> grammar = {
+      std::regex(R"(&ACCESS RVP|&REL \d+)"),
+      std::regex(R"(\s*;.*)"),
+      std::regex(R"(DEF [A-Za-z_][A-Za-z0-9_]{0,23}\(\)|DEF SCAN\(VIEW:IN\))"),
+      std::regex(R"(END|\s*INT VIEW|)"),
+      std::regex(R"(\s*BAS\(#(INITMOV|VEL_PTP|ACC_PTP), \d+\))"),
+      std::regex(R"(\s*PTP \{E6AXIS: )" + axes + "E1 " + n + R"(\})"),
+      std::regex(R"(\s*SCAN\(\d+\))"),
+      std::regex(R"(\s*WAIT SEC )" + n +
+                 R"(|\s*WAIT FOR \$IN\[\d+\]|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
+  };
+  int defs = 0, ends = 0;
+  std::vector<std::vector<double>> ptp;
+  for (const std::string& line : lines(text)) {
+    bool known = false;
+    for (const std::regex& rule : grammar) known = known || std::regex_match(line, rule);
+    EXPECT_TRUE(known) << "not a KRL statement the writer may use: " << line;
+    defs += line.rfind("DEF ", 0) == 0;
+    ends += line == "END";
+    if (line.find("PTP {E6AXIS:") != std::string::npos)
+      ptp.push_back(numbersIn(line.substr(line.find(':'))));
+  }
+  EXPECT_EQ(defs, 2);
+  EXPECT_EQ(ends, 2);
+  ASSERT_EQ(ptp.size(), p.steps.size());
+  for (std::size_t k = 0; k < ptp.size(); ++k) {
+    ASSERT_EQ(ptp[k].size(), 14u);  // A1..A6 and E1, each value after its axis number
+    for (int j = 0; j < 6; ++j)
+      EXPECT_NEAR(ptp[k][2 * j + 1], p.steps[k].pose.joints[j] * kDegree, 1e-4);
+    EXPECT_NEAR(ptp[k][13], p.steps[k].pose.table_angle * kDegree, 1e-4);
+  }
+}
+
+TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
+  const RobotProgram p = program();
+  const std::string text = rapidProgram(p);
+  expectGolden(text, "program.mod");
+  int modules = 0, procs = 0, moves = 0;
+  std::vector<std::vector<double>> robtargets;
+  for (const std::string& line : lines(text)) {
+    const std::string code = line.substr(0, line.find('!'));
+    if (code.find_first_not_of(' ') == std::string::npos) continue;  // comment or blank
+    if (std::regex_match(code, std::regex(R"(MODULE [A-Za-z][A-Za-z0-9_]{0,31})"))) {
+      ++modules;
+    } else if (code == "ENDMODULE") {
+      --modules;
+    } else if (std::regex_match(code,
+                                std::regex(R"(\s*PROC [A-Za-z][A-Za-z0-9_]*\((num [a-z]+)?\))"))) {
+      ++procs;
+    } else if (std::regex_match(code, std::regex(R"(\s*ENDPROC)"))) {
+      --procs;
+    } else {
+      // Every other statement ends with a semicolon (RAPID reference manual, Basic elements).
+      EXPECT_EQ(code.back(), ';') << line;
+      if (code.find("MoveAbsJ") != std::string::npos) {
+        EXPECT_TRUE(
+            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tool0;)")))
+            << line;
+        ++moves;
+      }
+      if (code.find("CONST robtarget") != std::string::npos)
+        robtargets.push_back(numbersIn(code.substr(code.find(":="))));
+      if (code.find("CONST jointtarget") != std::string::npos) {
+        EXPECT_TRUE(std::regex_match(
+            code,
+            std::regex(
+                R"(\s*CONST jointtarget jView\d+ := \[\[([-0-9.]+,){5}[-0-9.]+\],\[[-0-9.E+]+(,9E\+09){5}\]\];)")))
+            << line;
+      }
+    }
+  }
+  EXPECT_EQ(modules, 0);
+  EXPECT_EQ(procs, 0);
+  EXPECT_EQ(moves, 3);
+  ASSERT_EQ(robtargets.size(), p.steps.size());
+  for (std::size_t k = 0; k < robtargets.size(); ++k) {
+    const std::vector<double>& r = robtargets[k];
+    ASSERT_GE(r.size(), 11u);
+    const Vec3 xyz = p.steps[k].flange.translation();
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], xyz[i], 1e-3);
+    const Eigen::Quaterniond q(r[3], r[4], r[5], r[6]);
+    EXPECT_NEAR(q.norm(), 1, 1e-5);
+    EXPECT_TRUE(q.normalized().toRotationMatrix().isApprox(p.steps[k].flange.linear(), 1e-5));
+  }
+}
+
+TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsThePoses) {
+  const RobotProgram p = program();
+  const std::string text = urScript(p);
+  expectGolden(text, "program.script");
+  int depth = 0, moves = 0;
+  for (const std::string& line : lines(text)) {
+    const std::string code = line.substr(0, line.find('#'));
+    if (code.find_first_not_of(' ') == std::string::npos) continue;
+    // Blocks open with a line ending in ':' (def, while) and close with 'end' (URScript
+    // manual, The URScript programming language).
+    if (code.back() == ':') {
+      EXPECT_TRUE(
+          std::regex_match(code, std::regex(R"(\s*(def [a-z_][a-z0-9_]*\([a-z_]*\)|while .+):)")))
+          << line;
+      ++depth;
+    } else if (std::regex_match(code, std::regex(R"(\s*end)"))) {
+      --depth;
+      EXPECT_GE(depth, 0) << line;
+    } else if (code.find("movej") != std::string::npos) {
+      const std::vector<double> v = numbersIn(code);
+      ASSERT_EQ(v.size(), 8u) << line;  // the pose's 6 numbers, a and v
+      const Vec3 xyz = p.steps[static_cast<std::size_t>(moves)].flange.translation() / 1000;
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(v[static_cast<std::size_t>(i)], xyz[i], 1e-6);
+      const Vec3 r(v[3], v[4], v[5]);
+      EXPECT_TRUE(Eigen::AngleAxisd(r.norm(), r.normalized())
+                      .toRotationMatrix()
+                      .isApprox(p.steps[static_cast<std::size_t>(moves)].flange.linear(), 1e-5));
+      ++moves;
+    } else {
+      EXPECT_TRUE(std::regex_match(
+          code,
+          std::regex(
+              R"(\s*(scan\(\d+\)|sleep\([0-9.]+\)|sync\(\)|set_standard_digital_out\(\d, (True|False)\)))")))
+          << line;
+    }
+  }
+  EXPECT_EQ(depth, 0);
+  EXPECT_EQ(moves, 3);
+}
+
+TEST(RobotProgram, JsonHoldsJointsAndFlangePoses) {
+  const RobotProgram p = program();
+  const std::string text = programJson(p);
+  expectGolden(text, "program.json");
+  const nlohmann::json root = nlohmann::json::parse(text);
+  EXPECT_EQ(root["format"], "scanplan.robot_program");
+  ASSERT_EQ(root["steps"].size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const nlohmann::json& step = root["steps"][k];
+    EXPECT_EQ(step["view"], p.steps[k].view);
+    Joints q{};
+    for (int j = 0; j < 6; ++j) q[j] = step["joints"][j].get<double>() / kDegree;
+    Eigen::Matrix4d flange;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) flange(r, c) = step["flange"][r][c];
+    EXPECT_TRUE(forwardKinematics(p.cell.robot, q).matrix().isApprox(flange, 1e-12));
+  }
+  EXPECT_EQ(root["unreached"], nlohmann::json({9}));
+}
+
+}  // namespace
+}  // namespace scanplan
