@@ -54,6 +54,7 @@ target_link_libraries(scanplan_occt INTERFACE
   TKXDEIGES TKSTL TKRWMesh TKGeomAlgo)
 
 scanplan_require(TinyGLTF libtinygltf-dev CONFIG)
+scanplan_require(fcl libfcl-dev CONFIG)
 pkg_check_modules(STB IMPORTED_TARGET stb)
 if(NOT STB_FOUND)
   message(FATAL_ERROR "scanplan needs stb: install the Debian package 'libstb-dev' "

@@ -11,7 +11,7 @@ packages=(
   libocct-ocaf-dev libocct-data-exchange-dev libocct-visualization-dev
   libembree-dev libeigen3-dev libtbb-dev libnanoflann-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev libqhull-dev
-  libopen3d-dev libtinygltf-dev libstb-dev
+  libopen3d-dev libtinygltf-dev libstb-dev libfcl-dev
   chromium
   libgtest-dev libgmock-dev libbenchmark-dev
 )

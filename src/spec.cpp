@@ -423,7 +423,7 @@ Spec loadSpec(const std::string& path) {
         reader.fail("planner.sweep_overlap must be within [0, 0.8]");
     }
     if (const YAML::Node cell = root["cell"]) {
-      checkKeys(cell, {"working_plane", "robot", "mount", "table"}, reader, "cell");
+      checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance"}, reader, "cell");
       if (cell["working_plane"])
         spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
       if (cell["robot"]) {
@@ -434,8 +434,12 @@ Spec loadSpec(const std::string& path) {
         c.mount.translation() = Vec3(0, 0, 150);
         if (cell["mount"]) c.mount = reader.frame(cell["mount"], "cell.mount");
         if (cell["table"]) c.table = reader.table(cell["table"]);
+        if (cell["clearance"]) {
+          c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
+          if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
+        }
         spec.cell = c;
-      } else if (cell["mount"] || cell["table"]) {
+      } else if (cell["mount"] || cell["table"] || cell["clearance"]) {
         reader.fail("cell: a mount or a table needs a robot (cell.robot)");
       }
     }

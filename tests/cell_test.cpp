@@ -215,3 +215,61 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+// An axis-aligned box [lo, lo + size] as triangles.
+TriangleMesh box(const Vec3& lo, const Vec3& size) {
+  TriangleMesh mesh;
+  test::addCube(mesh, Vec3::Zero(), 1, 1);
+  for (Vec3& v : mesh.vertices) v = lo + v.cwiseProduct(size);
+  return mesh;
+}
+
+TEST(Cell, ArmThroughAWallIsACollision) {
+  Cell cell = irb2400At({-1300, 50, 0});
+  const View above = viewAt({0, 50, 500}, {0, 50, 0});
+  const TriangleMesh nothing;
+  const CellCollisions open(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellReach free = reachView(cell, above, {}, 0, &open);
+  ASSERT_TRUE(free.reachable());
+  // The links end where the arm's joints are: the last one at the flange.
+  for (const CellPose& pose : free.poses) {
+    const std::vector<CellCollisions::Capsule> links = open.links(pose);
+    ASSERT_EQ(links.size(), 3u);
+    EXPECT_LT(
+        (links.back().b - cell.base * forwardKinematics(cell.robot, pose.joints).translation())
+            .norm(),
+        1e-9);
+  }
+  // A wall 2 m high between the robot and the part: every arm configuration crosses it.
+  const TriangleMesh wall = box({-700, -1000, 0}, {50, 2000, 2000});
+  const CellCollisions walled(cell, wall, Pose::Identity(), {}, true, 10);
+  const CellReach blocked = reachView(cell, above, {}, 0, &walled);
+  EXPECT_FALSE(blocked.reachable());
+  EXPECT_EQ(blocked.failure, CellFailure::Collision);
+  // The same wall as a fixture mesh beside an empty part.
+  const CellCollisions fixture(cell, nothing, Pose::Identity(), {wall}, true, 10);
+  EXPECT_EQ(reachView(cell, above, {}, 0, &fixture).failure, CellFailure::Collision);
+}
+
+TEST(Cell, WorkingPlaneAndClearanceCount) {
+  const Cell cell = irb2400At({-1300, 50, 0});
+  const TriangleMesh nothing;
+  // A view along the plane, 60 mm above it: the wrist comes within its radius of it.
+  const View low = viewAt({-300, 50, 60}, {100, 50, 60});
+  const CellCollisions with_plane(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellCollisions without_plane(cell, nothing, Pose::Identity(), {}, false, 10);
+  EXPECT_TRUE(reachView(cell, low).reachable());
+  EXPECT_FALSE(reachView(cell, low, {}, 0, &with_plane).reachable());
+  EXPECT_TRUE(reachView(cell, low, {}, 0, &without_plane).reachable());
+  // 120 mm above the plane the 60 mm wrist clears it by 10 mm, but not by 100 mm.
+  const View higher = viewAt({-300, 50, 120}, {100, 50, 120});
+  const CellCollisions tight(cell, nothing, Pose::Identity(), {}, true, 100);
+  EXPECT_TRUE(reachView(cell, higher, {}, 0, &with_plane).reachable());
+  EXPECT_FALSE(reachView(cell, higher, {}, 0, &tight).reachable());
+}
+
+}  // namespace
+}  // namespace scanplan

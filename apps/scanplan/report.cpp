@@ -106,7 +106,12 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
                          "robot programs need the cell: give a spec with cell.robot (--spec)");
       // KRL wants the program named as its file.
       const std::string name = std::filesystem::path(options.out).stem().string();
-      const RobotProgram program = robotProgram(c.plan, *c.spec.cell, name, options.input.plan);
+      const SimulationOptions placed = simulationOptionsFor(c.part, c.spec, c.plan.part_to_world);
+      const CellCollisions collisions(*c.spec.cell, c.part.mesh, c.plan.part_to_world,
+                                      placed.fixtures, placed.working_plane,
+                                      c.spec.cell->clearance);
+      const RobotProgram program =
+          robotProgram(c.plan, *c.spec.cell, name, options.input.plan, &collisions);
       const std::string language = options.format == "robot-json" ? "json" : options.format;
       writeRobotProgram(program, language, options.out);
       if (!program.unreached.empty())

@@ -4,9 +4,11 @@
 // A view is feasible when the robot reaches it (some table angle, some inverse-kinematics
 // solution within the joint limits).
 
+#include <scanplan/cad/mesh.h>
 #include <scanplan/robot.h>
 #include <scanplan/view.h>
 
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -28,6 +30,7 @@ struct Cell {
   Pose base = Pose::Identity();   // the robot's base frame in the world
   Pose mount = Pose::Identity();  // the scanner frame S in the flange frame
   std::optional<RotaryTable> table;
+  double clearance = 10;  // mm the arm keeps from the part, fixtures and working plane
 };
 
 // Where the robot must put its flange (base frame) for the scanner to be at `view` with
@@ -40,9 +43,9 @@ struct CellPose {
   Joints joints{};
 };
 
-// Why a view cannot be taken (the best reason over all table angles: joint limits before
-// out of reach).
-enum class CellFailure { None, OutOfReach, JointLimits };
+// Why a view cannot be taken (the nearest miss over all table angles: collision before
+// joint limits before out of reach).
+enum class CellFailure { None, OutOfReach, JointLimits, Collision };
 std::string_view toString(CellFailure failure);
 
 struct CellReach {
@@ -51,9 +54,39 @@ struct CellReach {
   bool reachable() const { return !poses.empty(); }
 };
 
+// Collisions of the robot's arm with the part, its fixtures and the working plane: the
+// upper arm, the forearm and the wrist as capsules (RobotModel::link_radii) grown by a
+// safety margin, against the triangles of the part (FCL, a bounding-volume hierarchy
+// built once). The scanner body is checked by the planner itself (poseIsValid).
+class CellCollisions {
+ public:
+  // The part placed by `part_to_world` with `fixtures` (world frame), at table angle 0.
+  CellCollisions(const Cell& cell, const TriangleMesh& part, const Pose& part_to_world,
+                 const std::vector<TriangleMesh>& fixtures, bool working_plane, double margin);
+  ~CellCollisions();
+  CellCollisions(const CellCollisions&) = delete;
+  CellCollisions& operator=(const CellCollisions&) = delete;
+
+  // True when a link of the robot at `pose` comes within the margin of the part, a
+  // fixture or the working plane. Thread-safe.
+  bool collides(const CellPose& pose) const;
+
+  struct Capsule {
+    Vec3 a, b;  // segment ends, world frame at table angle 0, mm
+    double radius = 0;
+  };
+  // The links at `pose`, carried back with the table to the plan's frame.
+  std::vector<Capsule> links(const CellPose& pose) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // The solutions for `view`: the table angles are tried from `preferred_angle` outwards
-// (0, +step, -step, ...), the joints taken nearest to `near`.
+// (0, +step, -step, ...), the joints taken nearest to `near`; with `collisions`, only
+// solutions whose arm stays clear (else failure Collision).
 CellReach reachView(const Cell& cell, const View& view, const Joints& near = {},
-                    double preferred_angle = 0);
+                    double preferred_angle = 0, const CellCollisions* collisions = nullptr);
 
 }  // namespace scanplan

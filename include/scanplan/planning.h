@@ -34,6 +34,8 @@ struct PlanningOptions {
   double bound_time_limit = 30;  // seconds for CBC
   bool registration = true;      // check registration, bridge, and sequence the views
   std::optional<Cell> cell;      // the robot must reach every view (spec cell.robot)
+  // Its arm against the part; made by the planner for each placement of the part.
+  std::shared_ptr<const CellCollisions> collisions;
 };
 
 // The optimality check: the fewest candidate poses that measure every sample the plan
@@ -158,11 +160,13 @@ std::string_view toString(Uncoverable reason);
 
 // How the cell takes each of `views` when they are visited in `order` (ids): of the
 // inverse-kinematics solutions of each view (at the table angle nearest 0 that reaches
-// it), the ones whose joints travel least from view to view over the whole order
+// it; with `collisions`, those whose arm stays clear), the ones whose joints travel least
+// from view to view over the whole order
 // (dynamic programming). Per view, in the order of `views`; none where the cell cannot
 // reach the view.
 std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
-                                               const std::vector<int>& order);
+                                               const std::vector<int>& order,
+                                               const CellCollisions* collisions = nullptr);
 
 // The joint motion of a sequence of cell poses: the largest change of any joint between
 // consecutive reached views (radians), the travel time (seconds, joints at their largest

@@ -27,6 +27,9 @@ struct RobotModel {
   std::array<int, 6> signs{1, 1, 1, 1, 1, 1};
   Joints lower{}, upper{};  // joint limits, radians
   Joints speeds{};          // largest joint speeds, radians per second
+  // Radii of the upper arm, the forearm and the wrist for collisions, mm; 0: sized from
+  // the lengths (upper arm and forearm 0.1 x length + 20 mm, wrist 60 mm).
+  std::array<double, 3> link_radii{};
 
   // Distance from the shoulder axis to the wrist centre when stretched, mm.
   double reach() const;
@@ -39,6 +42,10 @@ RobotModel robotPreset(std::string_view name, const std::string& source = "spec"
 
 // The flange pose in the robot's base frame for `joints`.
 Pose forwardKinematics(const RobotModel& robot, const Joints& joints);
+
+// The arm's joint centres in the base frame for `joints`: shoulder (axis 2), elbow (axis
+// 3), wrist centre, flange.
+std::array<Vec3, 4> jointCentres(const RobotModel& robot, const Joints& joints);
 
 // Every solution (up to 8: shoulder left/right x elbow up/down x wrist flip) that puts the
 // flange at `flange` (base frame) within the joint limits; each joint taken as the

@@ -20,17 +20,18 @@ struct ProgramStep {
 };
 
 struct RobotProgram {
-  std::string name;       // a valid identifier in every language: letters, digits, _
-  std::string source;     // what it was made from, for the header comment
+  std::string name;    // a valid identifier in every language: letters, digits, _
+  std::string source;  // what it was made from, for the header comment
   Cell cell;
   std::vector<ProgramStep> steps;  // in sequence order
   std::vector<int> unreached;      // views of the plan the cell cannot take (left out)
 };
 
 // The program of `plan` in `cell`: its views in sequence order (then any outside the
-// sequence), each with the joints cellPoses chooses. `name` is made a valid identifier.
+// sequence), each with the joints cellPoses chooses (clear of the part with
+// `collisions`). `name` is made a valid identifier.
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
-                          const std::string& source);
+                          const std::string& source, const CellCollisions* collisions = nullptr);
 
 std::string krlProgram(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);

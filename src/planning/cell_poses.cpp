@@ -35,7 +35,8 @@ std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPo
 }  // namespace
 
 std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
-                                               const std::vector<int>& order) {
+                                               const std::vector<int>& order,
+                                               const CellCollisions* collisions) {
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
   // Layers of solutions, reachable views only, in visiting order.
@@ -44,7 +45,7 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
   for (int id : order) {
     auto it = index.find(id);
     if (it == index.end()) continue;
-    CellReach reach = reachView(cell, views[it->second]);
+    CellReach reach = reachView(cell, views[it->second], {}, 0, collisions);
     if (!reach.reachable()) continue;
     visited.push_back(it->second);
     layers.push_back(withOtherTurns(cell.robot, std::move(reach.poses)));

@@ -132,7 +132,8 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
   for (int i = 0; i < 4; ++i) segments.push_back(Ray{world[i], world[7 - i] - world[i], 0, 1});
   const auto blocked = simulator.occluded(segments);
   if (std::any_of(blocked.begin(), blocked.end(), [](bool b) { return b; })) return false;
-  return !options.cell || reachView(*options.cell, view).reachable();
+  return !options.cell ||
+         reachView(*options.cell, view, {}, 0, options.collisions.get()).reachable();
 }
 
 namespace {
@@ -443,7 +444,8 @@ namespace {
 // covered in the selection.
 Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>& sampled,
                    const Pose& part_to_world, const std::vector<char>& done,
-                   const PlanningOptions& options, const Progress& progress) {
+                   const PlanningOptions& given, const Progress& progress) {
+  PlanningOptions options = given;
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   auto stage_start = start;
@@ -472,6 +474,10 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
   plan.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
   const Simulator simulator(part, spec.scanner,
                             simulationOptionsFor(part, spec, plan.part_to_world));
+  if (options.cell)
+    options.collisions = std::make_shared<const CellCollisions>(
+        *options.cell, part.mesh, plan.part_to_world, simulator.options().fixtures,
+        simulator.options().working_plane, options.cell->clearance);
   Planner planner(simulator, plan.samples, options);
   lap("scene");
 
@@ -741,6 +747,15 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
       if (coverable[k]) plan.samples[unposed[k]].uncoverable = Uncoverable::Unreachable;
   }
 
+  if (options.cell) {
+    std::vector<int> order;
+    if (plan.sequence) order = plan.sequence->views;
+    for (const View& v : plan.views)
+      if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
+    plan.cell = options.cell;
+    plan.cell_poses = cellPoses(*options.cell, plan.views, order, options.collisions.get());
+  }
+
   if (options.bound) {
     report(progress, "exact set cover over " + std::to_string(views.size()) + " poses", 0);
     const std::vector<std::vector<int>>& sets = measured;
@@ -786,6 +801,8 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     merged.sequence->length += part.sequence->length;
     merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
   }
+  merged.cell = part.cell;
+  merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
   for (Sweep& sweep : part.sweeps) {
     for (int& id : sweep.views) shift(id);
     merged.sweeps.push_back(std::move(sweep));
@@ -827,14 +844,6 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     throw PlanningError(spec.source, "the spec's tasks leave no sample to plan for");
   const StageTime sampling{"sampling", std::chrono::duration<double>(Clock::now() - start).count()};
   auto finish = [&](Plan& plan) {
-    if (options.cell) {
-      std::vector<int> order;
-      if (plan.sequence) order = plan.sequence->views;
-      for (const View& v : plan.views)
-        if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
-      plan.cell = options.cell;
-      plan.cell_poses = cellPoses(*options.cell, plan.views, order);
-    }
     plan.times.insert(plan.times.begin(), sampling);
     plan.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return plan;
@@ -860,6 +869,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
     if (k == 0) {
       merged = plan;
       merged.views.clear();
+      merged.cell_poses.clear();
       merged.sweeps.clear();
       merged.times.clear();
       for (PlannedSample& s : merged.samples) s.measured_by.clear();

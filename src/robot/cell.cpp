@@ -12,6 +12,7 @@ std::string_view toString(CellFailure failure) {
     case CellFailure::None: return "none";
     case CellFailure::OutOfReach: return "out_of_reach";
     case CellFailure::JointLimits: return "joint_limits";
+    case CellFailure::Collision: return "collision";
   }
   return "?";
 }
@@ -26,8 +27,8 @@ Pose flangeFor(const Cell& cell, const View& view, double table_angle) {
   return cell.base.inverse() * turn * view.camera_to_world * cell.mount.inverse();
 }
 
-CellReach reachView(const Cell& cell, const View& view, const Joints& near,
-                    double preferred_angle) {
+CellReach reachView(const Cell& cell, const View& view, const Joints& near, double preferred_angle,
+                    const CellCollisions* collisions) {
   std::vector<double> angles{0};
   if (cell.table) {
     const RotaryTable& t = *cell.table;
@@ -43,12 +44,16 @@ CellReach reachView(const Cell& cell, const View& view, const Joints& near,
   for (double angle : angles) {
     const Pose flange = flangeFor(cell, view, angle);
     const std::vector<Joints> solutions = inverseKinematics(cell.robot, flange, near);
-    if (!solutions.empty()) {
-      for (const Joints& q : solutions) result.poses.push_back({angle, q});
+    for (const Joints& q : solutions)
+      if (!collisions || !collisions->collides({angle, q})) result.poses.push_back({angle, q});
+    if (!result.poses.empty()) {
       result.failure = CellFailure::None;
       return result;
     }
-    if (reachOf(cell.robot, flange) == Reach::JointLimits)
+    if (!solutions.empty())
+      result.failure = CellFailure::Collision;
+    else if (result.failure != CellFailure::Collision &&
+             reachOf(cell.robot, flange) == Reach::JointLimits)
       result.failure = CellFailure::JointLimits;
   }
   return result;

@@ -117,6 +117,19 @@ Pose forwardKinematics(const RobotModel& r, const Joints& joints) {
   return flange;
 }
 
+std::array<Vec3, 4> jointCentres(const RobotModel& r, const Joints& joints) {
+  const Joints q = modelAngles(r, joints);
+  const double psi3 = std::atan2(r.a2, r.c3), k = std::hypot(r.a2, r.c3);
+  // In the arm's plane (x out, z up), then turned by joint 1.
+  const Eigen::AngleAxisd turn(q[0], Vec3::UnitZ());
+  auto placed = [&](double x, double z) { return Vec3(turn * Vec3(x, r.b, z)); };
+  const Vec3 shoulder = placed(r.a1, r.c1);
+  const Vec3 elbow = placed(r.a1 + r.c2 * std::sin(q[1]), r.c1 + r.c2 * std::cos(q[1]));
+  const Vec3 wrist = placed(r.a1 + r.c2 * std::sin(q[1]) + k * std::sin(q[1] + q[2] + psi3),
+                            r.c1 + r.c2 * std::cos(q[1]) + k * std::cos(q[1] + q[2] + psi3));
+  return {shoulder, elbow, wrist, forwardKinematics(r, joints).translation()};
+}
+
 namespace {
 
 // The up to 8 model-angle solutions, NaN where a configuration does not exist.

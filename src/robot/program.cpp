@@ -58,7 +58,7 @@ std::string header(const RobotProgram& p, std::string_view comment) {
 }  // namespace
 
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
-                          const std::string& source) {
+                          const std::string& source, const CellCollisions* collisions) {
   RobotProgram program;
   program.name = identifier(name, 24);
   program.source = source;
@@ -67,7 +67,7 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
   if (plan.sequence) order = plan.sequence->views;
   for (const View& v : plan.views)
     if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
-  const std::vector<std::optional<CellPose>> poses = cellPoses(cell, plan.views, order);
+  const std::vector<std::optional<CellPose>> poses = cellPoses(cell, plan.views, order, collisions);
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
   for (int id : order) {
