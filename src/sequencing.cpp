@@ -148,24 +148,30 @@ std::vector<int> twoOpt(const Eigen::MatrixXd& cost, const std::vector<std::vect
 
 Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
                        const Registration& registration, const SequenceOptions& options) {
+  const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views, options));
+  return sequenceViews(cost, cost, views, registration);
+}
+
+Sequence sequenceViews(const Eigen::MatrixXd& order_cost, const Eigen::MatrixXd& length_cost,
+                       std::span<const View> views, const Registration& registration) {
   Sequence sequence;
   const std::size_t n = views.size();
   if (n == 0) return sequence;
   int start = 0;
   for (std::size_t v = 0; v < n; ++v)
     if (views[v].id == registration.reference) start = static_cast<int>(v);
-  const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views, options));
   const std::vector<std::vector<char>> linked = registrationLinks(views, registration);
 
-  const std::vector<int> nearest = nearestNeighbourOrder(cost, linked, start);
-  std::vector<int> best = twoOpt(cost, linked, nearest);
-  const std::vector<int> plain = twoOpt(cost, linked, nearestNeighbourOrder(cost, {}, start));
+  const std::vector<int> nearest = nearestNeighbourOrder(order_cost, linked, start);
+  std::vector<int> best = twoOpt(order_cost, linked, nearest);
+  const std::vector<int> plain =
+      twoOpt(order_cost, linked, nearestNeighbourOrder(order_cost, {}, start));
   if (violations(linked, plain) <= violations(linked, best) &&
-      pathLength(cost, plain) < pathLength(cost, best))
+      pathLength(order_cost, plain) < pathLength(order_cost, best))
     best = plain;
   for (int k : best) sequence.views.push_back(views[k].id);
-  sequence.length = pathLength(cost, best);
-  sequence.nearest_neighbour_length = pathLength(cost, nearest);
+  sequence.length = pathLength(length_cost, best);
+  sequence.nearest_neighbour_length = pathLength(length_cost, nearest);
   return sequence;
 }
 

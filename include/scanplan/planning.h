@@ -168,6 +168,12 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
                                                const std::vector<int>& order,
                                                const CellCollisions* collisions = nullptr);
 
+// The cell's motion cost between every two views: the least joint travel time over their
+// solutions (seconds; PlanningOptions::cell's speeds, the table at a quarter turn per
+// second), 1000 s to or from a view the cell cannot reach.
+Eigen::MatrixXd jointTravelTimes(const Cell& cell, const std::vector<View>& views,
+                                 const CellCollisions* collisions = nullptr);
+
 // The joint motion of a sequence of cell poses: the largest change of any joint between
 // consecutive reached views (radians), the travel time (seconds, joints at their largest
 // speeds, the table at `table_speed` rad/s) and how often the table turns.

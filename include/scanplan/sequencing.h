@@ -61,4 +61,10 @@ struct Sequence {
 Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
                        const Registration& registration, const SequenceOptions& options = {});
 
+// The same over a given cost: the order chosen by `order_cost` (all-pairs, as
+// shortestPaths gives), the lengths measured by `length_cost`, e.g. a robot's joint travel
+// time for the order and the scanner's motion in mm for the lengths.
+Sequence sequenceViews(const Eigen::MatrixXd& order_cost, const Eigen::MatrixXd& length_cost,
+                       std::span<const View> views, const Registration& registration);
+
 }  // namespace scanplan

@@ -80,6 +80,25 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
   return result;
 }
 
+Eigen::MatrixXd jointTravelTimes(const Cell& cell, const std::vector<View>& views,
+                                 const CellCollisions* collisions) {
+  constexpr double kTableSpeed = M_PI / 2, kUnreached = 1000;
+  std::vector<std::vector<CellPose>> solutions(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i)
+    solutions[i] = withOtherTurns(cell.robot, reachView(cell, views[i], {}, 0, collisions).poses);
+  const auto n = static_cast<Eigen::Index>(views.size());
+  Eigen::MatrixXd times = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      double best = kUnreached;
+      for (const CellPose& a : solutions[static_cast<std::size_t>(i)])
+        for (const CellPose& b : solutions[static_cast<std::size_t>(j)])
+          best = std::min(best, moveTime(cell, a, b, kTableSpeed));
+      times(i, j) = times(j, i) = best;
+    }
+  return times;
+}
+
 JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
                         const std::vector<View>& views, const std::vector<int>& order,
                         double table_speed) {

@@ -719,7 +719,14 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
         if (losses[b][i] == Loss::Measured) plan.samples[i].measured_by.push_back(bridges[b].id);
     lap("registration");
     report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
-    plan.sequence = sequenceViews(simulator, plan.views, *plan.registration);
+    if (options.cell) {
+      // In joint space: the order by the robot's travel time, lengths in mm as always.
+      plan.sequence = sequenceViews(
+          shortestPaths(jointTravelTimes(*options.cell, plan.views, options.collisions.get())),
+          shortestPaths(directCosts(simulator, plan.views)), plan.views, *plan.registration);
+    } else {
+      plan.sequence = sequenceViews(simulator, plan.views, *plan.registration);
+    }
     lap("sequencing");
   }
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
