@@ -153,9 +153,9 @@ class SpecReader {
   RobotModel robot(const YAML::Node& node) const {
     const std::string key = "cell.robot";
     if (!node.IsMap()) fail(key + " must be a mapping");
-    static const std::set<std::string> fields = {"preset", "a1",    "a2",     "b",       "c1",
-                                                 "c2",     "c3",    "c4",     "offsets", "signs",
-                                                 "lower",  "upper", "speeds", "base",    "name"};
+    static const std::set<std::string> fields = {
+        "preset",  "a1",    "a2",    "b",     "c1",     "c2",   "c3",   "c4",
+        "offsets", "signs", "lower", "upper", "speeds", "base", "name", "link_radii"};
     for (const auto& item : node)
       if (!fields.count(item.first.as<std::string>()))
         fail(key + ": unknown field '" + item.first.as<std::string>() + "'");
@@ -187,6 +187,15 @@ class SpecReader {
     if (node["lower"]) r.lower = joints(node["lower"], key + ".lower");
     if (node["upper"]) r.upper = joints(node["upper"], key + ".upper");
     if (node["speeds"]) r.speeds = joints(node["speeds"], key + ".speeds");
+    if (node["link_radii"]) {
+      const std::vector<double> radii = numbers(node["link_radii"], 3, key + ".link_radii");
+      for (int i = 0; i < 3; ++i) {
+        if (!(radii[i] > 0))
+          fail(key +
+               ".link_radii: the upper arm's, forearm's and wrist's radii must be positive (mm)");
+        r.link_radii[i] = radii[i];
+      }
+    }
     if (node["signs"]) {
       const Joints signs = joints(node["signs"], key + ".signs", false);
       for (int i = 0; i < 6; ++i) {

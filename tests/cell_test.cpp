@@ -79,13 +79,15 @@ TEST(Cell, SpecReadsTheCell) {
   test::TempDir dir;
   const Spec spec = specWith(dir,
                              "cell:\n"
-                             "  robot: {preset: abb-irb4600-60-205,\n"
+                             "  robot: {preset: abb-irb4600-60-205, link_radii: [150, 120, 80],\n"
                              "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
                              "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
                              "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
                              "step: 10}\n");
   ASSERT_TRUE(spec.cell);
   EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
+  EXPECT_EQ(spec.cell->robot.link_radii[0], 150);
+  EXPECT_EQ(spec.cell->robot.link_radii[2], 80);
   EXPECT_TRUE(spec.cell->base.translation().isApprox(Vec3(-1000, 0, 0)));
   EXPECT_TRUE((spec.cell->base.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY()));
   EXPECT_NEAR(spec.cell->mount.translation().z(), 120, 1e-12);
