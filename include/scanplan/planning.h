@@ -158,6 +158,10 @@ bool poseIsValid(const Simulator& simulator, const View& view, const PlanningOpt
 
 std::string_view toString(Uncoverable reason);
 
+// The ids of the plan's views in the order they are visited: its sequence, then any view
+// outside it in plan order.
+std::vector<int> visitingOrder(const Plan& plan);
+
 // How the cell takes each of `views` when they are visited in `order` (ids): of the
 // inverse-kinematics solutions of each view (at the table angle nearest 0 that reaches
 // it; with `collisions`, those whose arm stays clear), the ones whose joints travel least

@@ -197,8 +197,7 @@ json planJson(const Plan& plan) {
                       {"flange", matrix(forwardKinematics(cell.robot, pose->joints))}}
                : json(nullptr);
     }
-    const JointMotion motion =
-        jointMotion(cell, plan.cell_poses, plan.views, result["sequence"].get<std::vector<int>>());
+    const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, visitingOrder(plan));
     result["summary"]["robot"] = {{"max_joint_step", motion.max_step * 180 / M_PI},
                                   {"max_joint_step_joint", motion.max_step_joint},
                                   {"travel_seconds", motion.seconds},

@@ -4,6 +4,7 @@
 
 #include <scanplan/planning.h>
 
+#include <algorithm>
 #include <limits>
 #include <map>
 
@@ -33,6 +34,14 @@ std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPo
 }
 
 }  // namespace
+
+std::vector<int> visitingOrder(const Plan& plan) {
+  std::vector<int> order;
+  if (plan.sequence) order = plan.sequence->views;
+  for (const View& v : plan.views)
+    if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
+  return order;
+}
 
 std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
                                                const std::vector<int>& order,

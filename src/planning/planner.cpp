@@ -755,12 +755,9 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
   }
 
   if (options.cell) {
-    std::vector<int> order;
-    if (plan.sequence) order = plan.sequence->views;
-    for (const View& v : plan.views)
-      if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
     plan.cell = options.cell;
-    plan.cell_poses = cellPoses(*options.cell, plan.views, order, options.collisions.get());
+    plan.cell_poses =
+        cellPoses(*options.cell, plan.views, visitingOrder(plan), options.collisions.get());
   }
 
   if (options.bound) {

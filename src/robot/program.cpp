@@ -63,10 +63,7 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
   program.name = identifier(name, 24);
   program.source = source;
   program.cell = cell;
-  std::vector<int> order;
-  if (plan.sequence) order = plan.sequence->views;
-  for (const View& v : plan.views)
-    if (std::find(order.begin(), order.end(), v.id) == order.end()) order.push_back(v.id);
+  const std::vector<int> order = visitingOrder(plan);
   const std::vector<std::optional<CellPose>> poses = cellPoses(cell, plan.views, order, collisions);
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
