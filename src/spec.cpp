@@ -1,3 +1,4 @@
+#include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
 #include <scanplan/spec.h>
 
@@ -154,8 +155,8 @@ class SpecReader {
     const std::string key = "cell.robot";
     if (!node.IsMap()) fail(key + " must be a mapping");
     static const std::set<std::string> fields = {
-        "preset",  "a1",    "a2",    "b",     "c1",     "c2",   "c3",   "c4",
-        "offsets", "signs", "lower", "upper", "speeds", "base", "name", "link_radii"};
+        "preset", "a1",    "a2",    "b",      "c1",   "c2",   "c3",         "c4",         "offsets",
+        "signs",  "lower", "upper", "speeds", "base", "name", "link_radii", "link_meshes"};
     for (const auto& item : node)
       if (!fields.count(item.first.as<std::string>()))
         fail(key + ": unknown field '" + item.first.as<std::string>() + "'");
@@ -439,6 +440,19 @@ Spec loadSpec(const std::string& path) {
         Cell c;
         c.robot = reader.robot(cell["robot"]);
         if (cell["robot"]["base"]) c.base = reader.frame(cell["robot"]["base"], "cell.robot.base");
+        if (const YAML::Node meshes = cell["robot"]["link_meshes"]) {
+          if (!meshes.IsSequence() || meshes.size() != 3)
+            reader.fail(
+                "cell.robot.link_meshes: give the upper arm's, the forearm's and the "
+                "wrist's mesh files, in the base frame at the zero pose");
+          for (const YAML::Node& file : meshes) {
+            const std::string mesh_path =
+                reader.resolvePath(reader.scalar<std::string>(file, "cell.robot.link_meshes"));
+            TriangleMesh mesh = importPart(mesh_path).mesh;
+            if (mesh.empty()) throw InputError(mesh_path, "the link mesh has no triangles");
+            c.link_meshes.push_back(std::move(mesh));
+          }
+        }
         // Default mount: the camera 150 mm out along the flange's axis, looking along it.
         c.mount.translation() = Vec3(0, 0, 150);
         if (cell["mount"]) c.mount = reader.frame(cell["mount"], "cell.mount");

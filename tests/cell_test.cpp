@@ -286,3 +286,65 @@ TEST(Cell, WorkingPlaneAndClearanceCount) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+// A box around the segment a-b at the zero pose, `half` mm out on every side.
+TriangleMesh boxAround(const Vec3& a, const Vec3& b, double half) {
+  const Vec3 lo = a.cwiseMin(b) - Vec3::Constant(half), hi = a.cwiseMax(b) + Vec3::Constant(half);
+  return box(lo, hi - lo);
+}
+
+TEST(Cell, LinkMeshesReplaceTheCapsules) {
+  Cell cell = irb2400At({-1300, 50, 0});
+  Joints zero{};
+  for (int i = 0; i < 6; ++i) zero[i] = cell.robot.offsets[i] * cell.robot.signs[i];
+  const std::array<Vec3, 4> j = jointCentres(cell.robot, zero);
+  const View above = viewAt({0, 50, 500}, {0, 50, 0});
+  const TriangleMesh nothing;
+  // Slim boxes around the links: the view stays free.
+  cell.link_meshes = {boxAround(j[0], j[1], 60), boxAround(j[1], j[2], 50),
+                      boxAround(j[2], j[3], 40)};
+  const CellCollisions slim(cell, nothing, Pose::Identity(), {}, true, 10);
+  EXPECT_TRUE(reachView(cell, above, {}, 0, &slim).reachable());
+  // A forearm inside a box 1.5 m out on every side reaches the plane in every solution.
+  cell.link_meshes[1] = boxAround(j[1], j[2], 1500);
+  const CellCollisions hanging(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellReach blocked = reachView(cell, above, {}, 0, &hanging);
+  EXPECT_FALSE(blocked.reachable());
+  EXPECT_EQ(blocked.failure, CellFailure::Collision);
+  // And the meshes meet the part: a post up through the wrist, 650 to 735 mm high here.
+  cell.link_meshes[1] = boxAround(j[1], j[2], 50);
+  const TriangleMesh post = box({-60, 0, 0}, {120, 100, 700});
+  const CellCollisions with_post(cell, post, Pose::Identity(), {}, true, 10);
+  EXPECT_FALSE(reachView(cell, above, {}, 0, &with_post).reachable());
+}
+
+TEST(Cell, SpecReadsLinkMeshes) {
+  test::TempDir dir;
+  const std::string stl =
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 10 0 0\nvertex 0 10 0\n"
+      "endloop\nendfacet\nendsolid t\n";
+  for (const char* name : {"upper.stl", "fore.stl", "wrist.stl"})
+    test::writeText(dir.file(name), stl);
+  const Spec spec =
+      specWith(dir,
+               "cell:\n  robot: {preset: abb-irb2400-10, link_meshes: [upper.stl, fore.stl, "
+               "wrist.stl]}\n");
+  ASSERT_TRUE(spec.cell);
+  ASSERT_EQ(spec.cell->link_meshes.size(), 3u);
+  EXPECT_EQ(spec.cell->link_meshes[0].triangles.size(), 1u);
+  test::writeText(dir.file("bad.yaml"),
+                  "cell:\n  robot: {preset: abb-irb2400-10, link_meshes: [upper.stl, none.stl, "
+                  "wrist.stl]}\n");
+  try {
+    loadSpec(dir.file("bad.yaml"));
+    ADD_FAILURE() << "a missing link mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("none.stl"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace scanplan

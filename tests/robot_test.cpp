@@ -102,3 +102,25 @@ TEST(Robot, UnknownPresetIsAnInputError) { EXPECT_THROW(robotPreset("kuka-kr1000
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+TEST(Robot, LinkMotionsCarryTheZeroPoseJointsToTheirPlaces) {
+  for (const std::string& name : robotPresets()) {
+    const RobotModel robot = robotPreset(name);
+    Joints zero{};
+    for (int i = 0; i < 6; ++i) zero[i] = robot.offsets[i] * robot.signs[i];  // model angles 0
+    const std::array<Vec3, 4> at_zero = jointCentres(robot, zero);
+    for (const Joints& q : randomJoints(robot, 200, 3)) {
+      const std::array<Vec3, 4> now = jointCentres(robot, q);
+      const std::array<Pose, 3> motion = linkMotions(robot, q);
+      EXPECT_LT((motion[0] * at_zero[1] - now[1]).norm(), 1e-9) << name;  // elbow on the upper arm
+      EXPECT_LT((motion[1] * at_zero[2] - now[2]).norm(), 1e-9) << name;  // wrist on the forearm
+      EXPECT_LT((motion[2] * at_zero[3] - now[3]).norm(), 1e-9) << name;  // flange on the wrist
+    }
+  }
+}
+
+}  // namespace
+}  // namespace scanplan

@@ -31,6 +31,9 @@ struct Cell {
   Pose mount = Pose::Identity();  // the scanner frame S in the flange frame
   std::optional<RotaryTable> table;
   double clearance = 10;  // mm the arm keeps from the part, fixtures and working plane
+  // Meshes of the upper arm, the forearm and the wrist in the robot's base frame at the
+  // zero pose (linkMotions), used for collisions instead of the capsules; empty: capsules.
+  std::vector<TriangleMesh> link_meshes;
 };
 
 // Where the robot must put its flange (base frame) for the scanner to be at `view` with
@@ -56,8 +59,9 @@ struct CellReach {
 
 // Collisions of the robot's arm with the part, its fixtures and the working plane: the
 // upper arm, the forearm and the wrist as capsules (RobotModel::link_radii) grown by a
-// safety margin, against the triangles of the part (FCL, a bounding-volume hierarchy
-// built once). The scanner body is checked by the planner itself (poseIsValid).
+// safety margin, or as the cell's link meshes kept that margin away, against the
+// triangles of the part (FCL, bounding-volume hierarchies built once). The scanner body
+// is checked by the planner itself (poseIsValid).
 class CellCollisions {
  public:
   // The part placed by `part_to_world` with `fixtures` (world frame), at table angle 0.

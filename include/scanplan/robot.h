@@ -47,6 +47,11 @@ Pose forwardKinematics(const RobotModel& robot, const Joints& joints);
 // 3), wrist centre, flange.
 std::array<Vec3, 4> jointCentres(const RobotModel& robot, const Joints& joints);
 
+// Where the upper arm, the forearm and the wrist have moved to at `joints` from the
+// zero pose (every model angle 0: upper arm and forearm straight up): rigid transforms of
+// the base frame. The wrist moves with the flange.
+std::array<Pose, 3> linkMotions(const RobotModel& robot, const Joints& joints);
+
 // Every solution (up to 8: shoulder left/right x elbow up/down x wrist flip) that puts the
 // flange at `flange` (base frame) within the joint limits; each joint taken as the
 // equivalent (a multiple of 360° away) nearest to `near` that the limits allow. Empty when

@@ -16,7 +16,59 @@ struct CellCollisions::Impl {
   std::array<double, 3> radii{};
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
   std::unique_ptr<fcl::CollisionObjectd> scene;  // null when there are no triangles
+  std::vector<std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> links;  // the cell's link meshes
+  std::vector<std::vector<Vec3>> link_vertices;                     // for the working plane
+
+  // The robot's base frame carried into the plan's frame (the part at table angle 0).
+  Pose toPlan(const CellPose& pose) const {
+    Pose to_plan = cell.base;
+    if (cell.table) {
+      const RotaryTable& t = *cell.table;
+      to_plan = Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(-pose.table_angle, t.axis) *
+                Eigen::Translation3d(-t.origin) * to_plan;
+    }
+    return to_plan;
+  }
+
+  bool meshesCollide(const CellPose& pose) const {
+    const Pose to_plan = toPlan(pose);
+    const std::array<Pose, 3> motions = linkMotions(cell.robot, pose.joints);
+    for (std::size_t k = 0; k < links.size() && k < 3; ++k) {
+      const Pose placed = to_plan * motions[k];
+      if (working_plane)
+        for (const Vec3& v : link_vertices[k])
+          if ((placed * v).z() < margin) return true;
+      if (!scene) continue;
+      const fcl::CollisionObjectd link(links[k], fcl::Transform3d(placed.matrix()));
+      fcl::DistanceRequestd request;
+      fcl::DistanceResultd result;
+      if (fcl::distance(&link, scene.get(), request, result) < margin) return true;
+    }
+    return false;
+  }
 };
+
+namespace {
+
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh(const std::vector<fcl::Vector3d>& vertices,
+                                                 const std::vector<fcl::Triangle>& triangles) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  if (model->beginModel() != fcl::BVH_OK ||
+      model->addSubModel(vertices, triangles) != fcl::BVH_OK || model->endModel() != fcl::BVH_OK)
+    throw LibraryError("FCL", "could not build a collision model");
+  return model;
+}
+
+// Adds `mesh` placed by `to_world` to the vertex and triangle lists.
+void append(const TriangleMesh& mesh, const Pose& to_world, std::vector<fcl::Vector3d>& vertices,
+            std::vector<fcl::Triangle>& triangles) {
+  const std::size_t base = vertices.size();
+  for (const Vec3& v : mesh.vertices) vertices.push_back(to_world * v);
+  for (const Vec3i& t : mesh.triangles)
+    triangles.emplace_back(base + t[0], base + t[1], base + t[2]);
+}
+
+}  // namespace
 
 CellCollisions::CellCollisions(const Cell& cell, const TriangleMesh& part,
                                const Pose& part_to_world, const std::vector<TriangleMesh>& fixtures,
@@ -32,22 +84,20 @@ CellCollisions::CellCollisions(const Cell& cell, const TriangleMesh& part,
   if (d.radii[1] <= 0) d.radii[1] = 0.1 * std::hypot(r.a2, r.c3) + 20;
   if (d.radii[2] <= 0) d.radii[2] = 60;
 
+  for (const TriangleMesh& mesh : cell.link_meshes) {
+    std::vector<fcl::Vector3d> vertices;
+    std::vector<fcl::Triangle> triangles;
+    append(mesh, Pose::Identity(), vertices, triangles);
+    d.links.push_back(bvh(vertices, triangles));
+    d.link_vertices.push_back(mesh.vertices);
+  }
   std::vector<fcl::Vector3d> vertices;
   std::vector<fcl::Triangle> triangles;
-  auto add = [&](const TriangleMesh& mesh, const Pose& to_world) {
-    const std::size_t base = vertices.size();
-    for (const Vec3& v : mesh.vertices) vertices.push_back(to_world * v);
-    for (const Vec3i& t : mesh.triangles)
-      triangles.emplace_back(base + t[0], base + t[1], base + t[2]);
-  };
-  add(part, part_to_world);
-  for (const TriangleMesh& fixture : fixtures) add(fixture, Pose::Identity());
+  append(part, part_to_world, vertices, triangles);
+  for (const TriangleMesh& fixture : fixtures)
+    append(fixture, Pose::Identity(), vertices, triangles);
   if (triangles.empty()) return;
-  d.model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  if (d.model->beginModel() != fcl::BVH_OK ||
-      d.model->addSubModel(vertices, triangles) != fcl::BVH_OK ||
-      d.model->endModel() != fcl::BVH_OK)
-    throw LibraryError("FCL", "could not build the collision model of the part");
+  d.model = bvh(vertices, triangles);
   d.scene = std::make_unique<fcl::CollisionObjectd>(d.model);
 }
 
@@ -56,13 +106,7 @@ CellCollisions::~CellCollisions() = default;
 std::vector<CellCollisions::Capsule> CellCollisions::links(const CellPose& pose) const {
   const Impl& d = *impl_;
   const std::array<Vec3, 4> joints = jointCentres(d.cell.robot, pose.joints);
-  // Base frame to world, then back with the table to the plan's frame (the part at 0).
-  Pose to_plan = d.cell.base;
-  if (d.cell.table) {
-    const RotaryTable& t = *d.cell.table;
-    to_plan = Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(-pose.table_angle, t.axis) *
-              Eigen::Translation3d(-t.origin) * to_plan;
-  }
+  const Pose to_plan = d.toPlan(pose);
   std::vector<Capsule> capsules;
   for (int k = 0; k < 3; ++k)
     capsules.push_back({to_plan * joints[k], to_plan * joints[k + 1], d.radii[k]});
@@ -71,6 +115,7 @@ std::vector<CellCollisions::Capsule> CellCollisions::links(const CellPose& pose)
 
 bool CellCollisions::collides(const CellPose& pose) const {
   const Impl& d = *impl_;
+  if (!d.links.empty()) return d.meshesCollide(pose);
   for (const Capsule& c : links(pose)) {
     const double radius = c.radius + d.margin;
     if (d.working_plane && std::min(c.a.z(), c.b.z()) - radius < 0) return true;

@@ -130,6 +130,21 @@ std::array<Vec3, 4> jointCentres(const RobotModel& r, const Joints& joints) {
   return {shoulder, elbow, wrist, forwardKinematics(r, joints).translation()};
 }
 
+std::array<Pose, 3> linkMotions(const RobotModel& r, const Joints& joints) {
+  const Joints q = modelAngles(r, joints);
+  auto about = [](const Vec3& point, const Vec3& axis, double angle) {
+    return Pose(Eigen::Translation3d(point) * Eigen::AngleAxisd(angle, axis) *
+                Eigen::Translation3d(-point));
+  };
+  const Vec3 shoulder(r.a1, r.b, r.c1), elbow(r.a1, r.b, r.c1 + r.c2);
+  const Pose upper =
+      Pose(Eigen::AngleAxisd(q[0], Vec3::UnitZ())) * about(shoulder, Vec3::UnitY(), q[1]);
+  const Pose fore = upper * about(elbow, Vec3::UnitY(), q[2]);
+  const Pose wrist =
+      forwardKinematics(r, joints) * forwardKinematics(r, controllerJoints(r, Joints{})).inverse();
+  return {upper, fore, wrist};
+}
+
 namespace {
 
 // The up to 8 model-angle solutions, NaN where a configuration does not exist.
