@@ -241,6 +241,13 @@ function selectView(index) {
     ['task', v.task || '–'], ['registration', v.registration ? `${v.state}: ${v.registration.method}${v.registration.to ? ` to view ${v.registration.to}` : ''}` : v.state],
     ['measures', `${v.measured} samples on ${v.faces.length} faces`], ['faces', v.faces.join(', ') || '–']];
   if (v.orientation) details.push(['rest orientation', String(v.orientation)]);
+  const robot = plan.views[index] && plan.views[index].robot;
+  if (robot) {
+    details.push(['robot joints', `${robot.joints.map((q) => `${fmt(q)}°`).join('  ')}` +
+      (plan.cell && plan.cell.table ? `, table ${fmt(robot.table)}°` : '')]);
+  } else if (plan.cell) {
+    details.push(['robot', 'the cell cannot reach this view']);
+  }
   if (v.cloud) {
     const p = f32(v.cloud.positions), a = bytes(v.cloud.incidence);
     const colours = new Float32Array(p.length);
@@ -309,6 +316,12 @@ if (summary.path_length !== undefined) {
   summaryRows.push(['path length', `${fmt(summary.path_length)} mm (nearest neighbour: ${fmt(summary.nearest_neighbour_path_length)} mm)`]);
 }
 if (summary.orientations !== undefined) summaryRows.push(['rest orientations', summary.orientations]);
+if (summary.robot) {
+  const r = summary.robot;
+  summaryRows.push(['robot', plan.cell ? plan.cell.model : ''],
+    ['robot joint travel', `${fmt(r.travel_seconds)} s, largest step ${fmt(r.max_joint_step)}° (axis ${r.max_joint_step_joint})`],
+    ['table moves', r.table_moves], ['views the robot cannot reach', r.unreached_views]);
+}
 if (summary.sweep_views !== undefined) summaryRows.push(['sweep views', summary.sweep_views]);
 summaryRows.push(['planning time', `${fmt(summary.seconds, 2)} s`]);
 for (const [stage, seconds] of Object.entries(summary.stage_seconds || {})) summaryRows.push([`  ${stage}`, `${fmt(seconds, 2)} s`]);
