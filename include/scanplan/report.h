@@ -69,6 +69,15 @@ struct PlanScene {
 // \throw InputError when the part does not match the plan (face count).
 PlanScene planScene(const Plan& plan, const Part& part);
 
+// Per view of `plan` (in its order), the index into Plan::orientations of the rest
+// orientation it was planned in; 0 for every view of a plan with one placement.
+std::vector<std::size_t> viewOrientations(const Plan& plan);
+// Where orientation `k` places the part (Plan::part_to_world for one placement).
+Pose orientationPlacement(const Plan& plan, std::size_t k);
+
+// A sample's state: 0 measured, 1 not measured, 2 not coverable.
+int sampleState(const PlannedSample& sample);
+
 // The measuring frustum of a view: the camera, then the four corners of the field of view
 // at the far end of the depth of field (scanner frame S: x right, y down, z ahead).
 std::array<Vec3, 5> frustum(const View& view, const Scanner& scanner);

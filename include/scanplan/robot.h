@@ -64,6 +64,8 @@ std::vector<Joints> inverseKinematics(const RobotModel& robot, const Pose& flang
 enum class Reach { Reachable, OutOfReach, JointLimits };
 std::string_view toString(Reach reach);
 Reach reachOf(const RobotModel& robot, const Pose& flange);
+// True when some arm configuration puts the flange there, joint limits aside.
+bool armReaches(const RobotModel& robot, const Pose& flange);
 
 // Largest joint travel time between two joint vectors, seconds (the joints move together).
 double travelTime(const RobotModel& robot, const Joints& from, const Joints& to);

@@ -11,6 +11,8 @@
 namespace scanplan {
 namespace {
 
+constexpr double kTableSpeed = M_PI / 2;  // radians per second
+
 // Seconds from one cell pose to the next: the slowest joint, or the table.
 double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
   return std::max(travelTime(cell.robot, a.joints, b.joints),
@@ -43,37 +45,48 @@ std::vector<int> visitingOrder(const Plan& plan) {
   return order;
 }
 
+CellSolutions cellSolutions(const Cell& cell, const std::vector<View>& views,
+                            const CellCollisions* collisions) {
+  CellSolutions solutions(views.size());
+  for (std::size_t i = 0; i < views.size(); ++i)
+    solutions[i] = withOtherTurns(cell.robot, reachView(cell, views[i], {}, 0, collisions).poses);
+  return solutions;
+}
+
 std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
                                                const std::vector<int>& order,
                                                const CellCollisions* collisions) {
+  return cellPoses(cell, views, order, cellSolutions(cell, views, collisions));
+}
+
+std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
+                                               const std::vector<int>& order,
+                                               const CellSolutions& solutions) {
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
-  // Layers of solutions, reachable views only, in visiting order.
+  // Layers of solutions, views the cell takes only, in visiting order.
   std::vector<std::size_t> visited;
-  std::vector<std::vector<CellPose>> layers;
+  std::vector<const std::vector<CellPose>*> layers;
   for (int id : order) {
     auto it = index.find(id);
-    if (it == index.end()) continue;
-    CellReach reach = reachView(cell, views[it->second], {}, 0, collisions);
-    if (!reach.reachable()) continue;
+    if (it == index.end() || solutions[it->second].empty()) continue;
     visited.push_back(it->second);
-    layers.push_back(withOtherTurns(cell.robot, std::move(reach.poses)));
+    layers.push_back(&solutions[it->second]);
   }
   std::vector<std::optional<CellPose>> result(views.size());
   if (layers.empty()) return result;
   // cost[k][s]: least time to reach solution s of layer k; from[k][s]: its predecessor.
-  constexpr double kTableSpeed = M_PI / 2;
   std::vector<std::vector<double>> cost(layers.size());
   std::vector<std::vector<std::size_t>> from(layers.size());
-  cost[0].assign(layers[0].size(), 0);
-  from[0].assign(layers[0].size(), 0);
+  cost[0].assign(layers[0]->size(), 0);
+  from[0].assign(layers[0]->size(), 0);
   for (std::size_t k = 1; k < layers.size(); ++k) {
-    cost[k].assign(layers[k].size(), std::numeric_limits<double>::infinity());
-    from[k].assign(layers[k].size(), 0);
-    for (std::size_t s = 0; s < layers[k].size(); ++s)
-      for (std::size_t p = 0; p < layers[k - 1].size(); ++p) {
+    cost[k].assign(layers[k]->size(), std::numeric_limits<double>::infinity());
+    from[k].assign(layers[k]->size(), 0);
+    for (std::size_t s = 0; s < layers[k]->size(); ++s)
+      for (std::size_t p = 0; p < layers[k - 1]->size(); ++p) {
         const double c =
-            cost[k - 1][p] + moveTime(cell, layers[k - 1][p], layers[k][s], kTableSpeed);
+            cost[k - 1][p] + moveTime(cell, (*layers[k - 1])[p], (*layers[k])[s], kTableSpeed);
         if (c < cost[k][s]) {
           cost[k][s] = c;
           from[k][s] = p;
@@ -83,19 +96,15 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
   std::size_t s = static_cast<std::size_t>(
       std::min_element(cost.back().begin(), cost.back().end()) - cost.back().begin());
   for (std::size_t k = layers.size(); k-- > 0;) {
-    result[visited[k]] = layers[k][s];
+    result[visited[k]] = (*layers[k])[s];
     s = from[k][s];
   }
   return result;
 }
 
-Eigen::MatrixXd jointTravelTimes(const Cell& cell, const std::vector<View>& views,
-                                 const CellCollisions* collisions) {
-  constexpr double kTableSpeed = M_PI / 2, kUnreached = 1000;
-  std::vector<std::vector<CellPose>> solutions(views.size());
-  for (std::size_t i = 0; i < views.size(); ++i)
-    solutions[i] = withOtherTurns(cell.robot, reachView(cell, views[i], {}, 0, collisions).poses);
-  const auto n = static_cast<Eigen::Index>(views.size());
+Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solutions) {
+  constexpr double kUnreached = 1000;
+  const auto n = static_cast<Eigen::Index>(solutions.size());
   Eigen::MatrixXd times = Eigen::MatrixXd::Zero(n, n);
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = i + 1; j < n; ++j) {

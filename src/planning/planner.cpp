@@ -704,6 +704,7 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
           static_cast<int>(std::find(pinned.begin(), pinned.end(), v) - pinned.begin()) + 1);
   lap("pruning");
 
+  CellSolutions solutions;  // of the final views, with a cell
   if (options.registration) {
     plan.markers = specMarkers(spec, part, plan.part_to_world);
     RegistrationOptions registration = spec.registration;
@@ -721,9 +722,10 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
     report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
     if (options.cell) {
       // In joint space: the order by the robot's travel time, lengths in mm as always.
-      plan.sequence = sequenceViews(
-          shortestPaths(jointTravelTimes(*options.cell, plan.views, options.collisions.get())),
-          shortestPaths(directCosts(simulator, plan.views)), plan.views, *plan.registration);
+      solutions = cellSolutions(*options.cell, plan.views, options.collisions.get());
+      plan.sequence = sequenceViews(shortestPaths(jointTravelTimes(*options.cell, solutions)),
+                                    shortestPaths(directCosts(simulator, plan.views)), plan.views,
+                                    *plan.registration);
     } else {
       plan.sequence = sequenceViews(simulator, plan.views, *plan.registration);
     }
@@ -756,8 +758,9 @@ Plan planPlacement(const Part& part, const Spec& spec, const std::vector<Sample>
 
   if (options.cell) {
     plan.cell = options.cell;
-    plan.cell_poses =
-        cellPoses(*options.cell, plan.views, visitingOrder(plan), options.collisions.get());
+    if (solutions.size() != plan.views.size())  // not sequenced in joint space
+      solutions = cellSolutions(*options.cell, plan.views, options.collisions.get());
+    plan.cell_poses = cellPoses(*options.cell, plan.views, visitingOrder(plan), solutions);
   }
 
   if (options.bound) {

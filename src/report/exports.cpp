@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <map>
 
 namespace scanplan {
 namespace {
@@ -43,19 +42,14 @@ Rgb incidenceColour(double degrees) {
 template <typename Take>
 void forEachSceneCloud(const Plan& plan, const Part& part, const Spec& spec, double spacing,
                        const Progress& progress, Take take) {
-  std::vector<Pose> placements{plan.part_to_world};
-  std::map<int, std::size_t> placement_of;
-  for (std::size_t k = 1; k < plan.orientations.size(); ++k) {
-    placements.push_back(plan.orientations[k].rest.part_to_world);
-    for (int id : plan.orientations[k].views) placement_of[id] = k;
-  }
+  const std::vector<std::size_t> orientation_of = viewOrientations(plan);
   std::size_t done = 0;
-  for (std::size_t k = 0; k < placements.size(); ++k) {
-    const Simulator simulator(part, plan.scanner, simulationOptionsFor(part, spec, placements[k]));
-    const Pose to_scene = plan.part_to_world * placements[k].inverse();
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
+    const Pose placement = orientationPlacement(plan, k);
+    const Simulator simulator(part, plan.scanner, simulationOptionsFor(part, spec, placement));
+    const Pose to_scene = plan.part_to_world * placement.inverse();
     for (std::size_t i = 0; i < plan.views.size(); ++i) {
-      auto it = placement_of.find(plan.views[i].id);
-      if ((it == placement_of.end() ? 0 : it->second) != k) continue;
+      if (orientation_of[i] != k) continue;
       report(progress, "simulated clouds",
              static_cast<double>(done++) / static_cast<double>(plan.views.size()));
       PointCloud cloud = simulator.cloud(plan.views[i], static_cast<std::uint64_t>(i + 1), spacing);
@@ -89,11 +83,7 @@ PlyData samplesPly(const Plan& plan) {
              column(n, [&](std::size_t i) { return static_cast<int>(samples[i].sample.role); }));
   vertex.add("views", PlyType::UInt16,
              column(n, [&](std::size_t i) { return samples[i].measured_by.size(); }));
-  auto state = [&](std::size_t i) {
-    return !samples[i].measured_by.empty()               ? 0
-           : samples[i].uncoverable == Uncoverable::None ? 1
-                                                         : 2;
-  };
+  auto state = [&](std::size_t i) { return sampleState(samples[i]); };
   vertex.add("state", PlyType::UInt8, column(n, state));
   vertex.add("reason", PlyType::UInt8,
              column(n, [&](std::size_t i) { return static_cast<int>(samples[i].uncoverable); }));

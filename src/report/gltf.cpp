@@ -131,32 +131,6 @@ class GlbBuilder {
 
 }  // namespace
 
-std::vector<Vec3> priorityOutlines(const PlanScene& scene) {
-  const TriangleMesh& mesh = scene.mesh;
-  const std::vector<int> weld = weldVertices(mesh.vertices, 1e-6 * scene.bounds.diagonal());
-  // Per (face, welded edge): how many of the face's triangles use it, and its corners.
-  std::map<std::tuple<int, int, int>, std::pair<int, std::array<int, 2>>> edges;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const int face = mesh.triangle_faces[t];
-    if (face < 1 || face > static_cast<int>(scene.faces.size()) || !scene.faces[face - 1].priority)
-      continue;
-    for (int k = 0; k < 3; ++k) {
-      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (weld[a] == weld[b]) continue;
-      auto& [uses, ends] = edges[{face, std::min(weld[a], weld[b]), std::max(weld[a], weld[b])}];
-      ++uses;
-      ends = {a, b};
-    }
-  }
-  std::vector<Vec3> lines;
-  for (const auto& [key, edge] : edges)
-    if (edge.first == 1) {
-      lines.push_back(mesh.vertices[edge.second[0]]);
-      lines.push_back(mesh.vertices[edge.second[1]]);
-    }
-  return lines;
-}
-
 void writeGlb(const PlanScene& scene, const std::string& path) {
   GlbBuilder glb;
   std::vector<Vec3> triangles;

@@ -100,7 +100,7 @@ json samplesJson(const Plan& plan) {
   std::vector<std::int32_t> face;
   for (const PlannedSample& s : plan.samples) {
     positions.push_back(s.sample.position);
-    state.push_back(!s.measured_by.empty() ? 0 : s.uncoverable == Uncoverable::None ? 1 : 2);
+    state.push_back(static_cast<std::uint8_t>(sampleState(s)));
     task.push_back(static_cast<std::uint8_t>(s.sample.task));
     role.push_back(static_cast<std::uint8_t>(s.sample.role));
     reason.push_back(static_cast<std::uint8_t>(s.uncoverable));

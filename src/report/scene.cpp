@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <map>
+#include <tuple>
 
 namespace scanplan {
 
@@ -64,22 +65,24 @@ std::array<Vec3, 5> frustum(const View& view, const Scanner& scanner) {
   return corners;
 }
 
-namespace {
-
-// Per view id, the pose that carries its world into the scene frame.
-std::map<int, Pose> sceneFrames(const Plan& plan, std::map<int, int>& orientation_of) {
-  std::map<int, Pose> frames;
-  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
-    const Pose to_scene = plan.part_to_world * plan.orientations[k].rest.part_to_world.inverse();
-    for (int id : plan.orientations[k].views) {
-      frames[id] = to_scene;
-      orientation_of[id] = static_cast<int>(k + 1);
-    }
-  }
-  return frames;
+std::vector<std::size_t> viewOrientations(const Plan& plan) {
+  std::map<int, std::size_t> of_id;
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k)
+    for (int id : plan.orientations[k].views) of_id[id] = k;
+  std::vector<std::size_t> result(plan.views.size(), 0);
+  for (std::size_t i = 0; i < plan.views.size(); ++i)
+    if (auto it = of_id.find(plan.views[i].id); it != of_id.end()) result[i] = it->second;
+  return result;
 }
 
-}  // namespace
+Pose orientationPlacement(const Plan& plan, std::size_t k) {
+  return k < plan.orientations.size() ? plan.orientations[k].rest.part_to_world
+                                      : plan.part_to_world;
+}
+
+int sampleState(const PlannedSample& sample) {
+  return !sample.measured_by.empty() ? 0 : sample.uncoverable == Uncoverable::None ? 1 : 2;
+}
 
 PlanScene planScene(const Plan& plan, const Part& part) {
   if (plan.part_faces != 0 && plan.part_faces != part.faces.size())
@@ -129,8 +132,7 @@ PlanScene planScene(const Plan& plan, const Part& part) {
                       })->first;
   }
 
-  std::map<int, int> orientation_of;
-  const std::map<int, Pose> frames = sceneFrames(plan, orientation_of);
+  const std::vector<std::size_t> orientation_of = viewOrientations(plan);
   std::map<int, int> order;
   if (plan.sequence)
     for (std::size_t i = 0; i < plan.sequence->views.size(); ++i)
@@ -139,10 +141,13 @@ PlanScene planScene(const Plan& plan, const Part& part) {
   for (std::size_t i = 0; i < plan.views.size(); ++i) {
     SceneView v;
     v.view = plan.views[i];
-    if (auto it = frames.find(v.view.id); it != frames.end()) {
-      v.view.camera_to_world = it->second * v.view.camera_to_world;
-      v.view.target = it->second * v.view.target;
-      v.orientation = orientation_of.at(v.view.id);
+    if (!plan.orientations.empty()) {
+      // Carried from the world of the orientation it was planned in into the scene.
+      const Pose to_scene =
+          plan.part_to_world * orientationPlacement(plan, orientation_of[i]).inverse();
+      v.view.camera_to_world = to_scene * v.view.camera_to_world;
+      v.view.target = to_scene * v.view.target;
+      v.orientation = static_cast<int>(orientation_of[i] + 1);
     }
     if (auto it = order.find(v.view.id); it != order.end()) v.order = it->second;
     if (plan.registration && i < plan.registration->views.size()) {
@@ -164,13 +169,39 @@ PlanScene planScene(const Plan& plan, const Part& part) {
   // Markers: the plan's are in the first placement's world; an orientation's own markers
   // are carried into the scene like its views.
   for (const Marker& m : plan.markers) scene.markers.push_back(m.position);
-  for (const PlannedOrientation& o : plan.orientations) {
-    if (&o == &plan.orientations.front()) continue;
-    const Pose to_scene = plan.part_to_world * o.rest.part_to_world.inverse();
-    for (const Marker& m : o.markers) scene.markers.push_back(to_scene * m.position);
+  for (std::size_t k = 1; k < plan.orientations.size(); ++k) {
+    const Pose to_scene = plan.part_to_world * orientationPlacement(plan, k).inverse();
+    for (const Marker& m : plan.orientations[k].markers)
+      scene.markers.push_back(to_scene * m.position);
   }
   for (const Vec3& m : scene.markers) scene.bounds.add(m);
   return scene;
+}
+
+std::vector<Vec3> priorityOutlines(const PlanScene& scene) {
+  const TriangleMesh& mesh = scene.mesh;
+  const std::vector<int> weld = weldVertices(mesh.vertices, 1e-6 * scene.bounds.diagonal());
+  // Per (face, welded edge): how many of the face's triangles use it, and its corners.
+  std::map<std::tuple<int, int, int>, std::pair<int, std::array<int, 2>>> edges;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int face = mesh.triangle_faces[t];
+    if (face < 1 || face > static_cast<int>(scene.faces.size()) || !scene.faces[face - 1].priority)
+      continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (weld[a] == weld[b]) continue;
+      auto& [uses, ends] = edges[{face, std::min(weld[a], weld[b]), std::max(weld[a], weld[b])}];
+      ++uses;
+      ends = {a, b};
+    }
+  }
+  std::vector<Vec3> lines;
+  for (const auto& [key, edge] : edges)
+    if (edge.first == 1) {
+      lines.push_back(mesh.vertices[edge.second[0]]);
+      lines.push_back(mesh.vertices[edge.second[1]]);
+    }
+  return lines;
 }
 
 }  // namespace scanplan

@@ -52,8 +52,7 @@ CellReach reachView(const Cell& cell, const View& view, const Joints& near, doub
     }
     if (!solutions.empty())
       result.failure = CellFailure::Collision;
-    else if (result.failure != CellFailure::Collision &&
-             reachOf(cell.robot, flange) == Reach::JointLimits)
+    else if (result.failure != CellFailure::Collision && armReaches(cell.robot, flange))
       result.failure = CellFailure::JointLimits;
   }
   return result;

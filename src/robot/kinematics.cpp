@@ -248,11 +248,15 @@ std::string_view toString(Reach reach) {
   return "?";
 }
 
+bool armReaches(const RobotModel& r, const Pose& flange) {
+  for (const Joints& theta : solutions(r, flange))
+    if (exists(theta)) return true;
+  return false;
+}
+
 Reach reachOf(const RobotModel& r, const Pose& flange) {
   if (!inverseKinematics(r, flange).empty()) return Reach::Reachable;
-  for (const Joints& theta : solutions(r, flange))
-    if (exists(theta)) return Reach::JointLimits;
-  return Reach::OutOfReach;
+  return armReaches(r, flange) ? Reach::JointLimits : Reach::OutOfReach;
 }
 
 double travelTime(const RobotModel& r, const Joints& from, const Joints& to) {
