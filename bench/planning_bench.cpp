@@ -88,7 +88,7 @@ void registerPart(benchmark::State& state, const std::string& name, bool markers
     spec.markers_on_part = true;
   }
   Plan plan;
-  for (auto _ : state) plan = planViews(part, spec, planningOptionsFor(spec));
+  for (auto _ : state) plan = planViews(part, spec);
   const Registration& r = *plan.registration;
   std::size_t verified = 0, passed = 0, unconstrained = 0;
   for (const PairCheck& pair : r.pairs)

@@ -33,7 +33,7 @@ void reportPart(benchmark::State& state, const std::string& relative, bool gdt) 
     spec.gdt_from_file = true;
     spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
   }
-  const Plan plan = planViews(part, spec, planningOptionsFor(spec));
+  const Plan plan = planViews(part, spec);
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / "scanplan_report_bench";
   std::filesystem::create_directories(dir);

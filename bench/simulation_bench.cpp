@@ -5,6 +5,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/raycast.h>
+#include <scanplan/planning/poses.h>
 #include <scanplan/simulation.h>
 
 #include <benchmark/benchmark.h>

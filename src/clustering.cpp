@@ -23,7 +23,7 @@ class Compatibility {
   Compatibility(const std::vector<Sample>& samples, const ClusteringOptions& options)
       : samples_(samples),
         max_distance2_(options.max_distance * options.max_distance),
-        min_dot_(std::cos(options.max_normal_angle * M_PI / 180)) {}
+        min_dot_(std::cos(radians(options.max_normal_angle))) {}
 
   bool pair(int a, int b) const {
     return (samples_[a].position - samples_[b].position).squaredNorm() < max_distance2_ &&

@@ -11,7 +11,7 @@
 
 namespace scanplan {
 
-double Scanner::baseline() const { return standoff * std::tan(triangulation_angle * M_PI / 180); }
+double Scanner::baseline() const { return standoff * std::tan(radians(triangulation_angle)); }
 
 Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
 
@@ -35,6 +35,9 @@ void validate(const Scanner& s, const std::string& source) {
   positive(s.point_spacing, "point_spacing");
   if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
     fail("noise_sigma must be zero or positive");
+  if (!(s.body_margin >= 0) || !std::isfinite(s.body_margin))
+    fail("body_margin must be zero or a positive number of mm");
+  positive(s.body_depth, "body_depth");
   angle(s.triangulation_angle, "triangulation_angle", 1);
   angle(s.max_camera_angle, "max_camera_angle", 1);
   angle(s.max_projector_angle, "max_projector_angle", 1);
@@ -68,6 +71,8 @@ const std::map<std::string, Setter>& parameters() {
       {"reflection_cone", [](Scanner& s, double v) { s.reflection_cone = v; }},
       {"point_spacing", [](Scanner& s, double v) { s.point_spacing = v; }},
       {"noise_sigma", [](Scanner& s, double v) { s.noise_sigma = v; }},
+      {"body_margin", [](Scanner& s, double v) { s.body_margin = v; }},
+      {"body_depth", [](Scanner& s, double v) { s.body_depth = v; }},
   };
   return table;
 }

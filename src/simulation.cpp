@@ -25,7 +25,6 @@ std::string_view toString(Loss loss) {
 }
 
 namespace {
-constexpr double kDeg = M_PI / 180;
 
 // The parts of the measurement test that need no ray, for one view.
 struct ViewGeometry {
@@ -43,9 +42,9 @@ struct ViewGeometry {
         half_width(s.fov_width / 2),
         half_height(s.fov_height / 2),
         standoff(s.standoff),
-        cos_camera(std::cos(s.max_camera_angle * kDeg)),
-        cos_projector(std::cos(s.max_projector_angle * kDeg)),
-        cos_reflection(std::cos(s.reflection_cone * kDeg)) {}
+        cos_camera(std::cos(radians(s.max_camera_angle))),
+        cos_projector(std::cos(radians(s.max_projector_angle))),
+        cos_reflection(std::cos(radians(s.reflection_cone))) {}
 
   bool inVolume(const Vec3& p) const {
     Vec3 q = world_to_camera * p;
@@ -406,7 +405,7 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
         out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
         out.normals.push_back(sp.normal);
         out.faces.push_back(sp.face);
-        out.incidence.push_back(static_cast<float>(std::acos(cos_incidence) / kDeg));
+        out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
       }
     });
   }

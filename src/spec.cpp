@@ -11,17 +11,6 @@
 
 namespace scanplan {
 
-std::string_view toString(TaskType type) {
-  switch (type) {
-    case TaskType::Gdt: return "gdt";
-    case TaskType::Trim: return "trim";
-    case TaskType::Surface: return "surface";
-    case TaskType::Global: return "global";
-    case TaskType::Points: return "points";
-  }
-  return "unknown";
-}
-
 Spec defaultSpec() {
   Spec spec;
   spec.scanner = scannerPreset("generic-structured-light");
@@ -117,7 +106,7 @@ class SpecReader {
   Joints joints(const YAML::Node& node, const std::string& key, bool degree = true) const {
     const std::vector<double> v = numbers(node, 6, key);
     Joints q{};
-    for (int i = 0; i < 6; ++i) q[i] = degree ? v[i] * M_PI / 180 : v[i];
+    for (int i = 0; i < 6; ++i) q[i] = degree ? radians(v[i]) : v[i];
     return q;
   }
 
@@ -142,7 +131,7 @@ class SpecReader {
     Pose pose = Pose::Identity();
     if (node["position"]) pose.translation() = vector(node["position"], key + ".position");
     if (node["rotation"]) {
-      const Vec3 r = vector(node["rotation"], key + ".rotation") * (M_PI / 180);
+      const Vec3 r = vector(node["rotation"], key + ".rotation") * radians(1);
       pose.linear() =
           (Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
            Eigen::AngleAxisd(r.x(), Vec3::UnitX()))
@@ -178,7 +167,7 @@ class SpecReader {
                "the joint limits (lower, upper); missing '" +
                std::string(needed) + "'");
       r.name = node["name"] ? scalar<std::string>(node["name"], key + ".name") : "custom";
-      r.speeds.fill(100 * M_PI / 180);  // unless given: 100°/s on every joint
+      r.speeds.fill(radians(100));  // unless given: 100°/s on every joint
     }
     double* lengths[] = {&r.a1, &r.a2, &r.b, &r.c1, &r.c2, &r.c3, &r.c4};
     const char* names[] = {"a1", "a2", "b", "c1", "c2", "c3", "c4"};
@@ -232,13 +221,13 @@ class SpecReader {
     }
     if (node["range"]) {
       const std::vector<double> range = numbers(node["range"], 2, key + ".range");
-      t.lower = range[0] * M_PI / 180;
-      t.upper = range[1] * M_PI / 180;
+      t.lower = radians(range[0]);
+      t.upper = radians(range[1]);
       if (!(t.lower <= 0 && 0 <= t.upper))
         fail(key + ".range must hold 0 (the angle the plan is made at)");
     }
     if (node["step"]) {
-      t.step = scalar<double>(node["step"], key + ".step") * M_PI / 180;
+      t.step = radians(scalar<double>(node["step"], key + ".step"));
       if (!(t.step > 0)) fail(key + ".step must be positive (degrees)");
     }
     return t;
@@ -288,6 +277,45 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
     const std::string key = item.first.as<std::string>();
     if (!allowed.count(key)) reader.fail("unknown key '" + key + "' in " + section);
   }
+}
+
+PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
+  checkKeys(node,
+            {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue"},
+            reader, "planner");
+  PlannerSettings p;
+  if (node["seed"]) p.seed = reader.scalar<std::uint64_t>(node["seed"], "planner.seed");
+  if (node["vm_step"]) p.vm_step = reader.scalar<double>(node["vm_step"], "planner.vm_step");
+  if (node["max_failures"])
+    p.max_failures = reader.scalar<int>(node["max_failures"], "planner.max_failures");
+  if (node["sweep_overlap"])
+    p.sweep_overlap = reader.scalar<double>(node["sweep_overlap"], "planner.sweep_overlap");
+  if (node["rotations"]) p.rotations = reader.scalar<int>(node["rotations"], "planner.rotations");
+  if (const YAML::Node tilt = node["tilt"]) {
+    if (!tilt.IsSequence() || tilt.size() != 2)
+      reader.fail("planner.tilt must be [min, max] in degrees");
+    p.tilt_min = reader.scalar<double>(tilt[0], "planner.tilt");
+    p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
+  }
+  if (const YAML::Node rescue = node["rescue"]) {
+    checkKeys(rescue, {"step", "rotations"}, reader, "planner.rescue");
+    if (rescue["step"])
+      p.rescue_step = reader.scalar<double>(rescue["step"], "planner.rescue.step");
+    if (rescue["rotations"])
+      p.rescue_rotations = reader.scalar<int>(rescue["rotations"], "planner.rescue.rotations");
+  }
+  if (!(p.vm_step > 0 && p.vm_step <= 45))
+    reader.fail("planner.vm_step must be within (0, 45] degrees");
+  if (!(p.tilt_min >= 0 && p.tilt_min <= p.tilt_max && p.tilt_max < 90))
+    reader.fail("planner.tilt must be [min, max] with 0 <= min <= max < 90 degrees");
+  if (p.max_failures < 1) reader.fail("planner.max_failures must be at least 1");
+  if (!(p.sweep_overlap >= 0 && p.sweep_overlap <= 0.8))
+    reader.fail("planner.sweep_overlap must be within [0, 0.8]");
+  if (p.rotations < 1 || p.rotations > 36 || p.rescue_rotations < 1 || p.rescue_rotations > 36)
+    reader.fail("planner.rotations and planner.rescue.rotations must be within [1, 36]");
+  if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
+    reader.fail("planner.rescue.step must be within [1, 45] degrees");
+  return p;
 }
 
 }  // namespace
@@ -407,31 +435,7 @@ Spec loadSpec(const std::string& path) {
     } else if (spec.gdt_from_file) {
       spec.tasks = {Task{TaskType::Gdt, {}, {}}};  // gdt: from-file alone asks for a gdt task
     }
-    if (const YAML::Node planner = root["planner"]) {
-      checkKeys(planner, {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap"}, reader,
-                "planner");
-      PlannerSettings& p = spec.planner;
-      if (planner["seed"]) p.seed = reader.scalar<std::uint64_t>(planner["seed"], "planner.seed");
-      if (planner["vm_step"])
-        p.vm_step = reader.scalar<double>(planner["vm_step"], "planner.vm_step");
-      if (planner["max_failures"])
-        p.max_failures = reader.scalar<int>(planner["max_failures"], "planner.max_failures");
-      if (planner["sweep_overlap"])
-        p.sweep_overlap = reader.scalar<double>(planner["sweep_overlap"], "planner.sweep_overlap");
-      if (const YAML::Node tilt = planner["tilt"]) {
-        if (!tilt.IsSequence() || tilt.size() != 2)
-          reader.fail("planner.tilt must be [min, max] in degrees");
-        p.tilt_min = reader.scalar<double>(tilt[0], "planner.tilt");
-        p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
-      }
-      if (!(p.vm_step > 0 && p.vm_step <= 45))
-        reader.fail("planner.vm_step must be within (0, 45] degrees");
-      if (!(p.tilt_min >= 0 && p.tilt_min <= p.tilt_max && p.tilt_max < 90))
-        reader.fail("planner.tilt must be [min, max] with 0 <= min <= max < 90 degrees");
-      if (p.max_failures < 1) reader.fail("planner.max_failures must be at least 1");
-      if (!(p.sweep_overlap >= 0 && p.sweep_overlap <= 0.8))
-        reader.fail("planner.sweep_overlap must be within [0, 0.8]");
-    }
+    if (const YAML::Node planner = root["planner"]) spec.planner = readPlanner(planner, reader);
     if (const YAML::Node cell = root["cell"]) {
       checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance"}, reader, "cell");
       if (cell["working_plane"])
@@ -470,6 +474,71 @@ Spec loadSpec(const std::string& path) {
     throw InputError(path, e.what());
   }
   return spec;
+}
+
+std::vector<int> gdtFaces(const Part& part) {
+  std::set<int> faces;
+  for (const GeometricTolerance& t : part.gdt.tolerances)
+    faces.insert(t.faces.begin(), t.faces.end());
+  for (const Datum& d : part.gdt.datums) faces.insert(d.faces.begin(), d.faces.end());
+  return {faces.begin(), faces.end()};
+}
+
+namespace {
+
+std::vector<int> without(std::vector<int> faces, const std::vector<int>& removed) {
+  std::erase_if(faces, [&](int id) { return std::binary_search(removed.begin(), removed.end(), id); });
+  return faces;
+}
+
+std::vector<int> united(std::vector<int> a, const std::vector<int>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  std::sort(a.begin(), a.end());
+  a.erase(std::unique(a.begin(), a.end()), a.end());
+  return a;
+}
+
+// The faces task `k` targets. \throw PlanningError when a task that needs faces has none.
+TaskTargets taskTargets(const Part& part, const ResolvedSpec& resolved, std::size_t k) {
+  const Task& task = resolved.spec.tasks[k];
+  const std::vector<int> named = resolveFaces(part, task.faces, resolved.source);
+  TaskTargets targets{task.type, {}, task.points_file};
+  targets.faces = without(task.type == TaskType::Gdt ? united(named, resolved.gdt_faces) : named,
+                          resolved.targets.fixture);
+  const bool needs_faces =
+      task.type == TaskType::Gdt || task.type == TaskType::Trim || task.type == TaskType::Surface;
+  if (needs_faces && targets.faces.empty())
+    throw PlanningError(resolved.source,
+                        "task " + std::to_string(k + 1) + " (" + std::string(toString(task.type)) +
+                            ") has no target faces" +
+                            (named.empty() ? (task.type == TaskType::Gdt
+                                                  ? ": list them, or use gdt: from-file on a part "
+                                                    "with GD&T"
+                                                  : ": list them")
+                                           : ": all of them are fixtures"));
+  if (!needs_faces) targets.faces.clear();
+  return targets;
+}
+
+}  // namespace
+
+ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
+  ResolvedSpec resolved;
+  resolved.spec = spec;
+  resolved.source = spec.source.empty() ? part.file : spec.source;
+  if (spec.gdt_from_file) {
+    resolved.gdt_faces = gdtFaces(part);
+    if (resolved.gdt_faces.empty())
+      throw InputError(resolved.source,
+                       "gdt: from-file, but " + part.file + " carries no GD&T attached to faces");
+  }
+  Targets& targets = resolved.targets;
+  targets.priority = united(resolveFaces(part, spec.priority, resolved.source), resolved.gdt_faces);
+  targets.fixture = resolveFaces(part, spec.fixture, resolved.source);
+  resolved.specular = resolveFaces(part, spec.specular, resolved.source);
+  for (std::size_t k = 0; k < spec.tasks.size(); ++k)
+    targets.tasks.push_back(taskTargets(part, resolved, k));
+  return resolved;
 }
 
 std::vector<int> resolveFaces(const Part& part, const std::vector<FaceSelector>& selectors,

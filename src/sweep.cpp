@@ -44,7 +44,6 @@ struct PatchSurface {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 constexpr int kMaxGrid = 400;          // nodes per direction of a sweep grid
 constexpr int kMaxFit = 120;           // fitted heights per direction of a patch
 constexpr double kMaxTileSpread = 40;  // degrees between a tile's normals and its mean
@@ -138,7 +137,7 @@ std::vector<std::vector<int>> segmentByNormal(const Part& part, const std::vecto
   }
   std::stable_sort(info.begin(), info.end(),
                    [](const FaceNormals& a, const FaceNormals& b) { return a.area > b.area; });
-  const double min_cos = std::cos(max_angle * kDeg);
+  const double min_cos = std::cos(radians(max_angle));
   std::vector<char> used(info.size(), 0);
   std::vector<std::vector<int>> sets;
   for (std::size_t seed = 0; seed < info.size(); ++seed) {
@@ -182,7 +181,7 @@ double normalSpread(const Part& part, const std::vector<int>& faces) {
     for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
       const Vec3 n = part.mesh.normal(t);
       if (!n.isZero())
-        spread = std::max(spread, std::acos(std::clamp(n.dot(mean), -1.0, 1.0)) / kDeg);
+        spread = std::max(spread, degrees(std::acos(std::clamp(n.dot(mean), -1.0, 1.0))));
     }
   }
   return spread;
@@ -577,7 +576,7 @@ TileFit frameTile(const SurfaceGrid& grid, SweepTile& tile, bool along_u) {
   double turn_u = 0, turn_v = 0;
   for (std::size_t k : tile.nodes) {
     const Vec3& n = grid.normals[k];
-    fit.spread = std::max(fit.spread, std::acos(std::clamp(n.dot(tile.normal), -1.0, 1.0)) / kDeg);
+    fit.spread = std::max(fit.spread, degrees(std::acos(std::clamp(n.dot(tile.normal), -1.0, 1.0))));
     const int i = static_cast<int>(k % grid.nu), j = static_cast<int>(k / grid.nu);
     if (i + 1 < grid.nu) turn_u += std::acos(std::clamp(n.dot(grid.normals[k + 1]), -1.0, 1.0));
     if (j + 1 < grid.nv)

@@ -9,7 +9,6 @@
 namespace scanplan {
 
 namespace {
-constexpr double kDeg = M_PI / 180;
 }
 
 VisibilityMap::VisibilityMap(double step_degrees)
@@ -48,7 +47,7 @@ VisibilityMap combinedVisibilityMap(const Simulator& simulator, const std::vecto
   VisibilityMap map(options.step);
   std::vector<Vec3> directions(map.cells());
   for (int c = 0; c < map.cells(); ++c) directions[c] = map.direction(c);
-  const double min_dot = std::cos(options.cone * kDeg);
+  const double min_dot = std::cos(radians(options.cone));
   const double offset = simulator.surfaceOffset();
 
   // Rays of every member along every direction inside its cone, cast in one batch.

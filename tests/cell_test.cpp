@@ -135,7 +135,7 @@ Plan cubePlanInCell(const test::TempDir& dir, bool table) {
     spec.cell->table = RotaryTable{};
     spec.cell->table->origin = Vec3(50, 50, 0);
   }
-  return planViews(part, spec, planningOptionsFor(spec));
+  return planViews(part, spec);
 }
 
 TEST(Cell, PlanKeepsOnlyReachableViewsAndSaysWhatIsOutOfReach) {
@@ -205,19 +205,19 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
   cell.base.translation() = Vec3(-1150, 240, 0);
   cell.mount.translation() = Vec3(0, 0, 150);
   spec.cell = cell;
-  const Plan plan = planViews(part, spec, planningOptionsFor(spec));
+  const Plan plan = planViews(part, spec);
   ASSERT_TRUE(plan.sequence);
   const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, plan.sequence->views);
   EXPECT_EQ(motion.unreached, 0u);
   EXPECT_GT(plan.views.size(), 10u);
   // A wrist flip turns joints 4 and 6 by 180°: every step stays below that.
-  RecordProperty("largest_joint_step_degrees", std::to_string(motion.max_step * 180 / M_PI));
+  RecordProperty("largest_joint_step_degrees", std::to_string(degrees(motion.max_step)));
   RecordProperty("joint_travel_seconds", std::to_string(motion.seconds));
   EXPECT_LT(motion.max_step, M_PI);
   // Ordered by joint travel, the robot moves for less time than along the order that
   // the scanner's Cartesian motion gives, with joints chosen the same way.
   const Simulator simulator(part, spec.scanner,
-                            simulationOptionsFor(part, spec, plan.part_to_world));
+                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
   const CellCollisions collisions(cell, part.mesh, plan.part_to_world, {}, true, cell.clearance);
   const Sequence cartesian = sequenceViews(simulator, plan.views, *plan.registration);
   const JointMotion along_cartesian = jointMotion(

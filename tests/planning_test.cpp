@@ -7,7 +7,7 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
-#include <scanplan/set_cover.h>
+#include <scanplan/planning/set_cover.h>
 #include <scanplan/visibility.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
@@ -123,7 +123,7 @@ TEST(Planning, CubeOnThePlane) {
   options.part_to_world = plan.part_to_world;
   Simulator simulator(part, plan.scanner, options);
   for (const View& view : plan.views)
-    EXPECT_TRUE(poseIsValid(simulator, view, PlanningOptions{})) << view.id;
+    EXPECT_TRUE(poseIsValid(simulator, view)) << view.id;
   EXPECT_NEAR(plan.part_to_world.translation().z(), 0, 1e-9);  // the cube already stands on z = 0
 }
 

@@ -20,7 +20,6 @@
 namespace scanplan {
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 
 // A scanner that sees and lights the three faces of a cube corner at once.
 Scanner wideScanner() {
@@ -374,7 +373,7 @@ class RegisteredPlan : public ::testing::Test {
   static void SetUpTestSuite() {
     part_ = new Part(importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp")));
     spec_ = new Spec(loadSpec(test::example("specs/ctc01.yaml")));
-    plan_ = new Plan(planViews(*part_, *spec_, planningOptionsFor(*spec_)));
+    plan_ = new Plan(planViews(*part_, *spec_));
   }
   static void TearDownTestSuite() {
     delete plan_;
@@ -458,7 +457,7 @@ TEST_F(RegisteredPlan, SequenceVisitsEveryViewOnceAndBeatsNearestNeighbour) {
 TEST_F(RegisteredPlan, MarkersOnThePartRegisterMoreViews) {
   Spec plate_only = *spec_;
   plate_only.markers_on_part = false;
-  const Plan plan = planViews(*part_, plate_only, planningOptionsFor(plate_only));
+  const Plan plan = planViews(*part_, plate_only);
   EXPECT_LT(plan.registration->registered(), plan_->registration->registered());
   EXPECT_LT(plan.registeredMeasuredCount(), plan_->registeredMeasuredCount());
 }
@@ -471,7 +470,7 @@ TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
   EXPECT_EQ(read.markers.size(), plan_->markers.size());
   EXPECT_EQ(read.samples.size(), plan_->samples.size());
   EXPECT_EQ(read.sequence->views, plan_->sequence->views);
-  const PlanCheck check = verifyPlan(read, *part_, *spec_, planningOptionsFor(*spec_));
+  const PlanCheck check = verifyPlan(read, *part_, *spec_);
   EXPECT_EQ(check.coverage_differences, 0u);
   EXPECT_EQ(check.registration_differences, 0u);
   EXPECT_EQ(check.sequence_missing, 0u);
@@ -487,7 +486,7 @@ TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
       s.measured_by.push_back(wrong.views.front().id);
       break;
     }
-  EXPECT_EQ(verifyPlan(wrong, *part_, *spec_, planningOptionsFor(*spec_)).coverage_differences, 1u);
+  EXPECT_EQ(verifyPlan(wrong, *part_, *spec_).coverage_differences, 1u);
 }
 
 }  // namespace

@@ -65,7 +65,6 @@ std::vector<double> numbersIn(const std::string& text) {
   return values;
 }
 
-constexpr double kDegree = 180 / M_PI;
 
 TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = program();
@@ -103,8 +102,8 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   for (std::size_t k = 0; k < ptp.size(); ++k) {
     ASSERT_EQ(ptp[k].size(), 14u);  // A1..A6 and E1, each value after its axis number
     for (int j = 0; j < 6; ++j)
-      EXPECT_NEAR(ptp[k][2 * j + 1], p.steps[k].pose.joints[j] * kDegree, 1e-4);
-    EXPECT_NEAR(ptp[k][13], p.steps[k].pose.table_angle * kDegree, 1e-4);
+      EXPECT_NEAR(ptp[k][2 * j + 1], degrees(p.steps[k].pose.joints[j]), 1e-4);
+    EXPECT_NEAR(ptp[k][13], degrees(p.steps[k].pose.table_angle), 1e-4);
   }
 }
 
@@ -212,7 +211,7 @@ TEST(RobotProgram, JsonHoldsJointsAndFlangePoses) {
     const nlohmann::json& step = root["steps"][k];
     EXPECT_EQ(step["view"], p.steps[k].view);
     Joints q{};
-    for (int j = 0; j < 6; ++j) q[j] = step["joints"][j].get<double>() / kDegree;
+    for (int j = 0; j < 6; ++j) q[j] = radians(step["joints"][j].get<double>());
     Eigen::Matrix4d flange;
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) flange(r, c) = step["flange"][r][c];

@@ -93,8 +93,8 @@ TEST(Robot, SolutionsOutsideTheLimitsAreRejectedWithTheirReason) {
 TEST(Robot, TravelTimeIsTheSlowestJoint) {
   const RobotModel robot = robotPreset("abb-irb2400-10");
   Joints to{};
-  to[0] = 150 * M_PI / 180;  // 1 s at 150°/s
-  to[5] = 225 * M_PI / 180;  // 0.5 s at 450°/s
+  to[0] = radians(150);  // 1 s at 150°/s
+  to[5] = radians(225);  // 0.5 s at 450°/s
   EXPECT_NEAR(travelTime(robot, {}, to), 1.0, 1e-12);
 }
 

@@ -8,6 +8,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
 #include <scanplan/sampling.h>
+#include <scanplan/spec.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -237,7 +238,7 @@ TEST(GlobalSampling, BoxFacesGetFewSpreadSamples) {
   for (std::size_t a = 0; a < samples.size(); ++a)
     for (std::size_t b = a + 1; b < samples.size(); ++b)
       if (samples[a].normal.dot(samples[b].normal) >
-          std::cos(options.decimation_angle * M_PI / 180)) {
+          std::cos(radians(options.decimation_angle))) {
         EXPECT_GE((samples[a].position - samples[b].position).norm(), options.decimation_radius);
       }
 }
@@ -293,7 +294,7 @@ TEST(SpecSampling, GdtFromFileSelectsExactlyThePmiFaces) {
   test::TempDir dir;
   test::writeText(dir.file("spec.yaml"), "gdt: from-file\n");
   std::vector<Sample> samples =
-      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
   std::set<int> expected;
   for (const GeometricTolerance& t : part.gdt.tolerances)
     expected.insert(t.faces.begin(), t.faces.end());
@@ -318,7 +319,7 @@ TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
                       "]\ntasks:\n  - {type: global}\n  - {type: trim, faces: [1]}\n"
                       "  - {type: points, file: points.csv}\n");
   std::vector<Sample> samples =
-      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
   std::map<TaskType, int> tasks;
   for (const Sample& s : samples) {
     ++tasks[s.task];
@@ -337,7 +338,7 @@ TEST(SpecSampling, TasksWithoutTargetsCannotBePlanned) {
   auto reason = [&](const std::string& spec_text) -> std::string {
     test::writeText(dir.file("spec.yaml"), spec_text);
     try {
-      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
     } catch (const PlanningError& e) {
       EXPECT_EQ(e.exitCode(), kExitPlanning);
       return e.what();
@@ -359,7 +360,7 @@ TEST(SpecSampling, SpecErrors) {
   auto reason = [&](const std::string& spec_text) -> std::string {
     test::writeText(dir.file("spec.yaml"), spec_text);
     try {
-      sampleSpec(part, loadSpec(dir.file("spec.yaml")), SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(dir.file("")), std::string::npos) << e.what();
       return e.what();

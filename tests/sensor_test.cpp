@@ -34,7 +34,7 @@ TEST(Scanner, GenericPresetHasTheIssuedParameters) {
   EXPECT_EQ(s.max_camera_angle, 60);
   EXPECT_EQ(s.max_projector_angle, 60);
   EXPECT_EQ(s.reflection_cone, 10);
-  EXPECT_NEAR(s.baseline(), 400 * std::tan(25 * M_PI / 180), 1e-12);
+  EXPECT_NEAR(s.baseline(), 400 * std::tan(radians(25)), 1e-12);
 }
 
 TEST(Scanner, LaserLinePresetIsValid) {

@@ -13,7 +13,6 @@
 namespace scanplan {
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 
 // The default scanner looking along world +Z from the origin: S is the world frame, the
 // volume centre is (0, 0, 400), the projector is at (400 tan 25°, 0, 0).
@@ -43,7 +42,7 @@ Loss measureOne(const Simulator& simulator, const SurfacePoint& point,
 // The normal at the volume centre tilted by `angle` degrees from facing the camera,
 // towards +X (the projector) or -X.
 Vec3 tilted(double angle, double towards_x) {
-  return Vec3(towards_x * std::sin(angle * kDeg), 0, -std::cos(angle * kDeg));
+  return Vec3(towards_x * std::sin(radians(angle)), 0, -std::cos(radians(angle)));
 }
 
 TEST(MeasurementTest, CameraAngleLimit) {
@@ -76,7 +75,7 @@ TEST(MeasurementTest, TiltedPlateFacetsFollowTheLimits) {
   // A 2 x 2 mm plate at the volume centre, tilted about the y axis towards the projector.
   for (double angle : {55.0, 59.0, 61.0, 65.0}) {
     TriangleMesh mesh;
-    Vec3 u(std::cos(angle * kDeg), 0, std::sin(angle * kDeg));  // normal = u x v
+    Vec3 u(std::cos(radians(angle)), 0, std::sin(radians(angle)));  // normal = u x v
     test::addRectangle(mesh, centre(), u, Vec3(0, -1, 0), 1);
     Part part = test::meshPart(mesh);
     Simulator simulator(part, scanner(), noPlane());
@@ -171,8 +170,8 @@ TEST(MeasurementTest, SpecularReflection) {
   const Vec3 to_camera = (Vec3::Zero() - p).normalized();
   const Vec3 to_projector = (scanner().projectorInScanner() - p).normalized();
   const Vec3 mirror = (to_camera + to_projector).normalized();  // reflects projector into camera
-  auto rotated = [&](double degrees) {  // about the y axis, away from the projector
-    return Vec3(Eigen::AngleAxisd(degrees * kDeg, Vec3::UnitY()) * mirror);
+  auto rotated = [&](double angle) {  // about the y axis, away from the projector
+    return Vec3(Eigen::AngleAxisd(radians(angle), Vec3::UnitY()) * mirror);
   };
   SimulationOptions options = noPlane();
   options.specular_faces = {1};
@@ -310,7 +309,7 @@ TEST(SimulationOnRealPart, MeasuredFacetsAreVisibleByBruteForce) {
   views[0].camera_to_world.translation() = Vec3(0, 0, 550);
   views[1].camera_to_world.translation() = Vec3(-250, 100, 550);
   views[2].camera_to_world.linear() =
-      Eigen::Quaterniond(Eigen::AngleAxisd(35 * kDeg, Vec3::UnitX())).toRotationMatrix() *
+      Eigen::Quaterniond(Eigen::AngleAxisd(radians(35), Vec3::UnitX())).toRotationMatrix() *
       views[0].camera_to_world.linear();
   views[2].camera_to_world.translation() = Vec3(150, -230, 480);
 

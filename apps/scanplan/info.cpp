@@ -63,7 +63,7 @@ json infoJson(const Part& part) {
       {"volume", part.volume()},
       {"mesh",
        {{"linear_deflection", part.linear_deflection},
-        {"angular_deflection", part.angular_deflection * 180 / M_PI}}},
+        {"angular_deflection", degrees(part.angular_deflection)}}},
       {"gdt", {{"tolerances", tolerances}, {"dimensions", dimensions}, {"datums", datums}}},
       {"warnings", part.warnings},
   };

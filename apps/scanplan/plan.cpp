@@ -37,7 +37,7 @@ int run(const Options& options, const GlobalOptions& global) {
   std::filesystem::create_directories(options.outdir, ec);
   if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
   const Part part = importPart(options.part, {}, progress);
-  PlanningOptions planning = planningOptionsFor(spec);
+  PlanningOptions planning;
   planning.bound = options.bound;
   planning.registration = options.registration;
   Plan plan = planViews(part, spec, planning, progress);

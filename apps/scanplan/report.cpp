@@ -46,7 +46,7 @@ Checked check(const Input& input, const Progress& progress) {
     part_file = beside.string();
   Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
   Part part = importPart(part_file, {}, progress);
-  PlanCheck checked = verifyPlan(plan, part, spec, planningOptionsFor(spec), progress);
+  PlanCheck checked = verifyPlan(plan, part, spec, {}, progress);
   return {std::move(checked.plan), std::move(part), std::move(spec)};
 }
 
@@ -106,7 +106,8 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
                          "robot programs need the cell: give a spec with cell.robot (--spec)");
       // KRL wants the program named as its file.
       const std::string name = std::filesystem::path(options.out).stem().string();
-      const SimulationOptions placed = simulationOptionsFor(c.part, c.spec, c.plan.part_to_world);
+      const SimulationOptions placed =
+          simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
       const CellCollisions collisions(*c.spec.cell, c.part.mesh, c.plan.part_to_world,
                                       placed.fixtures, placed.working_plane,
                                       c.spec.cell->clearance);

@@ -86,7 +86,8 @@ int run(const Options& options, const GlobalOptions& global) {
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const Part part = importPart(options.part, {}, progress);
   report(progress, "sampling", 0);
-  std::vector<Sample> samples = sampleSpec(part, spec, samplingOptionsFor(spec.scanner));
+  std::vector<Sample> samples =
+      sampleTargets(part, resolveSpec(part, spec).targets, samplingOptionsFor(spec.scanner));
   report(progress, "clustering", 0);
   const std::vector<Cluster> clusters =
       clusterSamples(samples, clusteringOptionsFor(spec.scanner, spec.planner.seed));
@@ -105,11 +106,8 @@ int run(const Options& options, const GlobalOptions& global) {
       s.position = simulation.part_to_world * s.position;
       s.normal = simulation.part_to_world.linear() * s.normal;
     }
-    VisibilityOptions vo;
-    vo.step = spec.planner.vm_step;
-    vo.cone = spec.scanner.max_camera_angle;
-    vo.reach = spec.scanner.standoff;
-    vo.working_plane = spec.working_plane;
+    const VisibilityOptions vo =
+        plannerVisibility(spec.scanner, spec.planner.vm_step, spec.working_plane);
     for (std::size_t c = 0; c < clusters.size(); ++c) {
       report(progress, fmt::format("visibility map of cluster {} of {}", c + 1, clusters.size()),
              static_cast<double>(c) / static_cast<double>(clusters.size()));

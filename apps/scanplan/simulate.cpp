@@ -39,7 +39,7 @@ int run(const Options& options, const GlobalOptions& global) {
   ViewsFile views = readViews(options.views);
   Part part = importPart(options.part, {}, progress);
 
-  SimulationOptions simulation = simulationOptionsFor(part, spec, views.part_to_world);
+  SimulationOptions simulation = simulationOptionsFor(resolveSpec(part, spec), views.part_to_world);
   simulation.working_plane = simulation.working_plane && !options.no_working_plane;
   report(progress, "building ray-casting scene", 0);
   Simulator simulator(part, spec.scanner, simulation);

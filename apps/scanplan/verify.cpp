@@ -26,7 +26,7 @@ int run(const Options& options, const GlobalOptions& global) {
   const Plan plan = readPlan(options.plan);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const Part part = importPart(options.part, {}, progress);
-  const PlanCheck check = verifyPlan(plan, part, spec, planningOptionsFor(spec), progress);
+  const PlanCheck check = verifyPlan(plan, part, spec, {}, progress);
   clearProgress();
 
   fmt::print("{:<22} {}\n", "plan", options.plan);

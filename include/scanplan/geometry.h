@@ -4,11 +4,18 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <limits>
+#include <numbers>
 
 namespace scanplan {
 
 using Vec3 = Eigen::Vector3d;
 using Vec3i = Eigen::Vector3i;
+
+// Angles: degrees in specs, files and messages, radians in computations.
+constexpr double kRadiansPerDegree = std::numbers::pi / 180;
+constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
+constexpr double radians(double degrees) { return degrees * kRadiansPerDegree; }
+constexpr double degrees(double radians) { return radians * kDegreesPerRadian; }
 
 // Axis-aligned bounding box; empty until a point is added.
 struct Box {

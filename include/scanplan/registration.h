@@ -18,7 +18,7 @@
 
 namespace scanplan {
 
-struct PlanningOptions;
+struct CellCheck;
 
 // A reference marker (a retro-reflective dot), world frame.
 struct Marker {
@@ -146,10 +146,10 @@ void appendRegistration(Registration& into, Registration from, int id_offset);
 // Checks every pair of `views`, keeps a spanning tree of registrable pairs (markers first,
 // then the most stable ICP pairs, each verified before it is used) and, with bridging,
 // appends views to `views` until the graph is connected or no bridge exists. Bridging
-// poses keep the scanner body (sized by `body`) clear. Ids of appended views follow the
-// largest id.
+// poses are valid (planning/poses.h: the scanner body clear, the `cell`'s robot reaching
+// them). Ids of appended views follow the largest id.
 Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
-                           const PlanningOptions& body, const Progress& progress = {});
+                           const CellCheck& cell, const Progress& progress = {});
 
 }  // namespace scanplan

@@ -4,16 +4,14 @@
 
 #include <scanplan/cad/part.h>
 #include <scanplan/io/points_csv.h>
-#include <scanplan/spec.h>
+#include <scanplan/sensor.h>
+#include <scanplan/tasks.h>
 
 #include <Eigen/Core>
 #include <string_view>
 #include <vector>
 
 namespace scanplan {
-
-enum class Role { Priority, Normal, Fixture };
-std::string_view toString(Role role);
 
 struct Sample {
   Vec3 position = Vec3::Zero();                  // on the face, part frame, mm
@@ -73,13 +71,10 @@ std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoin
 // with a normal within `angle` degrees. Deterministic (input order).
 std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle);
 
-// The faces the spec's tasks target, and every task's samples, merged: priority faces
-// from roles and (with gdt: from-file) from the part's GD&T get role Priority; fixture
-// faces are never sampled. \throw InputError for faces or files the spec names wrongly;
-// PlanningError for a gdt, trim or surface task left without target faces.
-std::vector<Sample> sampleSpec(const Part& part, const Spec& spec, const SamplingOptions& options);
-
-// Faces of the part's GD&T: every toleranced face and every datum face, sorted, unique.
-std::vector<int> gdtFaces(const Part& part);
+// Every task's samples, merged, in task order (resolveSpec in spec.h makes the targets):
+// gdt, surface and trim samples are priority; global samples of priority faces too;
+// fixture faces are never sampled. \throw InputError for a bad control points file.
+std::vector<Sample> sampleTargets(const Part& part, const Targets& targets,
+                                  const SamplingOptions& options);
 
 }  // namespace scanplan

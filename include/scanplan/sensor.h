@@ -24,6 +24,10 @@ struct Scanner {
   double reflection_cone = 10;      // specular loss cone around the mirror direction, degrees
   double point_spacing = 0.2;       // lateral sampling distance at the standoff, mm
   double noise_sigma = 0.01;        // depth noise at the standoff and normal incidence, mm
+  // The scanner body, which must stay clear of the part, fixtures and working plane: a box
+  // around camera and projector grown by body_margin, reaching body_depth behind the camera.
+  double body_margin = 60;  // mm
+  double body_depth = 200;  // mm
 
   // Distance from camera to projector: standoff * tan(triangulation_angle), mm.
   double baseline() const;

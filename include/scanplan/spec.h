@@ -6,6 +6,7 @@
 #include <scanplan/cell.h>
 #include <scanplan/registration.h>
 #include <scanplan/sensor.h>
+#include <scanplan/tasks.h>
 #include <scanplan/view.h>
 
 #include <cstdint>
@@ -23,9 +24,6 @@ struct FaceSelector {
   std::optional<Color> color;  // surface colour, matched within 1/255 per channel
 };
 
-enum class TaskType { Gdt, Trim, Surface, Global, Points };
-std::string_view toString(TaskType type);
-
 struct Task {
   TaskType type = TaskType::Global;
   std::vector<FaceSelector> faces;  // target faces (gdt, trim, surface)
@@ -39,6 +37,9 @@ struct PlannerSettings {
   double tilt_max = 50;
   int max_failures = 3;        // attempts before a sample is declared not coverable
   double sweep_overlap = 0.3;  // share of the field of view neighbouring sweep tiles share
+  int rotations = 8;           // rotations about the view axis tried per cluster direction
+  double rescue_step = 10;     // rescue: directions on a grid of this step, degrees, ...
+  int rescue_rotations = 8;    // ... each with this many rotations about the view axis
 };
 
 struct Spec {
@@ -72,6 +73,24 @@ Spec defaultSpec();
 // Reads and validates a spec (not yet against a part: see resolveFaces).
 // \throw InputError naming the file and the key that is wrong.
 Spec loadSpec(const std::string& path);
+
+// A spec resolved against its part, once: every face selector turned into face ids and
+// checked, the GD&T faces taken from the part. Every stage of planning reads this.
+struct ResolvedSpec {
+  Spec spec;
+  std::string source;          // the spec's file, else the part's: where errors point
+  Targets targets;             // what sampling targets
+  std::vector<int> specular;   // roles.specular, sorted face ids
+  std::vector<int> gdt_faces;  // with gdt: from-file, the part's GD&T faces, else empty
+};
+
+// \throw InputError for faces or files the spec names wrongly, or gdt: from-file on a
+// part without GD&T; PlanningError for a gdt, trim or surface task left without target
+// faces.
+ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
+
+// Faces of the part's GD&T: every toleranced face and every datum face, sorted, unique.
+std::vector<int> gdtFaces(const Part& part);
 
 // The face ids that `selectors` name on `part`, sorted and unique.
 // \throw InputError naming `source` and the selector that matches no face.

@@ -25,11 +25,6 @@ inline Vec3 projectorPosition(const View& view, const Scanner& scanner) {
   return view.camera_to_world * scanner.projectorInScanner();
 }
 
-// The scanner pose with the camera at `camera` looking at `target`, its baseline (+X)
-// as close as possible to `baseline_hint` (projected orthogonal to the view axis; any
-// perpendicular when the hint is parallel to it). Precondition: camera != target.
-Pose lookAt(const Vec3& camera, const Vec3& target, const Vec3& baseline_hint = Vec3::UnitX());
-
 // True when `m` is a rigid transform: orthonormal rotation with determinant +1 (to
 // `tolerance`), finite translation, last row (0, 0, 0, 1).
 bool isRigid(const Eigen::Matrix4d& m, double tolerance = 1e-6);

@@ -250,7 +250,7 @@ Part importMesh(const std::string& path, const std::string& format, const Import
   report(progress, "splitting mesh into faces", 0);
   bool by_group = std::any_of(raw.groups.begin(), raw.groups.end(), [](int g) { return g >= 0; });
   std::vector<int> region =
-      regionOfTriangles(welded, raw.groups, by_group, options.sharp_angle * M_PI / 180.0);
+      regionOfTriangles(welded, raw.groups, by_group, radians(options.sharp_angle));
 
   // Faces numbered by their first triangle; triangles reordered so each face is contiguous.
   std::unordered_map<int, int> face_of_region;

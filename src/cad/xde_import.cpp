@@ -238,7 +238,7 @@ Part importBRep(const std::string& path, const std::string& format, const Import
   Part part;
   part.file = path;
   part.format = format;
-  const double angle = options.angular_deflection * M_PI / 180.0;
+  const double angle = radians(options.angular_deflection);
 
   if (format == "BREP") {
     TopoDS_Shape shape;

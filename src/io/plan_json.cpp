@@ -101,7 +101,9 @@ json planJson(const Plan& plan) {
         {"max_projector_angle", s.max_projector_angle},
         {"reflection_cone", s.reflection_cone},
         {"point_spacing", s.point_spacing},
-        {"noise_sigma", s.noise_sigma}}},
+        {"noise_sigma", s.noise_sigma},
+        {"body_margin", s.body_margin},
+        {"body_depth", s.body_depth}}},
       {"views", views},
       {"sequence", sequence},
       {"samples", samples},
@@ -171,34 +173,34 @@ json planJson(const Plan& plan) {
   }
   if (plan.cell) {
     const Cell& cell = *plan.cell;
-    auto degrees = [](const Joints& q) {
+    auto in_degrees = [](const Joints& q) {
       json values = json::array();
-      for (double a : q) values.push_back(a * 180 / M_PI);
+      for (double a : q) values.push_back(degrees(a));
       return values;
     };
     json robot = {{"model", cell.robot.name},
                   {"base", matrix(cell.base)},
                   {"mount", matrix(cell.mount)},
-                  {"lower", degrees(cell.robot.lower)},
-                  {"upper", degrees(cell.robot.upper)},
-                  {"speeds", degrees(cell.robot.speeds)},
+                  {"lower", in_degrees(cell.robot.lower)},
+                  {"upper", in_degrees(cell.robot.upper)},
+                  {"speeds", in_degrees(cell.robot.speeds)},
                   {"table", nullptr}};
     if (cell.table)
       robot["table"] = {
           {"origin", vec(cell.table->origin)},
           {"axis", vec(cell.table->axis)},
-          {"range", {cell.table->lower * 180 / M_PI, cell.table->upper * 180 / M_PI}}};
+          {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}}};
     result["cell"] = robot;
     for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
       const std::optional<CellPose>& pose = plan.cell_poses[v];
       result["views"][v]["robot"] =
-          pose ? json{{"joints", degrees(pose->joints)},
-                      {"table", pose->table_angle * 180 / M_PI},
+          pose ? json{{"joints", in_degrees(pose->joints)},
+                      {"table", degrees(pose->table_angle)},
                       {"flange", matrix(forwardKinematics(cell.robot, pose->joints))}}
                : json(nullptr);
     }
     const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, visitingOrder(plan));
-    result["summary"]["robot"] = {{"max_joint_step", motion.max_step * 180 / M_PI},
+    result["summary"]["robot"] = {{"max_joint_step", degrees(motion.max_step)},
                                   {"max_joint_step_joint", motion.max_step_joint},
                                   {"travel_seconds", motion.seconds},
                                   {"table_moves", motion.table_moves},
@@ -295,7 +297,9 @@ Plan readPlan(const std::string& path) {
                             {"max_projector_angle", &s.max_projector_angle},
                             {"reflection_cone", &s.reflection_cone},
                             {"point_spacing", &s.point_spacing},
-                            {"noise_sigma", &s.noise_sigma}})
+                            {"noise_sigma", &s.noise_sigma},
+                            {"body_margin", &s.body_margin},
+                            {"body_depth", &s.body_depth}})
     if (scanner.contains(key)) *value = field<double>(scanner, key, path, "scanner");
   validate(s, path);
 

@@ -2,7 +2,7 @@
 // other turns of wide joints), then the path through them with the least joint travel
 // time: a shortest path over layers of solutions, one layer per view in visiting order.
 
-#include <scanplan/planning.h>
+#include <scanplan/planning/cell_poses.h>
 
 #include <algorithm>
 #include <limits>

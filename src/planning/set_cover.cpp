@@ -1,4 +1,4 @@
-#include <scanplan/set_cover.h>
+#include <scanplan/planning/set_cover.h>
 
 #include <CbcModel.hpp>
 #include <CoinPackedMatrix.hpp>

@@ -1,7 +1,7 @@
 // Checking a plan again: coverage, registration and sequence.
 
 #include <scanplan/errors.h>
-#include <scanplan/planning.h>
+#include <scanplan/planning/verify.h>
 
 #include <algorithm>
 #include <map>
@@ -12,14 +12,14 @@ namespace scanplan {
 namespace {
 
 // verifyPlan of a plan with one placement.
-PlanCheck verifyPlacement(const Plan& plan, const Part& part, const Spec& spec,
+PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
                           const PlanningOptions& options, const Progress& progress) {
+  const Spec& spec = resolved.spec;
   PlanCheck check;
   Plan& again = check.plan;
   again = plan;
-  again.fixture_faces = resolveFaces(part, spec.fixture, spec.source).size();
-  const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(part, spec, plan.part_to_world));
+  again.fixture_faces = resolved.targets.fixture.size();
+  const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
 
   report(progress, "simulating " + std::to_string(plan.views.size()) + " views", 0);
   std::vector<SurfacePoint> points;
@@ -40,11 +40,11 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const Spec& spec,
   std::vector<View> views = plan.views;
   RegistrationOptions registration = spec.registration;
   registration.bridging = false;
-  registration.seed = options.seed;
+  registration.seed = spec.planner.seed;
   if (!spec.markers_file.empty() || spec.marker_grid > 0)
     again.markers = specMarkers(spec, part, plan.part_to_world);
   again.registration =
-      registerViews(simulator, views, again.markers, registration, options, progress);
+      registerViews(simulator, views, again.markers, registration, CellCheck{}, progress);
   std::size_t bridges = 0;
   for (std::size_t v = 0; v < views.size(); ++v) {
     // What the file says of the view (nothing: not registered).
@@ -120,7 +120,8 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     throw InputError(part.file, "has " + std::to_string(part.faces.size()) +
                                     " faces where the plan's part has " +
                                     std::to_string(plan.part_faces));
-  if (plan.orientations.empty()) return verifyPlacement(plan, part, spec, options, progress);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
+  if (plan.orientations.empty()) return verifyPlacement(plan, part, resolved, options, progress);
 
   // Each orientation on its own, then the results merged.
   PlanCheck check;
@@ -132,7 +133,7 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     again.sequence = Sequence{};
   }
   for (PlannedOrientation& o : again.orientations) {
-    PlanCheck part_check = verifyPlacement(orientationPlan(plan, o), part, spec, options, progress);
+    PlanCheck part_check = verifyPlacement(orientationPlan(plan, o), part, resolved, options, progress);
     check.coverage_differences += part_check.coverage_differences;
     check.registration_differences += part_check.registration_differences;
     check.sequence_missing += part_check.sequence_missing;

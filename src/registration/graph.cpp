@@ -3,7 +3,7 @@
 #include "sampling/sample_tree.h"
 
 #include <scanplan/errors.h>
-#include <scanplan/planning.h>
+#include <scanplan/planning/poses.h>
 #include <scanplan/registration.h>
 
 #include <tbb/parallel_for.h>
@@ -58,42 +58,6 @@ bool Registration::linked(int a, int b) const {
 }
 
 namespace {
-
-constexpr double kDeg = M_PI / 180;
-
-// Poses at the standoff aimed at `target`: along its normal and tilted by 30 degrees
-// towards eight sides (to see the walls around it), each with two rotations about the
-// view axis.
-// The pose aimed at the point `t` of the way from a's target to b's, its orientation
-// `turn` of the way from a's to b's, at the standoff.
-View between(const View& a, const View& b, double t, double turn, double standoff) {
-  const Eigen::Quaterniond qa(a.camera_to_world.linear()), qb(b.camera_to_world.linear());
-  View view;
-  view.target = (1 - t) * a.target + t * b.target;
-  view.camera_to_world.linear() = qa.slerp(turn, qb).toRotationMatrix();
-  view.camera_to_world.translation() =
-      view.target - standoff * view.camera_to_world.linear().col(2);
-  return view;
-}
-
-std::vector<View> posesAt(const Scanner& scanner, const SurfacePoint& target) {
-  const Vec3 n = target.normal, u = n.unitOrthogonal(), w = n.cross(u);
-  std::vector<Vec3> directions{n};
-  for (int k = 0; k < 8; ++k)
-    directions.push_back(std::cos(30 * kDeg) * n +
-                         std::sin(30 * kDeg) *
-                             (std::cos(k * M_PI / 4) * u + std::sin(k * M_PI / 4) * w));
-  std::vector<View> poses;
-  for (const Vec3& d : directions)
-    for (const Vec3& hint : {u, w}) {
-      View view;
-      view.camera_to_world =
-          lookAt(target.position + scanner.standoff * d.normalized(), target.position, hint);
-      view.target = target.position;
-      poses.push_back(view);
-    }
-  return poses;
-}
 
 // What a view measures: surface points and markers, indices in ascending order.
 struct Observation {
@@ -193,7 +157,7 @@ class Graph {
   // component whose root is `towards`. The candidate kept registers to the main component
   // (verified) and, when one does, to that component too; otherwise it brings the main
   // component closer to it. Nothing when no candidate does either.
-  std::optional<View> bridge(const PlanningOptions& body, int id, int towards) {
+  std::optional<View> bridge(const CellCheck& cell, int id, int towards) {
     const int main = mainComponent();
     std::vector<char> in_main(views_.size()), in_other(views_.size());
     std::vector<Vec3> main_points, other_points;
@@ -227,7 +191,7 @@ class Graph {
     for (std::size_t v = 0; v < views_.size(); ++v) {
       const Eigen::Matrix3d r = views_[v].camera_to_world.linear();
       const bool known = std::any_of(orientations.begin(), orientations.end(), [&](auto& o) {
-        return Eigen::AngleAxisd(o.transpose() * r).angle() < 10 * kDeg;
+        return Eigen::AngleAxisd(o.transpose() * r).angle() < radians(10);
       });
       if (in_main[v] && !known) orientations.push_back(r);
     }
@@ -238,14 +202,8 @@ class Graph {
                       [&](const Vec3& t) { return (t - p).norm() < scanner.fov_height / 4; }))
         continue;
       targets.push_back(p);
-      std::vector<View> around = posesAt(scanner, points_[i]);
-      for (const Eigen::Matrix3d& r : orientations) {
-        View view;
-        view.camera_to_world.linear() = r;
-        view.camera_to_world.translation() = p - scanner.standoff * r.col(2);
-        view.target = p;
-        around.push_back(view);
-      }
+      std::vector<View> around = posesAround(scanner, points_[i]);
+      for (const Eigen::Matrix3d& r : orientations) around.push_back(orientedPose(scanner, p, r));
       poses.insert(poses.end(), around.begin(), around.end());
     }
     // Poses between a view of the main component and a nearby view of another: target and
@@ -263,9 +221,9 @@ class Graph {
       const View &a = views_[pair.first], &b = views_[pair.second];
       for (const auto& [t, turn] :
            {std::pair{1.0 / 3, 1.0 / 3}, {0.5, 0.5}, {2.0 / 3, 2.0 / 3}, {1.0, 0.0}, {0.0, 1.0}})
-        poses.push_back(between(a, b, t, turn, scanner.standoff));
+        poses.push_back(poseBetween(a, b, t, turn, scanner.standoff));
     }
-    std::erase_if(poses, [&](const View& pose) { return !poseIsValid(simulator_, pose, body); });
+    std::erase_if(poses, [&](const View& pose) { return !poseIsValid(simulator_, pose, cell); });
     for (View& pose : poses) {
       pose.id = id;
       pose.task = "bridge";
@@ -545,7 +503,7 @@ class Graph {
 
 Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
-                           const PlanningOptions& body, const Progress& progress) {
+                           const CellCheck& cell, const Progress& progress) {
   validate(options, "registration");
   std::optional<Graph> graph;
   graph.emplace(simulator, options, markers, progress);
@@ -575,7 +533,7 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
     const std::size_t kept = views.size(), components = graph->components();
     while (graph->components() == components && views.size() - kept < kChain &&
            views.size() - first_bridge < budget) {
-      const std::optional<View> bridge = graph->bridge(body, next_id, towards);
+      const std::optional<View> bridge = graph->bridge(cell, next_id, towards);
       if (!bridge) break;
       views.push_back(*bridge);
       ++next_id;

@@ -34,7 +34,7 @@ Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
   };
   Pose motion = Pose::Identity();
   const Vec3 axis = direction(), shift = direction();
-  motion.linear() = Eigen::AngleAxisd(angle * M_PI / 180, axis).toRotationMatrix();
+  motion.linear() = Eigen::AngleAxisd(radians(angle), axis).toRotationMatrix();
   motion.translation() = centre - motion.linear() * centre + distance * shift;
   return motion.matrix();
 }
@@ -68,7 +68,7 @@ IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& mov
   // Coarse to fine: correspondences first within twice the largest displacement the
   // perturbation causes, then down to one and a half point spacings (plus noise), where
   // points past the edge of the overlap no longer pull.
-  const double largest = options.perturbation + options.perturbation_angle * M_PI / 180 * radius;
+  const double largest = options.perturbation + radians(options.perturbation_angle) * radius;
   const double fine = 1.5 * spacing + 3 * scanner.noise_sigma;
   Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
   registration::RegistrationResult result;
@@ -88,7 +88,7 @@ IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& mov
   }
   check.error = std::sqrt(squares / static_cast<double>(moved_cloud.points.size()));
   check.max_error = largest_error;
-  check.rotation = Eigen::AngleAxisd(residual.linear()).angle() * 180 / M_PI;
+  check.rotation = degrees(Eigen::AngleAxisd(residual.linear()).angle());
   check.fitness = result.fitness_;
   check.rmse = result.inlier_rmse_;
   check.passed = check.error <= options.tolerance;

@@ -43,10 +43,11 @@ template <typename Take>
 void forEachSceneCloud(const Plan& plan, const Part& part, const Spec& spec, double spacing,
                        const Progress& progress, Take take) {
   const std::vector<std::size_t> orientation_of = viewOrientations(plan);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
   std::size_t done = 0;
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
     const Pose placement = orientationPlacement(plan, k);
-    const Simulator simulator(part, plan.scanner, simulationOptionsFor(part, spec, placement));
+    const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, placement));
     const Pose to_scene = plan.part_to_world * placement.inverse();
     for (std::size_t i = 0; i < plan.views.size(); ++i) {
       if (orientation_of[i] != k) continue;

@@ -168,19 +168,15 @@ json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<Point
 }
 
 // Each cluster of the plan's samples with its Combined Visibility Map, the part placed as
-// the plan's first placement puts it.
+// the plan's first placement puts it: clusters and maps with the planner's own options.
 json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Progress& progress) {
   std::vector<Sample> samples;
   for (const PlannedSample& s : plan.samples) samples.push_back(s.sample);
   const std::vector<Cluster> clusters =
       clusterSamples(samples, clusteringOptionsFor(plan.scanner, spec.planner.seed));
   const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(part, spec, plan.part_to_world));
-  VisibilityOptions vo;
-  vo.step = spec.planner.vm_step;
-  vo.cone = plan.scanner.max_camera_angle;
-  vo.reach = plan.scanner.standoff;
-  vo.working_plane = spec.working_plane;
+                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
+  const VisibilityOptions vo = plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
   json list = json::array();
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     report(progress, "visibility maps",

@@ -31,7 +31,7 @@ class Canvas {
     forward_ = Vec3(-0.55, 0.75, -0.55).normalized();
     right_ = forward_.cross(Vec3::UnitZ()).normalized();
     up_ = right_.cross(forward_);
-    const double half_fov = 20.0 * M_PI / 180;
+    const double half_fov = radians(20);
     focal_ = std::min(width, height) / 2.0 / std::tan(half_fov);
     const double tan_x = 0.92 * width / 2.0 / focal_, tan_y = 0.92 * height / 2.0 / focal_;
     Box box;

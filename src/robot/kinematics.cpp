@@ -13,12 +13,11 @@
 namespace scanplan {
 namespace {
 
-constexpr double kDegree = M_PI / 180;
 
 Joints degrees(std::initializer_list<double> values) {
   Joints q{};
   std::size_t i = 0;
-  for (double v : values) q[i++] = v * kDegree;
+  for (double v : values) q[i++] = radians(v);
   return q;
 }
 

@@ -16,8 +16,6 @@
 namespace scanplan {
 namespace {
 
-constexpr double kDegree = 180 / M_PI;
-
 std::string identifier(const std::string& name, std::size_t length) {
   std::string id;
   for (char c : name) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
@@ -27,13 +25,13 @@ std::string identifier(const std::string& name, std::size_t length) {
 
 // KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees.
 Vec3 kukaAbc(const Eigen::Matrix3d& r) {
-  return Vec3(std::atan2(r(1, 0), r(0, 0)), std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0))),
-              std::atan2(r(2, 1), r(2, 2))) *
-         kDegree;
+  return Vec3(degrees(std::atan2(r(1, 0), r(0, 0))),
+              degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
+              degrees(std::atan2(r(2, 1), r(2, 2))));
 }
 
 // ABB's configuration quadrants cf1, cf4, cf6: floor(angle / 90°).
-int quadrant(double radians) { return static_cast<int>(std::floor(radians * kDegree / 90)); }
+int quadrant(double angle) { return static_cast<int>(std::floor(degrees(angle) / 90)); }
 
 std::string header(const RobotProgram& p, std::string_view comment) {
   std::ostringstream out;
@@ -87,7 +85,7 @@ std::string krlProgram(const RobotProgram& p) {
   for (std::size_t k = 0; k < p.steps.size(); ++k) {
     const ProgramStep& s = p.steps[k];
     const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
-    const double e1 = s.pose.table_angle * kDegree;
+    const double e1 = degrees(s.pose.table_angle);
     out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, k + 1, p.steps.size(),
                        s.task.empty() ? "-" : s.task)
         << fmt::format(
@@ -96,7 +94,7 @@ std::string krlProgram(const RobotProgram& p) {
                xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(), e1);
     out << "  PTP {E6AXIS:";
     for (int j = 0; j < 6; ++j)
-      out << fmt::format(" A{} {:.4f},", j + 1, s.pose.joints[j] * kDegree);
+      out << fmt::format(" A{} {:.4f},", j + 1, degrees(s.pose.joints[j]));
     out << fmt::format(" E1 {:.4f}}}\n", e1) << fmt::format("  SCAN({})\n", s.view);
   }
   out << "END\n\n"
@@ -109,7 +107,7 @@ std::string rapidProgram(const RobotProgram& p) {
   std::ostringstream out;
   out << "MODULE " << p.name << "\n" << header(p, "  !");
   auto external = [&](double angle) {
-    return p.cell.table ? fmt::format("{:.4f}", angle * kDegree) : std::string("9E+09");
+    return p.cell.table ? fmt::format("{:.4f}", degrees(angle)) : std::string("9E+09");
   };
   for (const ProgramStep& s : p.steps) {
     const Vec3 xyz = s.flange.translation();
@@ -119,8 +117,8 @@ std::string rapidProgram(const RobotProgram& p) {
     out << fmt::format(
         "  CONST jointtarget jView{} := [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
         "[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
-        s.view, j[0] * kDegree, j[1] * kDegree, j[2] * kDegree, j[3] * kDegree, j[4] * kDegree,
-        j[5] * kDegree, external(s.pose.table_angle));
+        s.view, degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
+        degrees(j[5]), external(s.pose.table_angle));
     out << fmt::format(
         "  CONST robtarget pView{} := [[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},{:.6f},{:.6f}],"
         "[{},{},{},0],[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
@@ -168,11 +166,11 @@ std::string programJson(const RobotProgram& p) {
   json steps = json::array();
   for (const ProgramStep& s : p.steps) {
     json joints = json::array();
-    for (double q : s.pose.joints) joints.push_back(q * kDegree);
+    for (double q : s.pose.joints) joints.push_back(degrees(q));
     steps.push_back({{"view", s.view},
                      {"task", s.task},
                      {"joints", joints},
-                     {"table", s.pose.table_angle * kDegree},
+                     {"table", degrees(s.pose.table_angle)},
                      {"flange", matrix(s.flange)}});
   }
   const json root = {{"format", "scanplan.robot_program"},

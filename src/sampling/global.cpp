@@ -12,7 +12,7 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
   detail::SampleCloud cloud{samples};
   detail::SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  const double min_dot = std::cos(angle * M_PI / 180);
+  const double min_dot = std::cos(radians(angle));
   std::vector<char> removed(samples.size(), 0);
   std::vector<Sample> kept;
   detail::Neighbours neighbours;

@@ -115,7 +115,7 @@ class FaceSampler {
       for (std::size_t b = a + 1; b < inside_normals.size(); ++b)
         min_dot = std::min(min_dot, inside_normals[a].dot(inside_normals[b]));
     const bool too_big = !box.empty() && box.size().maxCoeff() > options_.portion_size;
-    const bool too_curved = min_dot < std::cos(options_.max_normal_spread * M_PI / 180);
+    const bool too_curved = min_dot < std::cos(radians(options_.max_normal_spread));
     if (!(too_big || too_curved) || depth >= kMaxDepth) {
       out.push_back(r);
       return;

@@ -1,0 +1,53 @@
+#pragma once
+// The cell's joints for the views of a plan (docs/cell.md): every inverse-kinematics
+// solution of each view, and the joints chosen along the visiting order for the least
+// joint travel.
+
+#include <scanplan/cell.h>
+#include <scanplan/planning/plan.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace scanplan {
+
+// Per view, every way the cell takes it: the inverse-kinematics solutions at the table
+// angle nearest 0 that reaches it (with `collisions`, those whose arm stays clear), and
+// the other turns of wide axes; empty where the cell cannot take the view.
+using CellSolutions = std::vector<std::vector<CellPose>>;
+CellSolutions cellSolutions(const Cell& cell, const std::vector<View>& views,
+                            const CellCollisions* collisions = nullptr);
+
+// How the cell takes each of `views` when they are visited in `order` (ids): of each
+// view's `solutions`, the ones whose joints travel least from view to view over the whole
+// order (dynamic programming). Per view, in the order of `views`; none where the cell
+// cannot take the view.
+std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
+                                               const std::vector<int>& order,
+                                               const CellSolutions& solutions);
+// The same with the views' solutions computed.
+std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
+                                               const std::vector<int>& order,
+                                               const CellCollisions* collisions = nullptr);
+
+// The cell's motion cost between every two views: the least joint travel time over their
+// `solutions` (seconds; the cell's joint speeds, the table at a quarter turn per second),
+// 1000 s to or from a view the cell cannot take.
+Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solutions);
+
+// The joint motion of a sequence of cell poses: the largest change of any joint between
+// consecutive reached views (radians), the travel time (seconds, joints at their largest
+// speeds, the table at `table_speed` rad/s) and how often the table turns.
+struct JointMotion {
+  double max_step = 0;
+  int max_step_joint = 0;  // 1-based
+  double seconds = 0;
+  std::size_t table_moves = 0;
+  std::size_t unreached = 0;  // views the cell cannot reach
+};
+JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
+                        const std::vector<View>& views, const std::vector<int>& order,
+                        double table_speed = M_PI / 2);
+
+}  // namespace scanplan

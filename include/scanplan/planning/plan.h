@@ -1,0 +1,111 @@
+#pragma once
+// The plan (docs/design.md, plan.json): the views, what each sample is measured by, the
+// registration and the sequence of the views; io/plan_json.h writes and reads it.
+
+#include <scanplan/cell.h>
+#include <scanplan/localization.h>
+#include <scanplan/registration.h>
+#include <scanplan/sampling.h>
+#include <scanplan/sequencing.h>
+#include <scanplan/sweep.h>
+#include <scanplan/view.h>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+// The optimality check: the fewest candidate poses that measure every sample the plan
+// measures (exact set cover, COIN-OR CBC).
+struct PlanBound {
+  std::size_t candidates = 0;  // valid poses the planner evaluated
+  std::size_t ilp_views = 0;   // views of the best cover CBC found
+  double lower_bound = 0;      // CBC's proven lower bound on the minimum
+  bool optimal = false;        // ilp_views is proven minimal
+  double seconds = 0;
+};
+
+// Why a sample is not coverable.
+enum class Uncoverable {
+  None,
+  BelowWorkingPlane,
+  OccludedByPart,
+  NoValidPose,
+  Lost,
+  Unreachable  // poses clear of the part measure it, but the cell's robot reaches none
+};
+
+struct PlannedSample {
+  Sample sample;                 // world frame
+  std::vector<int> measured_by;  // view ids
+  Uncoverable uncoverable = Uncoverable::None;
+  Loss last_loss = Loss::Measured;  // why the last view aimed at it missed it
+};
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0;
+};
+
+// A surface wider than the field of view covered tile by tile (DESIGN.md §5, Sweep
+// positioning): the gdt task's wide faces over their own parameters, the surface task's
+// faces over an interpolated patch per set of like-facing faces.
+struct Sweep {
+  TaskType task = TaskType::Surface;
+  std::vector<int> faces;
+  std::size_t tiles = 0;                   // tiles holding part of the surface
+  std::vector<int> views;                  // ids of the tiles' views, boustrophedon order
+  std::optional<InterpolatedPatch> patch;  // surface task: the patch swept along
+  std::string patch_file;  // where the patch was written, beside plan.json; "" if not
+};
+
+// One rest orientation of a plan over several (part.rest: all): the views planned with
+// the part standing that way, registered and sequenced among themselves.
+struct PlannedOrientation {
+  RestOrientation rest;
+  std::vector<int> views;       // ids
+  int reference = 0;            // its registration's reference view id
+  std::vector<Marker> markers;  // world frame of this orientation
+};
+
+struct Plan {
+  std::string part_file;
+  std::size_t part_faces = 0;
+  std::size_t fixture_faces = 0;
+  Pose part_to_world = Pose::Identity();
+  Scanner scanner;
+  std::vector<View> views;  // ids 1..n in order of marginal coverage, then bridging views
+  std::vector<Marker> markers;
+  std::optional<Registration> registration;  // per view, with PlanningOptions::registration
+  std::optional<Sequence> sequence;          // of the registered views
+  std::vector<Sweep> sweeps;                 // their views come first, in sweep order
+  // part.rest: all: the orientations planned, steadiest first. part_to_world and the
+  // samples' frame are the first one's; each view is planned in the world of the
+  // orientation that lists it; registration and sequence are per orientation, one after
+  // the other. Empty for a plan with one placement.
+  std::vector<PlannedOrientation> orientations;
+  std::vector<PlannedSample> samples;
+  // With a cell (spec cell.robot): the cell, and how it takes each view (per view, in the
+  // order of the views; none where it cannot), the joints chosen along the sequence for
+  // the least joint travel.
+  std::optional<Cell> cell;
+  std::vector<std::optional<CellPose>> cell_poses;
+  std::vector<StageTime> times;
+  double seconds = 0;
+  std::optional<PlanBound> bound;  // with PlanningOptions::bound
+
+  std::size_t measuredCount() const;
+  std::size_t notCoverableCount() const;
+  // Samples measured by a view that registers (all measured ones without registration).
+  std::size_t registeredMeasuredCount() const;
+};
+
+std::string_view toString(Uncoverable reason);
+
+// The ids of the plan's views in the order they are visited: its sequence, then any view
+// outside it in plan order.
+std::vector<int> visitingOrder(const Plan& plan);
+
+}  // namespace scanplan

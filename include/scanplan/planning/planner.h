@@ -1,0 +1,61 @@
+#pragma once
+// View planning (docs/planning.md): from the resolved spec, samples and clusters; poses
+// from their visibility maps, sweeps over wide surfaces, iterative adding until nothing
+// more can be covered, a last pass aimed at single samples; the selection of the views by
+// marginal coverage; then the registration check with bridging views, and the sequence.
+
+#include <scanplan/cad/part.h>
+#include <scanplan/planning/plan.h>
+#include <scanplan/planning/poses.h>
+#include <scanplan/progress.h>
+#include <scanplan/simulation.h>
+#include <scanplan/spec.h>
+
+#include <vector>
+
+namespace scanplan {
+
+// How planViews runs, beyond what the spec sets (the spec's planner, registration and
+// cell sections set everything else).
+struct PlanningOptions {
+  bool registration = true;      // check registration, bridge, and sequence the views
+  bool bound = false;            // also solve the exact set cover over all candidate poses
+  double bound_time_limit = 30;  // seconds for CBC
+};
+
+// The simulation of the part placed by `part_to_world` as the spec sets it: working plane
+// and specular faces.
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world);
+
+// The spec's markers: its CSV, or its grid around the footprint of the part placed by
+// `part_to_world` and/or on the part; none when it names neither.
+std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world);
+
+// The part standing on the working plane as it lies in its CAD frame: lifted so that its
+// lowest point is at z = 0 (rest orientations come with localization).
+Pose restingPlacement(const Part& part);
+
+// Where the spec puts the part: part.rest's matrix, the rest orientation on its face, the
+// steadiest one (auto, and the first of all), else restingPlacement. \throw InputError
+// for a rest face the part cannot stand on.
+Pose placementFor(const Part& part, const Spec& spec);
+
+// Plans the views for the spec's tasks, honouring the whole spec (scanner, roles,
+// markers, registration, planner settings, cell); with part.rest: all, in every rest
+// orientation in turn, steadiest first, each aiming at the samples the earlier ones left
+// unmeasured. \throw PlanningError when the spec leaves nothing to plan (no samples, or
+// all targets on fixture faces); InputError for a bad spec.
+Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options = {},
+               const Progress& progress = {});
+
+// Which samples some valid pose of a dense candidate set measures: the camera at the
+// standoff from the sample itself, looking at it, from every direction of a `step`-degree
+// grid within the camera's glancing cone, each with `rotations` rotations about the view
+// axis, valid for `cell` (poses.h). The reference of coverage in benchmarks and reports;
+// the planner's rescue pass aims at such poses too.
+std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
+                                             const std::vector<SurfacePoint>& samples,
+                                             double step = 10, int rotations = 8,
+                                             const CellCheck& cell = {});
+
+}  // namespace scanplan

@@ -1,0 +1,29 @@
+#pragma once
+// Checking a plan again on its part: coverage, registration and sequence (scanplan verify).
+
+#include <scanplan/cad/part.h>
+#include <scanplan/planning/planner.h>
+#include <scanplan/progress.h>
+#include <scanplan/spec.h>
+
+#include <cstddef>
+
+namespace scanplan {
+
+// What `scanplan verify` finds when it checks a plan again on its part.
+struct PlanCheck {
+  Plan plan;  // the plan with measured_by, registration and path length recomputed
+  std::size_t coverage_differences = 0;      // samples whose measured_by differs from the file's
+  std::size_t registration_differences = 0;  // views whose registration state differs
+  std::size_t sequence_missing = 0;          // views not in the sequence, or in it more than once
+  std::size_t sequence_breaks = 0;  // registered views that follow no view they register to
+};
+
+// Simulates every view of `plan` on its samples again, checks the registration of its
+// views (no bridging) and walks its sequence, with the part placed as the plan says and
+// the spec's specular faces, markers (else the plan's) and registration thresholds.
+// \throw InputError when the part does not match the plan (face count).
+PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
+                     const PlanningOptions& options = {}, const Progress& progress = {});
+
+}  // namespace scanplan

@@ -1,0 +1,206 @@
+// Iterative pose adding and the rescue pass (docs/planning.md): the views that measure the
+// samples, cluster by cluster, then sample by sample.
+
+#include "planning/stages.h"
+
+#include <scanplan/clustering.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace scanplan::detail {
+
+std::vector<int> measuredBy(const Simulator& simulator, const View& view,
+                            std::span<const SurfacePoint> points) {
+  const std::vector<Loss> losses = simulator.measure(view, points);
+  std::vector<int> hits;
+  for (std::size_t i = 0; i < losses.size(); ++i)
+    if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
+  return hits;
+}
+
+std::vector<std::vector<int>> measuredBy(const Simulator& simulator, std::span<const View> views,
+                                         std::span<const SurfacePoint> points) {
+  std::vector<std::vector<int>> all;
+  for (const std::vector<Loss>& losses : simulator.measure(views, points)) {
+    std::vector<int> hits;
+    for (std::size_t i = 0; i < losses.size(); ++i)
+      if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
+    all.push_back(std::move(hits));
+  }
+  return all;
+}
+
+bool addView(View view, std::vector<int> measured, std::vector<PlannedSample>& samples,
+             MeasuredViews& added) {
+  if (measured.empty()) return false;
+  view.id = static_cast<int>(added.size()) + 1;
+  for (int i : measured) samples[i].measured_by.push_back(view.id);
+  added.add(view, std::move(measured));
+  return true;
+}
+
+std::optional<View> clusterPose(const Placement& at, const std::vector<Sample>& members,
+                                const Vec3& mean_point, const Vec3& mean_normal,
+                                bool normal_only, std::vector<Visibility>& status,
+                                std::vector<View>& candidates) {
+  const PlannerSettings& settings = at.settings();
+  ClusterDirections options;
+  options.tilt_min = settings.tilt_min;
+  options.tilt_max = settings.tilt_max;
+  options.visibility = plannerVisibility(at.scanner(), settings.vm_step,
+                                         at.simulator.options().working_plane);
+  std::vector<SurfacePoint> targets;
+  for (const Sample& s : members) targets.push_back({s.position, s.normal, s.face});
+  std::optional<View> best;
+  std::size_t best_count = 0;
+  for (const Vec3& d :
+       clusterDirections(at.simulator, members, mean_normal, normal_only, options, status))
+    for (const View& view : aimedPoses(at.scanner(), mean_point, d, settings.rotations)) {
+      if (!poseIsValid(at.simulator, view, at.cell)) continue;
+      candidates.push_back(view);
+      const std::size_t count = measuredBy(at.simulator, view, targets).size();
+      if (count > best_count) {  // strict: earlier (normal, horizontal) poses win ties
+        best_count = count;
+        best = view;
+      }
+    }
+  return best;
+}
+
+namespace {
+
+// Samples still to aim at: not measured, not done elsewhere, not given up.
+std::vector<int> pendingSamples(const Placement& at, const std::vector<PlannedSample>& samples,
+                                const std::vector<int>& failures) {
+  std::vector<int> pending;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (samples[i].measured_by.empty() && !at.isDone(i) &&
+        failures[i] < at.settings().max_failures)
+      pending.push_back(static_cast<int>(i));
+  return pending;
+}
+
+// The pending samples near `view`'s target (within the field of view) that are not
+// `members`: what the target shift tries to take in too.
+std::vector<SurfacePoint> nearbyPending(const Placement& at, const View& view,
+                                        const std::vector<int>& members,
+                                        const std::vector<int>& pending) {
+  const double reach = std::min(at.scanner().fov_width, at.scanner().fov_height);
+  std::vector<SurfacePoint> nearby;
+  for (int i : pending)
+    if (std::find(members.begin(), members.end(), i) == members.end() &&
+        (at.points[i].position - view.target).norm() < reach)
+      nearby.push_back(at.points[i]);
+  return nearby;
+}
+
+// What adding reads and extends from round to round.
+struct Adding {
+  std::vector<PlannedSample>& samples;
+  MeasuredViews& added;
+  std::vector<View>& candidates;
+  std::vector<int> failures;  // per sample: views aimed at it that missed it
+  std::vector<Visibility> visibility;
+};
+
+// One view for the cluster of `members` (pending, unmeasured samples): its pose, its
+// target shifted towards the other `pending` samples nearby. True when a view was added.
+bool addClusterView(const Placement& at, const std::vector<int>& members,
+                    const std::vector<int>& pending, Adding& state) {
+  std::vector<Sample> cluster;
+  std::vector<SurfacePoint> member_points;
+  Vec3 mean_point = Vec3::Zero(), normal_sum = Vec3::Zero();
+  for (int i : members) {
+    cluster.push_back(state.samples[i].sample);
+    member_points.push_back(at.points[i]);
+    mean_point += cluster.back().position;
+    normal_sum += cluster.back().normal;
+  }
+  mean_point /= static_cast<double>(members.size());
+  const Vec3 mean_normal = normal_sum.norm() > 1e-9 ? Vec3(normal_sum.normalized()) : Vec3::UnitZ();
+  const bool normal_only = cluster.front().task == TaskType::Trim;
+  std::vector<Visibility> status;
+  const std::optional<View> pose = clusterPose(at, cluster, mean_point, mean_normal, normal_only,
+                                               status, state.candidates);
+  for (std::size_t m = 0; m < status.size(); ++m) state.visibility[members[m]] = status[m];
+  if (!pose) {
+    for (int i : members) ++state.failures[i];
+    return false;
+  }
+  View view = shiftedTarget(at.simulator, *pose, member_points,
+                            nearbyPending(at, *pose, members, pending), at.cell);
+  view.task = std::string(toString(cluster.front().task));
+  const std::vector<Loss> losses = at.simulator.measure(view, at.points);
+  std::vector<int> hits;
+  for (std::size_t i = 0; i < losses.size(); ++i)
+    if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
+  for (int i : members)
+    if (losses[i] != Loss::Measured) {
+      ++state.failures[i];
+      state.samples[i].last_loss = losses[i];
+    }
+  return addView(view, std::move(hits), state.samples, state.added);
+}
+
+// One round: the pending samples clustered, one view per cluster, largest first. True
+// when a view was added.
+bool addRound(const Placement& at, const std::vector<int>& pending,
+              const ClusteringOptions& clustering, Adding& state) {
+  std::vector<Sample> subset;
+  for (int i : pending) subset.push_back(state.samples[i].sample);
+  const std::vector<Cluster> clusters = clusterSamples(subset, clustering);
+  std::vector<std::size_t> order(clusters.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return clusters[a].samples.size() > clusters[b].samples.size();
+  });
+  bool added = false;
+  for (std::size_t k : order) {
+    std::vector<int> members;
+    for (int local : clusters[k].samples)  // a view this round may have taken some
+      if (state.samples[pending[local]].measured_by.empty()) members.push_back(pending[local]);
+    if (!members.empty()) added = addClusterView(at, members, pending, state) || added;
+  }
+  return added;
+}
+
+}  // namespace
+
+std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>& samples,
+                                 MeasuredViews& added, std::vector<View>& candidates,
+                                 const Progress& progress) {
+  Adding state{samples, added, candidates, std::vector<int>(samples.size(), 0),
+               std::vector<Visibility>(samples.size(), Visibility::Free)};
+  const ClusteringOptions clustering = clusteringOptionsFor(at.scanner(), at.settings().seed);
+  for (int round = 1;; ++round) {
+    const std::vector<int> pending = pendingSamples(at, samples, state.failures);
+    if (pending.empty()) break;
+    report(progress,
+           "planning views, round " + std::to_string(round) + " (" +
+               std::to_string(pending.size()) + " samples left)",
+           0);
+    if (!addRound(at, pending, clustering, state)) break;
+  }
+  return state.visibility;
+}
+
+void rescueViews(const Placement& at, std::vector<PlannedSample>& samples, MeasuredViews& added) {
+  const VisibilityMap grid(at.settings().rescue_step);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!samples[i].measured_by.empty() || at.isDone(i)) continue;
+    const std::vector<View> poses =
+        densePoses(at.scanner(), at.points[i], grid, at.settings().rescue_rotations);
+    const std::vector<SurfacePoint> same(poses.size(), at.points[i]);
+    const std::vector<Loss> losses = at.simulator.measurePairs(poses, same);
+    for (std::size_t k = 0; k < poses.size(); ++k) {
+      if (losses[k] != Loss::Measured || !poseIsValid(at.simulator, poses[k], at.cell)) continue;
+      View view = poses[k];
+      view.task = std::string(toString(samples[i].sample.task));
+      addView(view, measuredBy(at.simulator, view, at.points), samples, added);
+      break;
+    }
+  }
+}
+
+}  // namespace scanplan::detail

@@ -1,0 +1,50 @@
+// The plan's own queries.
+
+#include <scanplan/planning/plan.h>
+
+#include <algorithm>
+
+namespace scanplan {
+
+std::string_view toString(Uncoverable reason) {
+  switch (reason) {
+    case Uncoverable::None: return "none";
+    case Uncoverable::BelowWorkingPlane: return "occluded_by_working_plane";
+    case Uncoverable::OccludedByPart: return "occluded_by_part";
+    case Uncoverable::NoValidPose: return "no_valid_pose";
+    case Uncoverable::Lost: return "lost_in_simulation";
+    case Uncoverable::Unreachable: return "unreachable_by_robot";
+  }
+  return "unknown";
+}
+
+std::size_t Plan::measuredCount() const {
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(),
+                    [](const PlannedSample& s) { return !s.measured_by.empty(); }));
+}
+
+std::size_t Plan::notCoverableCount() const {
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(),
+                    [](const PlannedSample& s) { return s.uncoverable != Uncoverable::None; }));
+}
+
+std::size_t Plan::registeredMeasuredCount() const {
+  if (!registration) return measuredCount();
+  std::vector<char> registered;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const int id = views[v].id;
+    if (id >= static_cast<int>(registered.size())) registered.resize(id + 1, 0);
+    registered[id] =
+        v < registration->views.size() && registration->views[v].method != RegistrationMethod::None;
+  }
+  return static_cast<std::size_t>(
+      std::count_if(samples.begin(), samples.end(), [&](const PlannedSample& s) {
+        return std::any_of(s.measured_by.begin(), s.measured_by.end(), [&](int id) {
+          return id < static_cast<int>(registered.size()) && registered[id];
+        });
+      }));
+}
+
+}  // namespace scanplan
