@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -17,6 +18,18 @@ inline std::string testData(const std::string& name) {
 }
 inline std::string example(const std::string& name) {
   return std::string(SCANPLAN_EXAMPLES) + "/" + name;
+}
+
+// A file of the bundled example's plan, planned once per test run (the PlanBundledExample
+// test, or here when a test runs on its own): plan.json, summary.txt.
+inline std::string examplePlan(const std::string& name = "plan.json") {
+  const std::string folder = SCANPLAN_EXAMPLE_PLAN;
+  if (!std::filesystem::exists(folder + "/plan.json")) {
+    const std::string command = std::string(SCANPLAN_PLAN_EXAMPLE_SCRIPT) + " '" + SCANPLAN_EXE +
+                                "' '" + SCANPLAN_EXAMPLES + "' '" + folder + "'";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+  }
+  return folder + "/" + name;
 }
 
 // A file of ../shared/data; the test is skipped when the shared data is not there.

@@ -37,13 +37,33 @@ json markersJson(const std::vector<Marker>& markers) {
   return list;
 }
 
-}  // namespace
+// The scanner's numeric parameters as plan.json names them: one list for writing and
+// reading.
+constexpr std::array<std::pair<const char*, double Scanner::*>, 12> kScannerFields = {{
+    {"standoff", &Scanner::standoff},
+    {"depth_of_field", &Scanner::depth_of_field},
+    {"fov_width", &Scanner::fov_width},
+    {"fov_height", &Scanner::fov_height},
+    {"triangulation_angle", &Scanner::triangulation_angle},
+    {"max_camera_angle", &Scanner::max_camera_angle},
+    {"max_projector_angle", &Scanner::max_projector_angle},
+    {"reflection_cone", &Scanner::reflection_cone},
+    {"point_spacing", &Scanner::point_spacing},
+    {"noise_sigma", &Scanner::noise_sigma},
+    {"body_margin", &Scanner::body_margin},
+    {"body_depth", &Scanner::body_depth},
+}};
 
-json planJson(const Plan& plan) {
-  const Scanner& s = plan.scanner;
-  json views = json::array(), sequence = json::array(), samples = json::array();
+json scannerJson(const Scanner& scanner) {
+  json result = {{"name", scanner.name}};
+  for (const auto& [key, member] : kScannerFields) result[key] = scanner.*member;
+  return result;
+}
+
+// Per view: id, matrix, target, task, and how it registers (with a registration).
+json viewsJson(const Plan& plan) {
+  json views = json::array();
   const Registration* registration = plan.registration ? &*plan.registration : nullptr;
-  std::vector<int> unregistrable;
   for (std::size_t v = 0; v < plan.views.size(); ++v) {
     const View& view = plan.views[v];
     json entry = {{"id", view.id},
@@ -56,16 +76,14 @@ json planJson(const Plan& plan) {
       entry["registration"] = {
           {"method", toString(r.method)}, {"to", r.to}, {"constrained", r.constrained}};
       entry["bridge"] = r.bridge;
-      if (r.method == RegistrationMethod::None) unregistrable.push_back(view.id);
     }
     views.push_back(entry);
   }
-  if (plan.sequence) {
-    sequence = plan.sequence->views;
-  } else {
-    for (const View& view : plan.views) sequence.push_back(view.id);
-  }
-  std::map<std::string, std::size_t> reasons;
+  return views;
+}
+
+json samplesJson(const Plan& plan) {
+  json samples = json::array();
   for (const PlannedSample& p : plan.samples) {
     json entry = {{"position", vec(p.sample.position)},
                   {"normal", vec(p.sample.normal)},
@@ -76,12 +94,174 @@ json planJson(const Plan& plan) {
     if (p.uncoverable != Uncoverable::None) {
       entry["not_coverable"] = toString(p.uncoverable);
       if (p.uncoverable == Uncoverable::Lost) entry["loss"] = toString(p.last_loss);
-      ++reasons[std::string(toString(p.uncoverable))];
     }
     samples.push_back(entry);
   }
+  return samples;
+}
+
+json summaryJson(const Plan& plan) {
+  std::map<std::string, std::size_t> reasons;
+  for (const PlannedSample& p : plan.samples)
+    if (p.uncoverable != Uncoverable::None) ++reasons[std::string(toString(p.uncoverable))];
   json times = json::object();
   for (const StageTime& t : plan.times) times[t.stage] = t.seconds;
+  return {{"model_faces", plan.part_faces},
+          {"fixture_faces", plan.fixture_faces},
+          {"samples", plan.samples.size()},
+          {"measured", plan.measuredCount()},
+          {"measured_share", share(plan.measuredCount(), plan.samples.size())},
+          {"not_coverable", plan.notCoverableCount()},
+          {"not_coverable_by_reason", reasons},
+          {"views", plan.views.size()},
+          {"registrable_views", nullptr},
+          {"seconds", plan.seconds},
+          {"stage_seconds", times}};
+}
+
+json pairJson(const PairCheck& p) {
+  json pair = {{"views", {p.a, p.b}},
+               {"shared_markers", p.shared_markers},
+               {"markers", p.markers},
+               {"overlap_area", p.overlap_area},
+               {"overlap_share", {p.overlap_a, p.overlap_b}},
+               {"condition", std::isfinite(p.condition) ? json(p.condition) : json(nullptr)},
+               {"stable", p.stable},
+               {"registrable", p.registrable()}};
+  if (p.icp)
+    pair["icp"] = {{"error", p.icp->error},       {"max_error", p.icp->max_error},
+                   {"rotation", p.icp->rotation}, {"fitness", p.icp->fitness},
+                   {"rmse", p.icp->rmse},         {"points", p.icp->points},
+                   {"passed", p.icp->passed}};
+  return pair;
+}
+
+// The registration's summary rows and its section: reference, markers, checked pairs.
+void addRegistration(const Plan& plan, json& result) {
+  const Registration& registration = *plan.registration;
+  std::vector<int> unregistrable;
+  for (std::size_t v = 0; v < plan.views.size() && v < registration.views.size(); ++v)
+    if (registration.views[v].method == RegistrationMethod::None)
+      unregistrable.push_back(plan.views[v].id);
+  json& summary = result["summary"];
+  summary["registrable_views"] = registration.registered();
+  summary["registered_share"] = share(registration.registered(), plan.views.size());
+  summary["measured_by_registered_views"] = plan.registeredMeasuredCount();
+  summary["bridging_views"] = registration.bridging_views;
+  summary["unregistrable_views"] = unregistrable;
+  summary["registration_components"] = registration.components;
+  if (plan.sequence) {
+    summary["path_length"] = plan.sequence->length;
+    summary["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
+  }
+  json pairs = json::array();
+  for (const PairCheck& p : registration.pairs) pairs.push_back(pairJson(p));
+  result["registration"] = {{"reference", registration.reference},
+                            {"markers", markersJson(plan.markers)},
+                            {"pairs", pairs},
+                            {"verified", registration.verified}};
+}
+
+// The rest orientations of a plan over several, and each view's orientation.
+void addOrientations(const Plan& plan, json& result) {
+  json orientations = json::array();
+  std::map<int, int> orientation_of;
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+    const PlannedOrientation& o = plan.orientations[k];
+    for (int id : o.views) orientation_of[id] = static_cast<int>(k) + 1;
+    orientations.push_back({{"id", k + 1},
+                            {"part_to_world", matrix(o.rest.part_to_world)},
+                            {"down", vec(o.rest.down)},
+                            {"margin", o.rest.margin},
+                            {"views", o.views},
+                            {"reference", o.reference},
+                            {"markers", markersJson(o.markers)}});
+  }
+  for (json& view : result["views"]) view["orientation"] = orientation_of[view["id"].get<int>()];
+  result["orientations"] = orientations;
+  result["summary"]["orientations"] = plan.orientations.size();
+}
+
+json inDegrees(const Joints& q) {
+  json values = json::array();
+  for (double a : q) values.push_back(degrees(a));
+  return values;
+}
+
+// The cell (robot, mount, table), each view's joints and the plan's joint motion.
+void addCell(const Plan& plan, json& result) {
+  const Cell& cell = *plan.cell;
+  json robot = {{"model", cell.robot.name},
+                {"base", matrix(cell.base)},
+                {"mount", matrix(cell.mount)},
+                {"lower", inDegrees(cell.robot.lower)},
+                {"upper", inDegrees(cell.robot.upper)},
+                {"speeds", inDegrees(cell.robot.speeds)},
+                {"table", nullptr}};
+  if (cell.table)
+    robot["table"] = {{"origin", vec(cell.table->origin)},
+                      {"axis", vec(cell.table->axis)},
+                      {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}}};
+  result["cell"] = robot;
+  for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
+    const std::optional<CellPose>& pose = plan.cell_poses[v];
+    result["views"][v]["robot"] =
+        pose ? json{{"joints", inDegrees(pose->joints)},
+                    {"table", degrees(pose->table_angle)},
+                    {"flange", matrix(forwardKinematics(cell.robot, pose->joints))}}
+             : json(nullptr);
+  }
+  const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, visitingOrder(plan));
+  result["summary"]["robot"] = {{"max_joint_step", degrees(motion.max_step)},
+                                {"max_joint_step_joint", motion.max_step_joint},
+                                {"travel_seconds", motion.seconds},
+                                {"table_moves", motion.table_moves},
+                                {"unreached_views", motion.unreached}};
+}
+
+void addSweeps(const Plan& plan, json& result) {
+  json sweeps = json::array();
+  std::size_t sweep_views = 0;
+  for (const Sweep& sweep : plan.sweeps) {
+    json entry = {{"task", toString(sweep.task)},
+                  {"faces", sweep.faces},
+                  {"tiles", sweep.tiles},
+                  {"views", sweep.views},
+                  {"patch", nullptr}};
+    if (sweep.patch)
+      entry["patch"] = {
+          {"direction", vec(plan.part_to_world.linear() * sweep.patch->frame.linear().col(2))},
+          {"max_deviation", sweep.patch->max_deviation},
+          {"tolerance", sweep.patch->tolerance},
+          {"file", sweep.patch_file.empty() ? json(nullptr) : json(sweep.patch_file)}};
+    sweep_views += sweep.views.size();
+    sweeps.push_back(entry);
+  }
+  result["sweeps"] = sweeps;
+  result["summary"]["sweep_views"] = sweep_views;
+}
+
+json boundJson(const Plan& plan) {
+  const PlanBound& b = *plan.bound;
+  return {{"candidates", b.candidates},
+          {"ilp_views", b.ilp_views},
+          {"lower_bound", b.lower_bound},
+          {"optimal", b.optimal},
+          {"views_over_ilp",
+           b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
+                       : 0.0},
+          {"seconds", b.seconds}};
+}
+
+}  // namespace
+
+json planJson(const Plan& plan) {
+  json sequence = json::array();
+  if (plan.sequence) {
+    sequence = plan.sequence->views;
+  } else {
+    for (const View& view : plan.views) sequence.push_back(view.id);
+  }
   json result = {
       {"format", "scanplan.plan"},
       {"version", 1},
@@ -90,155 +270,17 @@ json planJson(const Plan& plan) {
        {{"file", plan.part_file},
         {"faces", plan.part_faces},
         {"part_to_world", matrix(plan.part_to_world)}}},
-      {"scanner",
-       {{"name", s.name},
-        {"standoff", s.standoff},
-        {"depth_of_field", s.depth_of_field},
-        {"fov_width", s.fov_width},
-        {"fov_height", s.fov_height},
-        {"triangulation_angle", s.triangulation_angle},
-        {"max_camera_angle", s.max_camera_angle},
-        {"max_projector_angle", s.max_projector_angle},
-        {"reflection_cone", s.reflection_cone},
-        {"point_spacing", s.point_spacing},
-        {"noise_sigma", s.noise_sigma},
-        {"body_margin", s.body_margin},
-        {"body_depth", s.body_depth}}},
-      {"views", views},
+      {"scanner", scannerJson(plan.scanner)},
+      {"views", viewsJson(plan)},
       {"sequence", sequence},
-      {"samples", samples},
-      {"summary",
-       {{"model_faces", plan.part_faces},
-        {"fixture_faces", plan.fixture_faces},
-        {"samples", plan.samples.size()},
-        {"measured", plan.measuredCount()},
-        {"measured_share", share(plan.measuredCount(), plan.samples.size())},
-        {"not_coverable", plan.notCoverableCount()},
-        {"not_coverable_by_reason", reasons},
-        {"views", plan.views.size()},
-        {"registrable_views", nullptr},
-        {"seconds", plan.seconds},
-        {"stage_seconds", times}}},
+      {"samples", samplesJson(plan)},
+      {"summary", summaryJson(plan)},
   };
-  if (registration) {
-    json& summary = result["summary"];
-    summary["registrable_views"] = registration->registered();
-    summary["registered_share"] = share(registration->registered(), plan.views.size());
-    summary["measured_by_registered_views"] = plan.registeredMeasuredCount();
-    summary["bridging_views"] = registration->bridging_views;
-    summary["unregistrable_views"] = unregistrable;
-    summary["registration_components"] = registration->components;
-    if (plan.sequence) {
-      summary["path_length"] = plan.sequence->length;
-      summary["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
-    }
-    json pairs = json::array();
-    for (const PairCheck& p : registration->pairs) {
-      json pair = {{"views", {p.a, p.b}},
-                   {"shared_markers", p.shared_markers},
-                   {"markers", p.markers},
-                   {"overlap_area", p.overlap_area},
-                   {"overlap_share", {p.overlap_a, p.overlap_b}},
-                   {"condition", std::isfinite(p.condition) ? json(p.condition) : json(nullptr)},
-                   {"stable", p.stable},
-                   {"registrable", p.registrable()}};
-      if (p.icp)
-        pair["icp"] = {{"error", p.icp->error},       {"max_error", p.icp->max_error},
-                       {"rotation", p.icp->rotation}, {"fitness", p.icp->fitness},
-                       {"rmse", p.icp->rmse},         {"points", p.icp->points},
-                       {"passed", p.icp->passed}};
-      pairs.push_back(pair);
-    }
-    result["registration"] = {{"reference", registration->reference},
-                              {"markers", markersJson(plan.markers)},
-                              {"pairs", pairs}};
-  }
-  if (!plan.orientations.empty()) {
-    json orientations = json::array();
-    std::map<int, int> orientation_of;
-    for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
-      const PlannedOrientation& o = plan.orientations[k];
-      for (int id : o.views) orientation_of[id] = static_cast<int>(k) + 1;
-      orientations.push_back({{"id", k + 1},
-                              {"part_to_world", matrix(o.rest.part_to_world)},
-                              {"down", vec(o.rest.down)},
-                              {"margin", o.rest.margin},
-                              {"views", o.views},
-                              {"reference", o.reference},
-                              {"markers", markersJson(o.markers)}});
-    }
-    for (json& view : result["views"]) view["orientation"] = orientation_of[view["id"].get<int>()];
-    result["orientations"] = orientations;
-    result["summary"]["orientations"] = plan.orientations.size();
-  }
-  if (plan.cell) {
-    const Cell& cell = *plan.cell;
-    auto in_degrees = [](const Joints& q) {
-      json values = json::array();
-      for (double a : q) values.push_back(degrees(a));
-      return values;
-    };
-    json robot = {{"model", cell.robot.name},
-                  {"base", matrix(cell.base)},
-                  {"mount", matrix(cell.mount)},
-                  {"lower", in_degrees(cell.robot.lower)},
-                  {"upper", in_degrees(cell.robot.upper)},
-                  {"speeds", in_degrees(cell.robot.speeds)},
-                  {"table", nullptr}};
-    if (cell.table)
-      robot["table"] = {
-          {"origin", vec(cell.table->origin)},
-          {"axis", vec(cell.table->axis)},
-          {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}}};
-    result["cell"] = robot;
-    for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
-      const std::optional<CellPose>& pose = plan.cell_poses[v];
-      result["views"][v]["robot"] =
-          pose ? json{{"joints", in_degrees(pose->joints)},
-                      {"table", degrees(pose->table_angle)},
-                      {"flange", matrix(forwardKinematics(cell.robot, pose->joints))}}
-               : json(nullptr);
-    }
-    const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, visitingOrder(plan));
-    result["summary"]["robot"] = {{"max_joint_step", degrees(motion.max_step)},
-                                  {"max_joint_step_joint", motion.max_step_joint},
-                                  {"travel_seconds", motion.seconds},
-                                  {"table_moves", motion.table_moves},
-                                  {"unreached_views", motion.unreached}};
-  }
-  if (!plan.sweeps.empty()) {
-    json sweeps = json::array();
-    std::size_t sweep_views = 0;
-    for (const Sweep& sweep : plan.sweeps) {
-      json entry = {{"task", toString(sweep.task)},
-                    {"faces", sweep.faces},
-                    {"tiles", sweep.tiles},
-                    {"views", sweep.views},
-                    {"patch", nullptr}};
-      if (sweep.patch)
-        entry["patch"] = {
-            {"direction", vec(plan.part_to_world.linear() * sweep.patch->frame.linear().col(2))},
-            {"max_deviation", sweep.patch->max_deviation},
-            {"tolerance", sweep.patch->tolerance},
-            {"file", sweep.patch_file.empty() ? json(nullptr) : json(sweep.patch_file)}};
-      sweep_views += sweep.views.size();
-      sweeps.push_back(entry);
-    }
-    result["sweeps"] = sweeps;
-    result["summary"]["sweep_views"] = sweep_views;
-  }
-  if (plan.bound) {
-    const PlanBound& b = *plan.bound;
-    result["summary"]["bound"] = {
-        {"candidates", b.candidates},
-        {"ilp_views", b.ilp_views},
-        {"lower_bound", b.lower_bound},
-        {"optimal", b.optimal},
-        {"views_over_ilp",
-         b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
-                     : 0.0},
-        {"seconds", b.seconds}};
-  }
+  if (plan.registration) addRegistration(plan, result);
+  if (!plan.orientations.empty()) addOrientations(plan, result);
+  if (plan.cell) addCell(plan, result);
+  if (!plan.sweeps.empty()) addSweeps(plan, result);
+  if (plan.bound) result["summary"]["bound"] = boundJson(plan);
   return result;
 }
 
@@ -269,91 +311,114 @@ Enum enumFrom(const std::string& text, const std::array<Enum, N>& values, const 
   throw InputError(path, where + ": unknown value '" + text + "'");
 }
 
-}  // namespace
+// The object at `key` of `root`, or an empty one.
+json objectAt(const json& root, const char* key) {
+  return root.contains(key) && root[key].is_object() ? root[key] : json::object();
+}
 
-Plan readPlan(const std::string& path) {
-  ViewsFile views = readViews(path);  // checks the file, the JSON and every view
-  std::ifstream in(path);
-  const json root = json::parse(in, nullptr, false);
-  if (field<std::string>(root, "format", path, "plan") != "scanplan.plan")
-    throw InputError(path, "not a scanplan plan (format is not 'scanplan.plan')");
-  Plan plan;
-  plan.part_to_world = views.part_to_world;
-  plan.views = std::move(views.views);
-  const json& part = root.contains("part") ? root["part"] : json();
-  plan.part_file = field<std::string>(part, "file", path, "part");
-  plan.part_faces = field<std::size_t>(part, "faces", path, "part");
+// What a plan file reads into, and where errors point.
+struct PlanReader {
+  const std::string& path;
 
-  const json& scanner = root.contains("scanner") ? root["scanner"] : json();
-  if (!scanner.is_object()) throw InputError(path, "no 'scanner' object");
-  Scanner& s = plan.scanner;
-  if (scanner.contains("name") && scanner["name"].is_string()) s.name = scanner["name"];
-  for (auto [key, value] : {std::pair<const char*, double*>{"standoff", &s.standoff},
-                            {"depth_of_field", &s.depth_of_field},
-                            {"fov_width", &s.fov_width},
-                            {"fov_height", &s.fov_height},
-                            {"triangulation_angle", &s.triangulation_angle},
-                            {"max_camera_angle", &s.max_camera_angle},
-                            {"max_projector_angle", &s.max_projector_angle},
-                            {"reflection_cone", &s.reflection_cone},
-                            {"point_spacing", &s.point_spacing},
-                            {"noise_sigma", &s.noise_sigma},
-                            {"body_margin", &s.body_margin},
-                            {"body_depth", &s.body_depth}})
-    if (scanner.contains(key)) *value = field<double>(scanner, key, path, "scanner");
-  validate(s, path);
-
-  const json& entries = root.contains("views") ? root["views"] : json::array();
-  std::vector<ViewRegistration> registration(plan.views.size());
-  bool registered = false;
-  for (std::size_t v = 0; v < plan.views.size() && v < entries.size(); ++v) {
-    const json& r = entries[v].value("registration", json());
-    if (!r.is_object()) continue;
-    const std::string where = "view " + std::to_string(plan.views[v].id) + " registration";
-    registration[v].method =
-        enumFrom(field<std::string>(r, "method", path, where),
-                 std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
-                            RegistrationMethod::Icp, RegistrationMethod::None},
-                 path, where);
-    registration[v].to = r.value("to", 0);
-    registration[v].bridge = entries[v].value("bridge", false);
-    registered = true;
+  Scanner scanner(const json& root) const {
+    const json& entry = root.contains("scanner") ? root["scanner"] : json();
+    if (!entry.is_object()) throw InputError(path, "no 'scanner' object");
+    Scanner s;
+    if (entry.contains("name") && entry["name"].is_string()) s.name = entry["name"];
+    for (const auto& [key, member] : kScannerFields)
+      if (entry.contains(key)) s.*member = field<double>(entry, key, path, "scanner");
+    validate(s, path);
+    return s;
   }
-  if (registered) {
-    plan.registration.emplace();
-    plan.registration->views = registration;
-  }
-  auto readMarkers = [&](const json& list) {
-    std::vector<Marker> markers;
+
+  std::vector<Marker> markers(const json& list) const {
+    std::vector<Marker> result;
     if (list.is_array())
       for (const json& m : list)
-        markers.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
-                           detail::vectorFrom(m.value("normal", json()), path, "marker")});
-    return markers;
-  };
-  if (root.contains("registration") && root["registration"].is_object())
-    plan.markers = readMarkers(root["registration"].value("markers", json()));
-  if (root.contains("orientations")) {
-    const json& list = root["orientations"];
-    if (!list.is_array()) throw InputError(path, "'orientations' is not an array");
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      const std::string where = "orientation " + std::to_string(k + 1);
-      PlannedOrientation o;
-      o.rest.part_to_world =
-          Pose(detail::matrixFrom(list[k].value("part_to_world", json()), path, where));
-      o.rest.down = detail::vectorFrom(list[k].value("down", json()), path, where);
-      o.rest.margin = list[k].value("margin", 0.0);
-      o.views = field<std::vector<int>>(list[k], "views", path, where);
-      o.reference = list[k].value("reference", 0);
-      o.markers = readMarkers(list[k].value("markers", json()));
-      plan.orientations.push_back(std::move(o));
-    }
+        result.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
+                          detail::vectorFrom(m.value("normal", json()), path, "marker")});
+    return result;
   }
 
-  const json& samples = root.contains("samples") ? root["samples"] : json();
-  if (!samples.is_array()) throw InputError(path, "no 'samples' array");
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const json& entry = samples[i];
+  PairCheck pair(const json& entry, std::size_t k) const {
+    const std::string where = "registration pair " + std::to_string(k + 1);
+    PairCheck p;
+    const auto views = field<std::vector<int>>(entry, "views", path, where);
+    const auto shares = field<std::vector<double>>(entry, "overlap_share", path, where);
+    if (views.size() != 2 || shares.size() != 2)
+      throw InputError(path, where + ": 'views' and 'overlap_share' hold two values");
+    p.a = views[0];
+    p.b = views[1];
+    p.shared_markers = field<std::size_t>(entry, "shared_markers", path, where);
+    p.markers = field<bool>(entry, "markers", path, where);
+    p.overlap_area = field<double>(entry, "overlap_area", path, where);
+    p.overlap_a = shares[0];
+    p.overlap_b = shares[1];
+    if (entry.contains("condition") && !entry["condition"].is_null())
+      p.condition = field<double>(entry, "condition", path, where);
+    p.stable = field<bool>(entry, "stable", path, where);
+    if (entry.contains("icp")) {
+      const json& icp = entry["icp"];
+      IcpCheck& c = p.icp.emplace();
+      c.error = field<double>(icp, "error", path, where + " icp");
+      c.max_error = field<double>(icp, "max_error", path, where + " icp");
+      c.rotation = field<double>(icp, "rotation", path, where + " icp");
+      c.fitness = field<double>(icp, "fitness", path, where + " icp");
+      c.rmse = field<double>(icp, "rmse", path, where + " icp");
+      c.points = field<std::size_t>(icp, "points", path, where + " icp");
+      c.passed = field<bool>(icp, "passed", path, where + " icp");
+    }
+    return p;
+  }
+
+  // Each view's registration, the checked pairs and the counts; none when the views carry
+  // no registration.
+  std::optional<Registration> registration(const json& root, const std::vector<View>& views) const {
+    const json& entries = root.contains("views") ? root["views"] : json::array();
+    Registration result;
+    result.views.resize(views.size());
+    bool registered = false;
+    for (std::size_t v = 0; v < views.size() && v < entries.size(); ++v) {
+      const json& r = entries[v].value("registration", json());
+      if (!r.is_object()) continue;
+      const std::string where = "view " + std::to_string(views[v].id) + " registration";
+      ViewRegistration& view = result.views[v];
+      view.method = enumFrom(field<std::string>(r, "method", path, where),
+                             std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
+                                        RegistrationMethod::Icp, RegistrationMethod::None},
+                             path, where);
+      view.to = r.value("to", 0);
+      view.constrained = r.value("constrained", true);
+      view.bridge = entries[v].value("bridge", false);
+      registered = true;
+    }
+    if (!registered) return std::nullopt;
+    const json section = objectAt(root, "registration");
+    const json pairs = section.value("pairs", json::array());
+    if (!pairs.is_array()) throw InputError(path, "registration: 'pairs' is not an array");
+    for (std::size_t k = 0; k < pairs.size(); ++k) result.pairs.push_back(pair(pairs[k], k));
+    result.reference = section.value("reference", 0);
+    result.verified = section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
+                                                            [](auto& p) { return p.icp.has_value(); }));
+    const json summary = objectAt(root, "summary");
+    result.components = summary.value("registration_components", std::size_t{0});
+    result.bridging_views = summary.value("bridging_views", std::size_t{0});
+    return result;
+  }
+
+  PlannedOrientation orientation(const json& entry, std::size_t k) const {
+    const std::string where = "orientation " + std::to_string(k + 1);
+    PlannedOrientation o;
+    o.rest.part_to_world = Pose(detail::matrixFrom(entry.value("part_to_world", json()), path, where));
+    o.rest.down = detail::vectorFrom(entry.value("down", json()), path, where);
+    o.rest.margin = entry.value("margin", 0.0);
+    o.views = field<std::vector<int>>(entry, "views", path, where);
+    o.reference = entry.value("reference", 0);
+    o.markers = markers(entry.value("markers", json()));
+    return o;
+  }
+
+  PlannedSample sample(const json& entry, std::size_t i) const {
     const std::string where = "sample " + std::to_string(i + 1);
     PlannedSample p;
     p.sample.position = detail::vectorFrom(entry.value("position", json()), path, where);
@@ -374,11 +439,45 @@ Plan readPlan(const std::string& path) {
           std::array{Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
                      Uncoverable::NoValidPose, Uncoverable::Lost, Uncoverable::Unreachable},
           path, where);
-    plan.samples.push_back(p);
+    return p;
   }
+};
+
+}  // namespace
+
+Plan readPlan(const std::string& path) {
+  ViewsFile views = readViews(path);  // checks the file, the JSON and every view
+  std::ifstream in(path);
+  const json root = json::parse(in, nullptr, false);
+  if (field<std::string>(root, "format", path, "plan") != "scanplan.plan")
+    throw InputError(path, "not a scanplan plan (format is not 'scanplan.plan')");
+  const PlanReader reader{path};
+  Plan plan;
+  plan.part_to_world = views.part_to_world;
+  plan.views = std::move(views.views);
+  const json& part = root.contains("part") ? root["part"] : json();
+  plan.part_file = field<std::string>(part, "file", path, "part");
+  plan.part_faces = field<std::size_t>(part, "faces", path, "part");
+  plan.scanner = reader.scanner(root);
+  plan.registration = reader.registration(root, plan.views);
+  if (root.contains("registration") && root["registration"].is_object())
+    plan.markers = reader.markers(root["registration"].value("markers", json()));
+  if (root.contains("orientations")) {
+    const json& list = root["orientations"];
+    if (!list.is_array()) throw InputError(path, "'orientations' is not an array");
+    for (std::size_t k = 0; k < list.size(); ++k)
+      plan.orientations.push_back(reader.orientation(list[k], k));
+  }
+  const json& samples = root.contains("samples") ? root["samples"] : json();
+  if (!samples.is_array()) throw InputError(path, "no 'samples' array");
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    plan.samples.push_back(reader.sample(samples[i], i));
   if (root.contains("sequence")) {
     plan.sequence.emplace();
     plan.sequence->views = field<std::vector<int>>(root, "sequence", path, "plan");
+    const json summary = objectAt(root, "summary");
+    plan.sequence->length = summary.value("path_length", 0.0);
+    plan.sequence->nearest_neighbour_length = summary.value("nearest_neighbour_path_length", 0.0);
   }
   return plan;
 }
