@@ -1,6 +1,6 @@
 #include <scanplan/clustering.h>
 
-#include "sampling/sample_tree.h"
+#include "kd_tree.h"
 
 #include <algorithm>
 #include <cmath>

@@ -318,6 +318,125 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   return p;
 }
 
+// part: file and rest.
+void readPart(const YAML::Node& part, const SpecReader& reader, Spec& spec) {
+  checkKeys(part, {"file", "rest"}, reader, "part");
+  if (part["file"])
+    spec.part_file = reader.resolvePath(reader.scalar<std::string>(part["file"], "part.file"));
+  if (const YAML::Node rest = part["rest"]) {
+    if (rest.IsScalar() && rest.as<std::string>() == "auto") {
+      spec.rest_auto = true;
+    } else if (rest.IsScalar() && rest.as<std::string>() == "all") {
+      spec.rest_all = true;
+    } else if (int face = 0; rest.IsScalar() && YAML::convert<int>::decode(rest, face)) {
+      if (face < 1) reader.fail("part.rest: face ids start at 1");
+      spec.rest_face = face;
+    } else if (rest.IsSequence() && rest.size() == 4) {
+      Eigen::Matrix4d m;
+      for (int r = 0; r < 4; ++r) {
+        if (!rest[r].IsSequence() || rest[r].size() != 4)
+          reader.fail("part.rest: a matrix is 4 rows of 4 numbers");
+        for (int c = 0; c < 4; ++c) m(r, c) = reader.scalar<double>(rest[r][c], "part.rest");
+      }
+      if (!isRigid(m)) reader.fail("part.rest: not a rigid transform");
+      spec.rest_pose = Pose(m);
+    } else {
+      reader.fail("part.rest: expected auto, all, a face id or a 4x4 matrix");
+    }
+  }
+}
+
+// markers: a CSV of markers, or a generated grid.
+void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec) {
+  if (markers.IsMap()) {
+    checkKeys(markers, {"grid", "margin", "on"}, reader, "markers");
+    if (markers["on"]) {
+      const std::string on = reader.scalar<std::string>(markers["on"], "markers.on");
+      if (on != "plate" && on != "part" && on != "both")
+        reader.fail("markers.on: expected plate, part or both, got '" + on + "'");
+      spec.markers_on_plate = on != "part";
+      spec.markers_on_part = on != "plate";
+    }
+    if (!markers["grid"]) reader.fail("markers: a generated grid needs grid: <step in mm>");
+    spec.marker_grid = reader.scalar<double>(markers["grid"], "markers.grid");
+    if (markers["margin"])
+      spec.marker_margin = reader.scalar<double>(markers["margin"], "markers.margin");
+    if (!(spec.marker_grid > 0)) reader.fail("markers.grid must be a positive step in mm");
+    if (!(spec.marker_margin >= 0)) reader.fail("markers.margin must not be negative");
+  } else {
+    spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
+  }
+}
+
+RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& reader,
+                                     const std::string& path) {
+  checkKeys(node,
+            {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing",
+             "verify", "cloud_spacing", "perturbation", "tolerance", "bridging",
+             "max_bridging_views"},
+            reader, "registration");
+  RegistrationOptions r;
+  auto read = [&](const char* key, auto& value) {
+    if (node[key])
+      value = reader.scalar<std::decay_t<decltype(value)>>(node[key],
+                                                           std::string("registration.") + key);
+  };
+  read("min_markers", r.min_markers);
+  read("marker_spread", r.marker_spread);
+  read("min_overlap", r.min_overlap);
+  read("max_condition", r.max_condition);
+  read("point_spacing", r.point_spacing);
+  read("verify", r.verify);
+  read("cloud_spacing", r.cloud_spacing);
+  read("tolerance", r.tolerance);
+  read("bridging", r.bridging);
+  read("max_bridging_views", r.max_bridging_views);
+  if (const YAML::Node perturbation = node["perturbation"]) {
+    if (!perturbation.IsSequence() || perturbation.size() != 2)
+      reader.fail("registration.perturbation must be [mm, degrees]");
+    r.perturbation = reader.scalar<double>(perturbation[0], "registration.perturbation");
+    r.perturbation_angle = reader.scalar<double>(perturbation[1], "registration.perturbation");
+  }
+  validate(r, path);
+  return r;
+}
+
+// cell: working plane, robot, mount, table, clearance.
+void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
+  checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance"}, reader, "cell");
+  if (cell["working_plane"])
+    spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
+  if (cell["robot"]) {
+    Cell c;
+    c.robot = reader.robot(cell["robot"]);
+    if (cell["robot"]["base"]) c.base = reader.frame(cell["robot"]["base"], "cell.robot.base");
+    if (const YAML::Node meshes = cell["robot"]["link_meshes"]) {
+      if (!meshes.IsSequence() || meshes.size() != 3)
+        reader.fail(
+            "cell.robot.link_meshes: give the upper arm's, the forearm's and the "
+            "wrist's mesh files, in the base frame at the zero pose");
+      for (const YAML::Node& file : meshes) {
+        const std::string mesh_path =
+            reader.resolvePath(reader.scalar<std::string>(file, "cell.robot.link_meshes"));
+        TriangleMesh mesh = importPart(mesh_path).mesh;
+        if (mesh.empty()) throw InputError(mesh_path, "the link mesh has no triangles");
+        c.link_meshes.push_back(std::move(mesh));
+      }
+    }
+    // Default mount: the camera 150 mm out along the flange's axis, looking along it.
+    c.mount.translation() = Vec3(0, 0, 150);
+    if (cell["mount"]) c.mount = reader.frame(cell["mount"], "cell.mount");
+    if (cell["table"]) c.table = reader.table(cell["table"]);
+    if (cell["clearance"]) {
+      c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
+      if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
+    }
+    spec.cell = c;
+  } else if (cell["mount"] || cell["table"] || cell["clearance"]) {
+    reader.fail("cell: a mount or a table needs a robot (cell.robot)");
+  }
+}
+
 }  // namespace
 
 Spec loadSpec(const std::string& path) {
@@ -340,32 +459,7 @@ Spec loadSpec(const std::string& path) {
       reader, "the spec");
   try {
     if (root["scanner"]) spec.scanner = loadScanner(path);
-    if (const YAML::Node part = root["part"]) {
-      checkKeys(part, {"file", "rest"}, reader, "part");
-      if (part["file"])
-        spec.part_file = reader.resolvePath(reader.scalar<std::string>(part["file"], "part.file"));
-      if (const YAML::Node rest = part["rest"]) {
-        if (rest.IsScalar() && rest.as<std::string>() == "auto") {
-          spec.rest_auto = true;
-        } else if (rest.IsScalar() && rest.as<std::string>() == "all") {
-          spec.rest_all = true;
-        } else if (int face = 0; rest.IsScalar() && YAML::convert<int>::decode(rest, face)) {
-          if (face < 1) reader.fail("part.rest: face ids start at 1");
-          spec.rest_face = face;
-        } else if (rest.IsSequence() && rest.size() == 4) {
-          Eigen::Matrix4d m;
-          for (int r = 0; r < 4; ++r) {
-            if (!rest[r].IsSequence() || rest[r].size() != 4)
-              reader.fail("part.rest: a matrix is 4 rows of 4 numbers");
-            for (int c = 0; c < 4; ++c) m(r, c) = reader.scalar<double>(rest[r][c], "part.rest");
-          }
-          if (!isRigid(m)) reader.fail("part.rest: not a rigid transform");
-          spec.rest_pose = Pose(m);
-        } else {
-          reader.fail("part.rest: expected auto, all, a face id or a 4x4 matrix");
-        }
-      }
-    }
+    if (const YAML::Node part = root["part"]) readPart(part, reader, spec);
     if (const YAML::Node roles = root["roles"]) {
       checkKeys(roles, {"priority", "fixture", "specular"}, reader, "roles");
       spec.priority = reader.faces(roles["priority"], "roles.priority");
@@ -378,56 +472,9 @@ Spec loadSpec(const std::string& path) {
         reader.fail("gdt: expected from-file or none, got '" + value + "'");
       spec.gdt_from_file = value == "from-file";
     }
-    if (const YAML::Node markers = root["markers"]) {
-      if (markers.IsMap()) {
-        checkKeys(markers, {"grid", "margin", "on"}, reader, "markers");
-        if (markers["on"]) {
-          const std::string on = reader.scalar<std::string>(markers["on"], "markers.on");
-          if (on != "plate" && on != "part" && on != "both")
-            reader.fail("markers.on: expected plate, part or both, got '" + on + "'");
-          spec.markers_on_plate = on != "part";
-          spec.markers_on_part = on != "plate";
-        }
-        if (!markers["grid"]) reader.fail("markers: a generated grid needs grid: <step in mm>");
-        spec.marker_grid = reader.scalar<double>(markers["grid"], "markers.grid");
-        if (markers["margin"])
-          spec.marker_margin = reader.scalar<double>(markers["margin"], "markers.margin");
-        if (!(spec.marker_grid > 0)) reader.fail("markers.grid must be a positive step in mm");
-        if (!(spec.marker_margin >= 0)) reader.fail("markers.margin must not be negative");
-      } else {
-        spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
-      }
-    }
-    if (const YAML::Node node = root["registration"]) {
-      checkKeys(node,
-                {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing",
-                 "verify", "cloud_spacing", "perturbation", "tolerance", "bridging",
-                 "max_bridging_views"},
-                reader, "registration");
-      RegistrationOptions& r = spec.registration;
-      auto read = [&](const char* key, auto& value) {
-        if (node[key])
-          value = reader.scalar<std::decay_t<decltype(value)>>(node[key],
-                                                               std::string("registration.") + key);
-      };
-      read("min_markers", r.min_markers);
-      read("marker_spread", r.marker_spread);
-      read("min_overlap", r.min_overlap);
-      read("max_condition", r.max_condition);
-      read("point_spacing", r.point_spacing);
-      read("verify", r.verify);
-      read("cloud_spacing", r.cloud_spacing);
-      read("tolerance", r.tolerance);
-      read("bridging", r.bridging);
-      read("max_bridging_views", r.max_bridging_views);
-      if (const YAML::Node perturbation = node["perturbation"]) {
-        if (!perturbation.IsSequence() || perturbation.size() != 2)
-          reader.fail("registration.perturbation must be [mm, degrees]");
-        r.perturbation = reader.scalar<double>(perturbation[0], "registration.perturbation");
-        r.perturbation_angle = reader.scalar<double>(perturbation[1], "registration.perturbation");
-      }
-      validate(r, path);
-    }
+    if (const YAML::Node markers = root["markers"]) readMarkers(markers, reader, spec);
+    if (const YAML::Node node = root["registration"])
+      spec.registration = readRegistration(node, reader, path);
     if (const YAML::Node tasks = root["tasks"]) {
       if (!tasks.IsSequence() || tasks.size() == 0) reader.fail("tasks must be a non-empty list");
       spec.tasks.clear();
@@ -436,40 +483,7 @@ Spec loadSpec(const std::string& path) {
       spec.tasks = {Task{TaskType::Gdt, {}, {}}};  // gdt: from-file alone asks for a gdt task
     }
     if (const YAML::Node planner = root["planner"]) spec.planner = readPlanner(planner, reader);
-    if (const YAML::Node cell = root["cell"]) {
-      checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance"}, reader, "cell");
-      if (cell["working_plane"])
-        spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
-      if (cell["robot"]) {
-        Cell c;
-        c.robot = reader.robot(cell["robot"]);
-        if (cell["robot"]["base"]) c.base = reader.frame(cell["robot"]["base"], "cell.robot.base");
-        if (const YAML::Node meshes = cell["robot"]["link_meshes"]) {
-          if (!meshes.IsSequence() || meshes.size() != 3)
-            reader.fail(
-                "cell.robot.link_meshes: give the upper arm's, the forearm's and the "
-                "wrist's mesh files, in the base frame at the zero pose");
-          for (const YAML::Node& file : meshes) {
-            const std::string mesh_path =
-                reader.resolvePath(reader.scalar<std::string>(file, "cell.robot.link_meshes"));
-            TriangleMesh mesh = importPart(mesh_path).mesh;
-            if (mesh.empty()) throw InputError(mesh_path, "the link mesh has no triangles");
-            c.link_meshes.push_back(std::move(mesh));
-          }
-        }
-        // Default mount: the camera 150 mm out along the flange's axis, looking along it.
-        c.mount.translation() = Vec3(0, 0, 150);
-        if (cell["mount"]) c.mount = reader.frame(cell["mount"], "cell.mount");
-        if (cell["table"]) c.table = reader.table(cell["table"]);
-        if (cell["clearance"]) {
-          c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
-          if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
-        }
-        spec.cell = c;
-      } else if (cell["mount"] || cell["table"] || cell["clearance"]) {
-        reader.fail("cell: a mount or a table needs a robot (cell.robot)");
-      }
-    }
+    if (const YAML::Node cell = root["cell"]) readCell(cell, reader, spec);
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.what());
   }

@@ -5,7 +5,7 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/cell.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>

@@ -6,6 +6,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/cloud_ply.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>

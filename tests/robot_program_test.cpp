@@ -6,7 +6,7 @@
 
 #include "support.h"
 
-#include <scanplan/robot_program.h>
+#include <scanplan/robot/program.h>
 
 #include <nlohmann/json.hpp>
 

@@ -5,6 +5,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/cloud_ply.h>
 #include <scanplan/simulation.h>
 
 #include <cmath>

@@ -11,7 +11,7 @@
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
 #include <scanplan/report.h>
-#include <scanplan/robot_program.h>
+#include <scanplan/robot/program.h>
 #include <scanplan/spec.h>
 
 #include <fmt/format.h>

@@ -5,6 +5,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/cloud_ply.h>
 #include <scanplan/io/views_json.h>
 #include <scanplan/planning.h>
 #include <scanplan/simulation.h>

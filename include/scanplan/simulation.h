@@ -4,7 +4,6 @@
 // simulated point cloud, so that plans and reports agree.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/io/ply.h>
 #include <scanplan/raycast.h>
 #include <scanplan/sensor.h>
 #include <scanplan/view.h>
@@ -113,13 +112,5 @@ class Simulator {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// A cloud as PLY: x y z nx ny nz (float), face (int), incidence (float, degrees).
-PlyData cloudPly(const PointCloud& cloud);
-// Writes cloudPly(cloud) as binary little-endian PLY through a temporary file renamed
-// into place. \throw OutputError when the file cannot be written.
-void writePly(const PointCloud& cloud, const std::string& path);
-// Reads a cloud written by writePly. \throw InputError naming the file and what is wrong.
-PointCloud readCloudPly(const std::string& path);
 
 }  // namespace scanplan

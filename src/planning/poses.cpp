@@ -1,6 +1,6 @@
 // Every pose generator of the planner and the registration, and the pose validity test.
 
-#include <scanplan/cell.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/planning/poses.h>
 
 #include <algorithm>

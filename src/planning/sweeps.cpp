@@ -2,7 +2,7 @@
 // tile.
 
 #include "planning/stages.h"
-#include "sampling/sample_tree.h"
+#include "kd_tree.h"
 
 #include <map>
 #include <set>

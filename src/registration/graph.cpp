@@ -1,6 +1,6 @@
 // The registration graph: pair checks, a spanning tree of verified pairs, bridging views.
 
-#include "sampling/sample_tree.h"
+#include "kd_tree.h"
 
 #include <scanplan/errors.h>
 #include <scanplan/planning/poses.h>
@@ -158,115 +158,16 @@ class Graph {
   // (verified) and, when one does, to that component too; otherwise it brings the main
   // component closer to it. Nothing when no candidate does either.
   std::optional<View> bridge(const CellCheck& cell, int id, int towards) {
-    const int main = mainComponent();
-    std::vector<char> in_main(views_.size()), in_other(views_.size());
-    std::vector<Vec3> main_points, other_points;
-    for (std::size_t v = 0; v < views_.size(); ++v) {
-      in_main[v] = find(static_cast<int>(v)) == main;
-      in_other[v] = find(static_cast<int>(v)) == towards;
-      for (int i : seen_[v].points) {
-        if (in_main[v]) main_points.push_back(points_[i].position);
-        if (in_other[v]) other_points.push_back(points_[i].position);
-      }
-    }
-    if (main_points.empty() || other_points.empty()) return std::nullopt;
-    const std::vector<double> to_main = distances(main_points), to_other = distances(other_points);
-    double gap = std::numeric_limits<double>::infinity();
-    for (std::size_t v = 0; v < views_.size(); ++v)
-      if (in_main[v])
-        for (int i : seen_[v].points) gap = std::min(gap, to_other[i]);
-
-    // Targets within reach of the main component, nearest to the others first, spread out.
-    const Scanner& scanner = simulator_.scanner();
-    std::vector<int> order;
-    for (std::size_t i = 0; i < points_.size(); ++i)
-      if (to_main[i] <= scanner.fov_height / 2) order.push_back(static_cast<int>(i));
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return to_other[a] < to_other[b]; });
-    std::vector<View> poses;
-    std::vector<Vec3> targets;
-    // The orientations of the main component's views, which see stably, are tried at
-    // every target besides the poses around its normal.
-    std::vector<Eigen::Matrix3d> orientations;
-    for (std::size_t v = 0; v < views_.size(); ++v) {
-      const Eigen::Matrix3d r = views_[v].camera_to_world.linear();
-      const bool known = std::any_of(orientations.begin(), orientations.end(), [&](auto& o) {
-        return Eigen::AngleAxisd(o.transpose() * r).angle() < radians(10);
-      });
-      if (in_main[v] && !known) orientations.push_back(r);
-    }
-    for (int i : order) {
-      if (targets.size() == 32) break;
-      const Vec3& p = points_[i].position;
-      if (std::any_of(targets.begin(), targets.end(),
-                      [&](const Vec3& t) { return (t - p).norm() < scanner.fov_height / 4; }))
-        continue;
-      targets.push_back(p);
-      std::vector<View> around = posesAround(scanner, points_[i]);
-      for (const Eigen::Matrix3d& r : orientations) around.push_back(orientedPose(scanner, p, r));
-      poses.insert(poses.end(), around.begin(), around.end());
-    }
-    // Poses between a view of the main component and a nearby view of another: target and
-    // orientation interpolated, and each one's orientation aimed at the other's target.
-    std::vector<std::pair<double, std::pair<std::size_t, std::size_t>>> near;
-    for (std::size_t m = 0; m < views_.size(); ++m)
-      for (std::size_t o = 0; o < views_.size(); ++o)
-        if (in_main[m] && in_other[o]) {
-          const double d = (views_[m].target - views_[o].target).norm();
-          if (d < 2 * scanner.fov_width) near.push_back({d, {m, o}});
-        }
-    std::sort(near.begin(), near.end());
-    near.resize(std::min<std::size_t>(near.size(), 24));
-    for (const auto& [d, pair] : near) {
-      const View &a = views_[pair.first], &b = views_[pair.second];
-      for (const auto& [t, turn] :
-           {std::pair{1.0 / 3, 1.0 / 3}, {0.5, 0.5}, {2.0 / 3, 2.0 / 3}, {1.0, 0.0}, {0.0, 1.0}})
-        poses.push_back(poseBetween(a, b, t, turn, scanner.standoff));
-    }
+    const Sides sides = sidesOf(towards);
+    if (sides.main_points.empty() || sides.other_points.empty()) return std::nullopt;
+    std::vector<View> poses = bridgingPoses(sides);
     std::erase_if(poses, [&](const View& pose) { return !poseIsValid(simulator_, pose, cell); });
     for (View& pose : poses) {
       pose.id = id;
       pose.task = "bridge";
     }
     const std::vector<Observation> seen = observe(poses);
-
-    // Candidates that register to the main component: the best partner there, whether
-    // they reach another component, and how near to the others they measure.
-    struct Candidate {
-      std::size_t pose;
-      std::size_t partner;
-      bool joins = false;
-      double nearest = 0;
-    };
-    std::vector<std::optional<Candidate>> found(poses.size());
-    tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t k) {
-      std::optional<std::size_t> partner;
-      PairCheck best;
-      bool joins = false;
-      for (std::size_t v = 0; v < views_.size(); ++v) {
-        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
-        if (!pair.markers && !pair.stable) continue;
-        if (in_other[v]) {
-          joins = true;
-        } else if (in_main[v] &&
-                   (!partner || (pair.markers && !best.markers) ||
-                    (pair.markers == best.markers && pair.condition < best.condition))) {
-          partner = v;
-          best = pair;
-        }
-      }
-      if (!partner) return;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int i : seen[k].points) nearest = std::min(nearest, to_other[i]);
-      if (!joins && !(nearest < gap - spacing_)) return;
-      found[k] = Candidate{k, *partner, joins, joins ? 0.0 : nearest};
-    });
-    std::vector<Candidate> candidates;
-    for (const auto& candidate : found)
-      if (candidate) candidates.push_back(*candidate);
-    std::stable_sort(candidates.begin(), candidates.end(), [](auto& a, auto& b) {
-      return a.joins != b.joins ? a.joins : a.nearest < b.nearest;
-    });
+    const std::vector<Candidate> candidates = bridgeCandidates(sides, poses, seen);
     constexpr std::size_t kTries = 5;  // candidates verified before giving up
     for (std::size_t c = 0; c < std::min(candidates.size(), kTries); ++c) {
       const std::size_t v = candidates[c].partner, k = candidates[c].pose;
@@ -287,6 +188,135 @@ class Graph {
       ends_.resize(pairs_.size());
     }
     return std::nullopt;
+  }
+
+  // The two sides a bridge joins: the main component and the one it is bridged towards,
+  // their views and surface points, and how far every surface point is from each.
+  struct Sides {
+    std::vector<char> in_main, in_other;  // per view
+    std::vector<Vec3> main_points, other_points;
+    std::vector<double> to_main, to_other;  // per surface point
+    double gap = 0;                         // from the main component's points to the other's
+  };
+
+  Sides sidesOf(int towards) {
+    const int main = mainComponent();
+    Sides sides;
+    sides.in_main.resize(views_.size());
+    sides.in_other.resize(views_.size());
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      sides.in_main[v] = find(static_cast<int>(v)) == main;
+      sides.in_other[v] = find(static_cast<int>(v)) == towards;
+      for (int i : seen_[v].points) {
+        if (sides.in_main[v]) sides.main_points.push_back(points_[i].position);
+        if (sides.in_other[v]) sides.other_points.push_back(points_[i].position);
+      }
+    }
+    if (sides.main_points.empty() || sides.other_points.empty()) return sides;
+    sides.to_main = distances(sides.main_points);
+    sides.to_other = distances(sides.other_points);
+    sides.gap = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < views_.size(); ++v)
+      if (sides.in_main[v])
+        for (int i : seen_[v].points) sides.gap = std::min(sides.gap, sides.to_other[i]);
+    return sides;
+  }
+
+  // The poses a bridge is chosen from (planning/poses.h): around targets near the main
+  // component, and between its views and nearby views of the other side.
+  std::vector<View> bridgingPoses(const Sides& sides) const {
+    // Targets within reach of the main component, nearest to the others first, spread out.
+    const Scanner& scanner = simulator_.scanner();
+    std::vector<int> order;
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      if (sides.to_main[i] <= scanner.fov_height / 2) order.push_back(static_cast<int>(i));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return sides.to_other[a] < sides.to_other[b]; });
+    std::vector<View> poses;
+    std::vector<Vec3> targets;
+    // The orientations of the main component's views, which see stably, are tried at
+    // every target besides the poses around its normal.
+    std::vector<Eigen::Matrix3d> orientations;
+    for (std::size_t v = 0; v < views_.size(); ++v) {
+      const Eigen::Matrix3d r = views_[v].camera_to_world.linear();
+      const bool known = std::any_of(orientations.begin(), orientations.end(), [&](auto& o) {
+        return Eigen::AngleAxisd(o.transpose() * r).angle() < radians(10);
+      });
+      if (sides.in_main[v] && !known) orientations.push_back(r);
+    }
+    for (int i : order) {
+      if (targets.size() == 32) break;
+      const Vec3& p = points_[i].position;
+      if (std::any_of(targets.begin(), targets.end(),
+                      [&](const Vec3& t) { return (t - p).norm() < scanner.fov_height / 4; }))
+        continue;
+      targets.push_back(p);
+      std::vector<View> around = posesAround(scanner, points_[i]);
+      for (const Eigen::Matrix3d& r : orientations) around.push_back(orientedPose(scanner, p, r));
+      poses.insert(poses.end(), around.begin(), around.end());
+    }
+    // Poses between a view of the main component and a nearby view of another: target and
+    // orientation interpolated, and each one's orientation aimed at the other's target.
+    std::vector<std::pair<double, std::pair<std::size_t, std::size_t>>> near;
+    for (std::size_t m = 0; m < views_.size(); ++m)
+      for (std::size_t o = 0; o < views_.size(); ++o)
+        if (sides.in_main[m] && sides.in_other[o]) {
+          const double d = (views_[m].target - views_[o].target).norm();
+          if (d < 2 * scanner.fov_width) near.push_back({d, {m, o}});
+        }
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<std::size_t>(near.size(), 24));
+    for (const auto& [d, pair] : near) {
+      const View &a = views_[pair.first], &b = views_[pair.second];
+      for (const auto& [t, turn] :
+           {std::pair{1.0 / 3, 1.0 / 3}, {0.5, 0.5}, {2.0 / 3, 2.0 / 3}, {1.0, 0.0}, {0.0, 1.0}})
+        poses.push_back(poseBetween(a, b, t, turn, scanner.standoff));
+    }
+    return poses;
+  }
+
+  struct Candidate {
+    std::size_t pose;
+    std::size_t partner;
+    bool joins = false;
+    double nearest = 0;
+  };
+
+  // Candidates that register to the main component: the best partner there, whether
+  // they reach another component, and how near to the others they measure; those that
+  // join first, then the nearest.
+  std::vector<Candidate> bridgeCandidates(const Sides& sides, const std::vector<View>& poses,
+                                          const std::vector<Observation>& seen) const {
+    std::vector<std::optional<Candidate>> found(poses.size());
+    tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t k) {
+      std::optional<std::size_t> partner;
+      PairCheck best;
+      bool joins = false;
+      for (std::size_t v = 0; v < views_.size(); ++v) {
+        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
+        if (!pair.markers && !pair.stable) continue;
+        if (sides.in_other[v]) {
+          joins = true;
+        } else if (sides.in_main[v] &&
+                   (!partner || (pair.markers && !best.markers) ||
+                    (pair.markers == best.markers && pair.condition < best.condition))) {
+          partner = v;
+          best = pair;
+        }
+      }
+      if (!partner) return;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int i : seen[k].points) nearest = std::min(nearest, sides.to_other[i]);
+      if (!joins && !(nearest < sides.gap - spacing_)) return;
+      found[k] = Candidate{k, *partner, joins, joins ? 0.0 : nearest};
+    });
+    std::vector<Candidate> candidates;
+    for (const auto& candidate : found)
+      if (candidate) candidates.push_back(*candidate);
+    std::stable_sort(candidates.begin(), candidates.end(), [](auto& a, auto& b) {
+      return a.joins != b.joins ? a.joins : a.nearest < b.nearest;
+    });
+    return candidates;
   }
 
   // Verifies the pair (when verification is on and it is an ICP pair).

@@ -2,6 +2,7 @@
 // its views, as PLY that MeshLab and CloudCompare colour by the red, green, blue columns.
 
 #include <scanplan/io/atomic_file.h>
+#include <scanplan/io/cloud_ply.h>
 #include <scanplan/report.h>
 
 #include <fmt/format.h>

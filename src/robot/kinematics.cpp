@@ -4,7 +4,7 @@
 // the wrist gives joints 4-6 (and the flipped wrist).
 
 #include <scanplan/errors.h>
-#include <scanplan/robot.h>
+#include <scanplan/robot/kinematics.h>
 
 #include <Eigen/SVD>
 

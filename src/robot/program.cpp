@@ -3,7 +3,7 @@
 // the scanner, in sequence order. Poses of the flange are given too, for the integrator.
 
 #include <scanplan/io/atomic_file.h>
-#include <scanplan/robot_program.h>
+#include <scanplan/robot/program.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -2,7 +2,7 @@
 
 #include <scanplan/sampling.h>
 
-#include "sampling/sample_tree.h"
+#include "kd_tree.h"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 // solution of each view, and the joints chosen along the visiting order for the least
 // joint travel.
 
-#include <scanplan/cell.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/planning/plan.h>
 
 #include <Eigen/Core>

@@ -2,7 +2,7 @@
 // The plan (docs/design.md, plan.json): the views, what each sample is measured by, the
 // registration and the sequence of the views; io/plan_json.h writes and reads it.
 
-#include <scanplan/cell.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/localization.h>
 #include <scanplan/registration.h>
 #include <scanplan/sampling.h>

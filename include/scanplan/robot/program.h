@@ -3,7 +3,7 @@
 // each view and triggers a scan there (docs/cell.md). KUKA KRL (.src), ABB RAPID (.mod),
 // Universal Robots URScript (.script), and a neutral JSON of joints and flange poses.
 
-#include <scanplan/cell.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/planning.h>
 
 #include <string>

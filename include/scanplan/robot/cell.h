@@ -5,7 +5,7 @@
 // solution within the joint limits).
 
 #include <scanplan/cad/mesh.h>
-#include <scanplan/robot.h>
+#include <scanplan/robot/kinematics.h>
 #include <scanplan/view.h>
 
 #include <memory>
