@@ -1,7 +1,7 @@
 #pragma once
 // The library's error policy: every failure a user can cause is one of these typed
 // exceptions. The CLI catches them once, prints `error: <file>: <reason>` and exits with
-// the class's code (DESIGN.md §8). Internal invariants use assertions, not exceptions.
+// the class's code (docs/design.md §8). Internal invariants use assertions, not exceptions.
 
 #include <stdexcept>
 #include <string>

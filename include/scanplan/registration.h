@@ -1,5 +1,5 @@
 #pragma once
-// Registration feasibility (DESIGN.md §5): which views can be put together, by markers
+// Registration feasibility (docs/design.md §5): which views can be put together, by markers
 // they share or by ICP on the overlap of their simulated clouds, and the bridging views
 // that join the registration graph where it falls apart. docs/registration.md.
 

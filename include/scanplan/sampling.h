@@ -1,5 +1,5 @@
 #pragma once
-// Task-driven sampling (DESIGN.md §2, §5): what is sampled, and how, follows the
+// Task-driven sampling (docs/design.md §2, §5): what is sampled, and how, follows the
 // inspection task. All positions and normals are in the part frame, mm.
 
 #include <scanplan/cad/part.h>

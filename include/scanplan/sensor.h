@@ -1,5 +1,5 @@
 #pragma once
-// The scanner model (DESIGN.md §4): a camera and a projector (or laser) on a rigid
+// The scanner model (docs/design.md §4): a camera and a projector (or laser) on a rigid
 // baseline, with its measuring volume, glancing limits and noise.
 //
 // Scanner frame S: origin at the camera's optical centre, +Z the optical axis (towards

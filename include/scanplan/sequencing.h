@@ -1,5 +1,5 @@
 #pragma once
-// The order in which the scanner visits the views (DESIGN.md §5, Sequencing): a motion
+// The order in which the scanner visits the views (docs/design.md §5, Sequencing): a motion
 // cost between views, shortest paths over the view graph, and a tour that keeps each
 // view after one it registers to. docs/registration.md.
 

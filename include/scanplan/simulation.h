@@ -1,5 +1,5 @@
 #pragma once
-// Acquisition simulation: what a view of the scanner really measures (DESIGN.md §4).
+// Acquisition simulation: what a view of the scanner really measures (docs/design.md §4).
 // The same measurement test serves surface points (samples), mesh facets and the
 // simulated point cloud, so that plans and reports agree.
 

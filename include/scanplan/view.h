@@ -1,5 +1,5 @@
 #pragma once
-// A scanner view: the pose of the scanner frame S in the world (DESIGN.md §3, §7).
+// A scanner view: the pose of the scanner frame S in the world (docs/design.md §3, §7).
 
 #include <scanplan/geometry.h>
 #include <scanplan/sensor.h>

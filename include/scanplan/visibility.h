@@ -1,5 +1,5 @@
 #pragma once
-// Visibility maps (DESIGN.md §5): per sample, the directions on an azimuth x elevation
+// Visibility maps (docs/design.md §5): per sample, the directions on an azimuth x elevation
 // grid from which a camera at the standoff sees it without occlusion, within the
 // glancing cone; the Combined Visibility Map of a cluster counts, per direction, the
 // samples that see it.

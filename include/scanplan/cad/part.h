@@ -35,7 +35,7 @@ struct Color {
 };
 
 // One face of the part. Faces of a B-Rep are numbered in TopExp::MapShapes order over
-// the imported shape (DESIGN.md §3); faces of a mesh by group or sharp-edge region.
+// the imported shape (docs/design.md §3); faces of a mesh by group or sharp-edge region.
 struct Face {
   int id = 0;  // 1-based
   SurfaceType type = SurfaceType::Other;

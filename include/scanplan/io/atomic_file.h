@@ -1,5 +1,5 @@
 #pragma once
-// Outputs are never half-written (DESIGN.md §8): written to `<path>.tmp`, then renamed
+// Outputs are never half-written (docs/design.md §8): written to `<path>.tmp`, then renamed
 // into place.
 
 #include <functional>

@@ -1,5 +1,5 @@
 #pragma once
-// plan.json (DESIGN.md §7): the contract with everything downstream.
+// plan.json (docs/design.md §7): the contract with everything downstream.
 
 #include <scanplan/planning.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Reading views from JSON in the plan format (DESIGN.md §7).
+// Reading views from JSON in the plan format (docs/design.md §7).
 
 #include <scanplan/view.h>
 

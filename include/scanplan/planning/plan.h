@@ -49,7 +49,7 @@ struct StageTime {
   double seconds = 0;
 };
 
-// A surface wider than the field of view covered tile by tile (DESIGN.md §5, Sweep
+// A surface wider than the field of view covered tile by tile (docs/design.md §5, Sweep
 // positioning): the gdt task's wide faces over their own parameters, the surface task's
 // faces over an interpolated patch per set of like-facing faces.
 struct Sweep {
