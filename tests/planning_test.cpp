@@ -127,6 +127,53 @@ TEST(Planning, CubeOnThePlane) {
   EXPECT_NEAR(plan.part_to_world.translation().z(), 0, 1e-9);  // the cube already stands on z = 0
 }
 
+// A camera 100 mm above the working plane looking level, baseline level: the scanner body
+// reaches body_margin below the camera, so the pose is valid exactly while the margin is
+// under 100 mm. The cube stands far behind the target.
+TEST(Planning, ScannerBodyComesFromTheScanner) {
+  test::TempDir dir;
+  const Part part = cube(dir);
+  View view;
+  view.camera_to_world = lookAt(Vec3(-1000, 50, 100), Vec3(-600, 50, 100), Vec3::UnitY());
+  for (const auto& [margin, valid] : {std::pair{60.0, true}, {99.0, true}, {101.0, false}}) {
+    Scanner scanner;
+    scanner.body_margin = margin;
+    const Simulator simulator(part, scanner);
+    EXPECT_EQ(poseIsValid(simulator, view), valid) << margin;
+  }
+  // The presets carry the body, and a scanner mapping sets it.
+  EXPECT_EQ(scannerPreset("generic-structured-light").body_margin, 60);
+  EXPECT_EQ(scannerPreset("laser-line").body_depth, 200);
+  const Spec spec = specWith("scanner: {preset: laser-line, body_margin: 40, body_depth: 150}\n", dir);
+  EXPECT_EQ(spec.scanner.body_margin, 40);
+  EXPECT_EQ(spec.scanner.body_depth, 150);
+}
+
+// Every planner setting of the spec reaches planViews(part, spec), and bad ones are errors.
+TEST(Planning, PlannerSettingsComeFromTheSpec) {
+  test::TempDir dir;
+  const Spec spec =
+      specWith("planner: {rotations: 4, rescue: {step: 15, rotations: 2}, tilt: [20, 40]}\n", dir);
+  EXPECT_EQ(spec.planner.rotations, 4);
+  EXPECT_EQ(spec.planner.rescue_step, 15);
+  EXPECT_EQ(spec.planner.rescue_rotations, 2);
+  for (const char* bad : {"planner: {rotations: 0}\n", "planner: {rescue: {step: 0.01}}\n",
+                          "planner: {rescue: {rotations: 99}}\n", "planner: {rescue: {grid: 5}}\n"})
+    EXPECT_THROW(specWith(bad, dir), InputError) << bad;
+  // The rotations tried per direction: with one, the candidate pool holds fewer poses.
+  const Part part = cube(dir);
+  auto candidates = [&](const std::string& planner) {
+    const Plan plan = planViews(part, specWith(planner, dir),
+                                PlanningOptions{.registration = false, .bound = true});
+    return plan.bound->candidates;
+  };
+  const std::size_t one = candidates("planner: {rotations: 1}\n");
+  const std::size_t eight = candidates("planner: {rotations: 8}\n");
+  RecordProperty("candidates", std::to_string(one) + " and " + std::to_string(eight));
+  EXPECT_LT(one, eight);
+  EXPECT_GT(one, 0u);
+}
+
 TEST(Planning, DeepSlotFloorSeenAlongTheSlot) {
   test::TempDir dir;
   Part part = slotted(dir);

@@ -7,6 +7,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/planning/planner.h>
 #include <scanplan/sampling.h>
 #include <scanplan/spec.h>
 
@@ -330,6 +331,31 @@ TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
   EXPECT_GT(tasks[TaskType::Global], 0);
   EXPECT_GT(tasks[TaskType::Trim], 0);
   EXPECT_EQ(tasks[TaskType::Points], 1);
+}
+
+// The spec resolved against its part once: roles and tasks as face ids, fixtures left out
+// of every task, the GD&T faces both priority and gdt targets.
+TEST(SpecSampling, ResolvedSpecHoldsFaceIds) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  const std::vector<int> gdt = gdtFaces(part);
+  ASSERT_GE(gdt.size(), 2u);
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"),
+                  "gdt: from-file\nroles: {fixture: [" + std::to_string(gdt.front()) +
+                      "], specular: [3, 1]}\ntasks:\n  - {type: gdt}\n  - {type: trim, faces: [" +
+                      std::to_string(gdt.back()) + "]}\n");
+  const ResolvedSpec resolved = resolveSpec(part, loadSpec(dir.file("spec.yaml")));
+  EXPECT_EQ(resolved.gdt_faces, gdt);
+  EXPECT_EQ(resolved.targets.priority, gdt);
+  EXPECT_EQ(resolved.targets.fixture, std::vector<int>{gdt.front()});
+  EXPECT_EQ(resolved.specular, (std::vector<int>{1, 3}));
+  ASSERT_EQ(resolved.targets.tasks.size(), 2u);
+  EXPECT_EQ(resolved.targets.tasks[0].faces, std::vector<int>(gdt.begin() + 1, gdt.end()));
+  EXPECT_EQ(resolved.targets.tasks[1].faces, std::vector<int>{gdt.back()});
+  EXPECT_EQ(simulationOptionsFor(resolved, Pose::Identity()).specular_faces, resolved.specular);
+  // An unknown face in any role names the spec.
+  test::writeText(dir.file("bad.yaml"), "roles: {specular: [9999]}\n");
+  EXPECT_THROW(resolveSpec(part, loadSpec(dir.file("bad.yaml"))), InputError);
 }
 
 TEST(SpecSampling, TasksWithoutTargetsCannotBePlanned) {
