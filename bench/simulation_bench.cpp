@@ -4,8 +4,8 @@
 //   build/release/bench/scanplan_bench --benchmark_filter=Simulat
 
 #include <scanplan/cad/import.h>
-#include <scanplan/raycast.h>
 #include <scanplan/planning/poses.h>
+#include <scanplan/raycast.h>
 #include <scanplan/simulation.h>
 
 #include <benchmark/benchmark.h>

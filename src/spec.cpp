@@ -370,11 +370,11 @@ void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec
 
 RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& reader,
                                      const std::string& path) {
-  checkKeys(node,
-            {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing",
-             "verify", "cloud_spacing", "perturbation", "tolerance", "bridging",
-             "max_bridging_views"},
-            reader, "registration");
+  checkKeys(
+      node,
+      {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing", "verify",
+       "cloud_spacing", "perturbation", "tolerance", "bridging", "max_bridging_views"},
+      reader, "registration");
   RegistrationOptions r;
   auto read = [&](const char* key, auto& value) {
     if (node[key])
@@ -501,7 +501,8 @@ std::vector<int> gdtFaces(const Part& part) {
 namespace {
 
 std::vector<int> without(std::vector<int> faces, const std::vector<int>& removed) {
-  std::erase_if(faces, [&](int id) { return std::binary_search(removed.begin(), removed.end(), id); });
+  std::erase_if(faces,
+                [&](int id) { return std::binary_search(removed.begin(), removed.end(), id); });
   return faces;
 }
 

@@ -576,7 +576,8 @@ TileFit frameTile(const SurfaceGrid& grid, SweepTile& tile, bool along_u) {
   double turn_u = 0, turn_v = 0;
   for (std::size_t k : tile.nodes) {
     const Vec3& n = grid.normals[k];
-    fit.spread = std::max(fit.spread, degrees(std::acos(std::clamp(n.dot(tile.normal), -1.0, 1.0))));
+    fit.spread =
+        std::max(fit.spread, degrees(std::acos(std::clamp(n.dot(tile.normal), -1.0, 1.0))));
     const int i = static_cast<int>(k % grid.nu), j = static_cast<int>(k / grid.nu);
     if (i + 1 < grid.nu) turn_u += std::acos(std::clamp(n.dot(grid.normals[k + 1]), -1.0, 1.0));
     if (j + 1 < grid.nv)

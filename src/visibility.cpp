@@ -8,8 +8,7 @@
 
 namespace scanplan {
 
-namespace {
-}
+namespace {}
 
 VisibilityMap::VisibilityMap(double step_degrees)
     : step(step_degrees),

@@ -5,10 +5,10 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/robot/cell.h>
 #include <scanplan/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/sequencing.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>

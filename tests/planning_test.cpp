@@ -122,8 +122,7 @@ TEST(Planning, CubeOnThePlane) {
   SimulationOptions options;
   options.part_to_world = plan.part_to_world;
   Simulator simulator(part, plan.scanner, options);
-  for (const View& view : plan.views)
-    EXPECT_TRUE(poseIsValid(simulator, view)) << view.id;
+  for (const View& view : plan.views) EXPECT_TRUE(poseIsValid(simulator, view)) << view.id;
   EXPECT_NEAR(plan.part_to_world.translation().z(), 0, 1e-9);  // the cube already stands on z = 0
 }
 
@@ -144,7 +143,8 @@ TEST(Planning, ScannerBodyComesFromTheScanner) {
   // The presets carry the body, and a scanner mapping sets it.
   EXPECT_EQ(scannerPreset("generic-structured-light").body_margin, 60);
   EXPECT_EQ(scannerPreset("laser-line").body_depth, 200);
-  const Spec spec = specWith("scanner: {preset: laser-line, body_margin: 40, body_depth: 150}\n", dir);
+  const Spec spec =
+      specWith("scanner: {preset: laser-line, body_margin: 40, body_depth: 150}\n", dir);
   EXPECT_EQ(spec.scanner.body_margin, 40);
   EXPECT_EQ(spec.scanner.body_depth, 150);
 }

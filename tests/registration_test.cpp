@@ -22,7 +22,6 @@
 namespace scanplan {
 namespace {
 
-
 // A scanner that sees and lights the three faces of a cube corner at once.
 Scanner wideScanner() {
   Scanner scanner;
@@ -523,8 +522,8 @@ TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
   ASSERT_GE(bare.views.size(), 2u);
   RecordProperty("registered_without_markers", std::to_string(bare.registration->registered()));
   RecordProperty("registered_with_markers", std::to_string(marked.registration->registered()));
-  RecordProperty("views", std::to_string(bare.views.size()) + " and " +
-                              std::to_string(marked.views.size()));
+  RecordProperty("views",
+                 std::to_string(bare.views.size()) + " and " + std::to_string(marked.views.size()));
   RecordProperty("measured_by_registered_views",
                  std::to_string(bare.registeredMeasuredCount()) + " and " +
                      std::to_string(marked.registeredMeasuredCount()) + " of " +

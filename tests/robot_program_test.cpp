@@ -65,7 +65,6 @@ std::vector<double> numbersIn(const std::string& text) {
   return values;
 }
 
-
 TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = program();
   const std::string text = krlProgram(p);

@@ -238,8 +238,7 @@ TEST(GlobalSampling, BoxFacesGetFewSpreadSamples) {
   }
   for (std::size_t a = 0; a < samples.size(); ++a)
     for (std::size_t b = a + 1; b < samples.size(); ++b)
-      if (samples[a].normal.dot(samples[b].normal) >
-          std::cos(radians(options.decimation_angle))) {
+      if (samples[a].normal.dot(samples[b].normal) > std::cos(radians(options.decimation_angle))) {
         EXPECT_GE((samples[a].position - samples[b].position).norm(), options.decimation_radius);
       }
 }
@@ -294,8 +293,8 @@ TEST(SpecSampling, GdtFromFileSelectsExactlyThePmiFaces) {
   Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   test::TempDir dir;
   test::writeText(dir.file("spec.yaml"), "gdt: from-file\n");
-  std::vector<Sample> samples =
-      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
+  std::vector<Sample> samples = sampleTargets(
+      part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
   std::set<int> expected;
   for (const GeometricTolerance& t : part.gdt.tolerances)
     expected.insert(t.faces.begin(), t.faces.end());
@@ -319,8 +318,8 @@ TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
                   "roles:\n  fixture: [" + std::to_string(top) +
                       "]\ntasks:\n  - {type: global}\n  - {type: trim, faces: [1]}\n"
                       "  - {type: points, file: points.csv}\n");
-  std::vector<Sample> samples =
-      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
+  std::vector<Sample> samples = sampleTargets(
+      part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
   std::map<TaskType, int> tasks;
   for (const Sample& s : samples) {
     ++tasks[s.task];
@@ -364,7 +363,8 @@ TEST(SpecSampling, TasksWithoutTargetsCannotBePlanned) {
   auto reason = [&](const std::string& spec_text) -> std::string {
     test::writeText(dir.file("spec.yaml"), spec_text);
     try {
-      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets,
+                    SamplingOptions{});
     } catch (const PlanningError& e) {
       EXPECT_EQ(e.exitCode(), kExitPlanning);
       return e.what();
@@ -386,7 +386,8 @@ TEST(SpecSampling, SpecErrors) {
   auto reason = [&](const std::string& spec_text) -> std::string {
     test::writeText(dir.file("spec.yaml"), spec_text);
     try {
-      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{});
+      sampleTargets(part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets,
+                    SamplingOptions{});
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(dir.file("")), std::string::npos) << e.what();
       return e.what();

@@ -14,7 +14,6 @@
 namespace scanplan {
 namespace {
 
-
 // The default scanner looking along world +Z from the origin: S is the world frame, the
 // volume centre is (0, 0, 400), the projector is at (400 tan 25°, 0, 0).
 Scanner scanner() { return Scanner{}; }

@@ -3,8 +3,8 @@
 // default: an empty spec (or none) means one `global` task with the default scanner.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/robot/cell.h>
 #include <scanplan/registration.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/sensor.h>
 #include <scanplan/tasks.h>
 #include <scanplan/view.h>

@@ -398,8 +398,9 @@ struct PlanReader {
     if (!pairs.is_array()) throw InputError(path, "registration: 'pairs' is not an array");
     for (std::size_t k = 0; k < pairs.size(); ++k) result.pairs.push_back(pair(pairs[k], k));
     result.reference = section.value("reference", 0);
-    result.verified = section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
-                                                            [](auto& p) { return p.icp.has_value(); }));
+    result.verified =
+        section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
+                                              [](auto& p) { return p.icp.has_value(); }));
     const json summary = objectAt(root, "summary");
     result.components = summary.value("registration_components", std::size_t{0});
     result.bridging_views = summary.value("bridging_views", std::size_t{0});
@@ -409,7 +410,8 @@ struct PlanReader {
   PlannedOrientation orientation(const json& entry, std::size_t k) const {
     const std::string where = "orientation " + std::to_string(k + 1);
     PlannedOrientation o;
-    o.rest.part_to_world = Pose(detail::matrixFrom(entry.value("part_to_world", json()), path, where));
+    o.rest.part_to_world =
+        Pose(detail::matrixFrom(entry.value("part_to_world", json()), path, where));
     o.rest.down = detail::vectorFrom(entry.value("down", json()), path, where);
     o.rest.margin = entry.value("margin", 0.0);
     o.views = field<std::vector<int>>(entry, "views", path, where);

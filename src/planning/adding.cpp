@@ -41,15 +41,14 @@ bool addView(View view, std::vector<int> measured, std::vector<PlannedSample>& s
 }
 
 std::optional<View> clusterPose(const Placement& at, const std::vector<Sample>& members,
-                                const Vec3& mean_point, const Vec3& mean_normal,
-                                bool normal_only, std::vector<Visibility>& status,
-                                std::vector<View>& candidates) {
+                                const Vec3& mean_point, const Vec3& mean_normal, bool normal_only,
+                                std::vector<Visibility>& status, std::vector<View>& candidates) {
   const PlannerSettings& settings = at.settings();
   ClusterDirections options;
   options.tilt_min = settings.tilt_min;
   options.tilt_max = settings.tilt_max;
-  options.visibility = plannerVisibility(at.scanner(), settings.vm_step,
-                                         at.simulator.options().working_plane);
+  options.visibility =
+      plannerVisibility(at.scanner(), settings.vm_step, at.simulator.options().working_plane);
   std::vector<SurfacePoint> targets;
   for (const Sample& s : members) targets.push_back({s.position, s.normal, s.face});
   std::optional<View> best;
@@ -75,8 +74,7 @@ std::vector<int> pendingSamples(const Placement& at, const std::vector<PlannedSa
                                 const std::vector<int>& failures) {
   std::vector<int> pending;
   for (std::size_t i = 0; i < samples.size(); ++i)
-    if (samples[i].measured_by.empty() && !at.isDone(i) &&
-        failures[i] < at.settings().max_failures)
+    if (samples[i].measured_by.empty() && !at.isDone(i) && failures[i] < at.settings().max_failures)
       pending.push_back(static_cast<int>(i));
   return pending;
 }
@@ -121,8 +119,8 @@ bool addClusterView(const Placement& at, const std::vector<int>& members,
   const Vec3 mean_normal = normal_sum.norm() > 1e-9 ? Vec3(normal_sum.normalized()) : Vec3::UnitZ();
   const bool normal_only = cluster.front().task == TaskType::Trim;
   std::vector<Visibility> status;
-  const std::optional<View> pose = clusterPose(at, cluster, mean_point, mean_normal, normal_only,
-                                               status, state.candidates);
+  const std::optional<View> pose =
+      clusterPose(at, cluster, mean_point, mean_normal, normal_only, status, state.candidates);
   for (std::size_t m = 0; m < status.size(); ++m) state.visibility[members[m]] = status[m];
   if (!pose) {
     for (int i : members) ++state.failures[i];

@@ -51,8 +51,8 @@ Pose placementFor(const Part& part, const Spec& spec) {
 }
 
 std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
-                                             const std::vector<SurfacePoint>& samples,
-                                             double step, int rotations, const CellCheck& cell) {
+                                             const std::vector<SurfacePoint>& samples, double step,
+                                             int rotations, const CellCheck& cell) {
   const VisibilityMap grid(step);
   std::vector<char> coverable(samples.size(), 0);
   constexpr std::size_t kBlock = 64;  // samples per batch of poses
@@ -172,10 +172,9 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
   if (at.cell.cell) {
     // In joint space: the order by the robot's travel time, lengths in mm as always.
     solutions = cellSolutions(*at.cell.cell, plan.views, at.cell.collisions);
-    plan.sequence =
-        sequenceViews(shortestPaths(jointTravelTimes(*at.cell.cell, solutions)),
-                      shortestPaths(directCosts(at.simulator, plan.views)), plan.views,
-                      *plan.registration);
+    plan.sequence = sequenceViews(shortestPaths(jointTravelTimes(*at.cell.cell, solutions)),
+                                  shortestPaths(directCosts(at.simulator, plan.views)), plan.views,
+                                  *plan.registration);
   } else {
     plan.sequence = sequenceViews(at.simulator, plan.views, *plan.registration);
   }
@@ -199,7 +198,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     collisions = std::make_unique<const CellCollisions>(
         *cell, part.mesh, part_to_world, simulator.options().fixtures,
         simulator.options().working_plane, cell->clearance);
-  detail::Placement at{part, spec, simulator, {cell ? &*cell : nullptr, collisions.get()}, {}, done};
+  detail::Placement at{part, spec, simulator, {cell ? &*cell : nullptr, collisions.get()},
+                       {},   done};
   for (const PlannedSample& s : plan.samples)
     at.points.push_back({s.sample.position, s.sample.normal, s.sample.face});
   clock.lap("scene");
@@ -216,8 +216,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   detail::rescueViews(at, plan.samples, added);
   clock.lap("rescue");
 
-  report(progress,
-         "selecting among " + std::to_string(added.size() + candidates.size()) + " poses", 0);
+  report(progress, "selecting among " + std::to_string(added.size() + candidates.size()) + " poses",
+         0);
   const detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates);
   detail::applySelection(pool, detail::selectViews(at, pool, pinned, plan.samples), plan);
   clock.lap("pruning");

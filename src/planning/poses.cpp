@@ -1,7 +1,7 @@
 // Every pose generator of the planner and the registration, and the pose validity test.
 
-#include <scanplan/robot/cell.h>
 #include <scanplan/planning/poses.h>
+#include <scanplan/robot/cell.h>
 
 #include <algorithm>
 #include <array>
@@ -83,8 +83,8 @@ std::vector<View> aimedPoses(const Scanner& scanner, const Vec3& target, const V
 VisibilityOptions plannerVisibility(const Scanner& scanner, double step, bool working_plane) {
   VisibilityOptions options;
   options.step = step;
-  options.cone = std::min(scanner.max_camera_angle,
-                          scanner.max_projector_angle + scanner.triangulation_angle);
+  options.cone =
+      std::min(scanner.max_camera_angle, scanner.max_projector_angle + scanner.triangulation_angle);
   options.reach = scanner.standoff;
   options.working_plane = working_plane;
   return options;
@@ -107,7 +107,8 @@ std::vector<Vec3> clusterDirections(const Simulator& simulator, const std::vecto
   std::vector<std::pair<double, int>> ranked;
   for (int c = 0; c < cvm.cells(); ++c) {
     if (cvm.counts[c] < top) continue;
-    const double tilt = degrees(std::acos(std::clamp(cvm.direction(c).dot(mean_normal), -1.0, 1.0)));
+    const double tilt =
+        degrees(std::acos(std::clamp(cvm.direction(c).dot(mean_normal), -1.0, 1.0)));
     const bool in_band = tilt >= options.tilt_min && tilt <= options.tilt_max;
     ranked.push_back({(in_band ? 0 : 1000) + tilt, c});
   }

@@ -85,8 +85,7 @@ std::vector<std::size_t> selectViews(const Placement& at, const MeasuredViews& p
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> chosen = greedyCover(at, pool, all, pinned, samples, false);
-  const std::vector<std::size_t> kept =
-      withoutRedundant(at, pool, chosen, pinned, samples.size());
+  const std::vector<std::size_t> kept = withoutRedundant(at, pool, chosen, pinned, samples.size());
   return greedyCover(at, pool, kept, pinned, samples, true);
 }
 
@@ -99,10 +98,10 @@ void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& s
     if (view.task.empty()) {  // a candidate: the task of most of the samples it measures
       std::map<TaskType, int> tasks;
       for (int i : measured) ++tasks[plan.samples[i].sample.task];
-      view.task = std::string(toString(
-          std::max_element(tasks.begin(), tasks.end(), [](auto& a, auto& b) {
-            return a.second < b.second;
-          })->first));
+      view.task =
+          std::string(toString(std::max_element(tasks.begin(), tasks.end(), [](auto& a, auto& b) {
+                                 return a.second < b.second;
+                               })->first));
     }
     view.id = static_cast<int>(k) + 1;
     plan.views.push_back(view);

@@ -53,9 +53,8 @@ bool addView(View view, std::vector<int> measured, std::vector<PlannedSample>& s
 // ties. Every valid pose tried is appended to `candidates`. `status` receives each
 // member's Visibility.
 std::optional<View> clusterPose(const Placement& at, const std::vector<Sample>& members,
-                                const Vec3& mean_point, const Vec3& mean_normal,
-                                bool normal_only, std::vector<Visibility>& status,
-                                std::vector<View>& candidates);
+                                const Vec3& mean_point, const Vec3& mean_normal, bool normal_only,
+                                std::vector<Visibility>& status, std::vector<View>& candidates);
 
 // Sweep positioning: one view per tile of each surface the samples ask to sweep, added
 // first to `added` (the pinned views, kept through the selection). The sweeps with the
@@ -85,8 +84,7 @@ MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
 // from the `pinned` first views, then views whose samples all others also measure dropped
 // (last chosen first), then the rest ordered by marginal coverage, priority samples first.
 std::vector<std::size_t> selectViews(const Placement& at, const MeasuredViews& pool,
-                                     std::size_t pinned,
-                                     const std::vector<PlannedSample>& samples);
+                                     std::size_t pinned, const std::vector<PlannedSample>& samples);
 
 // The selected views as the plan's, ids 1..n in selection order, the task of a candidate
 // taken from most of the samples it measures; the samples' measured_by set to them.

@@ -1,8 +1,8 @@
 // Sweep positioning (docs/sweep.md): surfaces much wider than the field of view, tile by
 // tile.
 
-#include "planning/stages.h"
 #include "kd_tree.h"
+#include "planning/stages.h"
 
 #include <map>
 #include <set>
@@ -101,7 +101,6 @@ std::vector<std::vector<int>> tileMembers(const SweepTarget& target,
   return members;
 }
 
-
 // The view of a sweep tile: its tilePose, or, when that pose is not valid or misses some
 // of the tile's samples, the best tilted pose for them if it measures more.
 std::optional<View> tileView(const Placement& at, const SweepTile& tile,
@@ -131,8 +130,8 @@ std::vector<Sweep> sweepViews(const Placement& at, std::vector<PlannedSample>& s
   std::vector<Sample> world;
   for (const PlannedSample& s : samples) world.push_back(s.sample);
   std::vector<Sweep> sweeps;
-  for (SweepTarget& target :
-       sweepTargets(at.part, samples, at.simulator.options().part_to_world, at.scanner(), at.done)) {
+  for (SweepTarget& target : sweepTargets(at.part, samples, at.simulator.options().part_to_world,
+                                          at.scanner(), at.done)) {
     report(progress,
            "sweep positioning over " + std::to_string(target.sweep.faces.size()) + " face(s)", 0);
     const std::vector<SweepTile> tiles =

@@ -133,7 +133,8 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     again.sequence = Sequence{};
   }
   for (PlannedOrientation& o : again.orientations) {
-    PlanCheck part_check = verifyPlacement(orientationPlan(plan, o), part, resolved, options, progress);
+    PlanCheck part_check =
+        verifyPlacement(orientationPlan(plan, o), part, resolved, options, progress);
     check.coverage_differences += part_check.coverage_differences;
     check.registration_differences += part_check.registration_differences;
     check.sequence_missing += part_check.sequence_missing;

@@ -176,7 +176,8 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
       clusterSamples(samples, clusteringOptionsFor(plan.scanner, spec.planner.seed));
   const Simulator simulator(part, plan.scanner,
                             simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
-  const VisibilityOptions vo = plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
+  const VisibilityOptions vo =
+      plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
   json list = json::array();
   for (std::size_t c = 0; c < clusters.size(); ++c) {
     report(progress, "visibility maps",

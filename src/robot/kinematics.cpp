@@ -13,7 +13,6 @@
 namespace scanplan {
 namespace {
 
-
 Joints degrees(std::initializer_list<double> values) {
   Joints q{};
   std::size_t i = 0;

@@ -21,9 +21,9 @@ void writePlan(const Plan& plan, const std::string& path);
 
 // Reads a plan.json back: part file and faces, placement, scanner (every §4 parameter
 // the file gives, over the defaults), views with their bridge flags, markers, samples
-// with measured_by and not_coverable reasons, and the sequence. Registration results and times are not read: they
-// are what `scanplan verify` checks again.
-// \throw InputError naming the file and the field that is missing or wrong.
+// with measured_by and not_coverable reasons, and the sequence. Registration results and times are
+// not read: they are what `scanplan verify` checks again. \throw InputError naming the file and the
+// field that is missing or wrong.
 Plan readPlan(const std::string& path);
 
 }  // namespace scanplan

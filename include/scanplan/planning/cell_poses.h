@@ -3,8 +3,8 @@
 // solution of each view, and the joints chosen along the visiting order for the least
 // joint travel.
 
-#include <scanplan/robot/cell.h>
 #include <scanplan/planning/plan.h>
+#include <scanplan/robot/cell.h>
 
 #include <Eigen/Core>
 #include <optional>

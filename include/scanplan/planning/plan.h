@@ -2,9 +2,9 @@
 // The plan (docs/design.md, plan.json): the views, what each sample is measured by, the
 // registration and the sequence of the views; io/plan_json.h writes and reads it.
 
-#include <scanplan/robot/cell.h>
 #include <scanplan/localization.h>
 #include <scanplan/registration.h>
+#include <scanplan/robot/cell.h>
 #include <scanplan/sampling.h>
 #include <scanplan/sequencing.h>
 #include <scanplan/sweep.h>

@@ -22,7 +22,7 @@ struct RotaryTable {
   Vec3 origin = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();           // unit
   double lower = -M_PI, upper = M_PI;  // radians
-  double step = radians(5);        // angles tried, radians
+  double step = radians(5);            // angles tried, radians
 };
 
 struct Cell {

@@ -3,8 +3,8 @@
 // each view and triggers a scan there (docs/cell.md). KUKA KRL (.src), ABB RAPID (.mod),
 // Universal Robots URScript (.script), and a neutral JSON of joints and flange poses.
 
-#include <scanplan/robot/cell.h>
 #include <scanplan/planning.h>
+#include <scanplan/robot/cell.h>
 
 #include <string>
 #include <string_view>
