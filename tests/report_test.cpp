@@ -326,6 +326,67 @@ TEST(Report, PageIsOneFileWithThePlansData) {
   EXPECT_GT(page.size(), 400000u);
 }
 
+std::vector<std::uint32_t> decodeUInt32s(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string bytes;
+  unsigned bits = 0, count = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    bits = (bits << 6) | static_cast<unsigned>(alphabet.find(c));
+    if ((count += 6) >= 8) bytes.push_back(static_cast<char>((bits >> (count -= 8)) & 0xff));
+  }
+  std::vector<std::uint32_t> values(bytes.size() / 4);
+  std::memcpy(values.data(), bytes.data(), values.size() * 4);
+  return values;
+}
+
+// The report's visibility maps are those of the planner's first round: its clusters hold
+// exactly the samples the planner said it clustered then (the sweep of the plate's top
+// took the others), each once.
+TEST(Report, ClustersAreThoseOfThePlannersFirstRound) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(1000, 600, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  int top = 0;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Plane && f.bounds.min.z() > 9) top = f.id;
+  test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: gdt, faces: [" + std::to_string(top) +
+                                             "]}\n  - {type: global}\n");
+  const Spec spec = loadSpec(dir.file("spec.yaml"));
+  std::size_t first_round = 0;
+  const Progress progress = [&](std::string_view stage, double) {
+    const std::string_view round = "planning views, round 1 (";
+    if (stage.starts_with(round)) first_round = std::stoul(std::string(stage.substr(round.size())));
+  };
+  const Plan plan = planViews(part, spec, PlanningOptions{.registration = false}, progress);
+  ASSERT_FALSE(plan.sweeps.empty());
+  ASSERT_GT(first_round, 0u);
+  ASSERT_LT(first_round, plan.samples.size());
+  ReportOptions options;
+  options.clouds = false;
+  writeReport(plan, part, spec, dir.file("report.html"), options);
+  const std::string page = readFile(dir.file("report.html"));
+  const std::string open = R"(<script type="application/json" id="scanplan-data">)";
+  const std::size_t begin = page.find(open) + open.size();
+  const json data = json::parse(page.substr(begin, page.find("</script>", begin) - begin));
+  std::set<std::uint32_t> members;
+  std::size_t total = 0;
+  for (const json& c : data["clusters"]) {
+    const auto mine = decodeUInt32s(c["members"].get<std::string>());
+    EXPECT_EQ(mine.size(), c["samples"].get<std::size_t>());
+    total += mine.size();
+    members.insert(mine.begin(), mine.end());
+  }
+  EXPECT_EQ(total, first_round);
+  EXPECT_EQ(members.size(), first_round);
+  for (std::uint32_t i : members) {
+    ASSERT_LT(i, plan.samples.size());
+    for (int id : plan.samples[i].measured_by)
+      for (const Sweep& sweep : plan.sweeps)
+        EXPECT_EQ(std::count(sweep.views.begin(), sweep.views.end(), id), 0) << i;
+  }
+}
+
 TEST(Report, PlanReadBackKeepsWhySamplesCannotBeCovered) {
   const Plan& plan = cubePlan().plan;
   test::TempDir dir;

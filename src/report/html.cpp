@@ -167,11 +167,32 @@ json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<Point
   return views;
 }
 
-// Each cluster of the plan's samples with its Combined Visibility Map, the part placed as
-// the plan's first placement puts it: clusters and maps with the planner's own options.
+// The samples the planner's first round of iterative adding clustered: those of the first
+// placement that no sweep view measures (indices into the plan's samples, ascending).
+std::vector<int> firstRoundSamples(const Plan& plan) {
+  std::set<int> swept;
+  for (const Sweep& sweep : plan.sweeps) swept.insert(sweep.views.begin(), sweep.views.end());
+  if (!plan.orientations.empty()) {
+    const std::vector<int>& first = plan.orientations.front().views;
+    std::erase_if(swept,
+                  [&](int id) { return std::find(first.begin(), first.end(), id) == first.end(); });
+  }
+  std::vector<int> indices;
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    const std::vector<int>& by = plan.samples[i].measured_by;
+    if (std::none_of(by.begin(), by.end(), [&](int id) { return swept.count(id) > 0; }))
+      indices.push_back(static_cast<int>(i));
+  }
+  return indices;
+}
+
+// The clusters of the planner's first round with their Combined Visibility Maps over all
+// their members, the part placed as the plan's first placement puts it: the same samples,
+// clustering and map options as the planner's.
 json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Progress& progress) {
+  const std::vector<int> indices = firstRoundSamples(plan);
   std::vector<Sample> samples;
-  for (const PlannedSample& s : plan.samples) samples.push_back(s.sample);
+  for (int i : indices) samples.push_back(plan.samples[i].sample);
   const std::vector<Cluster> clusters =
       clusterSamples(samples, clusteringOptionsFor(plan.scanner, spec.planner.seed));
   const Simulator simulator(part, plan.scanner,
@@ -187,7 +208,9 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
     const double top = std::max<std::uint32_t>(map.max(), 1);
     for (std::size_t i = 0; i < cells.size(); ++i)
       cells[i] = static_cast<std::uint8_t>(std::lround(255.0 * map.counts[i] / top));
-    std::vector<std::uint32_t> members(clusters[c].samples.begin(), clusters[c].samples.end());
+    std::vector<std::uint32_t> members;
+    for (int local : clusters[c].samples)
+      members.push_back(static_cast<std::uint32_t>(indices[local]));
     list.push_back({{"id", c + 1},
                     {"samples", clusters[c].samples.size()},
                     {"position", vec(clusters[c].mean_position)},
