@@ -1,5 +1,5 @@
 #pragma once
-// Clustering of samples into groups that one view can take (docs/design.md §5): any two
+// Clustering of samples into groups that one view can take (docs/sampling.md): any two
 // samples of a cluster are closer than the field of view and their normals differ by
 // less than 90°.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Where the part stands on the working plane (docs/design.md §5, Localization): its stable
+// Where the part stands on the working plane (docs/localization.md): its stable
 // rest orientations, from the faces of its convex hull.
 
 #include <scanplan/cad/part.h>

@@ -1,7 +1,7 @@
 #pragma once
-// Registration feasibility (docs/design.md §5): which views can be put together, by markers
-// they share or by ICP on the overlap of their simulated clouds, and the bridging views
-// that join the registration graph where it falls apart. docs/registration.md.
+// Registration feasibility (docs/registration.md): which views can be put together, by
+// markers they share or by ICP on the overlap of their simulated clouds, and the bridging
+// views that join the registration graph where it falls apart.
 
 #include <scanplan/geometry.h>
 #include <scanplan/progress.h>

@@ -1,7 +1,7 @@
 #pragma once
-// The order in which the scanner visits the views (docs/design.md §5, Sequencing): a motion
+// The order in which the scanner visits the views (docs/registration.md): a motion
 // cost between views, shortest paths over the view graph, and a tour that keeps each
-// view after one it registers to. docs/registration.md.
+// view after one it registers to.
 
 #include <scanplan/registration.h>
 #include <scanplan/simulation.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Sweep positioning (docs/design.md §5): a surface much larger than the field of view is cut
+// Sweep positioning (docs/sweep.md): a surface much larger than the field of view is cut
 // along its parameters into tiles that fit the field of view with a set overlap, one view
 // per tile, in boustrophedon order. The surface is a face's own (u, v), or, for the
 // `surface` task, an interpolated patch over a set of faces.
@@ -93,7 +93,7 @@ std::vector<SweepTile> sweepTiles(const SurfaceGrid& grid, const Scanner& scanne
                                   double overlap = 0.3);
 
 // True when points spread over at least twice the field of view's width along their
-// principal direction (docs/design.md §5: the samples extend over twice the field of view).
+// principal direction (the samples extend over twice the field of view).
 bool needsSweep(const std::vector<Vec3>& points, const Scanner& scanner);
 
 }  // namespace scanplan

@@ -1,7 +1,7 @@
 #pragma once
 // Views as CSV, for spreadsheets and cell software: one line per view,
 // `id,m00,m01,m02,m03,m10,...,m33,target_x,target_y,target_z,task` under a header line;
-// m is camera_to_world (scanner frame S to world, docs/design.md §2), row-major, mm.
+// m is camera_to_world (scanner frame S to world, docs/design.md §3), row-major, mm.
 
 #include <scanplan/view.h>
 

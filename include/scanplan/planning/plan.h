@@ -49,9 +49,9 @@ struct StageTime {
   double seconds = 0;
 };
 
-// A surface wider than the field of view covered tile by tile (docs/design.md §5, Sweep
-// positioning): the gdt task's wide faces over their own parameters, the surface task's
-// faces over an interpolated patch per set of like-facing faces.
+// A surface wider than the field of view covered tile by tile (docs/sweep.md): the gdt
+// task's wide faces over their own parameters, the surface task's faces over an
+// interpolated patch per set of like-facing faces.
 struct Sweep {
   TaskType task = TaskType::Surface;
   std::vector<int> faces;
