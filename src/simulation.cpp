@@ -1,3 +1,5 @@
+#include "kd_tree.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/raycast.h>
@@ -5,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -417,6 +420,38 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
     cloud.incidence.insert(cloud.incidence.end(), row.incidence.begin(), row.incidence.end());
   }
   return cloud;
+}
+
+std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
+                                             std::span<const View> views,
+                                             std::span<const SurfacePoint> points) {
+  std::vector<std::vector<int>> result(views.size());
+  if (points.empty()) return result;
+  // Only points within the bounding sphere of the measuring volume can be measured.
+  const Scanner& scanner = simulator.scanner();
+  const double half_depth = scanner.depth_of_field / 2;
+  const double far = (scanner.standoff + half_depth) / scanner.standoff;
+  const double reach =
+      std::sqrt(half_depth * half_depth + std::pow(scanner.fov_width / 2 * far, 2) +
+                std::pow(scanner.fov_height / 2 * far, 2));
+  std::vector<Vec3> positions;
+  for (const SurfacePoint& p : points) positions.push_back(p.position);
+  const detail::PointCloudAdaptor cloud{positions};
+  detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+    detail::Neighbours near;
+    tree.radiusSearch(views[v].target.data(), reach * reach, near, nanoflann::SearchParams());
+    std::vector<int> indices;
+    for (const auto& [i, distance2] : near) indices.push_back(static_cast<int>(i));
+    std::sort(indices.begin(), indices.end());
+    std::vector<SurfacePoint> subset;
+    for (int i : indices) subset.push_back(points[i]);
+    const std::vector<Loss> losses = simulator.measure(views[v], subset);
+    for (std::size_t k = 0; k < losses.size(); ++k)
+      if (losses[k] == Loss::Measured) result[v].push_back(indices[k]);
+  });
+  return result;
 }
 
 }  // namespace scanplan

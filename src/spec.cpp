@@ -281,7 +281,8 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
 
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
-            {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue"},
+            {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
+             "anchors", "pool_rotations", "selection_nodes", "selection_seconds"},
             reader, "planner");
   PlannerSettings p;
   if (node["seed"]) p.seed = reader.scalar<std::uint64_t>(node["seed"], "planner.seed");
@@ -291,6 +292,14 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   if (node["sweep_overlap"])
     p.sweep_overlap = reader.scalar<double>(node["sweep_overlap"], "planner.sweep_overlap");
   if (node["rotations"]) p.rotations = reader.scalar<int>(node["rotations"], "planner.rotations");
+  if (node["anchors"]) p.anchors = reader.scalar<int>(node["anchors"], "planner.anchors");
+  if (node["pool_rotations"])
+    p.pool_rotations = reader.scalar<int>(node["pool_rotations"], "planner.pool_rotations");
+  if (node["selection_nodes"])
+    p.selection_nodes = reader.scalar<int>(node["selection_nodes"], "planner.selection_nodes");
+  if (node["selection_seconds"])
+    p.selection_seconds =
+        reader.scalar<double>(node["selection_seconds"], "planner.selection_seconds");
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
       reader.fail("planner.tilt must be [min, max] in degrees");
@@ -313,6 +322,13 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     reader.fail("planner.sweep_overlap must be within [0, 0.8]");
   if (p.rotations < 1 || p.rotations > 36 || p.rescue_rotations < 1 || p.rescue_rotations > 36)
     reader.fail("planner.rotations and planner.rescue.rotations must be within [1, 36]");
+  if (p.anchors < 0 || p.anchors > 100000)
+    reader.fail("planner.anchors must be within [0, 100000]");
+  if (p.pool_rotations < 1 || p.pool_rotations > 36)
+    reader.fail("planner.pool_rotations must be within [1, 36]");
+  if (p.selection_nodes < 0) reader.fail("planner.selection_nodes must not be negative");
+  if (!(p.selection_seconds >= 0 && p.selection_seconds <= 3600))
+    reader.fail("planner.selection_seconds must be within [0, 3600]");
   if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
     reader.fail("planner.rescue.step must be within [1, 45] degrees");
   return p;

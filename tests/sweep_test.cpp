@@ -68,7 +68,7 @@ TEST(Sweep, PlateTilesCoverWithTheOverlap) {
   const int top = topFace(part);
   ASSERT_GT(top, 0);
   const Spec spec =
-      specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(top) + "]}\n", dir);
+      specWith("tasks:\n  - {type: surface, faces: [" + std::to_string(top) + "]}\n", dir);
   const Plan plan = planViews(part, spec, withoutRegistration());
 
   ASSERT_EQ(plan.sweeps.size(), 1u);

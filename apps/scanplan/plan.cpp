@@ -24,7 +24,6 @@ struct Options {
   std::string part;
   std::string spec;
   std::string outdir = "scanplan-out";
-  bool bound = false;
   bool registration = true;
   bool report = true;
   bool png = false;
@@ -38,7 +37,6 @@ int run(const Options& options, const GlobalOptions& global) {
   if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
   const Part part = importPart(options.part, {}, progress);
   PlanningOptions planning;
-  planning.bound = options.bound;
   planning.registration = options.registration;
   Plan plan = planViews(part, spec, planning, progress);
   // The surface task's interpolated patches, to be looked at beside the plan.
@@ -78,13 +76,9 @@ int run(const Options& options, const GlobalOptions& global) {
   for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
   if (plan.bound) {
     const PlanBound& b = *plan.bound;
-    fmt::print(
-        "bound      {} views at best over {} candidate poses ({}, lower bound {}): planner / ILP = "
-        "{:.2f}\n",
-        b.ilp_views, b.candidates, b.optimal ? "proven optimal" : "time limit reached",
-        b.lower_bound,
-        b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
-                    : 0.0);
+    fmt::print("{:<22} {} views, at least {} needed from {} candidate poses{} (greedy {})\n",
+               "selection", b.views, b.lower_bound, b.pool, b.proven_optimal ? ", the fewest" : "",
+               b.greedy_views);
   }
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
   if (options.report) fmt::print("  {:<16} {:.2f} s\n", "report", report_seconds);
@@ -103,9 +97,6 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
   command->add_option("-o,--out", options->outdir, "Output folder (default: scanplan-out)");
-  command->add_flag("--bound", options->bound,
-                    "Also solve the exact set cover over the candidate poses (COIN-OR CBC) and "
-                    "report planner / ILP views");
   command->add_flag("!--no-registration", options->registration,
                     "Skip the registration check, bridging and sequencing");
   command->add_flag("!--no-report", options->report,

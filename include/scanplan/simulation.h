@@ -113,4 +113,11 @@ class Simulator {
   std::unique_ptr<Impl> impl_;
 };
 
+// Per view, the indices of the `points` it measures, ascending: the same test as
+// Simulator::measure, applied only to the points within the bounding sphere of each
+// view's measuring volume (a k-d tree query); views in parallel.
+std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
+                                             std::span<const View> views,
+                                             std::span<const SurfacePoint> points);
+
 }  // namespace scanplan

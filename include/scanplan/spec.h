@@ -35,11 +35,16 @@ struct PlannerSettings {
   double vm_step = 5;      // visibility-map grid step, degrees
   double tilt_min = 30;    // preferred tilt of tilted positioning, degrees
   double tilt_max = 50;
-  int max_failures = 3;        // attempts before a sample is declared not coverable
-  double sweep_overlap = 0.3;  // share of the field of view neighbouring sweep tiles share
-  int rotations = 8;           // rotations about the view axis tried per cluster direction
-  double rescue_step = 10;     // rescue: directions on a grid of this step, degrees, ...
-  int rescue_rotations = 8;    // ... each with this many rotations about the view axis
+  int max_failures = 3;           // attempts before a sample is declared not coverable
+  double sweep_overlap = 0.3;     // share of the field of view neighbouring sweep tiles share
+  int rotations = 8;              // rotations about the view axis tried per cluster direction
+  double rescue_step = 10;        // rescue: directions on a grid of this step, degrees, ...
+  int rescue_rotations = 8;       // ... each with this many rotations about the view axis
+  int anchors = 300;              // pool: dense poses around at most this many anchor samples,
+  int pool_rotations = 4;         // ... each with this many rotations about the view axis
+  int selection_nodes = 200;      // the exact selection's branch-and-bound nodes (CBC)
+  double selection_seconds = 20;  // and its time cap, per placement (results depend on
+                                  // the machine when it is reached)
 };
 
 struct Spec {

@@ -91,6 +91,7 @@ json samplesJson(const Plan& plan) {
                   {"role", toString(p.sample.role)},
                   {"task", toString(p.sample.task)},
                   {"measured_by", p.measured_by}};
+    if (p.sample.cluster >= 0) entry["cluster"] = p.sample.cluster;
     if (p.uncoverable != Uncoverable::None) {
       entry["not_coverable"] = toString(p.uncoverable);
       if (p.uncoverable == Uncoverable::Lost) entry["loss"] = toString(p.last_loss);
@@ -243,14 +244,11 @@ void addSweeps(const Plan& plan, json& result) {
 
 json boundJson(const Plan& plan) {
   const PlanBound& b = *plan.bound;
-  return {{"candidates", b.candidates},
-          {"ilp_views", b.ilp_views},
+  return {{"views", b.views},
+          {"greedy_views", b.greedy_views},
           {"lower_bound", b.lower_bound},
-          {"optimal", b.optimal},
-          {"views_over_ilp",
-           b.ilp_views ? static_cast<double>(plan.views.size()) / static_cast<double>(b.ilp_views)
-                       : 0.0},
-          {"seconds", b.seconds}};
+          {"pool", b.pool},
+          {"proven_optimal", b.proven_optimal}};
 }
 
 }  // namespace
@@ -435,6 +433,7 @@ struct PlanReader {
                                         TaskType::Global, TaskType::Points},
                              path, where);
     p.measured_by = field<std::vector<int>>(entry, "measured_by", path, where);
+    if (entry.contains("cluster")) p.sample.cluster = field<int>(entry, "cluster", path, where);
     if (entry.contains("not_coverable"))
       p.uncoverable = enumFrom(
           field<std::string>(entry, "not_coverable", path, where),

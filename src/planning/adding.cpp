@@ -100,6 +100,7 @@ struct Adding {
   std::vector<View>& candidates;
   std::vector<int> failures;  // per sample: views aimed at it that missed it
   std::vector<Visibility> visibility;
+  int round = 0;
 };
 
 // One view for the cluster of `members` (pending, unmeasured samples): its pose, its
@@ -148,6 +149,9 @@ bool addRound(const Placement& at, const std::vector<int>& pending,
   std::vector<Sample> subset;
   for (int i : pending) subset.push_back(state.samples[i].sample);
   const std::vector<Cluster> clusters = clusterSamples(subset, clustering);
+  if (state.round == 1)  // the clusters the report shows with their visibility maps
+    for (std::size_t k = 0; k < pending.size(); ++k)
+      state.samples[pending[k]].sample.cluster = subset[k].cluster;
   std::vector<std::size_t> order(clusters.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -178,6 +182,7 @@ std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>
            "planning views, round " + std::to_string(round) + " (" +
                std::to_string(pending.size()) + " samples left)",
            0);
+    state.round = round;
     if (!addRound(at, pending, clustering, state)) break;
   }
   return state.visibility;

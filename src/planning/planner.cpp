@@ -208,7 +208,9 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   detail::MeasuredViews added;
   std::vector<View> candidates;  // every other valid pose evaluated on the way
   plan.sweeps = detail::sweepViews(at, plan.samples, added, candidates, progress);
-  const std::size_t pinned = added.size();
+  std::size_t pinned = 0;  // the surface task's sweep views, always kept
+  for (const Sweep& sweep : plan.sweeps)
+    if (sweep.task == TaskType::Surface) pinned += sweep.views.size();
   clock.lap("sweeps");
   const std::vector<Visibility> visibility =
       detail::addViews(at, plan.samples, added, candidates, progress);
@@ -216,12 +218,17 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   report(progress, "aiming at the samples left", 0);
   detail::rescueViews(at, plan.samples, added);
   clock.lap("rescue");
-
-  report(progress, "selecting among " + std::to_string(added.size() + candidates.size()) + " poses",
-         0);
+  const std::vector<View> dense = detail::densePool(at, progress);
+  candidates.insert(candidates.end(), dense.begin(), dense.end());
+  report(progress, "simulating " + std::to_string(added.size() + candidates.size()) + " poses", 0);
   const detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates);
-  detail::applySelection(pool, detail::selectViews(at, pool, pinned, plan.samples), plan);
-  clock.lap("pruning");
+  clock.lap("candidate pool");
+
+  report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
+  const detail::Selection selection = detail::selectViews(at, pool, pinned, plan.samples);
+  detail::applySelection(pool, selection.views, plan);
+  plan.bound = selection.bound;
+  clock.lap("selection");
 
   CellSolutions solutions;  // of the final views, with a cell
   if (options.registration) solutions = registerAndSequence(at, plan, clock, progress);
@@ -231,11 +238,6 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     if (solutions.size() != plan.views.size())  // not sequenced in joint space
       solutions = cellSolutions(*cell, plan.views, collisions.get());
     plan.cell_poses = cellPoses(*cell, plan.views, visitingOrder(plan), solutions);
-  }
-  if (options.bound) {
-    report(progress, "exact set cover over " + std::to_string(pool.size()) + " poses", 0);
-    plan.bound = detail::boundOf(pool, plan.samples, options.bound_time_limit);
-    clock.lap("set cover bound");
   }
   plan.seconds = clock.total();
   return plan;
@@ -265,6 +267,16 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     for (int id : part.sequence->views) merged.sequence->views.push_back(id + offset);
     merged.sequence->length += part.sequence->length;
     merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
+  }
+  if (part.bound) {
+    PlanBound& sum = merged.bound ? *merged.bound : merged.bound.emplace();
+    sum.views += part.bound->views;
+    sum.greedy_views += part.bound->greedy_views;
+    sum.lower_bound += part.bound->lower_bound;
+    sum.pool += part.bound->pool;
+    sum.proven_optimal =
+        (sum.pool == part.bound->pool || sum.proven_optimal) && part.bound->proven_optimal;
+    sum.seconds += part.bound->seconds;
   }
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
@@ -311,6 +323,7 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
       merged.cell_poses.clear();
       merged.sweeps.clear();
       merged.times.clear();
+      merged.bound.reset();
       for (PlannedSample& s : merged.samples) s.measured_by.clear();
       if (plan.registration) merged.registration = Registration{};
       if (plan.sequence) merged.sequence = Sequence{};

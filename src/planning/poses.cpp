@@ -169,6 +169,34 @@ std::vector<View> densePoses(const Scanner& scanner, const SurfacePoint& point,
   return views;
 }
 
+std::vector<View> ringPoses(const Scanner& scanner, const SurfacePoint& anchor,
+                            const std::vector<double>& tilts, double cone, int rotations) {
+  const Vec3 n = anchor.normal;
+  const Vec3 u = horizontalBaseline(n), w = n.cross(u);
+  std::vector<View> poses = aimedPoses(scanner, anchor.position, n, rotations);
+  int sides = 6;
+  for (double tilt : tilts) {
+    if (tilt <= 0 || tilt > cone) continue;
+    for (int k = 0; k < sides; ++k) {
+      const double azimuth = 2 * M_PI * k / sides;
+      const Vec3 d = std::cos(radians(tilt)) * n +
+                     std::sin(radians(tilt)) * (std::cos(azimuth) * u + std::sin(azimuth) * w);
+      const std::vector<View> around =
+          aimedPoses(scanner, anchor.position, d.normalized(), rotations);
+      poses.insert(poses.end(), around.begin(), around.end());
+    }
+    sides = 8;
+  }
+  return poses;
+}
+
+View shiftedPose(const View& view, const Vec3& shift) {
+  View moved = view;
+  moved.camera_to_world.translation() += shift;
+  moved.target += shift;
+  return moved;
+}
+
 std::vector<View> posesAround(const Scanner& scanner, const SurfacePoint& target) {
   const Vec3 n = target.normal, u = n.unitOrthogonal(), w = n.cross(u);
   std::vector<Vec3> directions{n};

@@ -14,7 +14,7 @@ namespace scanplan::detail {
 MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
                             const std::vector<View>& candidates) {
   // The added views' coverage is known; only the other candidates are simulated.
-  std::vector<std::vector<int>> measured = measuredBy(at.simulator, candidates, at.points);
+  std::vector<std::vector<int>> measured = measuredPoints(at.simulator, candidates, at.points);
   for (std::size_t k = 0; k < candidates.size(); ++k)
     added.add(candidates[k], std::move(measured[k]));
   return added;
@@ -24,12 +24,11 @@ namespace {
 
 // Greedy set cover over the views of `pool` listed in `among`, starting from the `pinned`
 // first views of the pool: each step takes the view whose samples not yet covered are
-// most ((priority, other) with `priority_first`), the first on ties. Samples done in an
-// earlier placement count as covered.
+// most, priority samples first ((priority, other), compared in that order), the first on
+// ties. Samples done in an earlier placement count as covered.
 std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& pool,
                                      const std::vector<std::size_t>& among, std::size_t pinned,
-                                     const std::vector<PlannedSample>& samples,
-                                     bool priority_first) {
+                                     const std::vector<PlannedSample>& samples) {
   std::vector<char> covered(samples.size(), 0), used(pool.size(), 0);
   for (std::size_t i = 0; i < covered.size(); ++i) covered[i] = at.isDone(i);
   std::vector<std::size_t> chosen;
@@ -47,7 +46,6 @@ std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& p
       std::pair<std::size_t, std::size_t> gain{0, 0};
       for (int i : pool.samples[v])
         if (!covered[i]) (samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
-      if (!priority_first) gain = {gain.first + gain.second, 0};
       if (gain > best_gain) {
         best_gain = gain;
         best = v;
@@ -58,8 +56,8 @@ std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& p
   }
 }
 
-// `chosen` without the views (after the pinned ones, last first) whose samples all other
-// chosen views also measure.
+// `chosen` without the views (last first, the `pinned` first ones kept) whose samples all
+// other chosen views also measure.
 std::vector<std::size_t> withoutRedundant(const Placement& at, const MeasuredViews& pool,
                                           std::vector<std::size_t> chosen, std::size_t pinned,
                                           std::size_t samples) {
@@ -77,20 +75,63 @@ std::vector<std::size_t> withoutRedundant(const Placement& at, const MeasuredVie
   return chosen;
 }
 
+// The exact part of the selection: the fewest views after the `pinned` ones that measure
+// every sample some pool view measures and neither a pinned view nor an earlier placement
+// does, CBC starting from the greedy cover `greedy`. Pool indices, the pinned ones first.
+std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
+    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+    const std::vector<std::size_t>& greedy, std::size_t samples) {
+  std::vector<char> required(samples, 0);
+  for (const std::vector<int>& measured : pool.samples)
+    for (int i : measured) required[i] = !at.isDone(i);
+  for (std::size_t v = 0; v < pinned; ++v)
+    for (int i : pool.samples[v]) required[i] = 0;
+  const std::vector<std::vector<int>> sets(pool.samples.begin() + static_cast<long>(pinned),
+                                           pool.samples.end());
+  std::vector<int> start;
+  for (std::size_t k = pinned; k < greedy.size(); ++k)
+    start.push_back(static_cast<int>(greedy[k] - pinned));
+  const SetCoverResult cover = minimumSetCover(sets, required, at.settings().selection_seconds,
+                                               start, at.settings().selection_nodes);
+  std::vector<std::size_t> chosen(pinned);
+  std::iota(chosen.begin(), chosen.end(), 0);
+  for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
+  return {chosen, cover};
+}
+
 }  // namespace
 
-std::vector<std::size_t> selectViews(const Placement& at, const MeasuredViews& pool,
-                                     std::size_t pinned,
-                                     const std::vector<PlannedSample>& samples) {
+Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+                      const std::vector<PlannedSample>& samples) {
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
-  const std::vector<std::size_t> chosen = greedyCover(at, pool, all, pinned, samples, false);
-  const std::vector<std::size_t> kept = withoutRedundant(at, pool, chosen, pinned, samples.size());
-  return greedyCover(at, pool, kept, pinned, samples, true);
+  const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
+  const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
+  const std::vector<std::size_t> chosen = withoutRedundant(at, pool, exact, pinned, samples.size());
+  Selection selection;
+  selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
+  PlanBound& bound = selection.bound;
+  bound.views = selection.views.size();
+  bound.greedy_views = greedy.size();
+  bound.lower_bound =
+      std::min(static_cast<double>(pinned) + cover.lower_bound, static_cast<double>(bound.views));
+  bound.pool = pool.size();
+  bound.proven_optimal = bound.lower_bound >= static_cast<double>(bound.views);
+  bound.seconds = cover.seconds;
+  return selection;
 }
 
 void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& selected,
                     Plan& plan) {
+  std::map<int, int> id_of;  // pool index + 1 -> id in the plan
+  for (std::size_t k = 0; k < selected.size(); ++k)
+    id_of[static_cast<int>(selected[k]) + 1] = static_cast<int>(k) + 1;
+  for (Sweep& sweep : plan.sweeps) {
+    std::vector<int> kept;
+    for (int v : sweep.views)
+      if (id_of.count(v)) kept.push_back(id_of[v]);
+    sweep.views = kept;
+  }
   for (PlannedSample& s : plan.samples) s.measured_by.clear();
   for (std::size_t k = 0; k < selected.size(); ++k) {
     View view = pool.views[selected[k]];
@@ -107,20 +148,6 @@ void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& s
     plan.views.push_back(view);
     for (int i : measured) plan.samples[i].measured_by.push_back(view.id);
   }
-}
-
-PlanBound boundOf(const MeasuredViews& pool, const std::vector<PlannedSample>& samples,
-                  double time_limit) {
-  std::vector<char> required(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) required[i] = !samples[i].measured_by.empty();
-  const SetCoverResult cover = minimumSetCover(pool.samples, required, time_limit);
-  PlanBound bound;
-  bound.candidates = pool.size();
-  bound.ilp_views = cover.chosen.size();
-  bound.lower_bound = cover.lower_bound;
-  bound.optimal = cover.optimal;
-  bound.seconds = cover.seconds;
-  return bound;
 }
 
 }  // namespace scanplan::detail

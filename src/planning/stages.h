@@ -57,8 +57,8 @@ std::optional<View> clusterPose(const Placement& at, const std::vector<Sample>& 
                                 std::vector<Visibility>& status, std::vector<View>& candidates);
 
 // Sweep positioning: one view per tile of each surface the samples ask to sweep, added
-// first to `added` (the pinned views, kept through the selection). The sweeps with the
-// ids of their views.
+// first to `added`, those of the surface task (which must cover the surface, not only its
+// samples) before the others. The sweeps with their views' indices in `added` plus one.
 std::vector<Sweep> sweepViews(const Placement& at, std::vector<PlannedSample>& samples,
                               MeasuredViews& added, std::vector<View>& candidates,
                               const Progress& progress);
@@ -75,28 +75,38 @@ std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>
 // aimed at it alone that measures it.
 void rescueViews(const Placement& at, std::vector<PlannedSample>& samples, MeasuredViews& added);
 
-// The candidate pool: the views added, then every other valid pose evaluated, each with
-// the samples it measures.
+// The dense poses of the pool: valid poses in rings around up to planner.anchors anchor
+// samples spread over the targets, planner.pool_rotations rotations each, and their
+// normal poses shifted across the axis towards the neighbouring targets.
+std::vector<View> densePool(const Placement& at, const Progress& progress);
+
+// The candidate pool: the views added, then every other valid pose evaluated and the
+// dense poses, each with the samples it measures.
 MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
                             const std::vector<View>& candidates);
 
-// The selection over the pool (indices into it): a greedy set cover by marginal coverage
-// from the `pinned` first views, then views whose samples all others also measure dropped
-// (last chosen first), then the rest ordered by marginal coverage, priority samples first.
-std::vector<std::size_t> selectViews(const Placement& at, const MeasuredViews& pool,
-                                     std::size_t pinned, const std::vector<PlannedSample>& samples);
+// The views chosen from the pool (indices into it), and how close they are to the fewest.
+struct Selection {
+  std::vector<std::size_t> views;
+  PlanBound bound;
+};
+
+// The selection over the pool, its `pinned` first views always kept: a greedy set cover by
+// marginal coverage, priority samples first; improved by CBC on the pool's set cover of
+// every sample some pool view measures (planner.selection_seconds, starting from the
+// greedy cover); views whose samples all others also measure dropped (last first); the
+// rest ordered by marginal coverage, priority samples first.
+Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+                      const std::vector<PlannedSample>& samples);
 
 // The selected views as the plan's, ids 1..n in selection order, the task of a candidate
-// taken from most of the samples it measures; the samples' measured_by set to them.
+// taken from most of the samples it measures; the samples' measured_by set to them; each
+// sweep's views (pool indices + 1 on entry) the ids of those the selection kept.
 void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& selected,
                     Plan& plan);
 
 // Why each sample still unmeasured is not coverable.
 void explainUncoverable(const Placement& at, const std::vector<Visibility>& visibility,
                         std::vector<PlannedSample>& samples);
-
-// The exact set cover of what the plan measures over the whole pool.
-PlanBound boundOf(const MeasuredViews& pool, const std::vector<PlannedSample>& samples,
-                  double time_limit);
 
 }  // namespace scanplan::detail

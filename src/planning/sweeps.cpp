@@ -146,6 +146,12 @@ std::vector<Sweep> sweepViews(const Placement& at, std::vector<PlannedSample>& s
       if (addView(*view, measuredBy(at.simulator, *view, at.points), samples, added))
         target.sweep.views.push_back(static_cast<int>(added.size()));
     }
+    // The tiling without overlap too, as candidates: the fewest views a face can take.
+    if (target.sweep.task == TaskType::Gdt)
+      for (const SweepTile& tile : sweepTiles(target.grid, at.scanner(), 0)) {
+        const View view = tilePose(at.scanner(), tile);
+        if (poseIsValid(at.simulator, view, at.cell)) candidates.push_back(view);
+      }
     sweeps.push_back(std::move(target.sweep));
   }
   return sweeps;

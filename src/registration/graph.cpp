@@ -89,29 +89,23 @@ class Graph {
   }
 
   std::vector<Observation> observe(std::span<const View> views) const {
-    const auto on_points = simulator_.measure(views, points_);
-    const auto on_markers = markers_.empty() ? std::vector<std::vector<Loss>>(views.size())
-                                             : simulator_.measure(views, markers_);
+    std::vector<std::vector<int>> on_points = measuredPoints(simulator_, views, points_);
+    std::vector<std::vector<int>> on_markers = measuredPoints(simulator_, views, markers_);
     std::vector<Observation> result(views.size());
     for (std::size_t v = 0; v < views.size(); ++v) {
       Observation& seen = result[v];
-      for (std::size_t i = 0; i < on_points[v].size(); ++i)
-        if (on_points[v][i] == Loss::Measured) {
-          seen.points.push_back(static_cast<int>(i));
-          seen.box.add(points_[i].position);
-        }
-      for (std::size_t i = 0; i < on_markers[v].size(); ++i)
-        if (on_markers[v][i] == Loss::Measured) {
-          seen.markers.push_back(static_cast<int>(i));
-          seen.box.add(markers_[i].position);
-        }
+      seen.points = std::move(on_points[v]);
+      seen.markers = std::move(on_markers[v]);
+      for (int i : seen.points) seen.box.add(points_[i].position);
+      for (int i : seen.markers) seen.box.add(markers_[i].position);
     }
     return result;
   }
 
-  // The pair test without ICP verification.
-  PairCheck check(const View& a, const Observation& oa, const View& b,
-                  const Observation& ob) const {
+  // The pair test without ICP verification. `lazy`: the condition number is left out of
+  // pairs that share neither markers nor enough overlap, which cannot be stable.
+  PairCheck check(const View& a, const Observation& oa, const View& b, const Observation& ob,
+                  bool lazy = false) const {
     PairCheck pair;
     pair.a = std::min(a.id, b.id);
     pair.b = std::max(a.id, b.id);
@@ -130,6 +124,7 @@ class Graph {
         static_cast<double>(overlap.size()) / static_cast<double>(ob.points.size());
     pair.overlap_a = a.id < b.id ? share_a : share_b;
     pair.overlap_b = a.id < b.id ? share_b : share_a;
+    if (lazy && !pair.markers && std::min(share_a, share_b) < options_.min_overlap) return pair;
     std::vector<Vec3> p, n;
     for (int i : overlap) {
       p.push_back(points_[i].position);
@@ -293,7 +288,7 @@ class Graph {
       PairCheck best;
       bool joins = false;
       for (std::size_t v = 0; v < views_.size(); ++v) {
-        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
+        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k], true);
         if (!pair.markers && !pair.stable) continue;
         if (sides.in_other[v]) {
           joins = true;

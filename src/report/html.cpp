@@ -3,7 +3,6 @@
 // Bulk arrays travel as base64 of little-endian typed arrays, which the page views as
 // Float32Array, Uint8Array, ... without parsing numbers.
 
-#include <scanplan/clustering.h>
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
@@ -167,55 +166,42 @@ json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<Point
   return views;
 }
 
-// The samples the planner's first round of iterative adding clustered: those of the first
-// placement that no sweep view measures (indices into the plan's samples, ascending).
-std::vector<int> firstRoundSamples(const Plan& plan) {
-  std::set<int> swept;
-  for (const Sweep& sweep : plan.sweeps) swept.insert(sweep.views.begin(), sweep.views.end());
-  if (!plan.orientations.empty()) {
-    const std::vector<int>& first = plan.orientations.front().views;
-    std::erase_if(swept,
-                  [&](int id) { return std::find(first.begin(), first.end(), id) == first.end(); });
-  }
-  std::vector<int> indices;
-  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
-    const std::vector<int>& by = plan.samples[i].measured_by;
-    if (std::none_of(by.begin(), by.end(), [&](int id) { return swept.count(id) > 0; }))
-      indices.push_back(static_cast<int>(i));
-  }
-  return indices;
-}
-
-// The clusters of the planner's first round with their Combined Visibility Maps over all
-// their members, the part placed as the plan's first placement puts it: the same samples,
-// clustering and map options as the planner's.
+// The clusters of the planner's first round of iterative adding (Sample::cluster, as
+// plan.json records it) with their Combined Visibility Maps over all their members, the
+// part placed as the plan's first placement puts it, with the planner's map options.
 json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Progress& progress) {
-  const std::vector<int> indices = firstRoundSamples(plan);
   std::vector<Sample> samples;
-  for (int i : indices) samples.push_back(plan.samples[i].sample);
-  const std::vector<Cluster> clusters =
-      clusterSamples(samples, clusteringOptionsFor(plan.scanner, spec.planner.seed));
+  std::map<int, std::vector<int>> members_of;
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    samples.push_back(plan.samples[i].sample);
+    if (samples.back().cluster >= 0)
+      members_of[samples.back().cluster].push_back(static_cast<int>(i));
+  }
   const Simulator simulator(part, plan.scanner,
                             simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
   const VisibilityOptions vo =
       plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
   json list = json::array();
-  for (std::size_t c = 0; c < clusters.size(); ++c) {
+  std::size_t done = 0;
+  for (const auto& [id, members] : members_of) {
     report(progress, "visibility maps",
-           static_cast<double>(c) / static_cast<double>(clusters.size()));
-    const VisibilityMap map = combinedVisibilityMap(simulator, samples, clusters[c].samples, vo);
+           static_cast<double>(done++) / static_cast<double>(members_of.size()));
+    const VisibilityMap map = combinedVisibilityMap(simulator, samples, members, vo);
     std::vector<std::uint8_t> cells(map.counts.size());
     const double top = std::max<std::uint32_t>(map.max(), 1);
     for (std::size_t i = 0; i < cells.size(); ++i)
       cells[i] = static_cast<std::uint8_t>(std::lround(255.0 * map.counts[i] / top));
-    std::vector<std::uint32_t> members;
-    for (int local : clusters[c].samples)
-      members.push_back(static_cast<std::uint32_t>(indices[local]));
-    list.push_back({{"id", c + 1},
-                    {"samples", clusters[c].samples.size()},
-                    {"position", vec(clusters[c].mean_position)},
-                    {"normal", vec(clusters[c].mean_normal)},
-                    {"members", base64(members)},
+    Vec3 position = Vec3::Zero(), normal = Vec3::Zero();
+    for (int i : members) {
+      position += samples[i].position;
+      normal += samples[i].normal;
+    }
+    const std::vector<std::uint32_t> indices(members.begin(), members.end());
+    list.push_back({{"id", id + 1},
+                    {"samples", members.size()},
+                    {"position", vec(position / static_cast<double>(members.size()))},
+                    {"normal", vec(normal.normalized())},
+                    {"members", base64(indices)},
                     {"azimuths", map.azimuths},
                     {"elevations", map.elevations},
                     {"step", map.step},

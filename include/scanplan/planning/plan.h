@@ -17,14 +17,16 @@
 
 namespace scanplan {
 
-// The optimality check: the fewest candidate poses that measure every sample the plan
-// measures (exact set cover, COIN-OR CBC).
+// How close the selection came to the fewest views of its pool (docs/planning.md): the
+// views kept against the lower bound of the pool's set cover (its LP relaxation, raised by
+// CBC's search).
 struct PlanBound {
-  std::size_t candidates = 0;  // valid poses the planner evaluated
-  std::size_t ilp_views = 0;   // views of the best cover CBC found
-  double lower_bound = 0;      // CBC's proven lower bound on the minimum
-  bool optimal = false;        // ilp_views is proven minimal
-  double seconds = 0;
+  std::size_t views = 0;         // views the selection kept (bridging views not counted)
+  std::size_t greedy_views = 0;  // views of the greedy cover the selection started from
+  double lower_bound = 0;        // no cover of the pool's reachable samples has fewer views
+  std::size_t pool = 0;          // candidate poses, each simulated on the samples
+  bool proven_optimal = false;   // views is the minimum over the pool
+  double seconds = 0;            // spent in the exact search
 };
 
 // Why a sample is not coverable.
@@ -94,7 +96,7 @@ struct Plan {
   std::vector<std::optional<CellPose>> cell_poses;
   std::vector<StageTime> times;
   double seconds = 0;
-  std::optional<PlanBound> bound;  // with PlanningOptions::bound
+  std::optional<PlanBound> bound;  // of the selection; per orientation, summed
 
   std::size_t measuredCount() const;
   std::size_t notCoverableCount() const;

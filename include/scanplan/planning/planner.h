@@ -18,9 +18,7 @@ namespace scanplan {
 // How planViews runs, beyond what the spec sets (the spec's planner, registration and
 // cell sections set everything else).
 struct PlanningOptions {
-  bool registration = true;      // check registration, bridge, and sequence the views
-  bool bound = false;            // also solve the exact set cover over all candidate poses
-  double bound_time_limit = 30;  // seconds for CBC
+  bool registration = true;  // check registration, bridge, and sequence the views
 };
 
 // The simulation of the part placed by `part_to_world` as the spec sets it: working plane

@@ -76,6 +76,15 @@ View tilePose(const Scanner& scanner, const SweepTile& tile);
 std::vector<View> densePoses(const Scanner& scanner, const SurfacePoint& point,
                              const VisibilityMap& grid, int rotations);
 
+// Poses aimed at one anchor point in rings around its normal: along the normal, then
+// tilted by each of `tilts` (degrees; those beyond `cone` left out) towards 6 sides for
+// the first ring and 8 for the others, each with `rotations` rotations about the axis.
+std::vector<View> ringPoses(const Scanner& scanner, const SurfacePoint& anchor,
+                            const std::vector<double>& tilts, double cone, int rotations);
+
+// `view` with its target (and camera) moved by `shift` (world, mm), orientation kept.
+View shiftedPose(const View& view, const Vec3& shift);
+
 // Bridging poses aimed at `target`: along its normal and tilted by 30 degrees towards
 // eight sides (to see the walls around it), each with two rotations about the view axis.
 std::vector<View> posesAround(const Scanner& scanner, const SurfacePoint& target);

@@ -10,13 +10,19 @@ struct SetCoverResult {
   std::vector<int> chosen;  // indices of the sets in the best cover found
   bool optimal = false;     // CBC proved it minimal within the time limit
   double lower_bound = 0;   // CBC's best bound on the minimum (== chosen.size() if optimal)
+  double lp_bound = 0;      // the LP relaxation's optimum, rounded up: a lower bound too
   double seconds = 0;
 };
 
 // The fewest of `sets` (each a list of element indices in [0, elements)) that together
 // cover every element `required` marks; elements no set contains are ignored.
 // min sum x_s  s.t.  sum_{s contains e} x_s >= 1 for each required e,  x_s in {0, 1}.
+// `start`, when given, is a cover CBC starts from (indices of sets); the result is never
+// larger than it. The search stops after `max_nodes` branch-and-bound nodes (the LP after
+// 100,000 simplex iterations), so that the result is the same on every run, or at
+// `time_limit_seconds`, a cap that makes it depend on the machine when it is reached.
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
-                               const std::vector<char>& required, double time_limit_seconds);
+                               const std::vector<char>& required, double time_limit_seconds,
+                               const std::vector<int>& start = {}, int max_nodes = 1000000);
 
 }  // namespace scanplan
