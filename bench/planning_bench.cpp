@@ -38,7 +38,11 @@ std::pair<std::size_t, std::size_t> denseGreedy(const Simulator& simulator,
   std::vector<char> covered(points.size(), 0);
   std::size_t reachable = 0;
   for (const auto& set : sets)
-    for (int i : set) reachable += !covered[i]++;
+    for (int i : set)
+      if (!covered[i]) {
+        covered[i] = 1;
+        ++reachable;
+      }
   std::fill(covered.begin(), covered.end(), 0);
   std::size_t views = 0, measured = 0;
   while (measured < plan_measured) {

@@ -71,7 +71,7 @@ int run(const Options& options, const GlobalOptions& global) {
   for (const auto& [key, row] : rows)
     fmt::print("{:<10} {:<9} {:>8} {:>9} {:>7.1f}%\n", key.first, key.second, row[0], row[1],
                100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
-  printPlanSummary(plan);
+  printPlanSummary(plan, part);
   fmt::print("{:<22} {}\n", "not coverable", plan.notCoverableCount());
   for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
   if (plan.bound) {

@@ -4,15 +4,22 @@
 
 namespace scanplan::cli {
 
-void printPlanSummary(const Plan& plan) {
-  auto percent = [](std::size_t part, std::size_t whole) {
-    return whole ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+void printPlanSummary(const Plan& plan, const Part& part) {
+  auto percent = [](std::size_t some, std::size_t whole) {
+    return whole ? 100.0 * static_cast<double>(some) / static_cast<double>(whole) : 0.0;
   };
   fmt::print("{:<22} {}\n", "model faces", plan.part_faces);
   fmt::print("{:<22} {}\n", "fixture faces", plan.fixture_faces);
   fmt::print("{:<22} {}\n", "target samples", plan.samples.size());
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
              percent(plan.measuredCount(), plan.samples.size()));
+  for (const Plan::FaceShortfall& f : plan.priorityShortfall()) {
+    const std::string& name = f.face >= 1 && f.face <= static_cast<int>(part.faces.size())
+                                  ? part.faces[f.face - 1].name
+                                  : std::string();
+    fmt::print("{:<22} face {}{}: {} of {} priority samples measured\n", "priority face short",
+               f.face, name.empty() ? "" : " (" + name + ")", f.measured, f.samples);
+  }
   fmt::print("{:<22} {}\n", "views", plan.views.size());
   for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
     const PlannedOrientation& o = plan.orientations[k];

@@ -7,6 +7,6 @@ namespace scanplan::cli {
 
 // Model and fixture faces, target and measured samples, views, views registered,
 // bridging views added and path length, one per line.
-void printPlanSummary(const Plan& plan);
+void printPlanSummary(const Plan& plan, const Part& part);
 
 }  // namespace scanplan::cli

@@ -31,7 +31,7 @@ int run(const Options& options, const GlobalOptions& global) {
 
   fmt::print("{:<22} {}\n", "plan", options.plan);
   fmt::print("{:<22} {}\n", "part", part.file);
-  printPlanSummary(check.plan);
+  printPlanSummary(check.plan, part);
   auto verdict = [](std::size_t differences, const std::string& what) {
     return differences == 0 ? std::string("as planned") : fmt::format("{} {}", differences, what);
   };

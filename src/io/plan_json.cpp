@@ -107,7 +107,11 @@ json summaryJson(const Plan& plan) {
     if (p.uncoverable != Uncoverable::None) ++reasons[std::string(toString(p.uncoverable))];
   json times = json::object();
   for (const StageTime& t : plan.times) times[t.stage] = t.seconds;
+  json short_faces = json::array();
+  for (const Plan::FaceShortfall& f : plan.priorityShortfall())
+    short_faces.push_back({{"face", f.face}, {"samples", f.samples}, {"measured", f.measured}});
   return {{"model_faces", plan.part_faces},
+          {"priority_faces_short", short_faces},
           {"fixture_faces", plan.fixture_faces},
           {"samples", plan.samples.size()},
           {"measured", plan.measuredCount()},

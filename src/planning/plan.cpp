@@ -3,6 +3,7 @@
 #include <scanplan/planning/plan.h>
 
 #include <algorithm>
+#include <map>
 
 namespace scanplan {
 
@@ -16,6 +17,21 @@ std::string_view toString(Uncoverable reason) {
     case Uncoverable::Unreachable: return "unreachable_by_robot";
   }
   return "unknown";
+}
+
+std::vector<Plan::FaceShortfall> Plan::priorityShortfall() const {
+  std::map<int, FaceShortfall> faces;
+  for (const PlannedSample& s : samples) {
+    if (s.sample.role != Role::Priority) continue;
+    FaceShortfall& face = faces[s.sample.face];
+    face.face = s.sample.face;
+    ++face.samples;
+    face.measured += !s.measured_by.empty();
+  }
+  std::vector<FaceShortfall> short_faces;
+  for (const auto& [id, face] : faces)
+    if (face.measured < face.samples) short_faces.push_back(face);
+  return short_faces;
 }
 
 std::size_t Plan::measuredCount() const {

@@ -77,14 +77,47 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
 
 namespace detail {
 
+namespace {
+
+// Per sample of `unmeasured` (indices), the furthest any pose of the pool got in the
+// measurement test (the latest Loss; OutsideVolume when no pose has it in reach).
+std::vector<Loss> bestLosses(const Placement& at, const MeasuredViews& pool,
+                             const std::vector<std::size_t>& unmeasured) {
+  std::vector<Loss> best(unmeasured.size(), Loss::OutsideVolume);
+  const Scanner& scanner = at.scanner();
+  const double reach =
+      scanner.depth_of_field / 2 + std::hypot(scanner.fov_width, scanner.fov_height);
+  std::vector<View> views;
+  std::vector<SurfacePoint> points;
+  std::vector<std::size_t> owner;
+  for (const View& view : pool.views)
+    for (std::size_t k = 0; k < unmeasured.size(); ++k)
+      if ((at.points[unmeasured[k]].position - view.target).norm() < reach) {
+        views.push_back(view);
+        points.push_back(at.points[unmeasured[k]]);
+        owner.push_back(k);
+      }
+  const std::vector<Loss> losses = at.simulator.measurePairs(views, points);
+  for (std::size_t p = 0; p < losses.size(); ++p)
+    if (losses[p] > best[owner[p]]) best[owner[p]] = losses[p];
+  return best;
+}
+
+}  // namespace
+
 void explainUncoverable(const Placement& at, const std::vector<Visibility>& visibility,
-                        std::vector<PlannedSample>& samples) {
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+                        const MeasuredViews& pool, std::vector<PlannedSample>& samples) {
+  std::vector<std::size_t> unmeasured;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (samples[i].measured_by.empty() && !at.isDone(i)) unmeasured.push_back(i);
+  const std::vector<Loss> best = bestLosses(at, pool, unmeasured);
+  for (std::size_t k = 0; k < unmeasured.size(); ++k) {
+    const std::size_t i = unmeasured[k];
     PlannedSample& s = samples[i];
-    if (!s.measured_by.empty() || at.isDone(i)) continue;
+    s.last_loss = best[k];
     s.uncoverable = visibility[i] == Visibility::BelowWorkingPlane ? Uncoverable::BelowWorkingPlane
                     : visibility[i] == Visibility::OccludedByPart  ? Uncoverable::OccludedByPart
-                    : s.last_loss == Loss::Measured                ? Uncoverable::NoValidPose
+                    : best[k] == Loss::OutsideVolume               ? Uncoverable::NoValidPose
                                                                    : Uncoverable::Lost;
   }
   if (!at.cell.cell) return;
@@ -232,7 +265,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
 
   CellSolutions solutions;  // of the final views, with a cell
   if (options.registration) solutions = registerAndSequence(at, plan, clock, progress);
-  detail::explainUncoverable(at, visibility, plan.samples);
+  detail::explainUncoverable(at, visibility, pool, plan.samples);
   if (cell) {
     plan.cell = cell;
     if (solutions.size() != plan.views.size())  // not sequenced in joint space

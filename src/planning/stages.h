@@ -105,8 +105,12 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
 void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& selected,
                     Plan& plan);
 
-// Why each sample still unmeasured is not coverable.
+// Why each sample still unmeasured (no pose of the pool measures it) is not coverable:
+// occluded from every direction of its visibility map (by the working plane, else by the
+// part); else lost in simulation, its `last_loss` the furthest any pool pose got in the
+// measurement test (occluded when every pose in reach was); else, no pool pose having it
+// in reach, no valid pose (unreachable by the robot when poses clear of the part reach it).
 void explainUncoverable(const Placement& at, const std::vector<Visibility>& visibility,
-                        std::vector<PlannedSample>& samples);
+                        const MeasuredViews& pool, std::vector<PlannedSample>& samples);
 
 }  // namespace scanplan::detail

@@ -306,6 +306,10 @@ const summaryRows = [
   ['measured', `${summary.measured} (${pct(summary.measured, summary.samples)})`],
   ['not coverable', summary.not_coverable], ['views', summary.views]];
 for (const [reason, count] of Object.entries(summary.not_coverable_by_reason || {})) summaryRows.push([`  not coverable: ${reason}`, count]);
+for (const s of summary.priority_faces_short || []) {
+  const f = data.faces[s.face - 1];
+  summaryRows.push([`priority face short: ${s.face}${f && f.name ? ` (${f.name})` : ''}`, `${s.measured} of ${s.samples} measured`]);
+}
 if (summary.registrable_views !== null && summary.registrable_views !== undefined) {
   summaryRows.push(['views registered', `${summary.registrable_views} (${pct(summary.registrable_views, summary.views)})`],
     ['measured by registered views', summary.measured_by_registered_views], ['bridging views', summary.bridging_views],

@@ -98,6 +98,14 @@ struct Plan {
   double seconds = 0;
   std::optional<PlanBound> bound;  // of the selection; per orientation, summed
 
+  // A face with priority samples the plan leaves unmeasured (none of its views, nor any
+  // pose of the planner's pool, measures them).
+  struct FaceShortfall {
+    int face = 0;
+    std::size_t samples = 0, measured = 0;  // its priority samples
+  };
+  std::vector<FaceShortfall> priorityShortfall() const;
+
   std::size_t measuredCount() const;
   std::size_t notCoverableCount() const;
   // Samples measured by a view that registers (all measured ones without registration).
