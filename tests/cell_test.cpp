@@ -200,6 +200,8 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
   Spec spec = defaultSpec();
   spec.gdt_from_file = true;
   spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+  spec.planner.anchors = 60;          // a small pool and a short search: the joints are tested,
+  spec.planner.selection_nodes = 20;  // not the views
   Cell cell;
   cell.robot = robotPreset("abb-irb4600-60-205");
   cell.base.translation() = Vec3(-1150, 240, 0);

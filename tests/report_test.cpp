@@ -350,8 +350,10 @@ TEST(Report, ClustersAreThoseOfThePlannersFirstRound) {
   int top = 0;
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Plane && f.bounds.min.z() > 9) top = f.id;
-  test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: gdt, faces: [" + std::to_string(top) +
-                                             "]}\n  - {type: global}\n");
+  test::writeText(dir.file("spec.yaml"),
+                  "planner: {anchors: 50, selection_nodes: 20}\ntasks:\n"
+                  "  - {type: gdt, faces: [" +
+                      std::to_string(top) + "]}\n  - {type: global}\n");
   const Spec spec = loadSpec(dir.file("spec.yaml"));
   std::size_t first_round = 0;
   const Progress progress = [&](std::string_view stage, double) {

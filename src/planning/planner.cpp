@@ -1,6 +1,7 @@
 // The planner's pipeline (docs/planning.md): one placement of the part through the
 // stages of stages.h, and the rest orientations of part.rest: all, merged.
 
+#include "kd_tree.h"
 #include "planning/stages.h"
 
 #include <scanplan/errors.h>
@@ -79,24 +80,38 @@ namespace detail {
 
 namespace {
 
-// Per sample of `unmeasured` (indices), the furthest any pose of the pool got in the
-// measurement test (the latest Loss; OutsideVolume when no pose has it in reach).
+// Per sample of `unmeasured` (indices), the furthest the pool's poses aimed nearest to it
+// (the 64 whose targets are closest, within reach) got in the measurement test: the latest
+// Loss, OutsideVolume when none has it in reach.
 std::vector<Loss> bestLosses(const Placement& at, const MeasuredViews& pool,
                              const std::vector<std::size_t>& unmeasured) {
   std::vector<Loss> best(unmeasured.size(), Loss::OutsideVolume);
+  if (pool.views.empty() || unmeasured.empty()) return best;
   const Scanner& scanner = at.scanner();
   const double reach =
-      scanner.depth_of_field / 2 + std::hypot(scanner.fov_width, scanner.fov_height);
+      scanner.depth_of_field / 2 + std::hypot(scanner.fov_width, scanner.fov_height) / 2;
+  std::vector<Vec3> targets;
+  for (const View& view : pool.views) targets.push_back(view.target);
+  const PointCloudAdaptor cloud{targets};
+  PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  constexpr std::size_t kNearest = 64;
   std::vector<View> views;
   std::vector<SurfacePoint> points;
   std::vector<std::size_t> owner;
-  for (const View& view : pool.views)
-    for (std::size_t k = 0; k < unmeasured.size(); ++k)
-      if ((at.points[unmeasured[k]].position - view.target).norm() < reach) {
-        views.push_back(view);
-        points.push_back(at.points[unmeasured[k]]);
-        owner.push_back(k);
-      }
+  std::vector<unsigned> nearest(kNearest);
+  std::vector<double> distances(kNearest);
+  for (std::size_t k = 0; k < unmeasured.size(); ++k) {
+    const SurfacePoint& point = at.points[unmeasured[k]];
+    const std::size_t found =
+        tree.knnSearch(point.position.data(), kNearest, nearest.data(), distances.data());
+    for (std::size_t n = 0; n < found; ++n) {
+      if (distances[n] > reach * reach) continue;
+      views.push_back(pool.views[nearest[n]]);
+      points.push_back(point);
+      owner.push_back(k);
+    }
+  }
   const std::vector<Loss> losses = at.simulator.measurePairs(views, points);
   for (std::size_t p = 0; p < losses.size(); ++p)
     if (losses[p] > best[owner[p]]) best[owner[p]] = losses[p];
@@ -121,11 +136,12 @@ void explainUncoverable(const Placement& at, const std::vector<Visibility>& visi
                                                                    : Uncoverable::Lost;
   }
   if (!at.cell.cell) return;
-  // No valid pose: because of the robot, when poses clear of the part measure it.
+  // Not measured because of the robot, when poses clear of the part measure it.
   std::vector<std::size_t> unposed;
   std::vector<SurfacePoint> points;
   for (std::size_t i = 0; i < samples.size(); ++i)
-    if (samples[i].uncoverable == Uncoverable::NoValidPose) {
+    if (samples[i].uncoverable == Uncoverable::NoValidPose ||
+        samples[i].uncoverable == Uncoverable::Lost) {
       unposed.push_back(i);
       points.push_back(at.points[i]);
     }
@@ -266,6 +282,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   CellSolutions solutions;  // of the final views, with a cell
   if (options.registration) solutions = registerAndSequence(at, plan, clock, progress);
   detail::explainUncoverable(at, visibility, pool, plan.samples);
+  clock.lap("not coverable");
   if (cell) {
     plan.cell = cell;
     if (solutions.size() != plan.views.size())  // not sequenced in joint space

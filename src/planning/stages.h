@@ -107,9 +107,10 @@ void applySelection(const MeasuredViews& pool, const std::vector<std::size_t>& s
 
 // Why each sample still unmeasured (no pose of the pool measures it) is not coverable:
 // occluded from every direction of its visibility map (by the working plane, else by the
-// part); else lost in simulation, its `last_loss` the furthest any pool pose got in the
-// measurement test (occluded when every pose in reach was); else, no pool pose having it
-// in reach, no valid pose (unreachable by the robot when poses clear of the part reach it).
+// part); else lost in simulation, its `last_loss` the furthest the 64 pool poses aimed
+// nearest to it got in the measurement test (occluded when every one in reach was); else,
+// none having it in reach, no valid pose. With a cell, a sample lost or without a valid
+// pose is unreachable by the robot when poses clear of the part measure it.
 void explainUncoverable(const Placement& at, const std::vector<Visibility>& visibility,
                         const MeasuredViews& pool, std::vector<PlannedSample>& samples);
 
