@@ -12,6 +12,7 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
 
 #include <set>
@@ -124,6 +125,7 @@ TEST(Planning, CubeOnThePlane) {
   Simulator simulator(part, plan.scanner, options);
   for (const View& view : plan.views) EXPECT_TRUE(poseIsValid(simulator, view)) << view.id;
   EXPECT_NEAR(plan.part_to_world.translation().z(), 0, 1e-9);  // the cube already stands on z = 0
+  EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.bound->views));
 }
 
 // A camera 100 mm above the working plane looking level, baseline level: the scanner body
@@ -243,6 +245,45 @@ TEST(Planning, FootOfAWallIsMeasuredOffCentre) {
   EXPECT_TRUE(measured);
 }
 
+// A blind bore, 40 mm across and 40 deep, in a block: every sample of its wall that some
+// pose aimed at it can measure (the independent dense reference) is measured, and the
+// lower bound of the selection holds.
+TEST(Planning, BoreWallIsMeasuredWhereverAPoseCanMeasureIt) {
+  test::TempDir dir;
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(200, 200, 60).Shape();
+  const TopoDS_Shape bore =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(100, 100, 20), gp_Dir(0, 0, 1)), 20, 41).Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(block, bore).Shape(), dir.file("bore.brep").c_str());
+  const Part part = importPart(dir.file("bore.brep"));
+  int wall = 0;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Cylinder) wall = f.id;
+  ASSERT_GT(wall, 0);
+  const Plan plan = planViews(
+      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(wall) + "]}\n", dir),
+      PlanningOptions{.registration = false});
+  SimulationOptions options;
+  options.part_to_world = plan.part_to_world;
+  const Simulator simulator(part, plan.scanner, options);
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : plan.samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
+  std::size_t reachable = 0, measured = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    reachable += coverable[i] != 0;
+    measured += !plan.samples[i].measured_by.empty();
+    if (coverable[i]) {
+      EXPECT_FALSE(plan.samples[i].measured_by.empty()) << points[i].position.transpose();
+    }
+  }
+  RecordProperty("samples", std::to_string(points.size()));
+  RecordProperty("reachable", std::to_string(reachable));
+  RecordProperty("measured", std::to_string(measured));
+  EXPECT_GT(reachable, points.size() / 2);
+  EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.views.size()));
+}
+
 TEST(Planning, DeepSlotFloorSeenAlongTheSlot) {
   test::TempDir dir;
   Part part = slotted(dir);
@@ -325,6 +366,10 @@ TEST(Planning, NistPlanIsConsistentMonotoneAndMinimal) {
   // Every sample is measured or has a reason.
   for (const PlannedSample& s : plan.samples)
     EXPECT_NE(s.measured_by.empty(), s.uncoverable == Uncoverable::None);
+  // The selection's lower bound holds, and bridging views come on top of its views.
+  ASSERT_TRUE(plan.bound && plan.registration);
+  EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.bound->views));
+  EXPECT_EQ(plan.bound->views + plan.registration->bridging_views, plan.views.size());
 }
 
 TEST(Planning, SameInputSameSeedSamePlan) {
