@@ -439,9 +439,11 @@ std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
   const detail::PointCloudAdaptor cloud{positions};
   detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
+  nanoflann::SearchParams unsorted;
+  unsorted.sorted = false;  // the indices are sorted below; the distances are not needed
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
     detail::Neighbours near;
-    tree.radiusSearch(views[v].target.data(), reach * reach, near, nanoflann::SearchParams());
+    tree.radiusSearch(views[v].target.data(), reach * reach, near, unsorted);
     std::vector<int> indices;
     for (const auto& [i, distance2] : near) indices.push_back(static_cast<int>(i));
     std::sort(indices.begin(), indices.end());
