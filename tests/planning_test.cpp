@@ -38,6 +38,20 @@ Spec specWith(const std::string& text, const test::TempDir& dir) {
   return loadSpec(dir.file("spec.yaml"));
 }
 
+// The plan of a gdt task on one face, without registration.
+Plan gdtPlan(const Part& part, int face, const test::TempDir& dir) {
+  return planViews(
+      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(face) + "]}\n", dir),
+      PlanningOptions{.registration = false});
+}
+
+// A simulator of `part` placed as `plan` places it, independent of the planner's.
+Simulator simulatorFor(const Part& part, const Plan& plan) {
+  SimulationOptions options;
+  options.part_to_world = plan.part_to_world;
+  return Simulator(part, plan.scanner, options);
+}
+
 TEST(Planning, RestAllMeasuresEverySideOfACube) {
   test::TempDir dir;
   Part part = cube(dir);
@@ -187,9 +201,7 @@ TEST(Planning, PlateOfTwoByTwoFieldsOfViewTakesFourViews) {
   int top = 0;
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Plane && f.bounds.min.z() > 9) top = f.id;
-  const Plan plan = planViews(
-      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(top) + "]}\n", dir),
-      PlanningOptions{.registration = false});
+  const Plan plan = gdtPlan(part, top, dir);
   EXPECT_EQ(plan.measuredCount(), plan.samples.size());
   EXPECT_GT(width * height, 3 * scanner.fov_width * scanner.fov_height);
   EXPECT_EQ(plan.views.size(), 4u);
@@ -221,12 +233,8 @@ TEST(Planning, FootOfAWallIsMeasuredOffCentre) {
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Plane && f.bounds.max.x() < 1) side = f.id;  // the x = 0 face
   ASSERT_GT(side, 0);
-  const Plan plan = planViews(
-      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(side) + "]}\n", dir),
-      PlanningOptions{.registration = false});
-  SimulationOptions options;
-  options.part_to_world = plan.part_to_world;
-  const Simulator simulator(part, plan.scanner, options);
+  const Plan plan = gdtPlan(part, side, dir);
+  const Simulator simulator = simulatorFor(part, plan);
   const SurfacePoint foot{Vec3(0, 150, 5), -Vec3::UnitX(), side};
   View aimed;
   aimed.camera_to_world =
@@ -259,12 +267,8 @@ TEST(Planning, BoreWallIsMeasuredWhereverAPoseCanMeasureIt) {
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Cylinder) wall = f.id;
   ASSERT_GT(wall, 0);
-  const Plan plan = planViews(
-      part, specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(wall) + "]}\n", dir),
-      PlanningOptions{.registration = false});
-  SimulationOptions options;
-  options.part_to_world = plan.part_to_world;
-  const Simulator simulator(part, plan.scanner, options);
+  const Plan plan = gdtPlan(part, wall, dir);
+  const Simulator simulator = simulatorFor(part, plan);
   std::vector<SurfacePoint> points;
   for (const PlannedSample& s : plan.samples)
     points.push_back({s.sample.position, s.sample.normal, s.sample.face});
