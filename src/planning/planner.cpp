@@ -269,8 +269,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   clock.lap("rescue");
   const std::vector<View> dense = detail::densePool(at, progress);
   candidates.insert(candidates.end(), dense.begin(), dense.end());
-  report(progress, "simulating " + std::to_string(added.size() + candidates.size()) + " poses", 0);
-  const detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates);
+  const detail::MeasuredViews pool =
+      detail::candidatePool(at, std::move(added), candidates, progress);
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);

@@ -12,11 +12,19 @@
 namespace scanplan::detail {
 
 MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
-                            const std::vector<View>& candidates) {
-  // The added views' coverage is known; only the other candidates are simulated.
-  std::vector<std::vector<int>> measured = measuredPoints(at.simulator, candidates, at.points);
-  for (std::size_t k = 0; k < candidates.size(); ++k)
-    added.add(candidates[k], std::move(measured[k]));
+                            const std::vector<View>& candidates, const Progress& progress) {
+  // The added views' coverage is known; only the other candidates are simulated, in
+  // batches so that progress shows.
+  constexpr std::size_t kBatch = 1000;
+  const std::string stage = "simulating " + std::to_string(candidates.size()) + " candidate poses";
+  for (std::size_t first = 0; first < candidates.size(); first += kBatch) {
+    report(progress, stage, static_cast<double>(first) / static_cast<double>(candidates.size()));
+    const auto batch = std::span<const View>(candidates)
+                           .subspan(first, std::min(kBatch, candidates.size() - first));
+    std::vector<std::vector<int>> measured = measuredPoints(at.simulator, batch, at.points);
+    for (std::size_t k = 0; k < batch.size(); ++k) added.add(batch[k], std::move(measured[k]));
+  }
+  report(progress, stage, 1);
   return added;
 }
 

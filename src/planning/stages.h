@@ -83,7 +83,7 @@ std::vector<View> densePool(const Placement& at, const Progress& progress);
 // The candidate pool: the views added, then every other valid pose evaluated and the
 // dense poses, each with the samples it measures.
 MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
-                            const std::vector<View>& candidates);
+                            const std::vector<View>& candidates, const Progress& progress);
 
 // The views chosen from the pool (indices into it), and how close they are to the fewest.
 struct Selection {
