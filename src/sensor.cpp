@@ -3,10 +3,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <map>
 
 namespace scanplan {
@@ -50,32 +50,30 @@ void validate(const Scanner& s, const std::string& source) {
     fail("point_spacing must be smaller than the field of view");
 }
 
+const std::array<ScannerParameter, 12>& scannerParameters() {
+  static const std::array<ScannerParameter, 12> table = {{
+      {"standoff", &Scanner::standoff},
+      {"depth_of_field", &Scanner::depth_of_field},
+      {"fov_width", &Scanner::fov_width},
+      {"fov_height", &Scanner::fov_height},
+      {"triangulation_angle", &Scanner::triangulation_angle},
+      {"max_camera_angle", &Scanner::max_camera_angle},
+      {"max_projector_angle", &Scanner::max_projector_angle},
+      {"reflection_cone", &Scanner::reflection_cone},
+      {"point_spacing", &Scanner::point_spacing},
+      {"noise_sigma", &Scanner::noise_sigma},
+      {"body_margin", &Scanner::body_margin},
+      {"body_depth", &Scanner::body_depth},
+  }};
+  return table;
+}
+
 std::string dataDirectory() {
   if (const char* env = std::getenv("SCANPLAN_DATA"); env && *env) return env;
   return SCANPLAN_SOURCE_DATA;
 }
 
 namespace {
-
-using Setter = std::function<void(Scanner&, double)>;
-
-const std::map<std::string, Setter>& parameters() {
-  static const std::map<std::string, Setter> table = {
-      {"standoff", [](Scanner& s, double v) { s.standoff = v; }},
-      {"depth_of_field", [](Scanner& s, double v) { s.depth_of_field = v; }},
-      {"fov_width", [](Scanner& s, double v) { s.fov_width = v; }},
-      {"fov_height", [](Scanner& s, double v) { s.fov_height = v; }},
-      {"triangulation_angle", [](Scanner& s, double v) { s.triangulation_angle = v; }},
-      {"max_camera_angle", [](Scanner& s, double v) { s.max_camera_angle = v; }},
-      {"max_projector_angle", [](Scanner& s, double v) { s.max_projector_angle = v; }},
-      {"reflection_cone", [](Scanner& s, double v) { s.reflection_cone = v; }},
-      {"point_spacing", [](Scanner& s, double v) { s.point_spacing = v; }},
-      {"noise_sigma", [](Scanner& s, double v) { s.noise_sigma = v; }},
-      {"body_margin", [](Scanner& s, double v) { s.body_margin = v; }},
-      {"body_depth", [](Scanner& s, double v) { s.body_depth = v; }},
-  };
-  return table;
-}
 
 // Applies a YAML mapping of scanner parameters on top of `scanner`.
 Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& source) {
@@ -89,11 +87,13 @@ Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& 
       scanner.name = item.second.as<std::string>();
       continue;
     }
-    auto setter = parameters().find(key);
-    if (setter == parameters().end())
+    const auto& table = scannerParameters();
+    const auto parameter = std::find_if(table.begin(), table.end(),
+                                        [&](const ScannerParameter& p) { return key == p.name; });
+    if (parameter == table.end())
       throw InputError(source, "unknown scanner parameter '" + key + "'");
     try {
-      setter->second(scanner, item.second.as<double>());
+      scanner.*parameter->value = item.second.as<double>();
     } catch (const YAML::Exception&) {
       throw InputError(source, "scanner parameter '" + key + "' must be a number");
     }

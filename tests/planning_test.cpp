@@ -1,7 +1,7 @@
 // View planning: analytic parts (a cube on the plane, a deep slot) and the plan's
 // consistency with an independent re-simulation.
 
-#include "support.h"
+#include "plan_support.h"
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
@@ -33,10 +33,7 @@ Part slotted(const test::TempDir& dir) {
   return importPart(dir.file("slot.brep"));
 }
 
-Spec specWith(const std::string& text, const test::TempDir& dir) {
-  test::writeText(dir.file("spec.yaml"), text);
-  return loadSpec(dir.file("spec.yaml"));
-}
+using test::specWith;
 
 // The plan of a gdt task on one face, without registration.
 Plan gdtPlan(const Part& part, int face, const test::TempDir& dir) {
@@ -198,10 +195,7 @@ TEST(Planning, PlateOfTwoByTwoFieldsOfViewTakesFourViews) {
   const double width = 2 * scanner.fov_width - 1, height = 2 * scanner.fov_height - 1;
   BRepTools::Write(BRepPrimAPI_MakeBox(width, height, 10).Shape(), dir.file("plate.brep").c_str());
   const Part part = importPart(dir.file("plate.brep"));
-  int top = 0;
-  for (const Face& f : part.faces)
-    if (f.type == SurfaceType::Plane && f.bounds.min.z() > 9) top = f.id;
-  const Plan plan = gdtPlan(part, top, dir);
+  const Plan plan = gdtPlan(part, test::topFace(part), dir);
   EXPECT_EQ(plan.measuredCount(), plan.samples.size());
   EXPECT_GT(width * height, 3 * scanner.fov_width * scanner.fov_height);
   EXPECT_EQ(plan.views.size(), 4u);
@@ -268,23 +262,12 @@ TEST(Planning, BoreWallIsMeasuredWhereverAPoseCanMeasureIt) {
     if (f.type == SurfaceType::Cylinder) wall = f.id;
   ASSERT_GT(wall, 0);
   const Plan plan = gdtPlan(part, wall, dir);
-  const Simulator simulator = simulatorFor(part, plan);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
-  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
-  std::size_t reachable = 0, measured = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    reachable += coverable[i] != 0;
-    measured += !plan.samples[i].measured_by.empty();
-    if (coverable[i]) {
-      EXPECT_FALSE(plan.samples[i].measured_by.empty()) << points[i].position.transpose();
-    }
-  }
-  RecordProperty("samples", std::to_string(points.size()));
+  const auto [reachable, measured] = test::coverableAndMeasured(part, plan);
+  RecordProperty("samples", std::to_string(plan.samples.size()));
   RecordProperty("reachable", std::to_string(reachable));
   RecordProperty("measured", std::to_string(measured));
-  EXPECT_GT(reachable, points.size() / 2);
+  EXPECT_EQ(measured, reachable);  // every sample a pose can measure is measured
+  EXPECT_GT(reachable, plan.samples.size() / 2);
   EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.views.size()));
 }
 

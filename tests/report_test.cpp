@@ -2,7 +2,7 @@
 // the scanner's numbers, PLY and CSV round trips through the project's readers, the glTF's
 // structure, the picture's colours, and the report page's inlined data.
 
-#include "support.h"
+#include "plan_support.h"
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
@@ -347,9 +347,7 @@ TEST(Report, ClustersAreThoseOfThePlannersFirstRound) {
   test::TempDir dir;
   BRepTools::Write(BRepPrimAPI_MakeBox(1000, 600, 10).Shape(), dir.file("plate.brep").c_str());
   const Part part = importPart(dir.file("plate.brep"));
-  int top = 0;
-  for (const Face& f : part.faces)
-    if (f.type == SurfaceType::Plane && f.bounds.min.z() > 9) top = f.id;
+  const int top = test::topFace(part);
   test::writeText(dir.file("spec.yaml"),
                   "planner: {anchors: 50, selection_nodes: 20}\ntasks:\n"
                   "  - {type: gdt, faces: [" +

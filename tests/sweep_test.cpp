@@ -1,7 +1,7 @@
 // Sweep positioning: a plate much larger than the field of view, a curved panel of many
 // B-spline faces under an interpolated patch, and a 1.9 m sheet-metal plate.
 
-#include "support.h"
+#include "plan_support.h"
 
 #include <scanplan/cad/import.h>
 #include <scanplan/localization.h>
@@ -22,38 +22,9 @@
 namespace scanplan {
 namespace {
 
-Spec specWith(const std::string& text, const test::TempDir& dir) {
-  test::writeText(dir.file("spec.yaml"), text);
-  return loadSpec(dir.file("spec.yaml"));
-}
-
-// The face of `part` with the largest area whose normal (at its samples) is +Z.
-int topFace(const Part& part) {
-  int best = 0;
-  for (const Face& face : part.faces)
-    if (face.bounds.size().z() < 1e-6 && face.bounds.max.z() > part.bounds().max.z() - 1e-6 &&
-        (best == 0 || face.area > part.face(best).area))
-      best = face.id;
-  return best;
-}
-
-// Samples of `plan` that some valid dense candidate pose measures, and how many of those
-// the plan measures.
-std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part, const Plan& plan) {
-  SimulationOptions simulation;
-  simulation.part_to_world = plan.part_to_world;
-  const Simulator simulator(part, plan.scanner, simulation);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
-  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
-  std::size_t can = 0, measured = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    can += coverable[i];
-    measured += coverable[i] && !plan.samples[i].measured_by.empty();
-  }
-  return {can, measured};
-}
+using test::coverableAndMeasured;
+using test::specWith;
+using test::topFace;
 
 PlanningOptions withoutRegistration() {
   PlanningOptions options;

@@ -8,6 +8,7 @@
 
 #include <scanplan/geometry.h>
 
+#include <array>
 #include <string>
 
 namespace scanplan {
@@ -34,6 +35,13 @@ struct Scanner {
   // Projector centre in S: (baseline, 0, 0).
   Vec3 projectorInScanner() const;
 };
+
+// The scanner's numeric parameters by the names spec, preset and plan files give them.
+struct ScannerParameter {
+  const char* name;
+  double Scanner::*value;
+};
+const std::array<ScannerParameter, 12>& scannerParameters();
 
 // \throw InputError naming `source` and the parameter when a value is out of range:
 //        sizes must be positive, angles within (0, 90) degrees (the reflection cone

@@ -37,26 +37,9 @@ json markersJson(const std::vector<Marker>& markers) {
   return list;
 }
 
-// The scanner's numeric parameters as plan.json names them: one list for writing and
-// reading.
-constexpr std::array<std::pair<const char*, double Scanner::*>, 12> kScannerFields = {{
-    {"standoff", &Scanner::standoff},
-    {"depth_of_field", &Scanner::depth_of_field},
-    {"fov_width", &Scanner::fov_width},
-    {"fov_height", &Scanner::fov_height},
-    {"triangulation_angle", &Scanner::triangulation_angle},
-    {"max_camera_angle", &Scanner::max_camera_angle},
-    {"max_projector_angle", &Scanner::max_projector_angle},
-    {"reflection_cone", &Scanner::reflection_cone},
-    {"point_spacing", &Scanner::point_spacing},
-    {"noise_sigma", &Scanner::noise_sigma},
-    {"body_margin", &Scanner::body_margin},
-    {"body_depth", &Scanner::body_depth},
-}};
-
 json scannerJson(const Scanner& scanner) {
   json result = {{"name", scanner.name}};
-  for (const auto& [key, member] : kScannerFields) result[key] = scanner.*member;
+  for (const ScannerParameter& p : scannerParameters()) result[p.name] = scanner.*p.value;
   return result;
 }
 
@@ -327,8 +310,8 @@ struct PlanReader {
     if (!entry.is_object()) throw InputError(path, "no 'scanner' object");
     Scanner s;
     if (entry.contains("name") && entry["name"].is_string()) s.name = entry["name"];
-    for (const auto& [key, member] : kScannerFields)
-      if (entry.contains(key)) s.*member = field<double>(entry, key, path, "scanner");
+    for (const ScannerParameter& p : scannerParameters())
+      if (entry.contains(p.name)) s.*p.value = field<double>(entry, p.name, path, "scanner");
     validate(s, path);
     return s;
   }

@@ -19,18 +19,6 @@ std::vector<int> measuredBy(const Simulator& simulator, const View& view,
   return hits;
 }
 
-std::vector<std::vector<int>> measuredBy(const Simulator& simulator, std::span<const View> views,
-                                         std::span<const SurfacePoint> points) {
-  std::vector<std::vector<int>> all;
-  for (const std::vector<Loss>& losses : simulator.measure(views, points)) {
-    std::vector<int> hits;
-    for (std::size_t i = 0; i < losses.size(); ++i)
-      if (losses[i] == Loss::Measured) hits.push_back(static_cast<int>(i));
-    all.push_back(std::move(hits));
-  }
-  return all;
-}
-
 bool addView(View view, std::vector<int> measured, std::vector<PlannedSample>& samples,
              MeasuredViews& added) {
   if (measured.empty()) return false;

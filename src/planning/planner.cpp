@@ -211,7 +211,7 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
   plan.registration =
       registerViews(at.simulator, plan.views, plan.markers, registration, at.cell, progress);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
-  const auto measured = detail::measuredBy(at.simulator, bridges, at.points);
+  const auto measured = measuredPoints(at.simulator, bridges, at.points);
   for (std::size_t b = 0; b < bridges.size(); ++b)
     for (int i : measured[b]) plan.samples[i].measured_by.push_back(bridges[b].id);
   clock.lap("registration");
@@ -324,9 +324,7 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     sum.greedy_views += part.bound->greedy_views;
     sum.lower_bound += part.bound->lower_bound;
     sum.pool += part.bound->pool;
-    sum.proven_optimal =
-        (sum.pool == part.bound->pool || sum.proven_optimal) && part.bound->proven_optimal;
-    sum.seconds += part.bound->seconds;
+    sum.proven_optimal = sum.lower_bound >= static_cast<double>(sum.views);
   }
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());

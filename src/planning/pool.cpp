@@ -6,51 +6,34 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <map>
 
 namespace scanplan::detail {
 namespace {
 
-// Up to `count` samples (not done elsewhere) spread over the targets: a greedy pick in
-// sample order of those farther than a radius from every sample picked with a like normal
-// (within 60°), the radius grown until few enough remain.
-std::vector<int> anchorSamples(const Placement& at, std::size_t count) {
+// Up to `count` samples (not done elsewhere) spread over the targets: decimated (sampling.h)
+// with a like normal within 60°, the radius starting at a quarter of the field of view
+// and grown until few enough remain.
+std::vector<SurfacePoint> anchorSamples(const Placement& at, std::size_t count) {
   if (count == 0) return {};
+  std::vector<Sample> targets;
+  for (std::size_t i = 0; i < at.points.size(); ++i)
+    if (!at.isDone(i)) {
+      Sample sample;
+      sample.position = at.points[i].position;
+      sample.normal = at.points[i].normal;
+      sample.face = at.points[i].face;
+      targets.push_back(sample);
+    }
   const Scanner& scanner = at.scanner();
   double radius = std::min(scanner.fov_width, scanner.fov_height) / 4;
-  const double min_dot = std::cos(radians(60));
   for (;;) {
-    std::map<std::array<long, 3>, std::vector<int>> grid;
-    std::vector<int> anchors;
-    auto cellOf = [&](const Vec3& p) {
-      return std::array<long, 3>{std::lround(std::floor(p.x() / radius)),
-                                 std::lround(std::floor(p.y() / radius)),
-                                 std::lround(std::floor(p.z() / radius))};
-    };
-    for (std::size_t i = 0; i < at.points.size() && anchors.size() <= count; ++i) {
-      if (at.isDone(i)) continue;
-      const SurfacePoint& p = at.points[i];
-      const auto cell = cellOf(p.position);
-      bool near = false;
-      for (long dx = -1; dx <= 1 && !near; ++dx)
-        for (long dy = -1; dy <= 1 && !near; ++dy)
-          for (long dz = -1; dz <= 1 && !near; ++dz) {
-            auto found = grid.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
-            if (found == grid.end()) continue;
-            for (int k : found->second)
-              if ((at.points[k].position - p.position).norm() < radius &&
-                  at.points[k].normal.dot(p.normal) > min_dot) {
-                near = true;
-                break;
-              }
-          }
-      if (near) continue;
-      grid[cell].push_back(static_cast<int>(i));
-      anchors.push_back(static_cast<int>(i));
+    const std::vector<Sample> anchors = decimate(targets, radius, 60);
+    if (anchors.size() <= count) {
+      std::vector<SurfacePoint> points;
+      for (const Sample& s : anchors) points.push_back({s.position, s.normal, s.face});
+      return points;
     }
-    if (anchors.size() <= count) return anchors;
     radius *= 1.3;
   }
 }
@@ -78,8 +61,8 @@ std::vector<View> densePool(const Placement& at, const Progress& progress) {
   const auto anchors = anchorSamples(at, static_cast<std::size_t>(at.settings().anchors));
   report(progress, "dense poses at " + std::to_string(anchors.size()) + " anchors", 0);
   std::vector<View> poses;
-  for (int i : anchors) {
-    const std::vector<View> mine = anchorPoses(at, at.points[i]);
+  for (const SurfacePoint& anchor : anchors) {
+    const std::vector<View> mine = anchorPoses(at, anchor);
     poses.insert(poses.end(), mine.begin(), mine.end());
   }
   std::vector<char> valid(poses.size());

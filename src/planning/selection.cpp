@@ -121,11 +121,9 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   PlanBound& bound = selection.bound;
   bound.views = selection.views.size();
   bound.greedy_views = greedy.size();
-  bound.lower_bound =
-      std::min(static_cast<double>(pinned) + cover.lower_bound, static_cast<double>(bound.views));
+  bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
   bound.pool = pool.size();
   bound.proven_optimal = bound.lower_bound >= static_cast<double>(bound.views);
-  bound.seconds = cover.seconds;
   return selection;
 }
 

@@ -37,11 +37,10 @@ struct Placement {
   bool isDone(std::size_t i) const { return !done.empty() && done[i]; }
 };
 
-// The samples `view` measures, indices ascending; and the same for many views at once.
+// The samples `view` measures, indices ascending (for many views at once, measuredPoints
+// of simulation.h).
 std::vector<int> measuredBy(const Simulator& simulator, const View& view,
                             std::span<const SurfacePoint> points);
-std::vector<std::vector<int>> measuredBy(const Simulator& simulator, std::span<const View> views,
-                                         std::span<const SurfacePoint> points);
 
 // Adds `view`, which measures `measured`, to `added` with the next id, and that id to its
 // samples' measured_by; nothing when it measures no sample. True when added.

@@ -25,8 +25,7 @@ struct PlanBound {
   std::size_t greedy_views = 0;  // views of the greedy cover the selection started from
   double lower_bound = 0;        // no cover of the pool's reachable samples has fewer views
   std::size_t pool = 0;          // candidate poses, each simulated on the samples
-  bool proven_optimal = false;   // views is the minimum over the pool
-  double seconds = 0;            // spent in the exact search
+  bool proven_optimal = false;   // views is the minimum over the pool (lower_bound >= views)
 };
 
 // Why a sample is not coverable.

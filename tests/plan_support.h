@@ -1,0 +1,52 @@
+#pragma once
+// Helpers of the tests that plan: specs from text, a part's top face, coverage against the
+// independent dense reference.
+
+#include "support.h"
+
+#include <scanplan/planning.h>
+#include <scanplan/spec.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace scanplan::test {
+
+// The spec `text`, written into `dir` and read back.
+inline Spec specWith(const std::string& text, const TempDir& dir) {
+  writeText(dir.file("spec.yaml"), text);
+  return loadSpec(dir.file("spec.yaml"));
+}
+
+// The face of `part` with the largest area whose normal (at its samples) is +Z.
+inline int topFace(const Part& part) {
+  int best = 0;
+  for (const Face& face : part.faces)
+    if (face.bounds.size().z() < 1e-6 && face.bounds.max.z() > part.bounds().max.z() - 1e-6 &&
+        (best == 0 || face.area > part.face(best).area))
+      best = face.id;
+  return best;
+}
+
+// Samples of `plan` that some valid dense candidate pose measures
+// (coverableByDenseCandidates, an independent simulator), and how many of those the plan
+// measures.
+inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part,
+                                                                const Plan& plan) {
+  SimulationOptions simulation;
+  simulation.part_to_world = plan.part_to_world;
+  const Simulator simulator(part, plan.scanner, simulation);
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : plan.samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
+  std::size_t can = 0, measured = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    can += coverable[i];
+    measured += coverable[i] && !plan.samples[i].measured_by.empty();
+  }
+  return {can, measured};
+}
+
+}  // namespace scanplan::test
