@@ -84,9 +84,7 @@ void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   SimulationOptions simulation;
   simulation.part_to_world = plan.part_to_world;
   const Simulator simulator(part, plan.scanner, simulation);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<SurfacePoint> points = plan.samplePoints();
   const auto [greedy_views, dense_reachable] = denseGreedy(simulator, points, plan.measuredCount());
   state.counters["samples"] = static_cast<double>(plan.samples.size());
   state.counters["dense_reachable"] = static_cast<double>(dense_reachable);

@@ -37,9 +37,7 @@ inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part
   SimulationOptions simulation;
   simulation.part_to_world = plan.part_to_world;
   const Simulator simulator(part, plan.scanner, simulation);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<SurfacePoint> points = plan.samplePoints();
   const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
   std::size_t can = 0, measured = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {

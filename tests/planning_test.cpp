@@ -317,9 +317,7 @@ void expectMeasuredByAgrees(const Part& part, const Plan& plan) {
   SimulationOptions options;
   options.part_to_world = plan.part_to_world;
   Simulator simulator(part, plan.scanner, options);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<SurfacePoint> points = plan.samplePoints();
   std::vector<std::set<int>> expected(points.size());
   for (const View& view : plan.views) {
     const std::vector<Loss> losses = simulator.measure(view, points);

@@ -34,6 +34,13 @@ std::vector<Plan::FaceShortfall> Plan::priorityShortfall() const {
   return short_faces;
 }
 
+std::vector<SurfacePoint> Plan::samplePoints() const {
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  return points;
+}
+
 std::size_t Plan::measuredCount() const {
   return static_cast<std::size_t>(
       std::count_if(samples.begin(), samples.end(),

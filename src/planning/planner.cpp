@@ -247,11 +247,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     collisions = std::make_unique<const CellCollisions>(
         *cell, part.mesh, part_to_world, simulator.options().fixtures,
         simulator.options().working_plane, cell->clearance);
-  std::vector<SurfacePoint> targets;  // the samples as the simulator measures them
-  for (const PlannedSample& s : plan.samples)
-    targets.push_back({s.sample.position, s.sample.normal, s.sample.face});
   const CellCheck cell_check{cell ? &*cell : nullptr, collisions.get()};
-  const detail::Placement at{part, spec, simulator, cell_check, std::move(targets), done};
+  const detail::Placement at{part, spec, simulator, cell_check, plan.samplePoints(), done};
   clock.lap("scene");
 
   detail::MeasuredViews added;

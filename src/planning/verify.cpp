@@ -22,9 +22,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
 
   report(progress, "simulating " + std::to_string(plan.views.size()) + " views", 0);
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : plan.samples)
-    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  const std::vector<SurfacePoint> points = plan.samplePoints();
   const auto losses = simulator.measure(plan.views, points);
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
     std::vector<int>& by = again.samples[i].measured_by;

@@ -105,6 +105,9 @@ struct Plan {
   };
   std::vector<FaceShortfall> priorityShortfall() const;
 
+  // The samples as the simulation measures them: position, normal, face (world frame).
+  std::vector<SurfacePoint> samplePoints() const;
+
   std::size_t measuredCount() const;
   std::size_t notCoverableCount() const;
   // Samples measured by a view that registers (all measured ones without registration).
