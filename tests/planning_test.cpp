@@ -15,6 +15,10 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
 
+#include <algorithm>
+#include <bit>
+#include <numeric>
+#include <random>
 #include <set>
 
 namespace scanplan {
@@ -414,6 +418,45 @@ TEST(SetCover, FindsTheKnownMinimum) {
   std::vector<char> some = {1, 1, 0, 0, 0, 0};
   EXPECT_EQ(minimumSetCover(sets, some, 10).chosen.size(), 1u);
   EXPECT_TRUE(minimumSetCover({}, required, 10).chosen.empty());
+}
+
+// Random instances against brute force over every subset: the cover found is a cover, as
+// small as the true minimum, and the bound never exceeds it; a start with dominated sets
+// is carried over to the sets that include them.
+TEST(SetCover, MatchesBruteForceOnRandomInstances) {
+  std::mt19937 random(7);
+  for (int instance = 0; instance < 40; ++instance) {
+    const int elements = 15, count = 12;
+    std::vector<std::vector<int>> sets(count);
+    for (auto& set : sets)
+      for (int e = 0; e < elements; ++e)
+        if (random() % 4 == 0) set.push_back(e);
+    std::vector<char> required(elements, 1);
+    int minimum = count + 1;
+    for (unsigned mask = 0; mask < (1u << count); ++mask) {
+      std::vector<char> covered(elements, 0);
+      for (int s = 0; s < count; ++s)
+        if (mask >> s & 1)
+          for (int e : sets[s]) covered[e] = 1;
+      bool all = true;
+      for (int e = 0; e < elements; ++e)
+        all = all && (covered[e] || std::none_of(sets.begin(), sets.end(), [&](auto& set) {
+                        return std::find(set.begin(), set.end(), e) != set.end();
+                      }));
+      if (all) minimum = std::min(minimum, std::popcount(mask));
+    }
+    std::vector<int> everything(count);
+    std::iota(everything.begin(), everything.end(), 0);
+    const SetCoverResult result = minimumSetCover(sets, required, 10, everything);
+    std::vector<char> covered(elements, 0);
+    for (int s : result.chosen)
+      for (int e : sets[s]) covered[e] = 1;
+    for (const auto& set : sets)
+      for (int e : set) EXPECT_TRUE(covered[e]) << "instance " << instance;
+    EXPECT_EQ(static_cast<int>(result.chosen.size()), minimum) << "instance " << instance;
+    EXPECT_LE(result.lower_bound, minimum) << "instance " << instance;
+    EXPECT_TRUE(result.optimal);
+  }
 }
 
 TEST(Planning, BoundIsAtMostThePlan) {

@@ -40,10 +40,10 @@ struct PlannerSettings {
   int rotations = 8;              // rotations about the view axis tried per cluster direction
   double rescue_step = 10;        // rescue: directions on a grid of this step, degrees, ...
   int rescue_rotations = 8;       // ... each with this many rotations about the view axis
-  int anchors = 300;              // pool: dense poses around at most this many anchor samples,
+  int anchors = 1200;             // pool: dense poses around at most this many anchor samples,
   int pool_rotations = 4;         // ... each with this many rotations about the view axis
   int selection_nodes = 200;      // the exact selection's branch-and-bound nodes (CBC)
-  double selection_seconds = 20;  // and its time cap, per placement (results depend on
+  double selection_seconds = 8;   // and its time cap, per placement (results depend on
                                   // the machine when it is reached)
 };
 

@@ -26,7 +26,7 @@ std::vector<SurfacePoint> anchorSamples(const Placement& at, std::size_t count) 
       targets.push_back(sample);
     }
   const Scanner& scanner = at.scanner();
-  double radius = std::min(scanner.fov_width, scanner.fov_height) / 4;
+  double radius = std::min(scanner.fov_width, scanner.fov_height) / 12;
   for (;;) {
     const std::vector<Sample> anchors = decimate(targets, radius, 60);
     if (anchors.size() <= count) {

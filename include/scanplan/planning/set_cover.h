@@ -17,8 +17,10 @@ struct SetCoverResult {
 // The fewest of `sets` (each a list of element indices in [0, elements)) that together
 // cover every element `required` marks; elements no set contains are ignored.
 // min sum x_s  s.t.  sum_{s contains e} x_s >= 1 for each required e,  x_s in {0, 1}.
-// `start`, when given, is a cover CBC starts from (indices of sets); the result is never
-// larger than it. The search stops after `max_nodes` branch-and-bound nodes (the LP after
+// The instance is reduced by dominance first (dominated sets and elements dropped).
+// `start`, when given, is a cover CBC starts from (indices of sets), unless the LP optimum
+// rounds to a smaller one; the result is never larger than it. CBC runs its cuts and
+// heuristics; the search stops after `max_nodes` branch-and-bound nodes (the LP after
 // 100,000 simplex iterations), so that the result is the same on every run, or at
 // `time_limit_seconds`, a cap that makes it depend on the machine when it is reached.
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
