@@ -69,6 +69,10 @@ std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
     if (a != index.end() && b != index.end() && registration.links(pair))
       links[a->second][b->second] = links[b->second][a->second] = 1;
   }
+  // A view the robot registers is in the cell's frame: any order suits it.
+  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v)
+    if (registration.views[v].method == RegistrationMethod::Robot)
+      for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = links[w][v] = v != w;
   return links;
 }
 

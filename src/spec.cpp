@@ -388,15 +388,28 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
                                      const std::string& path) {
   checkKeys(
       node,
-      {"min_markers", "marker_spread", "min_overlap", "max_condition", "point_spacing", "verify",
-       "cloud_spacing", "perturbation", "tolerance", "bridging", "max_bridging_views"},
+      {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "min_overlap",
+       "max_condition", "point_spacing", "verify", "cloud_spacing", "perturbation", "tolerance",
+       "bridging", "max_bridging_views"},
       reader, "registration");
   RegistrationOptions r;
+  if (const YAML::Node method = node["method"]) {
+    const auto name = reader.scalar<std::string>(method, "registration.method");
+    constexpr std::array kMethods{RegistrationMode::Markers, RegistrationMode::Geometry,
+                                  RegistrationMode::Robot};
+    const auto found = std::find_if(kMethods.begin(), kMethods.end(),
+                                    [&](RegistrationMode m) { return toString(m) == name; });
+    if (found == kMethods.end())
+      reader.fail("registration.method must be markers, geometry or robot, not '" + name + "'");
+    r.method = *found;
+  }
   auto read = [&](const char* key, auto& value) {
     if (node[key])
       value = reader.scalar<std::decay_t<decltype(value)>>(node[key],
                                                            std::string("registration.") + key);
   };
+  read("robot_accuracy", r.robot_accuracy);
+  read("required", r.required);
   read("min_markers", r.min_markers);
   read("marker_spread", r.marker_spread);
   read("min_overlap", r.min_overlap);

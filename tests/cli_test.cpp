@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <tuple>
 #include <set>
 
 namespace scanplan {
@@ -204,11 +205,13 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
                           "views registered", "bridging views added", "path length"})
     EXPECT_NE(summary.find(row), std::string::npos) << row << "\n" << summary;
 
+  // Views of the example register to nothing: the plan holds as planned, but fails.
   CommandResult r = run("verify " + plan + " " + part + " --spec " + spec + " -q");
-  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("coverage check         as planned"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("registration check     as planned"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("each after one it registers to"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("views register to nothing"), std::string::npos) << r.out;
 
   // The plan checked against another part, a broken plan, a missing one.
   r = run("verify " + plan + " " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " -q");
@@ -222,6 +225,44 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
       << r.out;
   r = run("verify " + dir.file("none.json") + " " + part + " -q");
   EXPECT_EQ(r.code, 2) << r.out;
+}
+
+// verify fails a plan with a view that registers to nothing, unless the plan does not
+// require registration or was made without it; the robot registers every view when its
+// accuracy is within the tolerance.
+TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  auto planAndVerify = [&](const std::string& name, const std::string& spec,
+                           const std::string& flags) {
+    test::writeText(dir.file(name + ".yaml"), spec + "tasks:\n  - {type: global}\n");
+    const std::string out = dir.file(name);
+    CommandResult r = run("plan " + part + " --spec " + dir.file(name + ".yaml") + " -o " + out +
+                          " --no-report -q " + flags);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return std::pair{r, run("verify " + out + "/plan.json " + part + " -q")};
+  };
+  auto [plan, verify] = planAndVerify("geometry", "", "");
+  ASSERT_NE(plan.out.find("by geometry"), std::string::npos) << plan.out;
+  ASSERT_EQ(plan.out.find("views registered       4"), std::string::npos) << plan.out;
+  EXPECT_EQ(verify.code, 3) << verify.out;
+  EXPECT_NE(verify.out.find("views register to nothing"), std::string::npos) << verify.out;
+
+  std::tie(plan, verify) = planAndVerify("optional", "registration: {required: false}\n", "");
+  EXPECT_EQ(verify.code, 0) << verify.out;
+  EXPECT_NE(verify.out.find("(the plan does not require registration)"), std::string::npos)
+      << verify.out;
+
+  std::tie(plan, verify) = planAndVerify("none", "", "--no-registration");
+  EXPECT_EQ(verify.code, 0) << verify.out;
+  EXPECT_NE(verify.out.find("none: planned without registration"), std::string::npos)
+      << verify.out;
+
+  std::tie(plan, verify) =
+      planAndVerify("robot", "registration: {method: robot, robot_accuracy: 0.05}\n", "");
+  EXPECT_NE(plan.out.find("views registered       4 (100.0%), by robot"), std::string::npos)
+      << plan.out;
+  EXPECT_EQ(verify.code, 0) << verify.out;
 }
 
 TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
@@ -247,7 +288,8 @@ TEST(Cli, SurfacePlanOverEveryRestOrientationWritesPatchesAndVerifies) {
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   test::writeText(
       dir.file("spec.yaml"),
-      "part: {rest: all}\ntasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
+      "part: {rest: all}\nregistration: {required: false}\n"
+      "tasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
   CommandResult r =
       run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " + dir.file("out") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;

@@ -491,9 +491,8 @@ TEST_F(RegisteredPlan, SequenceVisitsEveryViewOnceAndBeatsNearestNeighbour) {
   EXPECT_GT(sequence.length, 0);
 }
 
-// A slab 400 x 400 x 20 mm seen from above: its views see little but the flat top, which
-// ICP cannot register to. Markers stuck on the part register them.
-TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
+// A slab 400 x 400 x 20 mm, its top a 20 x 20 grid of triangles.
+Part flatSlab() {
   TriangleMesh mesh;
   test::addCube(mesh, Vec3::Zero(), 1, 1);  // the box without its top, then the top as a grid
   for (Vec3& v : mesh.vertices) v = v.cwiseProduct(Vec3(400, 400, 20));
@@ -510,7 +509,13 @@ TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
       mesh.triangles.emplace_back(a, c, d);
       mesh.triangle_faces.insert(mesh.triangle_faces.end(), 2, 2);
     }
-  const Part part = test::meshPart(mesh);
+  return test::meshPart(mesh);
+}
+
+// A slab seen from above: its views see little but the flat top, which ICP cannot
+// register to. Markers stuck on the part register them.
+TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
+  const Part part = flatSlab();
   test::TempDir dir;
   auto planWith = [&](const std::string& markers) {
     test::writeText(dir.file("spec.yaml"), markers + "tasks:\n  - {type: global}\n");
@@ -532,6 +537,38 @@ TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
   EXPECT_LT(bare.registration->registered(), bare.views.size());
   EXPECT_GT(marked.registration->registered(), bare.registration->registered());
   EXPECT_GT(marked.registeredMeasuredCount(), bare.registeredMeasuredCount());
+}
+
+// In robot mode, the robot's pose accuracy places views that ICP cannot: within the
+// 0.1 mm tolerance at 0.05 mm, every view of the slab registers; at 1 mm, those that see
+// only the plane do not, as without the robot.
+TEST(RegistrationTest, AnAccurateRobotRegistersViewsOfAPlane) {
+  const Part part = flatSlab();
+  test::TempDir dir;
+  auto planWith = [&](const std::string& registration) {
+    test::writeText(dir.file("spec.yaml"),
+                    "registration: " + registration + "\ntasks:\n  - {type: global}\n");
+    return planViews(part, loadSpec(dir.file("spec.yaml")));
+  };
+  const Plan accurate = planWith("{method: robot, robot_accuracy: 0.05, tolerance: 0.1}");
+  const Plan coarse = planWith("{method: robot, robot_accuracy: 1, tolerance: 0.1}");
+  const Plan geometry = planWith("{method: geometry}");
+  ASSERT_GE(accurate.views.size(), 2u);
+  EXPECT_EQ(accurate.registration->method, RegistrationMode::Robot);
+  EXPECT_EQ(accurate.registration->registered(), accurate.views.size());
+  EXPECT_EQ(accurate.registration->bridging_views, 0u);
+  std::size_t by_robot = 0;
+  for (const ViewRegistration& view : accurate.registration->views)
+    by_robot += view.method == RegistrationMethod::Robot;
+  EXPECT_GT(by_robot, 0u);
+  EXPECT_LT(coarse.registration->registered(), coarse.views.size());
+  EXPECT_EQ(coarse.registration->registered(), geometry.registration->registered());
+  // plan.json keeps the method and the accuracy.
+  writePlan(accurate, dir.file("plan.json"));
+  const Plan read = readPlan(dir.file("plan.json"));
+  EXPECT_EQ(read.registration->method, RegistrationMode::Robot);
+  EXPECT_EQ(read.registration->robot_accuracy, 0.05);
+  EXPECT_EQ(read.registration->registered(), accurate.views.size());
 }
 
 TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {

@@ -37,8 +37,15 @@ void printPlanSummary(const Plan& plan, const Part& part) {
   }
   if (!plan.registration) return;
   const Registration& r = *plan.registration;
-  fmt::print("{:<22} {} ({:.1f}%)\n", "views registered", r.registered(),
-             percent(r.registered(), plan.views.size()));
+  fmt::print("{:<22} {} ({:.1f}%), by {}\n", "views registered", r.registered(),
+             percent(r.registered(), plan.views.size()), toString(r.method));
+  std::string by;
+  for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
+                               RegistrationMethod::Icp, RegistrationMethod::Robot})
+    if (const auto n = std::count_if(r.views.begin(), r.views.end(),
+                                     [&](auto& v) { return v.method == m; }))
+      by += fmt::format("{}{} {}", by.empty() ? "" : ", ", toString(m), n);
+  if (!by.empty()) fmt::print("{:<22} {}\n", "", by);
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured, registered", plan.registeredMeasuredCount(),
              percent(plan.registeredMeasuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "bridging views added", r.bridging_views);

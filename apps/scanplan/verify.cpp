@@ -37,16 +37,25 @@ int run(const Options& options, const GlobalOptions& global) {
   };
   fmt::print("{:<22} {}\n", "coverage check",
              verdict(check.coverage_differences, "samples measured otherwise than planned"));
-  fmt::print("{:<22} {}\n", "registration check",
-             verdict(check.registration_differences, "views registered otherwise than planned"));
-  fmt::print("{:<22} {}\n", "sequence check",
-             check.sequence_missing + check.sequence_breaks == 0
-                 ? std::string("every view once, each after one it registers to")
-                 : fmt::format("{} views missing or repeated, {} not after one they register to",
-                               check.sequence_missing, check.sequence_breaks));
-  const bool holds = check.coverage_differences == 0 && check.registration_differences == 0 &&
-                     check.sequence_missing == 0;
-  return holds ? kExitOk : kExitPlanning;
+  if (!plan.registration) {
+    fmt::print("{:<22} {}\n", "registration check", "none: planned without registration");
+  } else {
+    fmt::print("{:<22} {}\n", "registration check",
+               verdict(check.registration_differences, "views registered otherwise than planned"));
+    if (check.unregistered > 0)
+      fmt::print("{:<22} {} views register to nothing{}\n", "unregistered", check.unregistered,
+                 check.registration_required ? ""
+                                             : " (the plan does not require registration)");
+  }
+  if (!plan.sequence)
+    fmt::print("{:<22} {}\n", "sequence check", "none: planned without a sequence");
+  else
+    fmt::print("{:<22} {}\n", "sequence check",
+               check.sequence_missing + check.sequence_breaks == 0
+                   ? std::string("every view once, each after one it registers to")
+                   : fmt::format("{} views missing or repeated, {} not after one they register to",
+                                 check.sequence_missing, check.sequence_breaks));
+  return check.holds() ? kExitOk : kExitPlanning;
 }
 
 }  // namespace

@@ -40,7 +40,21 @@ std::vector<Marker> markerGrid(const Box& footprint, double step, double margin)
 // surface facing up within 45 degrees.
 std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step);
 
+// What the plan relies on to put its views together (docs/registration.md):
+// - Markers: markers the views share, and ICP on overlaps where markers are too few;
+// - Geometry: ICP on overlaps only (markers, if any, are not used);
+// - Robot: the robot's pose accuracy, refined by ICP where overlaps constrain the pose. A
+//   view registers when the accuracy is within the tolerance in the directions its
+//   overlaps leave free; with an accuracy within the tolerance, every view does.
+// Default: Markers when markers are given, else Geometry.
+enum class RegistrationMode { Default, Markers, Geometry, Robot };
+std::string_view toString(RegistrationMode mode);
+
 struct RegistrationOptions {
+  RegistrationMode method = RegistrationMode::Default;
+  double robot_accuracy = 0;  // mm, the robot's pose accuracy (Robot only; then required > 0)
+  // A plan whose views do not all register fails `verify` (exit 3), unless this is false.
+  bool required = true;
   // Markers: two views register when they share this many markers, not all within
   // `marker_spread` of one line.
   int min_markers = 3;
@@ -106,7 +120,7 @@ struct PairCheck {
   bool registrable() const { return markers || (stable && (!icp || icp->passed)); }
 };
 
-enum class RegistrationMethod { Reference, Markers, Icp, None };
+enum class RegistrationMethod { Reference, Markers, Icp, Robot, None };
 std::string_view toString(RegistrationMethod method);
 
 // How one view is registered: to the view `to` (an id; 0 for the reference view, which
@@ -122,6 +136,9 @@ struct ViewRegistration {
 };
 
 struct Registration {
+  RegistrationMode method = RegistrationMode::Default;  // as used: never Default once planned
+  bool required = true;                                 // RegistrationOptions::required
+  double robot_accuracy = 0;                            // mm, with the Robot method
   std::vector<ViewRegistration> views;  // per view, in the order of the views
   std::vector<PairCheck> pairs;         // pairs that overlap or share markers
   std::size_t markers = 0;              // markers in the cell

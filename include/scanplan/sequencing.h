@@ -31,7 +31,8 @@ Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> vi
 // All-pairs shortest paths (Dijkstra from every view) over the complete graph of `direct`.
 Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct);
 
-// links[i][j] != 0 when views i and j register to each other (Registration::linked).
+// links[i][j] != 0 when views i and j register to each other (Registration::linked), or
+// when either is registered by the robot (in the cell's frame, it may come anywhere).
 std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
                                                  const Registration& registration);
 

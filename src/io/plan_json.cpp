@@ -138,16 +138,27 @@ void addRegistration(const Plan& plan, json& result) {
   summary["bridging_views"] = registration.bridging_views;
   summary["unregistrable_views"] = unregistrable;
   summary["registration_components"] = registration.components;
+  json by = json::object();
+  for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
+                               RegistrationMethod::Icp, RegistrationMethod::Robot})
+    by[std::string(toString(m))] = std::count_if(registration.views.begin(),
+                                                 registration.views.end(),
+                                                 [&](auto& v) { return v.method == m; });
+  summary["registered_by"] = by;
   if (plan.sequence) {
     summary["path_length"] = plan.sequence->length;
     summary["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
   }
   json pairs = json::array();
   for (const PairCheck& p : registration.pairs) pairs.push_back(pairJson(p));
-  result["registration"] = {{"reference", registration.reference},
+  result["registration"] = {{"method", toString(registration.method)},
+                            {"required", registration.required},
+                            {"reference", registration.reference},
                             {"markers", markersJson(plan.markers)},
                             {"pairs", pairs},
                             {"verified", registration.verified}};
+  if (registration.method == RegistrationMode::Robot)
+    result["registration"]["robot_accuracy"] = registration.robot_accuracy;
 }
 
 // The rest orientations of a plan over several, and each view's orientation.
@@ -370,7 +381,8 @@ struct PlanReader {
       ViewRegistration& view = result.views[v];
       view.method = enumFrom(field<std::string>(r, "method", path, where),
                              std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
-                                        RegistrationMethod::Icp, RegistrationMethod::None},
+                                        RegistrationMethod::Icp, RegistrationMethod::Robot,
+                                        RegistrationMethod::None},
                              path, where);
       view.to = r.value("to", 0);
       view.constrained = r.value("constrained", true);
@@ -383,6 +395,13 @@ struct PlanReader {
     if (!pairs.is_array()) throw InputError(path, "registration: 'pairs' is not an array");
     for (std::size_t k = 0; k < pairs.size(); ++k) result.pairs.push_back(pair(pairs[k], k));
     result.reference = section.value("reference", 0);
+    if (section.contains("method"))
+      result.method = enumFrom(field<std::string>(section, "method", path, "registration"),
+                               std::array{RegistrationMode::Markers, RegistrationMode::Geometry,
+                                          RegistrationMode::Robot},
+                               path, "registration");
+    result.required = section.value("required", true);
+    result.robot_accuracy = section.value("robot_accuracy", 0.0);
     result.verified =
         section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
                                               [](auto& p) { return p.icp.has_value(); }));

@@ -34,11 +34,17 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
     if (by != claimed) ++check.coverage_differences;
   }
 
-  if (!options.registration) return check;
+  if (!options.registration || !plan.registration) return check;
   std::vector<View> views = plan.views;
   RegistrationOptions registration = spec.registration;
   registration.bridging = false;
   registration.seed = spec.planner.seed;
+  registration.required = plan.registration->required;
+  if (registration.method == RegistrationMode::Default) {
+    registration.method = plan.registration->method;
+    if (registration.method == RegistrationMode::Robot)
+      registration.robot_accuracy = plan.registration->robot_accuracy;
+  }
   if (!spec.markers_file.empty() || spec.marker_grid > 0)
     again.markers = specMarkers(spec, part, plan.part_to_world);
   again.registration =
@@ -56,6 +62,8 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
         (claimed.method == RegistrationMethod::None) != (found.method == RegistrationMethod::None);
   }
   again.registration->bridging_views = bridges;
+  check.unregistered = views.size() - again.registration->registered();
+  check.registration_required = again.registration->required;
 
   // The sequence as the file gives it: every view once, each registered view after one it
   // registers to, and its motion cost.
@@ -126,7 +134,8 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
   check.plan = plan;
   Plan& again = check.plan;
   for (PlannedSample& s : again.samples) s.measured_by.clear();
-  if (options.registration) {
+  const bool registration = options.registration && plan.registration;
+  if (registration) {
     again.registration = Registration{};
     again.sequence = Sequence{};
   }
@@ -137,12 +146,14 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     check.registration_differences += part_check.registration_differences;
     check.sequence_missing += part_check.sequence_missing;
     check.sequence_breaks += part_check.sequence_breaks;
+    check.unregistered += part_check.unregistered;
+    check.registration_required |= part_check.registration_required;
     for (std::size_t i = 0; i < again.samples.size(); ++i) {
       std::vector<int>& by = again.samples[i].measured_by;
       const std::vector<int>& found = part_check.plan.samples[i].measured_by;
       by.insert(by.end(), found.begin(), found.end());
     }
-    if (!options.registration) continue;
+    if (!registration) continue;
     o.markers = part_check.plan.markers;
     o.reference = part_check.plan.registration->reference;
     appendRegistration(*again.registration, std::move(*part_check.plan.registration), 0);

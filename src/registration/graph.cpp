@@ -21,7 +21,18 @@ std::string_view toString(RegistrationMethod method) {
     case RegistrationMethod::Reference: return "reference";
     case RegistrationMethod::Markers: return "markers";
     case RegistrationMethod::Icp: return "icp";
+    case RegistrationMethod::Robot: return "robot";
     case RegistrationMethod::None: return "none";
+  }
+  return "unknown";
+}
+
+std::string_view toString(RegistrationMode mode) {
+  switch (mode) {
+    case RegistrationMode::Default: return "default";
+    case RegistrationMode::Markers: return "markers";
+    case RegistrationMode::Geometry: return "geometry";
+    case RegistrationMode::Robot: return "robot";
   }
   return "unknown";
 }
@@ -39,6 +50,10 @@ void validate(const RegistrationOptions& o, const std::string& source) {
           "perturbation must be >= 0 mm and in [0, 45) degrees");
   require(o.tolerance > 0, "tolerance must be positive");
   require(o.max_bridging_views >= 0, "max_bridging_views must not be negative");
+  require(o.robot_accuracy >= 0 && std::isfinite(o.robot_accuracy),
+          "robot_accuracy must not be negative");
+  require(o.method != RegistrationMode::Robot || o.robot_accuracy > 0,
+          "method robot needs robot_accuracy (mm), the robot's pose accuracy");
 }
 
 std::size_t Registration::registered() const {
@@ -530,8 +545,16 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
                            const CellCheck& cell, const Progress& progress) {
   validate(options, "registration");
+  const RegistrationMode method = options.method != RegistrationMode::Default ? options.method
+                                  : markers.empty()                        ? RegistrationMode::Geometry
+                                                                           : RegistrationMode::Markers;
+  // With a robot accurate enough, every view registers: bridges would add nothing.
+  const bool by_robot =
+      method == RegistrationMode::Robot && options.robot_accuracy <= options.tolerance;
+  static const std::vector<Marker> no_markers;
   std::optional<Graph> graph;
-  graph.emplace(simulator, options, markers, progress);
+  graph.emplace(simulator, options, method == RegistrationMode::Geometry ? no_markers : markers,
+                progress);
   report(progress, "registration: overlaps of " + std::to_string(views.size()) + " views", 0);
   graph->add(views);
   const std::size_t first_bridge = views.size();
@@ -545,7 +568,7 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
   std::optional<Graph> joined(*graph);
   std::vector<int> hopeless;  // component roots no chain reached
   const auto budget = static_cast<std::size_t>(options.max_bridging_views);
-  while (options.bridging && views.size() - first_bridge < budget) {
+  while (options.bridging && !by_robot && views.size() - first_bridge < budget) {
     int towards = -1;
     for (int root : graph->bridgeable())
       if (std::find(hopeless.begin(), hopeless.end(), root) == hopeless.end()) {
@@ -573,6 +596,15 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
   }
   Registration registration = graph->result(first_bridge);
   registration.markers = markers.size();
+  registration.method = method;
+  registration.required = options.required;
+  if (method == RegistrationMode::Robot) registration.robot_accuracy = options.robot_accuracy;
+  if (by_robot)
+    for (ViewRegistration& view : registration.views)
+      if (view.method == RegistrationMethod::None) {
+        view.method = RegistrationMethod::Robot;
+        view.to = registration.reference;
+      }
   return registration;
 }
 
@@ -594,6 +626,11 @@ void appendRegistration(Registration& into, Registration from, int id_offset) {
   into.components += from.components;
   into.bridging_views += from.bridging_views;
   into.verified = first ? from.verified : into.verified && from.verified;
+  if (first) {
+    into.method = from.method;
+    into.required = from.required;
+    into.robot_accuracy = from.robot_accuracy;
+  }
   shift(from.reference);
   if (into.reference == 0) into.reference = from.reference;
 }
