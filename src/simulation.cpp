@@ -5,6 +5,7 @@
 #include <scanplan/raycast.h>
 #include <scanplan/simulation.h>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -28,6 +29,16 @@ std::string_view toString(Loss loss) {
 }
 
 namespace {
+
+// f(i) for i in [0, n), in parallel in blocks: each test is light, and views are often
+// measured in parallel already.
+template <typename F>
+void forEach(std::size_t n, const F& f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) f(i);
+  });
+}
+
 
 // The parts of the measurement test that need no ray, for one view.
 struct ViewGeometry {
@@ -138,16 +149,16 @@ struct Simulator::Impl {
       losses[i] = loss;
     };
     if (subset) {
-      tbb::parallel_for(std::size_t{0}, subset->size(), [&](std::size_t k) { test((*subset)[k]); });
+      forEach(subset->size(), [&](std::size_t k) { test((*subset)[k]); });
     } else {
-      tbb::parallel_for(std::size_t{0}, points.size(), test);
+      forEach(points.size(), test);
     }
     // Two occlusion rays per remaining point, cast in one batch.
     std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < points.size(); ++i)
       if (losses[i] == Loss::Measured) candidates.push_back(i);
     std::vector<Ray> rays(2 * candidates.size());
-    tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t k) {
+    forEach(candidates.size(), [&](std::size_t k) {
       const SurfacePoint& sp = points[candidates[k]];
       rays[2 * k] = segment(sp, geometry.camera);
       rays[2 * k + 1] = segment(sp, geometry.projector);
@@ -440,18 +451,16 @@ std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
   detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   nanoflann::SearchParams unsorted;
-  unsorted.sorted = false;  // the indices are sorted below; the distances are not needed
+  unsorted.sorted = false;  // the measured indices are sorted below
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
     detail::Neighbours near;
     tree.radiusSearch(views[v].target.data(), reach * reach, near, unsorted);
-    std::vector<int> indices;
-    for (const auto& [i, distance2] : near) indices.push_back(static_cast<int>(i));
-    std::sort(indices.begin(), indices.end());
     std::vector<SurfacePoint> subset;
-    for (int i : indices) subset.push_back(points[i]);
+    for (const auto& [i, distance2] : near) subset.push_back(points[i]);
     const std::vector<Loss> losses = simulator.measure(views[v], subset);
     for (std::size_t k = 0; k < losses.size(); ++k)
-      if (losses[k] == Loss::Measured) result[v].push_back(indices[k]);
+      if (losses[k] == Loss::Measured) result[v].push_back(static_cast<int>(near[k].first));
+    std::sort(result[v].begin(), result[v].end());  // only the measured ones
   });
   return result;
 }

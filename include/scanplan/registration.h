@@ -107,6 +107,17 @@ struct IcpCheck {
 IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
                   const RegistrationOptions& options);
 
+// A view's simulated noisy cloud at the options' cloud spacing, with the normals it needs
+// as an ICP target: made once per view and used by every pair it is in.
+struct IcpCloud {
+  int id = 0;  // the view's
+  std::vector<Vec3> points, normals;
+};
+IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options);
+// checkIcp on clouds made beforehand.
+IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCloud& moved,
+                  const RegistrationOptions& options);
+
 // What is known about one pair of views.
 struct PairCheck {
   int a = 0, b = 0;  // view ids, a < b

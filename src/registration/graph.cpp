@@ -10,6 +10,8 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
+#include <memory>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -91,6 +93,21 @@ std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
   std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
   return both;
 }
+
+// ICP clouds and checks by view (id and pose), shared by the copies of a graph: no view's
+// cloud is simulated twice, and no pair (a bridging candidate tried again) registered twice.
+struct IcpMemo {
+  using Key = std::pair<int, std::array<double, 12>>;
+  std::map<Key, std::shared_ptr<const IcpCloud>> clouds;
+  std::map<std::pair<Key, Key>, IcpCheck> checks;
+
+  static Key key(const View& view) {
+    Key key{view.id, {}};
+    const Eigen::Matrix<double, 3, 4> m = view.camera_to_world.matrix().topRows<3>();
+    std::copy(m.data(), m.data() + 12, key.second.begin());
+    return key;
+  }
+};
 
 class Graph {
  public:
@@ -335,13 +352,7 @@ class Graph {
     if (pair.markers) return true;
     if (!pair.stable) return false;
     if (!options_.verify) return true;
-    if (!pair.icp) {
-      report(
-          progress_,
-          "registration: ICP of views " + std::to_string(pair.a) + " and " + std::to_string(pair.b),
-          0);
-      pair.icp = checkIcp(simulator_, views_[ends_[p].first], views_[ends_[p].second], options_);
-    }
+    if (!pair.icp) registerPairs({p});
     return pair.icp->passed;
   }
 
@@ -516,13 +527,41 @@ class Graph {
         continue;
       batch.push_back(p);
     }
-    report(progress_, "registration: ICP of " + std::to_string(batch.size()) + " view pairs", 0);
-    tbb::parallel_for(std::size_t{0}, batch.size(), [&](std::size_t b) {
-      const std::size_t p = batch[b];
-      pairs_[p].icp =
-          checkIcp(simulator_, views_[ends_[p].first], views_[ends_[p].second], options_);
-    });
+    registerPairs(batch);
     return k;
+  }
+
+  // The ICP checks of `pairs`, in parallel: the clouds of their views first, each made
+  // once; pairs checked before (as the same views) are not checked again.
+  void registerPairs(const std::vector<std::size_t>& pairs) {
+    std::vector<std::size_t> views;
+    for (std::size_t p : pairs)
+      for (std::size_t v : {ends_[p].first, ends_[p].second})
+        if (!memo_->clouds.count(IcpMemo::key(views_[v])) &&
+            std::find(views.begin(), views.end(), v) == views.end())
+          views.push_back(v);
+    std::vector<std::shared_ptr<const IcpCloud>> clouds(views.size());
+    tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t k) {
+      clouds[k] = std::make_shared<const IcpCloud>(icpCloud(simulator_, views_[views[k]], options_));
+    });
+    for (std::size_t k = 0; k < views.size(); ++k)
+      memo_->clouds[IcpMemo::key(views_[views[k]])] = clouds[k];
+    auto key = [&](std::size_t p) {
+      return std::pair{IcpMemo::key(views_[ends_[p].first]), IcpMemo::key(views_[ends_[p].second])};
+    };
+    std::vector<std::size_t> fresh;
+    for (std::size_t p : pairs)
+      if (const auto found = memo_->checks.find(key(p)); found != memo_->checks.end())
+        pairs_[p].icp = found->second;
+      else
+        fresh.push_back(p);
+    report(progress_, "registration: ICP of " + std::to_string(fresh.size()) + " view pairs", 0);
+    tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t k) {
+      const auto [fixed, moved] = key(fresh[k]);
+      pairs_[fresh[k]].icp =
+          checkIcp(simulator_, *memo_->clouds.at(fixed), *memo_->clouds.at(moved), options_);
+    });
+    for (std::size_t p : fresh) memo_->checks[key(p)] = *pairs_[p].icp;
   }
 
   const Simulator& simulator_;
@@ -537,6 +576,7 @@ class Graph {
   std::vector<int> parent_;                                // union-find over view indices
   std::vector<char> constrained_;  // per view: something could register to it
   std::vector<std::size_t> used_;  // pairs of the spanning tree
+  std::shared_ptr<IcpMemo> memo_ = std::make_shared<IcpMemo>();
 };
 
 }  // namespace

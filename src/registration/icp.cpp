@@ -16,11 +16,7 @@ namespace {
 
 namespace registration = open3d::pipelines::registration;
 
-open3d::geometry::PointCloud toOpen3d(const PointCloud& cloud) {
-  open3d::geometry::PointCloud result;
-  result.points_ = cloud.points;
-  return result;
-}
+constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not registered
 
 // A rigid motion of `distance` mm in a random direction and `angle` degrees about a random
 // axis through `centre`.
@@ -41,24 +37,46 @@ Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
 
 }  // namespace
 
+double cloudSpacing(const Simulator& simulator, const RegistrationOptions& options) {
+  return options.cloud_spacing > 0 ? options.cloud_spacing : simulator.scanner().fov_height / 150;
+}
+
+IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options) {
+  const double spacing = cloudSpacing(simulator, options);
+  IcpCloud cloud;
+  cloud.id = view.id;
+  cloud.points = simulator.cloud(view, options.seed, spacing).points;
+  if (cloud.points.size() < kLeastPoints) return cloud;
+  open3d::geometry::PointCloud open3d_cloud;
+  open3d_cloud.points_ = cloud.points;
+  open3d_cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(4 * spacing, 30));
+  cloud.normals = std::move(open3d_cloud.normals_);
+  return cloud;
+}
+
 IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
                   const RegistrationOptions& options) {
-  const Scanner& scanner = simulator.scanner();
-  const double spacing =
-      options.cloud_spacing > 0 ? options.cloud_spacing : scanner.fov_height / 150;
-  const PointCloud fixed_cloud = simulator.cloud(fixed, options.seed, spacing);
-  const PointCloud moved_cloud = simulator.cloud(moved, options.seed, spacing);
-  IcpCheck check;
-  check.points = moved_cloud.points.size();
-  if (fixed_cloud.points.size() < 100 || moved_cloud.points.size() < 100) return check;
+  return checkIcp(simulator, icpCloud(simulator, fixed, options), icpCloud(simulator, moved, options),
+                  options);
+}
 
-  open3d::geometry::PointCloud target = toOpen3d(fixed_cloud), source = toOpen3d(moved_cloud);
-  target.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(4 * spacing, 30));
+IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCloud& moved,
+                  const RegistrationOptions& options) {
+  const Scanner& scanner = simulator.scanner();
+  const double spacing = cloudSpacing(simulator, options);
+  IcpCheck check;
+  check.points = moved.points.size();
+  if (fixed.points.size() < kLeastPoints || moved.points.size() < kLeastPoints) return check;
+
+  open3d::geometry::PointCloud target, source;
+  target.points_ = fixed.points;
+  target.normals_ = fixed.normals;
+  source.points_ = moved.points;
   Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : moved_cloud.points) centre += p;
-  centre /= static_cast<double>(moved_cloud.points.size());
+  for (const Vec3& p : moved.points) centre += p;
+  centre /= static_cast<double>(moved.points.size());
   double radius = 0;
-  for (const Vec3& p : moved_cloud.points) radius = std::max(radius, (p - centre).norm());
+  for (const Vec3& p : moved.points) radius = std::max(radius, (p - centre).norm());
   const Eigen::Matrix4d start =
       perturbation(centre, options.perturbation, options.perturbation_angle,
                    options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
@@ -81,12 +99,12 @@ IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& mov
   // Where the registered cloud ends up against where it belongs.
   const Pose residual(estimate * start);
   double squares = 0, largest_error = 0;
-  for (const Vec3& p : moved_cloud.points) {
+  for (const Vec3& p : moved.points) {
     const double e = (residual * p - p).norm();
     squares += e * e;
     largest_error = std::max(largest_error, e);
   }
-  check.error = std::sqrt(squares / static_cast<double>(moved_cloud.points.size()));
+  check.error = std::sqrt(squares / static_cast<double>(moved.points.size()));
   check.max_error = largest_error;
   check.rotation = degrees(Eigen::AngleAxisd(residual.linear()).angle());
   check.fitness = result.fitness_;
