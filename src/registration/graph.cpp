@@ -607,6 +607,8 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
   constexpr std::size_t kChain = 5;
   std::optional<Graph> joined(*graph);
   std::vector<int> hopeless;  // component roots no chain reached
+  const std::size_t components = graph->components();
+  std::size_t tries = 0;
   const auto budget = static_cast<std::size_t>(options.max_bridging_views);
   while (options.bridging && !by_robot && views.size() - first_bridge < budget) {
     int towards = -1;
@@ -616,17 +618,18 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
         break;
       }
     if (towards < 0) break;
-    report(progress,
-           "registration: bridging " + std::to_string(graph->components()) + " components", 0);
-    const std::size_t kept = views.size(), components = graph->components();
-    while (graph->components() == components && views.size() - kept < kChain &&
+    // Every try ends a component's turn: joined, or given up.
+    report(progress, "registration: bridging " + std::to_string(components) + " components",
+           std::min(1.0, static_cast<double>(tries++) / static_cast<double>(components - 1)));
+    const std::size_t kept = views.size(), before = graph->components();
+    while (graph->components() == before && views.size() - kept < kChain &&
            views.size() - first_bridge < budget) {
       const std::optional<View> bridge = graph->bridge(cell, next_id, towards);
       if (!bridge) break;
       views.push_back(*bridge);
       ++next_id;
     }
-    if (graph->components() < components) {
+    if (graph->components() < before) {
       joined.emplace(*graph);
     } else {
       views.resize(kept);
