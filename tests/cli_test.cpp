@@ -5,6 +5,7 @@
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/ply.h>
 #include <scanplan/io/views_csv.h>
+#include <scanplan/registration.h>
 #include <scanplan/report.h>
 
 #include <sys/wait.h>
@@ -263,6 +264,23 @@ TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
   EXPECT_NE(plan.out.find("views registered       4 (100.0%), by robot"), std::string::npos)
       << plan.out;
   EXPECT_EQ(verify.code, 0) << verify.out;
+}
+
+// Views of CTC 01 that its geometry cannot register: the plan proposes markers as a CSV
+// that `markers:` reads, and with --place-markers plans again with them.
+TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
+  test::TempDir dir;
+  const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  CommandResult r = run("plan " + part + " -o " + dir.file("out") + " --no-report -q --place-markers");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::vector<Marker> proposed = readMarkers(dir.file("out/proposed-markers.csv"));
+  EXPECT_GT(proposed.size(), 2u);
+  EXPECT_NE(r.out.find("(placed: the plan above uses them)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("%), by markers"), std::string::npos) << r.out;
+  const Plan plan = readPlan(dir.file("out/plan.json"));
+  ASSERT_EQ(plan.markers.size(), proposed.size());
+  for (std::size_t k = 0; k < proposed.size(); ++k)
+    EXPECT_LT((plan.markers[k].position - proposed[k].position).norm(), 1e-6);
 }
 
 TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {

@@ -27,7 +27,20 @@ struct Options {
   bool registration = true;
   bool report = true;
   bool png = false;
+  bool place_markers = false;
 };
+
+constexpr const char* kProposedMarkers = "proposed-markers.csv";
+
+// The plan made again with the markers it proposed (written to `csv`) as the cell's.
+Plan withProposedMarkers(const Part& part, Spec spec, const Plan& plan, const std::string& csv,
+                         const PlanningOptions& planning, const Progress& progress) {
+  if (!plan.orientations.empty())
+    throw InputError(csv, "--place-markers plans one rest orientation only");
+  spec.markers_file = csv;
+  spec.marker_grid = 0;
+  return planViews(part, spec, planning, progress);
+}
 
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
@@ -39,6 +52,11 @@ int run(const Options& options, const GlobalOptions& global) {
   PlanningOptions planning;
   planning.registration = options.registration;
   Plan plan = planViews(part, spec, planning, progress);
+  const std::string markers_csv = (std::filesystem::path(options.outdir) / kProposedMarkers).string();
+  const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
+  if (proposed) writeMarkers(plan.proposed_markers->markers, markers_csv);
+  if (proposed && options.place_markers)
+    plan = withProposedMarkers(part, spec, plan, markers_csv, planning, progress);
   // The surface task's interpolated patches, to be looked at beside the plan.
   for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
     Sweep& sweep = plan.sweeps[k];
@@ -85,6 +103,9 @@ int run(const Options& options, const GlobalOptions& global) {
   fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);
   if (options.report) fmt::print("report     {}\n", (outdir / "report.html").string());
   if (options.png) fmt::print("picture    {}\n", (outdir / "plan.png").string());
+  if (proposed)
+    fmt::print("markers    {}{}\n", markers_csv,
+               options.place_markers ? " (placed: the plan above uses them)" : "");
   return 0;
 }
 
@@ -101,6 +122,9 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
                     "Skip the registration check, bridging and sequencing");
   command->add_flag("!--no-report", options->report,
                     "Do not write report.html (the 3D HTML report) beside plan.json");
+  command->add_flag("--place-markers", options->place_markers,
+                    "Where views register to nothing, plan again with the markers proposed for "
+                    "them (written to proposed-markers.csv)");
   command->add_flag("--png", options->png,
                     "Also write plan.png, a picture of the part coloured by coverage with the "
                     "views and the path");

@@ -64,6 +64,10 @@ void printPlanSummary(const Plan& plan, const Part& part) {
           "and too few markers): add markers\n",
           "", unconstrained);
   }
+  if (plan.proposed_markers && !plan.proposed_markers->markers.empty())
+    fmt::print("{:<22} {} for the {} views registered to nothing (at least {} needed)\n",
+               "proposed markers", plan.proposed_markers->markers.size(),
+               plan.proposed_markers->views, plan.proposed_markers->lower_bound);
   if (plan.sequence)
     fmt::print("{:<22} {:.0f} mm (nearest neighbour {:.0f} mm)\n", "path length",
                plan.sequence->length, plan.sequence->nearest_neighbour_length);

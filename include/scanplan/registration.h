@@ -30,6 +30,10 @@ struct Marker {
 // a normal a marker faces up. \throw InputError naming the file and line.
 std::vector<Marker> readMarkers(const std::string& path);
 
+// Writes markers as readMarkers reads them (with a header and normals), whole or not at
+// all. \throw OutputError naming the file.
+void writeMarkers(const std::vector<Marker>& markers, const std::string& path);
+
 // Markers on the working plane (z = 0) on a square grid of `step`, over `footprint` (a
 // world box, usually the part's) grown by `margin`; the grid cells under the footprint
 // itself are left out (the part covers them). \throw InputError for step <= 0.
@@ -81,6 +85,10 @@ struct RegistrationOptions {
 
 // \throw InputError naming `source` and the option out of range.
 void validate(const RegistrationOptions& options, const std::string& source);
+
+// True when the robot alone registers every view: method Robot, its accuracy within the
+// tolerance.
+bool robotRegistersAll(const RegistrationOptions& options);
 
 // The condition number (largest over smallest eigenvalue) of the covariance of
 // point-to-plane constraints [p x n; n] of the points, centred at their centroid and
@@ -179,5 +187,20 @@ void appendRegistration(Registration& into, Registration from, int id_offset);
 Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
                            const CellCheck& cell, const Progress& progress = {});
+
+// Markers proposed so that views register where their geometry does not: a spanning
+// forest over pairs of `views` that see enough `candidates` in common (the pairs
+// `registration` links already first), then, greedily, the candidates in most pairs not
+// yet joined until each pair shares min_markers markers spread out (markersRegister).
+struct MarkerProposal {
+  std::vector<Marker> markers;
+  std::size_t views = 0;        // views registered to nothing that see enough candidates
+  std::size_t lower_bound = 0;  // min_markers for each of them, over the most of them
+                                // one candidate serves: no proposal for them is smaller
+};
+MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
+                              const Registration& registration,
+                              const std::vector<Marker>& candidates,
+                              const RegistrationOptions& options);
 
 }  // namespace scanplan

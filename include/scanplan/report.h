@@ -62,6 +62,7 @@ struct PlanScene {
   std::vector<SceneView> views;   // in plan order
   std::vector<int> path;          // indices into views, in sequence order
   std::vector<Vec3> markers;      // in the scene frame
+  std::vector<Vec3> proposed_markers;  // the plan's proposal, one orientation only
   Scanner scanner;
   Box bounds;  // of the mesh, the cameras and the markers
 };

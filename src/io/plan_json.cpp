@@ -159,6 +159,11 @@ void addRegistration(const Plan& plan, json& result) {
                             {"verified", registration.verified}};
   if (registration.method == RegistrationMode::Robot)
     result["registration"]["robot_accuracy"] = registration.robot_accuracy;
+  if (plan.proposed_markers)
+    result["registration"]["proposed_markers"] = {
+        {"markers", markersJson(plan.proposed_markers->markers)},
+        {"views", plan.proposed_markers->views},
+        {"lower_bound", plan.proposed_markers->lower_bound}};
 }
 
 // The rest orientations of a plan over several, and each view's orientation.
@@ -467,8 +472,14 @@ Plan readPlan(const std::string& path) {
   plan.part_faces = field<std::size_t>(part, "faces", path, "part");
   plan.scanner = reader.scanner(root);
   plan.registration = reader.registration(root, plan.views);
-  if (root.contains("registration") && root["registration"].is_object())
-    plan.markers = reader.markers(root["registration"].value("markers", json()));
+  if (root.contains("registration") && root["registration"].is_object()) {
+    const json& registration = root["registration"];
+    plan.markers = reader.markers(registration.value("markers", json()));
+    if (const json proposed = registration.value("proposed_markers", json()); proposed.is_object())
+      plan.proposed_markers = MarkerProposal{reader.markers(proposed.value("markers", json())),
+                                             proposed.value("views", std::size_t{0}),
+                                             proposed.value("lower_bound", std::size_t{0})};
+  }
   if (root.contains("orientations")) {
     const json& list = root["orientations"];
     if (!list.is_array()) throw InputError(path, "'orientations' is not an array");

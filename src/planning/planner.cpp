@@ -198,18 +198,41 @@ Plan placedPlan(const Part& part, const ResolvedSpec& spec, const std::vector<Sa
   return plan;
 }
 
+// The spec's registration options, with the planner's seed.
+RegistrationOptions registrationOptions(const Spec& spec) {
+  RegistrationOptions registration = spec.registration;
+  registration.seed = spec.planner.seed;
+  return registration;
+}
+
+// Markers proposed for the views of `plan` that register to nothing, among candidates on
+// the part's upward faces and on the plate around it, a fifteenth of the field of view
+// apart; none when every view registers or the robot alone registers them.
+void proposeMarkers(const detail::Placement& at, Plan& plan) {
+  const RegistrationOptions options = registrationOptions(at.spec.spec);
+  if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
+  const double step = at.scanner().fov_height / 15;
+  TriangleMesh world = at.part.mesh;
+  for (Vec3& v : world.vertices) v = plan.part_to_world * v;
+  std::vector<Marker> candidates = markersOnPart(world, step);
+  Box footprint;
+  for (const Vec3& v : world.vertices) footprint.add(v);
+  const auto plate = markerGrid(footprint, step, at.spec.spec.marker_margin);
+  candidates.insert(candidates.end(), plate.begin(), plate.end());
+  plan.proposed_markers =
+      scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
+}
+
 // Registers the plan's views, bridging where they fall apart (bridging views measure
 // samples too), and orders them: by the robot's joint travel with a cell, whose
 // solutions for the views it returns, else by the scanner's path.
 CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
                                   const Progress& progress) {
-  const Spec& spec = at.spec.spec;
-  plan.markers = specMarkers(spec, at.part, plan.part_to_world);
-  RegistrationOptions registration = spec.registration;
-  registration.seed = spec.planner.seed;
+  plan.markers = specMarkers(at.spec.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
-  plan.registration =
-      registerViews(at.simulator, plan.views, plan.markers, registration, at.cell, progress);
+  plan.registration = registerViews(at.simulator, plan.views, plan.markers,
+                                    registrationOptions(at.spec.spec), at.cell, progress);
+  proposeMarkers(at, plan);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
   const auto measured = measuredPoints(at.simulator, bridges, at.points);
   for (std::size_t b = 0; b < bridges.size(); ++b)
@@ -314,6 +337,14 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     for (int id : part.sequence->views) merged.sequence->views.push_back(id + offset);
     merged.sequence->length += part.sequence->length;
     merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
+  }
+  if (part.proposed_markers) {
+    MarkerProposal& sum =
+        merged.proposed_markers ? *merged.proposed_markers : merged.proposed_markers.emplace();
+    sum.markers.insert(sum.markers.end(), part.proposed_markers->markers.begin(),
+                       part.proposed_markers->markers.end());
+    sum.views += part.proposed_markers->views;
+    sum.lower_bound += part.proposed_markers->lower_bound;
   }
   if (part.bound) {
     PlanBound& sum = merged.bound ? *merged.bound : merged.bound.emplace();

@@ -31,14 +31,19 @@ bool includes(const std::vector<int>& big, const std::vector<int>& small) {
   return std::includes(big.begin(), big.end(), small.begin(), small.end());
 }
 
-// The sets as sorted lists of rows, one row per required element some set holds.
+// The sets as sorted lists of rows, one row per required element some set holds; the
+// element of each row into `elements`.
 std::vector<std::vector<int>> requiredRows(const std::vector<std::vector<int>>& sets,
-                                           const std::vector<char>& required, int& rows) {
+                                           const std::vector<char>& required, int& rows,
+                                           std::vector<int>* elements = nullptr) {
   std::vector<int> row_of(required.size(), -1);
   rows = 0;
   for (const auto& set : sets)
     for (int e : set)
-      if (required[e] && row_of[e] < 0) row_of[e] = rows++;
+      if (required[e] && row_of[e] < 0) {
+        row_of[e] = rows++;
+        if (elements) elements->push_back(e);
+      }
   std::vector<std::vector<int>> columns(sets.size());
   for (std::size_t s = 0; s < sets.size(); ++s) {
     for (int e : sets[s])
@@ -143,8 +148,10 @@ std::vector<int> roundedCover(const Reduced& reduced, const double* x) {
   return chosen;
 }
 
-// The LP relaxation of the reduced instance: min sum x, every row covered, 0 <= x <= 1.
-void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver) {
+// The LP relaxation of the reduced instance: min sum x, every row covered (`demand[r]`
+// times, once without), 0 <= x <= 1.
+void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
+                    const std::vector<double>& demand = {}) {
   std::vector<int> indices, starts, lengths;  // column-ordered: one column per kept set
   for (const auto& column : reduced.columns) {
     starts.push_back(static_cast<int>(indices.size()));
@@ -157,8 +164,9 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver) {
                                 static_cast<CoinBigIndex>(indices.size()), ones.data(),
                                 indices.data(), starts.data(), lengths.data());
   const std::vector<double> column_lower(columns, 0.0), column_upper(columns, 1.0),
-      objective(columns, 1.0), row_lower(reduced.rows, 1.0),
+      objective(columns, 1.0),
       row_upper(reduced.rows, std::numeric_limits<double>::infinity());
+  const std::vector<double> row_lower = demand.empty() ? std::vector<double>(reduced.rows, 1.0) : demand;
   solver.loadProblem(matrix, column_lower.data(), column_upper.data(), objective.data(),
                      row_lower.data(), row_upper.data());
   solver.messageHandler()->setLogLevel(0);
@@ -239,6 +247,58 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
   }
   result.chosen = original(start);
   result.seconds = elapsed();
+  return result;
+}
+
+SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
+                                 const std::vector<int>& demand, double time_limit_seconds) {
+  const auto began = std::chrono::steady_clock::now();
+  SetCoverResult result;
+  // Each element's demand, capped by the sets holding it; no reduction (with demands above
+  // one, a set inside another may still be needed).
+  std::vector<char> required(demand.size(), 0);
+  for (std::size_t e = 0; e < demand.size(); ++e) required[e] = demand[e] > 0;
+  Reduced all;
+  std::vector<int> elements;
+  all.columns = requiredRows(sets, required, all.rows, &elements);
+  if (all.rows == 0) return result;
+  std::vector<double> need(all.rows, 0);
+  for (const auto& column : all.columns)
+    for (int r : column) ++need[r];
+  for (int r = 0; r < all.rows; ++r) need[r] = std::min<double>(need[r], demand[elements[r]]);
+  // A greedy start: the set meeting the most unmet demand, until none is left.
+  std::vector<double> unmet = need;
+  std::vector<char> used(all.columns.size(), 0);
+  std::vector<int> start;
+  for (;;) {
+    int best = -1, best_gain = 0;
+    for (std::size_t c = 0; c < all.columns.size(); ++c) {
+      if (used[c]) continue;
+      int gain = 0;
+      for (int r : all.columns[c]) gain += unmet[r] > 0;
+      if (gain > best_gain) {
+        best_gain = gain;
+        best = static_cast<int>(c);
+      }
+    }
+    if (best < 0) break;
+    used[best] = 1;
+    start.push_back(best);
+    for (int r : all.columns[best]) --unmet[r];
+  }
+  OsiClpSolverInterface solver;
+  loadRelaxation(all, solver, need);
+  solver.initialSolve();
+  if (solver.isProvenOptimal()) {
+    result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
+    for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
+    const double left = time_limit_seconds -
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    start = branchAndBound(solver, start, std::max(left, 0.0), 1000000, result);
+  }
+  std::sort(start.begin(), start.end());
+  result.chosen = start;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return result;
 }
 

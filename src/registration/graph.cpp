@@ -58,6 +58,10 @@ void validate(const RegistrationOptions& o, const std::string& source) {
           "method robot needs robot_accuracy (mm), the robot's pose accuracy");
 }
 
+bool robotRegistersAll(const RegistrationOptions& options) {
+  return options.method == RegistrationMode::Robot && options.robot_accuracy <= options.tolerance;
+}
+
 std::size_t Registration::registered() const {
   return static_cast<std::size_t>(std::count_if(
       views.begin(), views.end(), [](auto& v) { return v.method != RegistrationMethod::None; }));
@@ -589,8 +593,7 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                                   : markers.empty()                        ? RegistrationMode::Geometry
                                                                            : RegistrationMode::Markers;
   // With a robot accurate enough, every view registers: bridges would add nothing.
-  const bool by_robot =
-      method == RegistrationMode::Robot && options.robot_accuracy <= options.tolerance;
+  const bool by_robot = robotRegistersAll(options);
   static const std::vector<Marker> no_markers;
   std::optional<Graph> graph;
   graph.emplace(simulator, options, method == RegistrationMode::Geometry ? no_markers : markers,

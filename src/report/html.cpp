@@ -262,6 +262,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
                {"views", viewsJson(scene, plan, clouds)},
                {"path", scene.path},
                {"markers", base64(floats(scene.markers))},
+               {"proposed_markers", base64(floats(scene.proposed_markers))},
                {"gdt", gdtJson(part, scene)},
                {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
                {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},

@@ -174,7 +174,11 @@ PlanScene planScene(const Plan& plan, const Part& part) {
     for (const Marker& m : plan.orientations[k].markers)
       scene.markers.push_back(to_scene * m.position);
   }
+  if (plan.proposed_markers && plan.orientations.size() <= 1)
+    for (const Marker& m : plan.proposed_markers->markers)
+      scene.proposed_markers.push_back(m.position);
   for (const Vec3& m : scene.markers) scene.bounds.add(m);
+  for (const Vec3& m : scene.proposed_markers) scene.bounds.add(m);
   return scene;
 }
 

@@ -76,6 +76,7 @@ for (const [name, title] of [['measured', 'face measured'], ['partly measured', 
 }
 legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#f07800' }), 'path'));
 legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#fac800' }), 'markers'));
+legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#00b4f0' }), 'proposed markers'));
 
 // ---- 3D scene ---------------------------------------------------------------------------------
 const viewport = $('viewport');
@@ -193,6 +194,11 @@ const markerGeometry = new THREE.BufferGeometry();
 markerGeometry.setAttribute('position', new THREE.BufferAttribute(markerPositions, 3));
 const markers = new THREE.Points(markerGeometry, new THREE.PointsMaterial({ color: 0xfac800, size: 6, sizeAttenuation: false }));
 scene.add(markers);
+// Markers the plan proposes where views register to nothing (proposed-markers.csv).
+const proposedGeometry = new THREE.BufferGeometry();
+proposedGeometry.setAttribute('position', new THREE.BufferAttribute(f32(data.proposed_markers || ''), 3));
+const proposedMarkers = new THREE.Points(proposedGeometry, new THREE.PointsMaterial({ color: 0x00b4f0, size: 8, sizeAttenuation: false }));
+scene.add(proposedMarkers);
 
 let cloud = null;      // the selected view's simulated cloud
 let clusterPoints = null;  // the selected cluster's samples
@@ -207,7 +213,7 @@ scene.add(selectedFrustum);
 $('toggles').append(el('button', { onclick: () => frameOn(partBox) }, 'part'), ' ',
   el('button', { onclick: () => frameOn(all) }, 'all views'));
 for (const [name, object] of [['part', part], ['priority outlines', outlines], ['samples', samples],
-  ['views', views], ['path', path], ['markers', markers]]) {
+  ['views', views], ['path', path], ['markers', markers], ['proposed markers', proposedMarkers]]) {
   const box = el('input', { type: 'checkbox' });
   box.checked = object.visible;
   box.addEventListener('change', () => { object.visible = box.checked; labels.domElement.style.display = views.visible ? '' : 'none'; });

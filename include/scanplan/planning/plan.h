@@ -80,6 +80,8 @@ struct Plan {
   std::vector<View> views;  // ids 1..n in order of marginal coverage, then bridging views
   std::vector<Marker> markers;
   std::optional<Registration> registration;  // per view, with PlanningOptions::registration
+  // Where views register to nothing, markers that would register them (world frame).
+  std::optional<MarkerProposal> proposed_markers;
   std::optional<Sequence> sequence;          // of the registered views
   std::vector<Sweep> sweeps;                 // their views come first, in sweep order
   // part.rest: all: the orientations planned, steadiest first. part_to_world and the

@@ -27,4 +27,10 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
                                const std::vector<char>& required, double time_limit_seconds,
                                const std::vector<int>& start = {}, int max_nodes = 1000000);
 
+// The fewest of `sets` such that each element e is in at least demand[e] of them (fewer
+// when fewer sets hold it), as minimumSetCover but without the reduction: a greedy start,
+// the LP relaxation's bound, CBC within `time_limit_seconds`.
+SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
+                                 const std::vector<int>& demand, double time_limit_seconds);
+
 }  // namespace scanplan

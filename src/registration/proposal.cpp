@@ -1,0 +1,135 @@
+// Markers proposed where views register to nothing (docs/registration.md).
+
+#include <scanplan/planning/set_cover.h>
+#include <scanplan/registration.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+namespace scanplan {
+namespace {
+
+constexpr double kSeconds = 2;  // CBC's time for the proposal and for its bound
+
+int find(std::vector<int>& parent, int v) {
+  while (parent[v] != v) v = parent[v] = parent[parent[v]];
+  return v;
+}
+
+// The pairs of views markers must join: a spanning forest over the pairs that see at least
+// `least` candidates in common, the pairs that register already taken first and free, then
+// those with the most candidates in common. Each pair with the candidates both see.
+std::vector<std::vector<int>> pairsToJoin(std::span<const View> views,
+                                          const Registration& registration,
+                                          const std::vector<std::vector<int>>& seen,
+                                          std::size_t least) {
+  std::map<std::pair<int, int>, std::vector<int>> common;  // view indices -> candidates
+  std::map<int, std::vector<int>> viewers;                 // candidate -> view indices
+  for (std::size_t v = 0; v < views.size(); ++v)
+    for (int c : seen[v]) viewers[c].push_back(static_cast<int>(v));
+  for (const auto& [c, by] : viewers)
+    for (std::size_t i = 0; i < by.size(); ++i)
+      for (std::size_t j = i + 1; j < by.size(); ++j) common[{by[i], by[j]}].push_back(c);
+
+  std::vector<int> parent(views.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t a = 0; a < views.size(); ++a)
+    for (std::size_t b = a + 1; b < views.size(); ++b)
+      if (registration.linked(views[a].id, views[b].id))
+        parent[find(parent, static_cast<int>(a))] = find(parent, static_cast<int>(b));
+  std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ranked(common.begin(),
+                                                                       common.end());
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](auto& x, auto& y) { return x.second.size() > y.second.size(); });
+  std::vector<std::vector<int>> pairs;
+  for (auto& [ends, candidates] : ranked) {
+    if (candidates.size() < least) break;
+    const int a = find(parent, ends.first), b = find(parent, ends.second);
+    if (a == b) continue;
+    parent[a] = b;
+    pairs.push_back(std::move(candidates));
+  }
+  return pairs;
+}
+
+// Of `pair`'s candidates not taken, the one farthest from the line through the two markers
+// of `shared` farthest apart (any, with fewer than two); -1 when none is left.
+int farthestFromLine(const std::vector<Marker>& candidates, const std::vector<int>& pair,
+                     const std::vector<char>& taken, const std::vector<Vec3>& shared) {
+  Vec3 a = Vec3::Zero(), b = Vec3::Zero();
+  for (const Vec3& p : shared)
+    for (const Vec3& q : shared)
+      if ((p - q).norm() > (a - b).norm()) {
+        a = p;
+        b = q;
+      }
+  const Vec3 direction = (b - a).norm() > 0 ? Vec3((b - a).normalized()) : Vec3::Zero();
+  int best = -1;
+  double best_distance = -1;
+  for (int c : pair) {
+    if (taken[c]) continue;
+    const Vec3 d = candidates[c].position - a;
+    const double distance = (d - d.dot(direction) * direction).norm();
+    if (distance > best_distance) {
+      best_distance = distance;
+      best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
+                              const Registration& registration,
+                              const std::vector<Marker>& candidates,
+                              const RegistrationOptions& options) {
+  MarkerProposal proposal;
+  std::vector<SurfacePoint> points;
+  for (const Marker& m : candidates) points.push_back({m.position, m.normal, 0});
+  const std::vector<std::vector<int>> seen = measuredPoints(simulator, views, points);
+  const auto least = static_cast<std::size_t>(options.min_markers);
+  const std::vector<std::vector<int>> pairs = pairsToJoin(views, registration, seen, least);
+
+  // The fewest candidates giving every pair min_markers in common (CBC), then more for the
+  // pairs whose markers lie too near one line, farthest from that line first.
+  std::vector<std::vector<int>> pairs_of(candidates.size());
+  for (std::size_t p = 0; p < pairs.size(); ++p)
+    for (int c : pairs[p]) pairs_of[c].push_back(static_cast<int>(p));
+  std::vector<char> taken(candidates.size(), 0);
+  for (int c : minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers),
+                                 kSeconds)
+                   .chosen)
+    taken[c] = 1;
+  for (const std::vector<int>& pair : pairs) {
+    std::vector<Vec3> shared;
+    for (int c : pair)
+      if (taken[c]) shared.push_back(candidates[c].position);
+    while (!markersRegister(shared, options.min_markers, options.marker_spread)) {
+      const int c = farthestFromLine(candidates, pair, taken, shared);
+      if (c < 0) break;
+      taken[c] = 1;
+      shared.push_back(candidates[c].position);
+    }
+  }
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (taken[c]) proposal.markers.push_back(candidates[c]);
+
+  // The bound: each view registered to nothing needs min_markers markers it sees (or all
+  // it sees, when fewer): the multicover's lower bound.
+  std::vector<std::vector<int>> views_of(candidates.size());
+  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
+    if (registration.views[v].method != RegistrationMethod::None || seen[v].size() < least)
+      continue;
+    for (int c : seen[v]) views_of[c].push_back(static_cast<int>(proposal.views));
+    ++proposal.views;
+  }
+  const SetCoverResult bound = minimumMulticover(
+      views_of, std::vector<int>(proposal.views, options.min_markers), kSeconds);
+  proposal.lower_bound = static_cast<std::size_t>(bound.lower_bound);
+  return proposal;
+}
+
+}  // namespace scanplan
