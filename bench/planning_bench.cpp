@@ -3,7 +3,8 @@
 // pose of the pool measures and those measured, views against a plain greedy over dense
 // poses (denseGreedy) and against the lower bound of the pool's set cover, and seconds.
 // BM_Register: registration, bridging and sequencing of NIST plans, with and without
-// markers.
+// markers. BM_RegisterGlobal: the global task registered by geometry, and the markers
+// proposed.
 //
 //   build/release/bench/scanplan_bench --benchmark_filter=Plan
 
@@ -142,6 +143,40 @@ void registerPart(benchmark::State& state, const std::string& name, bool markers
   state.counters["nn_path_m"] = plan.sequence->nearest_neighbour_length / 1000;
 }
 
+// The global task without markers, registered by geometry: views, the share registered,
+// bridging views, the markers proposed (and their bound), seconds with and without
+// registration; then the plan made again with the proposed markers.
+void registerGlobal(benchmark::State& state, const std::string& relative) {
+  const std::string path = std::string(SCANPLAN_SHARED_DATA) + "/" + relative;
+  if (!std::filesystem::exists(path)) return state.SkipWithError("shared data not found");
+  const Part part = importPart(path);
+  Spec spec = defaultSpec();
+  Plan plan;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    plan = planViews(part, spec);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const Registration& r = *plan.registration;
+  for (const StageTime& t : plan.times)
+    if (t.stage == "registration") state.counters["registration_seconds"] = t.seconds;
+  state.counters["plan_seconds"] = seconds;
+  state.counters["views"] = static_cast<double>(plan.views.size());
+  state.counters["registered"] = static_cast<double>(r.registered());
+  state.counters["bridging"] = static_cast<double>(r.bridging_views);
+  if (!plan.proposed_markers || plan.proposed_markers->markers.empty()) return;
+  state.counters["proposed_markers"] = static_cast<double>(plan.proposed_markers->markers.size());
+  state.counters["proposed_bound"] = static_cast<double>(plan.proposed_markers->lower_bound);
+  const std::string csv = std::filesystem::temp_directory_path() / "scanplan-bench-markers.csv";
+  writeMarkers(plan.proposed_markers->markers, csv);
+  spec.markers_file = csv;
+  spec.marker_grid = 0;
+  const Plan marked = planViews(part, spec);
+  state.counters["views_with_markers"] = static_cast<double>(marked.views.size());
+  state.counters["registered_with_markers"] = static_cast<double>(marked.registration->registered());
+}
+
 const int registered = [] {
   for (const char* name : {"nist_ctc_01_asme1_ap242-e1.stp", "nist_ctc_03_asme1_ap242-e2.stp",
                            "nist_ftc_06_asme1_ap242-e1.stp"})
@@ -163,6 +198,15 @@ const int registered = [] {
           })
           ->Unit(benchmark::kSecond)
           ->Iterations(1);
+  for (const char* name : {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
+                           "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
+                           "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
+                           "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
+                           "mech/asi_repatch-hpdc.stp"})
+    benchmark::RegisterBenchmark((std::string("BM_RegisterGlobal/") + name).c_str(),
+                                 [name](benchmark::State& state) { registerGlobal(state, name); })
+        ->Unit(benchmark::kSecond)
+        ->Iterations(1);
   benchmark::RegisterBenchmark(
       "BM_PlanGlobal/asi_repatch-hpdc.stp",
       [](benchmark::State& state) { planPart(state, "mech/asi_repatch-hpdc.stp", false); })

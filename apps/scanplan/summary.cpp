@@ -4,39 +4,14 @@
 
 namespace scanplan::cli {
 
-void printPlanSummary(const Plan& plan, const Part& part) {
-  auto percent = [](std::size_t some, std::size_t whole) {
-    return whole ? 100.0 * static_cast<double>(some) / static_cast<double>(whole) : 0.0;
-  };
-  fmt::print("{:<22} {}\n", "model faces", plan.part_faces);
-  fmt::print("{:<22} {}\n", "fixture faces", plan.fixture_faces);
-  fmt::print("{:<22} {}\n", "target samples", plan.samples.size());
-  fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
-             percent(plan.measuredCount(), plan.samples.size()));
-  for (const Plan::FaceShortfall& f : plan.priorityShortfall()) {
-    const std::string& name = f.face >= 1 && f.face <= static_cast<int>(part.faces.size())
-                                  ? part.faces[f.face - 1].name
-                                  : std::string();
-    fmt::print("{:<22} face {}{}: {} of {} priority samples measured\n", "priority face short",
-               f.face, name.empty() ? "" : " (" + name + ")", f.measured, f.samples);
-  }
-  fmt::print("{:<22} {}\n", "views", plan.views.size());
-  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
-    const PlannedOrientation& o = plan.orientations[k];
-    fmt::print("{:<22} {}: down ({:+.3f}, {:+.3f}, {:+.3f}), margin {:.3f}, {} views\n",
-               k == 0 ? "rest orientations" : "", k + 1, o.rest.down.x(), o.rest.down.y(),
-               o.rest.down.z(), o.rest.margin, o.views.size());
-  }
-  for (const Sweep& sweep : plan.sweeps) {
-    std::string faces;
-    for (int id : sweep.faces) faces += fmt::format("{}{}", faces.empty() ? "" : " ", id);
-    fmt::print(
-        "{:<22} {} views over {} tiles, {} face(s): {}{}\n", "sweep", sweep.views.size(),
-        sweep.tiles, sweep.faces.size(), faces.size() > 40 ? faces.substr(0, 40) + "..." : faces,
-        sweep.patch ? fmt::format(" (patch within {:.3f} mm)", sweep.patch->max_deviation) : "");
-  }
-  if (!plan.registration) return;
-  const Registration& r = *plan.registration;
+namespace {
+
+double percent(std::size_t some, std::size_t whole) {
+  return whole ? 100.0 * static_cast<double>(some) / static_cast<double>(whole) : 0.0;
+}
+
+// Views registered, by which method, and those registered to nothing; the markers proposed.
+void printRegistration(const Plan& plan, const Registration& r) {
   fmt::print("{:<22} {} ({:.1f}%), by {}\n", "views registered", r.registered(),
              percent(r.registered(), plan.views.size()), toString(r.method));
   std::string by;
@@ -68,6 +43,39 @@ void printPlanSummary(const Plan& plan, const Part& part) {
     fmt::print("{:<22} {} for the {} views registered to nothing (at least {} needed)\n",
                "proposed markers", plan.proposed_markers->markers.size(),
                plan.proposed_markers->views, plan.proposed_markers->lower_bound);
+}
+
+}  // namespace
+
+void printPlanSummary(const Plan& plan, const Part& part) {
+  fmt::print("{:<22} {}\n", "model faces", plan.part_faces);
+  fmt::print("{:<22} {}\n", "fixture faces", plan.fixture_faces);
+  fmt::print("{:<22} {}\n", "target samples", plan.samples.size());
+  fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
+             percent(plan.measuredCount(), plan.samples.size()));
+  for (const Plan::FaceShortfall& f : plan.priorityShortfall()) {
+    const std::string& name = f.face >= 1 && f.face <= static_cast<int>(part.faces.size())
+                                  ? part.faces[f.face - 1].name
+                                  : std::string();
+    fmt::print("{:<22} face {}{}: {} of {} priority samples measured\n", "priority face short",
+               f.face, name.empty() ? "" : " (" + name + ")", f.measured, f.samples);
+  }
+  fmt::print("{:<22} {}\n", "views", plan.views.size());
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+    const PlannedOrientation& o = plan.orientations[k];
+    fmt::print("{:<22} {}: down ({:+.3f}, {:+.3f}, {:+.3f}), margin {:.3f}, {} views\n",
+               k == 0 ? "rest orientations" : "", k + 1, o.rest.down.x(), o.rest.down.y(),
+               o.rest.down.z(), o.rest.margin, o.views.size());
+  }
+  for (const Sweep& sweep : plan.sweeps) {
+    std::string faces;
+    for (int id : sweep.faces) faces += fmt::format("{}{}", faces.empty() ? "" : " ", id);
+    fmt::print(
+        "{:<22} {} views over {} tiles, {} face(s): {}{}\n", "sweep", sweep.views.size(),
+        sweep.tiles, sweep.faces.size(), faces.size() > 40 ? faces.substr(0, 40) + "..." : faces,
+        sweep.patch ? fmt::format(" (patch within {:.3f} mm)", sweep.patch->max_deviation) : "");
+  }
+  if (plan.registration) printRegistration(plan, *plan.registration);
   if (plan.sequence)
     fmt::print("{:<22} {:.0f} mm (nearest neighbour {:.0f} mm)\n", "path length",
                plan.sequence->length, plan.sequence->nearest_neighbour_length);

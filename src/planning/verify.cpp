@@ -11,6 +11,49 @@ namespace scanplan {
 
 namespace {
 
+// The registration options a plan is checked with: the spec's, without bridging, with the
+// plan's method (and robot accuracy) when the spec names none, and the plan's `required`.
+RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) {
+  RegistrationOptions registration = spec.registration;
+  registration.bridging = false;
+  registration.seed = spec.planner.seed;
+  registration.required = planned.required;
+  if (registration.method == RegistrationMode::Default) {
+    registration.method = planned.method;
+    if (registration.method == RegistrationMode::Robot)
+      registration.robot_accuracy = planned.robot_accuracy;
+  }
+  return registration;
+}
+
+// The sequence as the file gives it, into `check`: every view once, each registered view
+// after one it registers to, and its motion cost.
+void checkSequence(const Simulator& simulator, const Plan& plan, const std::vector<View>& views,
+                   PlanCheck& check) {
+  Plan& again = check.plan;
+  std::map<int, int> index, seen;
+  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = static_cast<int>(v);
+  std::vector<int> order;
+  if (plan.sequence)
+    for (int id : plan.sequence->views)
+      if (index.count(id) && seen[id]++ == 0) order.push_back(index[id]);
+  check.sequence_missing = views.size() - order.size() +
+                           (plan.sequence ? plan.sequence->views.size() - order.size() : 0);
+  const std::vector<std::vector<char>> links = registrationLinks(views, *again.registration);
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
+    bool follows = false;
+    for (std::size_t j = 0; j < k && !follows; ++j) follows = links[order[k]][order[j]];
+    check.sequence_breaks += !follows;
+  }
+  const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
+  again.sequence.emplace();
+  for (int k : order) again.sequence->views.push_back(views[k].id);
+  again.sequence->length = pathLength(cost, order);
+  again.sequence->nearest_neighbour_length =
+      pathLength(cost, nearestNeighbourOrder(cost, links, order.empty() ? 0 : order.front()));
+}
+
 // verifyPlan of a plan with one placement.
 PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
                           const PlanningOptions& options, const Progress& progress) {
@@ -36,15 +79,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
 
   if (!options.registration || !plan.registration) return check;
   std::vector<View> views = plan.views;
-  RegistrationOptions registration = spec.registration;
-  registration.bridging = false;
-  registration.seed = spec.planner.seed;
-  registration.required = plan.registration->required;
-  if (registration.method == RegistrationMode::Default) {
-    registration.method = plan.registration->method;
-    if (registration.method == RegistrationMode::Robot)
-      registration.robot_accuracy = plan.registration->robot_accuracy;
-  }
+  const RegistrationOptions registration = checkOptions(spec, *plan.registration);
   if (!spec.markers_file.empty() || spec.marker_grid > 0)
     again.markers = specMarkers(spec, part, plan.part_to_world);
   again.registration =
@@ -65,29 +100,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   check.unregistered = views.size() - again.registration->registered();
   check.registration_required = again.registration->required;
 
-  // The sequence as the file gives it: every view once, each registered view after one it
-  // registers to, and its motion cost.
-  std::map<int, int> index, seen;
-  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = static_cast<int>(v);
-  std::vector<int> order;
-  if (plan.sequence)
-    for (int id : plan.sequence->views)
-      if (index.count(id) && seen[id]++ == 0) order.push_back(index[id]);
-  check.sequence_missing = views.size() - order.size() +
-                           (plan.sequence ? plan.sequence->views.size() - order.size() : 0);
-  const std::vector<std::vector<char>> links = registrationLinks(views, *again.registration);
-  for (std::size_t k = 1; k < order.size(); ++k) {
-    if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
-    bool follows = false;
-    for (std::size_t j = 0; j < k && !follows; ++j) follows = links[order[k]][order[j]];
-    check.sequence_breaks += !follows;
-  }
-  const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
-  again.sequence.emplace();
-  for (int k : order) again.sequence->views.push_back(views[k].id);
-  again.sequence->length = pathLength(cost, order);
-  again.sequence->nearest_neighbour_length =
-      pathLength(cost, nearestNeighbourOrder(cost, links, order.empty() ? 0 : order.front()));
+  checkSequence(simulator, plan, views, check);
   return check;
 }
 

@@ -585,6 +585,19 @@ class Graph {
 
 }  // namespace
 
+namespace {
+
+// Every view registered to nothing registered by the robot, into the reference's frame.
+void registerByRobot(Registration& registration) {
+  for (ViewRegistration& view : registration.views)
+    if (view.method == RegistrationMethod::None) {
+      view.method = RegistrationMethod::Robot;
+      view.to = registration.reference;
+    }
+}
+
+}  // namespace
+
 Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
                            const CellCheck& cell, const Progress& progress) {
@@ -645,12 +658,7 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
   registration.method = method;
   registration.required = options.required;
   if (method == RegistrationMode::Robot) registration.robot_accuracy = options.robot_accuracy;
-  if (by_robot)
-    for (ViewRegistration& view : registration.views)
-      if (view.method == RegistrationMethod::None) {
-        view.method = RegistrationMethod::Robot;
-        view.to = registration.reference;
-      }
+  if (by_robot) registerByRobot(registration);
   return registration;
 }
 
