@@ -21,6 +21,8 @@ scanplan_require(yaml-cpp libyaml-cpp-dev CONFIG)
 scanplan_require(nanoflann libnanoflann-dev CONFIG)
 scanplan_require(fmt libfmt-dev CONFIG)
 scanplan_require(Open3D libopen3d-dev CONFIG)
+# Open3D's ICP runs OpenMP regions; scanplan keeps each check on one thread (icp.cpp).
+scanplan_require(OpenMP libgomp1)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CBC IMPORTED_TARGET cbc)
 if(NOT CBC_FOUND)

@@ -7,6 +7,8 @@
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/pipelines/registration/TransformationEstimation.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -41,7 +43,15 @@ double cloudSpacing(const Simulator& simulator, const RegistrationOptions& optio
   return options.cloud_spacing > 0 ? options.cloud_spacing : simulator.scanner().fov_height / 150;
 }
 
+// Open3D's normal estimation and ICP split their sums over OpenMP threads, which makes
+// their results depend on the load. Checks run in parallel over pairs (oneTBB) instead:
+// each keeps its own sums on the thread that runs it, and gives the same result every run.
+namespace {
+void oneThread() { omp_set_num_threads(1); }
+}  // namespace
+
 IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options) {
+  oneThread();
   const double spacing = cloudSpacing(simulator, options);
   IcpCloud cloud;
   cloud.id = view.id;
@@ -62,6 +72,7 @@ IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& mov
 
 IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCloud& moved,
                   const RegistrationOptions& options) {
+  oneThread();
   const Scanner& scanner = simulator.scanner();
   const double spacing = cloudSpacing(simulator, options);
   IcpCheck check;
