@@ -40,7 +40,7 @@ void printRegistration(const Plan& plan, const Registration& r) {
           "", unconstrained);
   }
   if (plan.proposed_markers && !plan.proposed_markers->markers.empty())
-    fmt::print("{:<22} {} for the {} views registered to nothing (at least {} needed)\n",
+    fmt::print("{:<22} {}, for {} of the views registered to nothing (at least {} needed)\n",
                "proposed markers", plan.proposed_markers->markers.size(),
                plan.proposed_markers->views, plan.proposed_markers->lower_bound);
 }
