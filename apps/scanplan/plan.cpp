@@ -32,13 +32,16 @@ struct Options {
 
 constexpr const char* kProposedMarkers = "proposed-markers.csv";
 
-// The plan made again with the markers it proposed (written to `csv`) as the cell's.
+// The plan made again with the markers it proposed (written to `csv`) as the cell's,
+// registered by them.
 Plan withProposedMarkers(const Part& part, Spec spec, const Plan& plan, const std::string& csv,
                          const PlanningOptions& planning, const Progress& progress) {
   if (!plan.orientations.empty())
     throw InputError(csv, "--place-markers plans one rest orientation only");
   spec.markers_file = csv;
   spec.marker_grid = 0;
+  if (spec.registration.method == RegistrationMode::Geometry)
+    spec.registration.method = RegistrationMode::Markers;  // else the markers go unused
   return planViews(part, spec, planning, progress);
 }
 
