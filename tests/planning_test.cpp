@@ -459,6 +459,44 @@ TEST(SetCover, MatchesBruteForceOnRandomInstances) {
   }
 }
 
+// Multicover against brute force: each element in at least `demand` chosen sets (all that
+// hold it when fewer do), as few sets as the true minimum, the bound never above it.
+TEST(SetCover, MulticoverMatchesBruteForce) {
+  std::mt19937 random(11);
+  for (int instance = 0; instance < 30; ++instance) {
+    const int elements = 10, count = 12;
+    std::vector<std::vector<int>> sets(count);
+    for (auto& set : sets)
+      for (int e = 0; e < elements; ++e)
+        if (random() % 3 == 0) set.push_back(e);
+    std::vector<int> demand(elements);
+    for (int& d : demand) d = static_cast<int>(random() % 4);  // 0 to 3
+    std::vector<int> need(elements, 0);
+    for (const auto& set : sets)
+      for (int e : set) ++need[e];
+    for (int e = 0; e < elements; ++e) need[e] = std::min(need[e], demand[e]);
+    auto meets = [&](const std::vector<int>& chosen) {
+      std::vector<int> times(elements, 0);
+      for (int s : chosen)
+        for (int e : sets[s]) ++times[e];
+      for (int e = 0; e < elements; ++e)
+        if (times[e] < need[e]) return false;
+      return true;
+    };
+    int minimum = count;
+    for (unsigned mask = 0; mask < (1u << count); ++mask) {
+      std::vector<int> chosen;
+      for (int s = 0; s < count; ++s)
+        if (mask >> s & 1) chosen.push_back(s);
+      if (meets(chosen)) minimum = std::min(minimum, static_cast<int>(chosen.size()));
+    }
+    const SetCoverResult result = minimumMulticover(sets, demand, 10);
+    EXPECT_TRUE(meets(result.chosen)) << "instance " << instance;
+    EXPECT_EQ(static_cast<int>(result.chosen.size()), minimum) << "instance " << instance;
+    EXPECT_LE(result.lower_bound, minimum) << "instance " << instance;
+  }
+}
+
 TEST(Planning, BoundIsAtMostThePlan) {
   Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   Plan plan = planViews(part, defaultSpec(), PlanningOptions{.registration = false});
