@@ -45,6 +45,21 @@ Plan withProposedMarkers(const Part& part, Spec spec, const Plan& plan, const st
   return planViews(part, spec, planning, progress);
 }
 
+// The part, then per task and role the samples and those measured.
+void printTaskRows(const Plan& plan, const Part& part) {
+  std::map<std::pair<std::string, std::string>, std::array<std::size_t, 2>> rows;
+  for (const PlannedSample& s : plan.samples) {
+    auto& row = rows[{std::string(toString(s.sample.task)), std::string(toString(s.sample.role))}];
+    ++row[0];
+    row[1] += !s.measured_by.empty();
+  }
+  fmt::print("part       {} ({} faces)\n", part.file, part.faces.size());
+  fmt::print("{:<10} {:<9} {:>8} {:>9} {:>8}\n", "task", "role", "samples", "measured", "share");
+  for (const auto& [key, row] : rows)
+    fmt::print("{:<10} {:<9} {:>8} {:>9} {:>7.1f}%\n", key.first, key.second, row[0], row[1],
+               100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
@@ -78,22 +93,12 @@ int run(const Options& options, const GlobalOptions& global) {
   if (options.png) writePng(renderScene(planScene(plan, part)), (outdir / "plan.png").string());
   clearProgress();
 
-  // Summary: samples per task and role, measured, not coverable by reason.
-  std::map<std::pair<std::string, std::string>, std::array<std::size_t, 2>> rows;
-  std::map<std::string, std::size_t> reasons;
-  for (const PlannedSample& s : plan.samples) {
-    auto& row = rows[{std::string(toString(s.sample.task)), std::string(toString(s.sample.role))}];
-    ++row[0];
-    row[1] += !s.measured_by.empty();
-    if (s.uncoverable != Uncoverable::None) ++reasons[std::string(toString(s.uncoverable))];
-  }
-  fmt::print("part       {} ({} faces)\n", part.file, part.faces.size());
-  fmt::print("{:<10} {:<9} {:>8} {:>9} {:>8}\n", "task", "role", "samples", "measured", "share");
-  for (const auto& [key, row] : rows)
-    fmt::print("{:<10} {:<9} {:>8} {:>9} {:>7.1f}%\n", key.first, key.second, row[0], row[1],
-               100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
+  printTaskRows(plan, part);
   printPlanSummary(plan, part);
   fmt::print("{:<22} {}\n", "not coverable", plan.notCoverableCount());
+  std::map<std::string, std::size_t> reasons;
+  for (const PlannedSample& s : plan.samples)
+    if (s.uncoverable != Uncoverable::None) ++reasons[std::string(toString(s.uncoverable))];
   for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
   if (plan.bound) {
     const PlanBound& b = *plan.bound;

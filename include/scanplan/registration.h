@@ -190,13 +190,21 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
 
 // Markers proposed so that views register where their geometry does not: a spanning
 // forest over pairs of `views` that see enough `candidates` in common (the pairs
-// `registration` links already first), then, greedily, the candidates in most pairs not
-// yet joined until each pair shares min_markers markers spread out (markersRegister).
+// `registration` links already first), then the fewest candidates giving each of its
+// pairs min_markers in common (minimumMulticover), and more where those lie on a line
+// (markersRegister).
 struct MarkerProposal {
   std::vector<Marker> markers;
   std::size_t views = 0;        // views registered to nothing that see enough candidates
-  std::size_t lower_bound = 0;  // min_markers for each of them, over the most of them
-                                // one candidate serves: no proposal for them is smaller
+  std::size_t lower_bound = 0;  // no proposal giving each of them min_markers is smaller
+                                // (the multicover's bound)
+
+  // Adds `other`'s markers, views and bound (another rest orientation's proposal).
+  void append(const MarkerProposal& other) {
+    markers.insert(markers.end(), other.markers.begin(), other.markers.end());
+    views += other.views;
+    lower_bound += other.lower_bound;
+  }
 };
 MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
                               const Registration& registration,

@@ -339,12 +339,8 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
   }
   if (part.proposed_markers) {
-    MarkerProposal& sum =
-        merged.proposed_markers ? *merged.proposed_markers : merged.proposed_markers.emplace();
-    sum.markers.insert(sum.markers.end(), part.proposed_markers->markers.begin(),
-                       part.proposed_markers->markers.end());
-    sum.views += part.proposed_markers->views;
-    sum.lower_bound += part.proposed_markers->lower_bound;
+    if (!merged.proposed_markers) merged.proposed_markers.emplace();
+    merged.proposed_markers->append(*part.proposed_markers);
   }
   if (part.bound) {
     PlanBound& sum = merged.bound ? *merged.bound : merged.bound.emplace();
