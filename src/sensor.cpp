@@ -13,6 +13,14 @@ namespace scanplan {
 
 double Scanner::baseline() const { return standoff * std::tan(radians(triangulation_angle)); }
 
+double Scanner::reach() const {
+  // The far end of the volume is its widest: the field of view grows with the distance.
+  const double half_depth = depth_of_field / 2;
+  const double far = (standoff + half_depth) / standoff;
+  return std::sqrt(half_depth * half_depth + std::pow(fov_width / 2 * far, 2) +
+                   std::pow(fov_height / 2 * far, 2));
+}
+
 Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
 
 void validate(const Scanner& s, const std::string& source) {

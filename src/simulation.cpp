@@ -439,12 +439,7 @@ std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
   std::vector<std::vector<int>> result(views.size());
   if (points.empty()) return result;
   // Only points within the bounding sphere of the measuring volume can be measured.
-  const Scanner& scanner = simulator.scanner();
-  const double half_depth = scanner.depth_of_field / 2;
-  const double far = (scanner.standoff + half_depth) / scanner.standoff;
-  const double reach =
-      std::sqrt(half_depth * half_depth + std::pow(scanner.fov_width / 2 * far, 2) +
-                std::pow(scanner.fov_height / 2 * far, 2));
+  const double reach = simulator.scanner().reach();
   std::vector<Vec3> positions;
   for (const SurfacePoint& p : points) positions.push_back(p.position);
   const detail::PointCloudAdaptor cloud{positions};

@@ -43,6 +43,12 @@ class SpecReader {
     }
   }
 
+  // `value` from `section`.`key` of `node` when it is given.
+  template <typename T>
+  void read(const YAML::Node& node, const std::string& section, const char* key, T& value) const {
+    if (node[key]) value = scalar<T>(node[key], section + "." + key);
+  }
+
   Color color(const YAML::Node& node, const std::string& key) const {
     if (node.IsScalar()) {  // "#rrggbb"
       const std::string text = node.as<std::string>();
@@ -285,21 +291,15 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
              "anchors", "pool_rotations", "selection_nodes", "selection_seconds"},
             reader, "planner");
   PlannerSettings p;
-  if (node["seed"]) p.seed = reader.scalar<std::uint64_t>(node["seed"], "planner.seed");
-  if (node["vm_step"]) p.vm_step = reader.scalar<double>(node["vm_step"], "planner.vm_step");
-  if (node["max_failures"])
-    p.max_failures = reader.scalar<int>(node["max_failures"], "planner.max_failures");
-  if (node["sweep_overlap"])
-    p.sweep_overlap = reader.scalar<double>(node["sweep_overlap"], "planner.sweep_overlap");
-  if (node["rotations"]) p.rotations = reader.scalar<int>(node["rotations"], "planner.rotations");
-  if (node["anchors"]) p.anchors = reader.scalar<int>(node["anchors"], "planner.anchors");
-  if (node["pool_rotations"])
-    p.pool_rotations = reader.scalar<int>(node["pool_rotations"], "planner.pool_rotations");
-  if (node["selection_nodes"])
-    p.selection_nodes = reader.scalar<int>(node["selection_nodes"], "planner.selection_nodes");
-  if (node["selection_seconds"])
-    p.selection_seconds =
-        reader.scalar<double>(node["selection_seconds"], "planner.selection_seconds");
+  reader.read(node, "planner", "seed", p.seed);
+  reader.read(node, "planner", "vm_step", p.vm_step);
+  reader.read(node, "planner", "max_failures", p.max_failures);
+  reader.read(node, "planner", "sweep_overlap", p.sweep_overlap);
+  reader.read(node, "planner", "rotations", p.rotations);
+  reader.read(node, "planner", "anchors", p.anchors);
+  reader.read(node, "planner", "pool_rotations", p.pool_rotations);
+  reader.read(node, "planner", "selection_nodes", p.selection_nodes);
+  reader.read(node, "planner", "selection_seconds", p.selection_seconds);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
       reader.fail("planner.tilt must be [min, max] in degrees");
@@ -308,10 +308,8 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   }
   if (const YAML::Node rescue = node["rescue"]) {
     checkKeys(rescue, {"step", "rotations"}, reader, "planner.rescue");
-    if (rescue["step"])
-      p.rescue_step = reader.scalar<double>(rescue["step"], "planner.rescue.step");
-    if (rescue["rotations"])
-      p.rescue_rotations = reader.scalar<int>(rescue["rotations"], "planner.rescue.rotations");
+    reader.read(rescue, "planner.rescue", "step", p.rescue_step);
+    reader.read(rescue, "planner.rescue", "rotations", p.rescue_rotations);
   }
   if (!(p.vm_step > 0 && p.vm_step <= 45))
     reader.fail("planner.vm_step must be within (0, 45] degrees");
@@ -403,23 +401,18 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
       reader.fail("registration.method must be markers, geometry or robot, not '" + name + "'");
     r.method = *found;
   }
-  auto read = [&](const char* key, auto& value) {
-    if (node[key])
-      value = reader.scalar<std::decay_t<decltype(value)>>(node[key],
-                                                           std::string("registration.") + key);
-  };
-  read("robot_accuracy", r.robot_accuracy);
-  read("required", r.required);
-  read("min_markers", r.min_markers);
-  read("marker_spread", r.marker_spread);
-  read("min_overlap", r.min_overlap);
-  read("max_condition", r.max_condition);
-  read("point_spacing", r.point_spacing);
-  read("verify", r.verify);
-  read("cloud_spacing", r.cloud_spacing);
-  read("tolerance", r.tolerance);
-  read("bridging", r.bridging);
-  read("max_bridging_views", r.max_bridging_views);
+  reader.read(node, "registration", "robot_accuracy", r.robot_accuracy);
+  reader.read(node, "registration", "required", r.required);
+  reader.read(node, "registration", "min_markers", r.min_markers);
+  reader.read(node, "registration", "marker_spread", r.marker_spread);
+  reader.read(node, "registration", "min_overlap", r.min_overlap);
+  reader.read(node, "registration", "max_condition", r.max_condition);
+  reader.read(node, "registration", "point_spacing", r.point_spacing);
+  reader.read(node, "registration", "verify", r.verify);
+  reader.read(node, "registration", "cloud_spacing", r.cloud_spacing);
+  reader.read(node, "registration", "tolerance", r.tolerance);
+  reader.read(node, "registration", "bridging", r.bridging);
+  reader.read(node, "registration", "max_bridging_views", r.max_bridging_views);
   if (const YAML::Node perturbation = node["perturbation"]) {
     if (!perturbation.IsSequence() || perturbation.size() != 2)
       reader.fail("registration.perturbation must be [mm, degrees]");

@@ -16,7 +16,6 @@
 #include <BRepTools.hxx>
 
 #include <algorithm>
-#include <bit>
 #include <numeric>
 #include <random>
 #include <set>
@@ -420,6 +419,50 @@ TEST(SetCover, FindsTheKnownMinimum) {
   EXPECT_TRUE(minimumSetCover({}, required, 10).chosen.empty());
 }
 
+// `count` random sets over `elements` elements, each element in a set with chance 1 in
+// `one_in`.
+std::vector<std::vector<int>> randomSets(std::mt19937& random, int elements, int count,
+                                         unsigned one_in) {
+  std::vector<std::vector<int>> sets(count);
+  for (auto& set : sets)
+    for (int e = 0; e < elements; ++e)
+      if (random() % one_in == 0) set.push_back(e);
+  return sets;
+}
+
+// Per element, the sets it must be in: `demand`, or all that hold it when fewer do.
+std::vector<int> needs(const std::vector<std::vector<int>>& sets, const std::vector<int>& demand) {
+  std::vector<int> need(demand.size(), 0);
+  for (const auto& set : sets)
+    for (int e : set) ++need[e];
+  for (std::size_t e = 0; e < demand.size(); ++e) need[e] = std::min(need[e], demand[e]);
+  return need;
+}
+
+// True when the `chosen` sets hold every element as often as `need` says.
+bool meets(const std::vector<std::vector<int>>& sets, const std::vector<int>& need,
+           const std::vector<int>& chosen) {
+  std::vector<int> times(need.size(), 0);
+  for (int s : chosen)
+    for (int e : sets[s]) ++times[e];
+  for (std::size_t e = 0; e < need.size(); ++e)
+    if (times[e] < need[e]) return false;
+  return true;
+}
+
+// The fewest sets that meet `need`, by trying every subset.
+int bruteForceMinimum(const std::vector<std::vector<int>>& sets, const std::vector<int>& need) {
+  const int count = static_cast<int>(sets.size());
+  int minimum = count;
+  for (unsigned mask = 0; mask < (1u << count); ++mask) {
+    std::vector<int> chosen;
+    for (int s = 0; s < count; ++s)
+      if (mask >> s & 1) chosen.push_back(s);
+    if (meets(sets, need, chosen)) minimum = std::min(minimum, static_cast<int>(chosen.size()));
+  }
+  return minimum;
+}
+
 // Random instances against brute force over every subset: the cover found is a cover, as
 // small as the true minimum, and the bound never exceeds it; a start with dominated sets
 // is carried over to the sets that include them.
@@ -427,32 +470,14 @@ TEST(SetCover, MatchesBruteForceOnRandomInstances) {
   std::mt19937 random(7);
   for (int instance = 0; instance < 40; ++instance) {
     const int elements = 15, count = 12;
-    std::vector<std::vector<int>> sets(count);
-    for (auto& set : sets)
-      for (int e = 0; e < elements; ++e)
-        if (random() % 4 == 0) set.push_back(e);
-    std::vector<char> required(elements, 1);
-    int minimum = count + 1;
-    for (unsigned mask = 0; mask < (1u << count); ++mask) {
-      std::vector<char> covered(elements, 0);
-      for (int s = 0; s < count; ++s)
-        if (mask >> s & 1)
-          for (int e : sets[s]) covered[e] = 1;
-      bool all = true;
-      for (int e = 0; e < elements; ++e)
-        all = all && (covered[e] || std::none_of(sets.begin(), sets.end(), [&](auto& set) {
-                        return std::find(set.begin(), set.end(), e) != set.end();
-                      }));
-      if (all) minimum = std::min(minimum, std::popcount(mask));
-    }
+    const std::vector<std::vector<int>> sets = randomSets(random, elements, count, 4);
+    const std::vector<int> need = needs(sets, std::vector<int>(elements, 1));
+    const int minimum = bruteForceMinimum(sets, need);
     std::vector<int> everything(count);
     std::iota(everything.begin(), everything.end(), 0);
-    const SetCoverResult result = minimumSetCover(sets, required, 10, everything);
-    std::vector<char> covered(elements, 0);
-    for (int s : result.chosen)
-      for (int e : sets[s]) covered[e] = 1;
-    for (const auto& set : sets)
-      for (int e : set) EXPECT_TRUE(covered[e]) << "instance " << instance;
+    const SetCoverResult result =
+        minimumSetCover(sets, std::vector<char>(elements, 1), 10, everything);
+    EXPECT_TRUE(meets(sets, need, result.chosen)) << "instance " << instance;
     EXPECT_EQ(static_cast<int>(result.chosen.size()), minimum) << "instance " << instance;
     EXPECT_LE(result.lower_bound, minimum) << "instance " << instance;
     EXPECT_TRUE(result.optimal);
@@ -465,33 +490,13 @@ TEST(SetCover, MulticoverMatchesBruteForce) {
   std::mt19937 random(11);
   for (int instance = 0; instance < 30; ++instance) {
     const int elements = 10, count = 12;
-    std::vector<std::vector<int>> sets(count);
-    for (auto& set : sets)
-      for (int e = 0; e < elements; ++e)
-        if (random() % 3 == 0) set.push_back(e);
+    const std::vector<std::vector<int>> sets = randomSets(random, elements, count, 3);
     std::vector<int> demand(elements);
     for (int& d : demand) d = static_cast<int>(random() % 4);  // 0 to 3
-    std::vector<int> need(elements, 0);
-    for (const auto& set : sets)
-      for (int e : set) ++need[e];
-    for (int e = 0; e < elements; ++e) need[e] = std::min(need[e], demand[e]);
-    auto meets = [&](const std::vector<int>& chosen) {
-      std::vector<int> times(elements, 0);
-      for (int s : chosen)
-        for (int e : sets[s]) ++times[e];
-      for (int e = 0; e < elements; ++e)
-        if (times[e] < need[e]) return false;
-      return true;
-    };
-    int minimum = count;
-    for (unsigned mask = 0; mask < (1u << count); ++mask) {
-      std::vector<int> chosen;
-      for (int s = 0; s < count; ++s)
-        if (mask >> s & 1) chosen.push_back(s);
-      if (meets(chosen)) minimum = std::min(minimum, static_cast<int>(chosen.size()));
-    }
+    const std::vector<int> need = needs(sets, demand);
+    const int minimum = bruteForceMinimum(sets, need);
     const SetCoverResult result = minimumMulticover(sets, demand, 10);
-    EXPECT_TRUE(meets(result.chosen)) << "instance " << instance;
+    EXPECT_TRUE(meets(sets, need, result.chosen)) << "instance " << instance;
     EXPECT_EQ(static_cast<int>(result.chosen.size()), minimum) << "instance " << instance;
     EXPECT_LE(result.lower_bound, minimum) << "instance " << instance;
   }

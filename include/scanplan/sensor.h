@@ -32,6 +32,8 @@ struct Scanner {
 
   // Distance from camera to projector: standoff * tan(triangulation_angle), mm.
   double baseline() const;
+  // Radius of the sphere around the view's target that holds the whole measuring volume.
+  double reach() const;
   // Projector centre in S: (baseline, 0, 0).
   Vec3 projectorInScanner() const;
 };

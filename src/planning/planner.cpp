@@ -87,9 +87,7 @@ std::vector<Loss> bestLosses(const Placement& at, const MeasuredViews& pool,
                              const std::vector<std::size_t>& unmeasured) {
   std::vector<Loss> best(unmeasured.size(), Loss::OutsideVolume);
   if (pool.views.empty() || unmeasured.empty()) return best;
-  const Scanner& scanner = at.scanner();
-  const double reach =
-      scanner.depth_of_field / 2 + std::hypot(scanner.fov_width, scanner.fov_height) / 2;
+  const double reach = at.scanner().reach();
   std::vector<Vec3> targets;
   for (const View& view : pool.views) targets.push_back(view.target);
   const PointCloudAdaptor cloud{targets};
@@ -211,14 +209,11 @@ RegistrationOptions registrationOptions(const Spec& spec) {
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
-  const double step = at.scanner().fov_height / 15;
-  TriangleMesh world = at.part.mesh;
-  for (Vec3& v : world.vertices) v = plan.part_to_world * v;
-  std::vector<Marker> candidates = markersOnPart(world, step);
-  Box footprint;
-  for (const Vec3& v : world.vertices) footprint.add(v);
-  const auto plate = markerGrid(footprint, step, at.spec.spec.marker_margin);
-  candidates.insert(candidates.end(), plate.begin(), plate.end());
+  Spec grid = at.spec.spec;  // a marker grid on part and plate, as markers: {on: both}
+  grid.markers_file.clear();
+  grid.marker_grid = at.scanner().fov_height / 15;
+  grid.markers_on_part = grid.markers_on_plate = true;
+  const std::vector<Marker> candidates = specMarkers(grid, at.part, plan.part_to_world);
   plan.proposed_markers =
       scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
 }

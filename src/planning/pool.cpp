@@ -12,7 +12,7 @@ namespace scanplan::detail {
 namespace {
 
 // Up to `count` samples (not done elsewhere) spread over the targets: decimated (sampling.h)
-// with a like normal within 60°, the radius starting at a quarter of the field of view
+// with a like normal within 60°, the radius starting at a twelfth of the field of view
 // and grown until few enough remain.
 std::vector<SurfacePoint> anchorSamples(const Placement& at, std::size_t count) {
   if (count == 0) return {};

@@ -11,9 +11,9 @@
 
 #include <algorithm>
 #include <array>
-#include <memory>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
 
 namespace scanplan {
@@ -535,11 +535,19 @@ class Graph {
     return k;
   }
 
-  // The ICP checks of `pairs`, in parallel: the clouds of their views first, each made
-  // once; pairs checked before (as the same views) are not checked again.
+  // The ICP checks of `pairs`, in parallel; pairs checked before (as the same views) are not
+  // checked again, and the clouds of the others' views are made once each.
   void registerPairs(const std::vector<std::size_t>& pairs) {
-    std::vector<std::size_t> views;
+    auto key = [&](std::size_t p) {
+      return std::pair{IcpMemo::key(views_[ends_[p].first]), IcpMemo::key(views_[ends_[p].second])};
+    };
+    std::vector<std::size_t> fresh, views;
     for (std::size_t p : pairs)
+      if (const auto found = memo_->checks.find(key(p)); found != memo_->checks.end())
+        pairs_[p].icp = found->second;
+      else
+        fresh.push_back(p);
+    for (std::size_t p : fresh)
       for (std::size_t v : {ends_[p].first, ends_[p].second})
         if (!memo_->clouds.count(IcpMemo::key(views_[v])) &&
             std::find(views.begin(), views.end(), v) == views.end())
@@ -550,15 +558,6 @@ class Graph {
     });
     for (std::size_t k = 0; k < views.size(); ++k)
       memo_->clouds[IcpMemo::key(views_[views[k]])] = clouds[k];
-    auto key = [&](std::size_t p) {
-      return std::pair{IcpMemo::key(views_[ends_[p].first]), IcpMemo::key(views_[ends_[p].second])};
-    };
-    std::vector<std::size_t> fresh;
-    for (std::size_t p : pairs)
-      if (const auto found = memo_->checks.find(key(p)); found != memo_->checks.end())
-        pairs_[p].icp = found->second;
-      else
-        fresh.push_back(p);
     report(progress_, "registration: ICP of " + std::to_string(fresh.size()) + " view pairs", 0);
     tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t k) {
       const auto [fixed, moved] = key(fresh[k]);
@@ -582,10 +581,6 @@ class Graph {
   std::vector<std::size_t> used_;  // pairs of the spanning tree
   std::shared_ptr<IcpMemo> memo_ = std::make_shared<IcpMemo>();
 };
-
-}  // namespace
-
-namespace {
 
 // Every view registered to nothing registered by the robot, into the reference's frame.
 void registerByRobot(Registration& registration) {

@@ -37,8 +37,6 @@ Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
   return motion.matrix();
 }
 
-}  // namespace
-
 double cloudSpacing(const Simulator& simulator, const RegistrationOptions& options) {
   return options.cloud_spacing > 0 ? options.cloud_spacing : simulator.scanner().fov_height / 150;
 }
@@ -46,8 +44,8 @@ double cloudSpacing(const Simulator& simulator, const RegistrationOptions& optio
 // Open3D's normal estimation and ICP split their sums over OpenMP threads, which makes
 // their results depend on the load. Checks run in parallel over pairs (oneTBB) instead:
 // each keeps its own sums on the thread that runs it, and gives the same result every run.
-namespace {
 void oneThread() { omp_set_num_threads(1); }
+
 }  // namespace
 
 IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options) {

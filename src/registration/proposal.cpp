@@ -4,7 +4,6 @@
 #include <scanplan/registration.h>
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <numeric>
 
@@ -35,10 +34,11 @@ std::vector<std::vector<int>> pairsToJoin(std::span<const View> views,
 
   std::vector<int> parent(views.size());
   std::iota(parent.begin(), parent.end(), 0);
-  for (std::size_t a = 0; a < views.size(); ++a)
-    for (std::size_t b = a + 1; b < views.size(); ++b)
-      if (registration.linked(views[a].id, views[b].id))
-        parent[find(parent, static_cast<int>(a))] = find(parent, static_cast<int>(b));
+  std::map<int, int> index;  // view id -> index
+  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = static_cast<int>(v);
+  for (const PairCheck& pair : registration.pairs)
+    if (registration.links(pair) && index.count(pair.a) && index.count(pair.b))
+      parent[find(parent, index[pair.a])] = find(parent, index[pair.b]);
   std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ranked(common.begin(),
                                                                        common.end());
   std::stable_sort(ranked.begin(), ranked.end(),
