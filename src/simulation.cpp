@@ -433,31 +433,50 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
   return cloud;
 }
 
-std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
-                                             std::span<const View> views,
-                                             std::span<const SurfacePoint> points) {
+struct IndexedPoints::Impl {
+  explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)) {
+    for (const SurfacePoint& p : points) positions.push_back(p.position);
+    tree.buildIndex();
+  }
+  std::vector<SurfacePoint> points;
+  std::vector<Vec3> positions;
+  detail::PointCloudAdaptor cloud{positions};
+  detail::PointTree tree{3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16)};
+};
+
+IndexedPoints::IndexedPoints(std::vector<SurfacePoint> points)
+    : impl_(std::make_unique<Impl>(std::move(points))) {}
+IndexedPoints::~IndexedPoints() = default;
+IndexedPoints::IndexedPoints(IndexedPoints&&) noexcept = default;
+
+const std::vector<SurfacePoint>& IndexedPoints::points() const { return impl_->points; }
+
+std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator,
+                                                      std::span<const View> views) const {
   std::vector<std::vector<int>> result(views.size());
-  if (points.empty()) return result;
+  if (impl_->points.empty()) return result;
   // Only points within the bounding sphere of the measuring volume can be measured.
   const double reach = simulator.scanner().reach();
-  std::vector<Vec3> positions;
-  for (const SurfacePoint& p : points) positions.push_back(p.position);
-  const detail::PointCloudAdaptor cloud{positions};
-  detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
   nanoflann::SearchParams unsorted;
   unsorted.sorted = false;  // the measured indices are sorted below
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
     detail::Neighbours near;
-    tree.radiusSearch(views[v].target.data(), reach * reach, near, unsorted);
+    impl_->tree.radiusSearch(views[v].target.data(), reach * reach, near, unsorted);
     std::vector<SurfacePoint> subset;
-    for (const auto& [i, distance2] : near) subset.push_back(points[i]);
+    for (const auto& [i, distance2] : near) subset.push_back(impl_->points[i]);
     const std::vector<Loss> losses = simulator.measure(views[v], subset);
     for (std::size_t k = 0; k < losses.size(); ++k)
       if (losses[k] == Loss::Measured) result[v].push_back(static_cast<int>(near[k].first));
     std::sort(result[v].begin(), result[v].end());  // only the measured ones
   });
   return result;
+}
+
+std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
+                                             std::span<const View> views,
+                                             std::span<const SurfacePoint> points) {
+  if (points.empty()) return std::vector<std::vector<int>>(views.size());
+  return IndexedPoints({points.begin(), points.end()}).measured(simulator, views);
 }
 
 }  // namespace scanplan

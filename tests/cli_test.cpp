@@ -184,7 +184,7 @@ TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {
 TEST(Cli, PlanWritesPlanJsonAndSummary) {
   test::TempDir dir;
   CommandResult r = run("plan " + test::example("parts/nist_ctc_01_asme1_ap242-e1.stp") + " -o " +
-                        dir.file("out"));
+                        dir.file("out") + " --no-registration");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("views      "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("occluded_by_working_plane"), std::string::npos) << r.out;
@@ -266,12 +266,14 @@ TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
   EXPECT_EQ(verify.code, 0) << verify.out;
 }
 
-// Views of CTC 01 that its geometry cannot register: the plan proposes markers as a CSV
-// that `markers:` reads, and with --place-markers plans again with them.
+// Views of CTC 01's GD&T faces that its geometry cannot register: the plan proposes markers
+// as a CSV that `markers:` reads, and with --place-markers plans again with them.
 TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
   test::TempDir dir;
   const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
-  CommandResult r = run("plan " + part + " -o " + dir.file("out") + " --no-report -q --place-markers");
+  test::writeText(dir.file("gdt.yaml"), "gdt: from-file\ntasks:\n  - {type: gdt}\n");
+  CommandResult r = run("plan " + part + " --spec " + dir.file("gdt.yaml") + " -o " +
+                        dir.file("out") + " --no-report -q --place-markers");
   ASSERT_EQ(r.code, 0) << r.out;
   const std::vector<Marker> proposed = readMarkers(dir.file("out/proposed-markers.csv"));
   EXPECT_GT(proposed.size(), 2u);

@@ -94,8 +94,10 @@ bool robotRegistersAll(const RegistrationOptions& options);
 // point-to-plane constraints [p x n; n] of the points, centred at their centroid and
 // scaled by their mean distance to it (Gelfand et al., "Geometrically stable sampling for
 // the ICP algorithm", 2003). Infinite for a plane, a sphere or a cylinder, and for fewer
-// than 6 points.
-double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals);
+// than 6 points. With `weights` (one per point, e.g. the area it stands for), each
+// point's constraint counts by its weight.
+double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
+                    std::span<const double> weights = {});
 
 // True when at least `min_count` points are given and they are not all within `spread`
 // of one line.
@@ -115,8 +117,8 @@ struct IcpCheck {
 IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
                   const RegistrationOptions& options);
 
-// A view's simulated noisy cloud at the options' cloud spacing, with the normals it needs
-// as an ICP target: made once per view and used by every pair it is in.
+// A view's simulated noisy cloud at the options' cloud spacing, with the surface normals at
+// its points (the ICP target's): made once per view and used by every pair it is in.
 struct IcpCloud {
   int id = 0;  // the view's
   std::vector<Vec3> points, normals;
@@ -133,6 +135,7 @@ struct PairCheck {
   bool markers = false;                 // shared markers register them
   double overlap_area = 0;              // mm², measured by both
   double overlap_a = 0, overlap_b = 0;  // that area over what a, b measure
+  // Of the overlap; left infinite where the overlap is too small to register.
   double condition = std::numeric_limits<double>::infinity();
   bool stable = false;          // overlap and condition within the limits
   std::optional<IcpCheck> icp;  // when verified

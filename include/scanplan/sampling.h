@@ -68,7 +68,8 @@ std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoin
                                  const std::string& source, const SamplingOptions& options = {});
 
 // Greedy decimation: keeps a sample unless an earlier kept one lies within `radius`
-// with a normal within `angle` degrees. Deterministic (input order).
+// with a normal within `angle` degrees, which then stands for its weight too.
+// Deterministic (input order).
 std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle);
 
 // Every task's samples, merged, in task order (resolveSpec in spec.h makes the targets):

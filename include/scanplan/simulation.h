@@ -120,4 +120,20 @@ std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
                                              std::span<const View> views,
                                              std::span<const SurfacePoint> points);
 
+// measuredPoints over points indexed once, for views that come a few at a time.
+class IndexedPoints {
+ public:
+  explicit IndexedPoints(std::vector<SurfacePoint> points);
+  ~IndexedPoints();
+  IndexedPoints(IndexedPoints&&) noexcept;
+
+  std::vector<std::vector<int>> measured(const Simulator& simulator,
+                                         std::span<const View> views) const;
+  const std::vector<SurfacePoint>& points() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace scanplan

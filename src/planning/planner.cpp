@@ -203,6 +203,20 @@ RegistrationOptions registrationOptions(const Spec& spec) {
   return registration;
 }
 
+// True when the views register by their geometry alone: method geometry (the default
+// without markers), or robot with an accuracy short of the tolerance.
+bool byGeometry(const detail::Placement& at) {
+  const RegistrationOptions& options = at.spec.spec.registration;
+  switch (options.method) {
+    case RegistrationMode::Geometry: return true;
+    case RegistrationMode::Markers: return false;
+    case RegistrationMode::Robot: return !robotRegistersAll(options);
+    case RegistrationMode::Default:
+      return specMarkers(at.spec.spec, at.part, at.simulator.options().part_to_world).empty();
+  }
+  return false;
+}
+
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
 // the part's upward faces and on the plate around it, a fifteenth of the field of view
 // apart; none when every view registers or the robot alone registers them.
@@ -289,7 +303,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
-  const detail::Selection selection = detail::selectViews(at, pool, pinned, plan.samples);
+  const detail::Selection selection =
+      detail::selectViews(at, pool, pinned, plan.samples, options.registration && byGeometry(at));
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");

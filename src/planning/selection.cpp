@@ -110,14 +110,18 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
 }  // namespace
 
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-                      const std::vector<PlannedSample>& samples) {
+                      const std::vector<PlannedSample>& samples, bool connected) {
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
   const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
-  const std::vector<std::size_t> chosen = withoutRedundant(at, pool, exact, pinned, samples.size());
   Selection selection;
-  selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
+  if (connected) selection.views = connectedCover(at, pool, pinned, samples);
+  if (selection.views.empty()) {
+    const std::vector<std::size_t> chosen =
+        withoutRedundant(at, pool, exact, pinned, samples.size());
+    selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
+  }
   PlanBound& bound = selection.bound;
   bound.views = selection.views.size();
   bound.greedy_views = greedy.size();

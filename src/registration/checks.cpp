@@ -80,21 +80,28 @@ bool markersRegister(std::span<const Vec3> positions, int min_count, double spre
   return false;
 }
 
-double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals) {
+double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
+                    std::span<const double> weights) {
   const std::size_t n = std::min(points.size(), normals.size());
   if (n < 6) return std::numeric_limits<double>::infinity();
+  auto weight = [&](std::size_t i) { return weights.empty() ? 1.0 : weights[i]; };
   Vec3 centre = Vec3::Zero();
-  for (std::size_t i = 0; i < n; ++i) centre += points[i];
-  centre /= static_cast<double>(n);
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    centre += weight(i) * points[i];
+    total += weight(i);
+  }
+  if (!(total > 0)) return std::numeric_limits<double>::infinity();
+  centre /= total;
   double scale = 0;
-  for (std::size_t i = 0; i < n; ++i) scale += (points[i] - centre).norm();
-  scale /= static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) scale += weight(i) * (points[i] - centre).norm();
+  scale /= total;
   if (!(scale > 0)) return std::numeric_limits<double>::infinity();
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Matrix<double, 6, 1> row;
     row << ((points[i] - centre) / scale).cross(normals[i]), normals[i];
-    covariance += row * row.transpose();
+    covariance += weight(i) * row * row.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(covariance);
   const auto& eigenvalues = solver.eigenvalues();  // ascending

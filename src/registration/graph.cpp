@@ -1,6 +1,7 @@
 // The registration graph: pair checks, a spanning tree of verified pairs, bridging views.
 
 #include "kd_tree.h"
+#include "registration/overlaps.h"
 
 #include <scanplan/errors.h>
 #include <scanplan/planning/poses.h>
@@ -80,23 +81,7 @@ bool Registration::linked(int a, int b) const {
 
 namespace {
 
-// What a view measures: surface points and markers, indices in ascending order.
-struct Observation {
-  std::vector<int> points;
-  std::vector<int> markers;
-  Box box;  // around both
-};
-
-bool disjoint(const Box& a, const Box& b) {
-  return a.empty() || b.empty() || (a.max.array() < b.min.array()).any() ||
-         (b.max.array() < a.min.array()).any();
-}
-
-std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> both;
-  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
-  return both;
-}
+using detail::Observation;
 
 // ICP clouds and checks by view (id and pose), shared by the copies of a graph: no view's
 // cloud is simulated twice, and no pair (a bridging candidate tried again) registered twice.
@@ -117,59 +102,20 @@ class Graph {
  public:
   Graph(const Simulator& simulator, const RegistrationOptions& options,
         const std::vector<Marker>& markers, const Progress& progress)
-      : simulator_(simulator), options_(options), progress_(progress) {
-    const Scanner& scanner = simulator.scanner();
-    spacing_ = options.point_spacing > 0 ? options.point_spacing : scanner.fov_height / 40;
-    points_ = simulator.surfacePoints(spacing_, options.seed);
-    for (const Marker& m : markers) markers_.push_back({m.position, m.normal, 0});
-  }
+      : simulator_(simulator),
+        options_(options),
+        progress_(progress),
+        overlaps_(std::make_shared<const detail::Overlaps>(simulator, options, markers)),
+        points_(overlaps_->points()),
+        spacing_(overlaps_->spacing()) {}
 
   std::vector<Observation> observe(std::span<const View> views) const {
-    std::vector<std::vector<int>> on_points = measuredPoints(simulator_, views, points_);
-    std::vector<std::vector<int>> on_markers = measuredPoints(simulator_, views, markers_);
-    std::vector<Observation> result(views.size());
-    for (std::size_t v = 0; v < views.size(); ++v) {
-      Observation& seen = result[v];
-      seen.points = std::move(on_points[v]);
-      seen.markers = std::move(on_markers[v]);
-      for (int i : seen.points) seen.box.add(points_[i].position);
-      for (int i : seen.markers) seen.box.add(markers_[i].position);
-    }
-    return result;
+    return overlaps_->observe(views);
   }
 
-  // The pair test without ICP verification. `lazy`: the condition number is left out of
-  // pairs that share neither markers nor enough overlap, which cannot be stable.
-  PairCheck check(const View& a, const Observation& oa, const View& b, const Observation& ob,
-                  bool lazy = false) const {
-    PairCheck pair;
-    pair.a = std::min(a.id, b.id);
-    pair.b = std::max(a.id, b.id);
-    if (disjoint(oa.box, ob.box)) return pair;
-    const std::vector<int> markers = shared(oa.markers, ob.markers);
-    pair.shared_markers = markers.size();
-    std::vector<Vec3> positions;
-    for (int m : markers) positions.push_back(markers_[m].position);
-    pair.markers = markersRegister(positions, options_.min_markers, options_.marker_spread);
-    const std::vector<int> overlap = shared(oa.points, ob.points);
-    if (overlap.empty()) return pair;
-    pair.overlap_area = static_cast<double>(overlap.size()) * spacing_ * spacing_;
-    const double share_a =
-        static_cast<double>(overlap.size()) / static_cast<double>(oa.points.size());
-    const double share_b =
-        static_cast<double>(overlap.size()) / static_cast<double>(ob.points.size());
-    pair.overlap_a = a.id < b.id ? share_a : share_b;
-    pair.overlap_b = a.id < b.id ? share_b : share_a;
-    if (lazy && !pair.markers && std::min(share_a, share_b) < options_.min_overlap) return pair;
-    std::vector<Vec3> p, n;
-    for (int i : overlap) {
-      p.push_back(points_[i].position);
-      n.push_back(points_[i].normal);
-    }
-    pair.condition = icpCondition(p, n);
-    pair.stable = std::min(share_a, share_b) >= options_.min_overlap &&
-                  pair.condition <= options_.max_condition;
-    return pair;
+  PairCheck check(const View& a, const Observation& oa, const View& b,
+                  const Observation& ob) const {
+    return overlaps_->check(a, oa, b, ob);
   }
 
   // Adds views and the checks of their pairs with every view before them; then joins the
@@ -324,7 +270,7 @@ class Graph {
       PairCheck best;
       bool joins = false;
       for (std::size_t v = 0; v < views_.size(); ++v) {
-        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k], true);
+        const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
         if (!pair.markers && !pair.stable) continue;
         if (sides.in_other[v]) {
           joins = true;
@@ -452,15 +398,7 @@ class Graph {
     views_.push_back(view);
     seen_.push_back(seen);
     parent_.push_back(static_cast<int>(index));
-    // Can anything register to it: its own surface constrains ICP, or it sees markers?
-    std::vector<Vec3> p, n, m;
-    for (int i : seen.points) {
-      p.push_back(points_[i].position);
-      n.push_back(points_[i].normal);
-    }
-    for (int i : seen.markers) m.push_back(markers_[i].position);
-    constrained_.push_back(icpCondition(p, n) <= options_.max_condition ||
-                           markersRegister(m, options_.min_markers, options_.marker_spread));
+    constrained_.push_back(overlaps_->constrained(seen));
     std::vector<PairCheck> checks(index);
     tbb::parallel_for(std::size_t{0}, index, [&](std::size_t j) {
       checks[j] = check(views_[j], seen_[j], views_[index], seen_[index]);
@@ -570,8 +508,9 @@ class Graph {
   const Simulator& simulator_;
   const RegistrationOptions& options_;
   const Progress& progress_;
+  std::shared_ptr<const detail::Overlaps> overlaps_;  // shared by the copies of a graph
+  const std::vector<SurfacePoint>& points_;
   double spacing_ = 0;
-  std::vector<SurfacePoint> points_, markers_;
   std::vector<View> views_;
   std::vector<Observation> seen_;
   std::vector<PairCheck> pairs_;

@@ -24,9 +24,11 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
     // nanoflann's L2 adaptor works in squared distances; "closer than" the radius.
     tree.radiusSearch(samples[i].position.data(), radius * radius, neighbours, params);
     for (const auto& [j, distance2] : neighbours)
-      if (j != i && distance2 < radius * radius &&
-          samples[j].normal.dot(samples[i].normal) >= min_dot)
+      if (j != i && !removed[j] && distance2 < radius * radius &&
+          samples[j].normal.dot(samples[i].normal) >= min_dot) {
         removed[j] = 1;
+        kept.back().weight += samples[j].weight;
+      }
   }
   return kept;
 }

@@ -1,0 +1,225 @@
+// The registration-aware selection (docs/planning.md): a cover of the pool's samples whose
+// views register to each other by their geometry, grown from view to view.
+
+#include "planning/stages.h"
+#include "registration/overlaps.h"
+
+#include <algorithm>
+#include <map>
+#include <optional>
+
+namespace scanplan::detail {
+
+namespace {
+
+// Below this many shared samples, an overlap is not taken to register.
+constexpr std::size_t kLeastShared = 6;
+
+// A pose registering to a chosen view is taken unless it measures less than this share of
+// what the best pose something could register to measures: then that one starts a new group
+// rather than the cover creeping on a sample or two at a time.
+constexpr double kCreep = 0.25;
+
+// Priority samples not yet covered, then the others: compared in that order.
+using Gain = std::pair<int, int>;
+
+RegistrationOptions withSeed(RegistrationOptions options, std::uint64_t seed) {
+  options.seed = seed;
+  return options;
+}
+
+// Grows the cover one view at a time, each the pose that measures most samples not yet
+// covered among those registering to a view already chosen; another group of views is
+// started only when none of those measures anything new.
+//
+// Which poses register to a chosen view is foreseen from the samples they share, and
+// confirmed by the registration's own pair test (registration/overlaps.h) before a pose
+// is chosen: samples are too sparse to judge an overlap by, but cheap to rule one out.
+class ConnectedCover {
+ public:
+  ConnectedCover(const Placement& at, const MeasuredViews& pool,
+                 const std::vector<PlannedSample>& samples)
+      : at_(at),
+        pool_(pool),
+        samples_(samples),
+        options_(withSeed(at.spec.spec.registration, at.settings().seed)),
+        overlaps_(at.simulator, options_, {}) {
+    by_sample_.resize(samples.size());
+    gain_.resize(pool.size());
+    for (std::size_t v = 0; v < pool.size(); ++v)
+      for (int i : pool.samples[v]) {
+        by_sample_[i].push_back(static_cast<int>(v));
+        if (!at.isDone(i)) ++part(gain_[v], i);
+      }
+    covered_.resize(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) covered_[i] = at.isDone(i);
+    used_.resize(pool.size());
+    partners_.resize(pool.size());
+    shared_.resize(pool.size());
+    constrained_.resize(pool.size());
+    for (std::size_t v = 0; v < pool.size(); ++v)
+      constrained_[v] = condition(pool.samples[v]) <= options_.max_condition;
+  }
+
+  std::vector<std::size_t> run(std::size_t pinned) {
+    pinned_ = pinned;
+    for (std::size_t v = 0; v < pinned; ++v) choose(v);
+    for (;;) {
+      const auto linked = best([&](std::size_t v) { return !partners_[v].empty(); });
+      const auto seed = best([&](std::size_t v) { return constrained_[v] != 0; });
+      const bool jump = seed && (!linked || total(gain_[*linked]) < kCreep * total(gain_[*seed]));
+      if (linked && !jump) {
+        if (const auto partner = registeredPartner(*linked)) choose(*linked, partner);
+        continue;
+      }
+      // A new group of views, from a pose that something could register to.
+      if (seed) {
+        if (overlaps_.constrained(seen(*seed))) {
+          choose(*seed);
+        } else {
+          constrained_[*seed] = 0;
+        }
+        continue;
+      }
+      const auto next = best([](std::size_t) { return true; });
+      if (!next) break;
+      choose(*next);
+    }
+    if (std::none_of(parent_.begin(), parent_.end(), [](auto& p) { return p.has_value(); }))
+      return {};
+    return withoutRedundantLeaves();
+  }
+
+ private:
+  // The chosen views without those, last first, whose samples others measure too and
+  // to which no other view registers.
+  std::vector<std::size_t> withoutRedundantLeaves() const {
+    std::vector<int> times_measured(samples_.size(), 0);
+    std::map<std::size_t, int> children;
+    for (std::size_t k = 0; k < chosen_.size(); ++k) {
+      for (int i : pool_.samples[chosen_[k]]) ++times_measured[i];
+      if (parent_[k]) ++children[*parent_[k]];
+    }
+    std::vector<char> kept(chosen_.size(), 1);
+    for (std::size_t k = chosen_.size(); k-- > pinned_;) {
+      const std::vector<int>& mine = pool_.samples[chosen_[k]];
+      if (children[chosen_[k]] > 0 || !std::all_of(mine.begin(), mine.end(), [&](int i) {
+            return times_measured[i] > 1 || at_.isDone(i);
+          }))
+        continue;
+      kept[k] = 0;
+      for (int i : mine) --times_measured[i];
+      if (parent_[k]) --children[*parent_[k]];
+    }
+    std::vector<std::size_t> result;
+    for (std::size_t k = 0; k < chosen_.size(); ++k)
+      if (kept[k]) result.push_back(chosen_[k]);
+    return result;
+  }
+
+  static double total(const Gain& gain) { return gain.first + gain.second; }
+
+  int& part(Gain& gain, int sample) const {
+    return samples_[sample].sample.role == Role::Priority ? gain.first : gain.second;
+  }
+
+  // The condition number of the samples' ICP constraints, each by the area it stands for.
+  double condition(const std::vector<int>& measured) const {
+    std::vector<Vec3> p, n;
+    std::vector<double> w;
+    for (int i : measured) {
+      p.push_back(at_.points[i].position);
+      n.push_back(at_.points[i].normal);
+      w.push_back(samples_[i].sample.weight);
+    }
+    return icpCondition(p, n, w);
+  }
+
+  // Foreseen to register by the `both` samples they share: enough of them, at least half
+  // min_overlap of what each measures, constraining ICP within ten times the limit.
+  bool mayRegister(const std::vector<int>& a, const std::vector<int>& b, std::size_t both) const {
+    const double least = options_.min_overlap / 2;
+    if (both < kLeastShared || static_cast<double>(both) < least * static_cast<double>(a.size()) ||
+        static_cast<double>(both) < least * static_cast<double>(b.size()))
+      return false;
+    std::vector<int> overlap;
+    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(overlap));
+    return condition(overlap) <= 10 * options_.max_condition;
+  }
+
+  const Observation& seen(std::size_t v) {
+    auto found = seen_.find(v);
+    if (found == seen_.end())
+      found = seen_.emplace(v, overlaps_.observe({&pool_.views[v], 1}).front()).first;
+    return found->second;
+  }
+
+  // True when `v` passes the registration's pair test with one of its foreseen partners;
+  // else they are forgotten.
+  std::optional<std::size_t> registeredPartner(std::size_t v) {
+    for (std::size_t c : partners_[v])
+      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).stable) return c;
+    partners_[v].clear();
+    return std::nullopt;
+  }
+
+  // The pose passing `allowed` with the largest gain (the first on ties), none gaining.
+  template <class Allowed>
+  std::optional<std::size_t> best(Allowed allowed) const {
+    std::optional<std::size_t> best;
+    Gain best_gain{0, 0};
+    for (std::size_t v = 0; v < pool_.size(); ++v)
+      if (!used_[v] && gain_[v] > best_gain && allowed(v)) {
+        best_gain = gain_[v];
+        best = v;
+      }
+    return best;
+  }
+
+  void choose(std::size_t c, std::optional<std::size_t> partner = std::nullopt) {
+    used_[c] = 1;
+    chosen_.push_back(c);
+    parent_.push_back(partner);
+    for (int i : pool_.samples[c]) {
+      if (covered_[i]) continue;
+      covered_[i] = 1;
+      for (int v : by_sample_[i]) --part(gain_[v], i);
+    }
+    // The poses sharing samples with it, and how many each shares.
+    std::vector<int> touched;
+    for (int i : pool_.samples[c])
+      for (int v : by_sample_[i])
+        if (shared_[v]++ == 0) touched.push_back(v);
+    for (int v : touched) {
+      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], shared_[v]))
+        partners_[v].push_back(c);
+      shared_[v] = 0;
+    }
+  }
+
+  const Placement& at_;
+  const MeasuredViews& pool_;
+  const std::vector<PlannedSample>& samples_;
+  const RegistrationOptions options_;  // as the registration stage's
+  const Overlaps overlaps_;
+  std::map<std::size_t, Observation> seen_;  // by pool index, as the pair test sees it
+  std::vector<std::vector<int>> by_sample_;  // the poses measuring each sample
+  std::vector<Gain> gain_;                   // per pose: samples it measures not yet covered
+  std::vector<char> covered_, used_;
+  std::vector<char> constrained_;  // per pose: its own samples may constrain ICP
+  std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
+  std::vector<int> shared_;  // per pose: samples shared with the view being chosen
+  std::size_t pinned_ = 0;
+  std::vector<std::size_t> chosen_;
+  std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
+};
+
+}  // namespace
+
+std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
+                                        std::size_t pinned,
+                                        const std::vector<PlannedSample>& samples) {
+  return ConnectedCover(at, pool, samples).run(pinned);
+}
+
+}  // namespace scanplan::detail

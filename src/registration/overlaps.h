@@ -1,0 +1,49 @@
+#pragma once
+// The registration's pair test (docs/registration.md): the surface points overlaps are
+// judged on, what views measure of them and of the markers, and whether two views register
+// by the markers they share or the overlap of their surfaces. Used by the registration
+// graph and by the registration-aware selection.
+
+#include <scanplan/registration.h>
+
+#include <span>
+#include <vector>
+
+namespace scanplan::detail {
+
+// What a view measures: surface points and markers, indices in ascending order.
+struct Observation {
+  std::vector<int> points;
+  std::vector<int> markers;
+  Box box;  // around both
+};
+
+class Overlaps {
+ public:
+  // Surface points every options.point_spacing (0: fov_height / 40); `markers` as given.
+  Overlaps(const Simulator& simulator, const RegistrationOptions& options,
+           const std::vector<Marker>& markers);
+
+  std::vector<Observation> observe(std::span<const View> views) const;
+
+  // The pair test without ICP verification. The condition number is left out of pairs
+  // that share neither markers nor enough overlap, which cannot be stable.
+  PairCheck check(const View& a, const Observation& oa, const View& b,
+                  const Observation& ob) const;
+
+  // Something could register to the view: its own surface constrains ICP (condition within
+  // the limit) or it sees enough markers.
+  bool constrained(const Observation& seen) const;
+
+  const std::vector<SurfacePoint>& points() const { return points_.points(); }
+  double spacing() const { return spacing_; }
+
+ private:
+  const Simulator& simulator_;
+  const RegistrationOptions& options_;
+  double spacing_ = 0;
+  IndexedPoints points_;
+  std::vector<SurfacePoint> markers_;
+};
+
+}  // namespace scanplan::detail
