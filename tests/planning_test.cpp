@@ -413,6 +413,7 @@ TEST(SetCover, FindsTheKnownMinimum) {
   EXPECT_TRUE(result.optimal);
   EXPECT_EQ(result.chosen, (std::vector<int>{1, 2}));
   EXPECT_EQ(result.lower_bound, 2);
+  EXPECT_EQ(setCoverLowerBound(sets, required, 10), 2);  // 4 and 5 share no set
   // Elements that are not required, or that no set holds, do not count.
   std::vector<char> some = {1, 1, 0, 0, 0, 0};
   EXPECT_EQ(minimumSetCover(sets, some, 10).chosen.size(), 1u);
@@ -481,6 +482,9 @@ TEST(SetCover, MatchesBruteForceOnRandomInstances) {
     EXPECT_EQ(static_cast<int>(result.chosen.size()), minimum) << "instance " << instance;
     EXPECT_LE(result.lower_bound, minimum) << "instance " << instance;
     EXPECT_TRUE(result.optimal);
+    const double lp = setCoverLowerBound(sets, std::vector<char>(elements, 1), 10);
+    EXPECT_GE(lp, 1) << "instance " << instance;
+    EXPECT_LE(lp, minimum) << "instance " << instance;
   }
 }
 

@@ -83,24 +83,35 @@ std::vector<std::size_t> withoutRedundant(const Placement& at, const MeasuredVie
   return chosen;
 }
 
-// The exact part of the selection: the fewest views after the `pinned` ones that measure
-// every sample some pool view measures and neither a pinned view nor an earlier placement
-// does, CBC starting from the greedy cover `greedy`. Pool indices, the pinned ones first.
-std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
-    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-    const std::vector<std::size_t>& greedy, std::size_t samples) {
+// The samples the exact selection must cover: those some pool view measures and neither a
+// pinned view nor an earlier placement does.
+std::vector<char> requiredSamples(const Placement& at, const MeasuredViews& pool,
+                                  std::size_t pinned, std::size_t samples) {
   std::vector<char> required(samples, 0);
   for (const std::vector<int>& measured : pool.samples)
     for (int i : measured) required[i] = !at.isDone(i);
   for (std::size_t v = 0; v < pinned; ++v)
     for (int i : pool.samples[v]) required[i] = 0;
-  const std::vector<std::vector<int>> sets(pool.samples.begin() + static_cast<long>(pinned),
-                                           pool.samples.end());
+  return required;
+}
+
+// The pool's views after the pinned ones, as sets of samples.
+std::vector<std::vector<int>> unpinnedSets(const MeasuredViews& pool, std::size_t pinned) {
+  return {pool.samples.begin() + static_cast<long>(pinned), pool.samples.end()};
+}
+
+// The exact part of the selection: the fewest views after the `pinned` ones that measure
+// every required sample, CBC starting from the greedy cover `greedy`. Pool indices, the
+// pinned ones first.
+std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
+    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+    const std::vector<std::size_t>& greedy, std::size_t samples) {
   std::vector<int> start;
   for (std::size_t k = pinned; k < greedy.size(); ++k)
     start.push_back(static_cast<int>(greedy[k] - pinned));
-  const SetCoverResult cover = minimumSetCover(sets, required, at.settings().selection_seconds,
-                                               start, at.settings().selection_nodes);
+  const SetCoverResult cover = minimumSetCover(
+      unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples),
+      at.settings().selection_seconds, start, at.settings().selection_nodes);
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -114,18 +125,24 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
-  const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
   Selection selection;
-  if (connected) selection.views = connectedCover(at, pool, pinned, samples);
+  PlanBound& bound = selection.bound;
+  if (connected) {
+    selection.views = connectedCover(at, pool, pinned, samples);
+    bound.lower_bound = static_cast<double>(pinned) +
+                        setCoverLowerBound(unpinnedSets(pool, pinned),
+                                           requiredSamples(at, pool, pinned, samples.size()),
+                                           at.settings().selection_seconds);
+  }
   if (selection.views.empty()) {
+    const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
     const std::vector<std::size_t> chosen =
         withoutRedundant(at, pool, exact, pinned, samples.size());
     selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
+    bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
   }
-  PlanBound& bound = selection.bound;
   bound.views = selection.views.size();
   bound.greedy_views = greedy.size();
-  bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
   bound.pool = pool.size();
   bound.proven_optimal = bound.lower_bound >= static_cast<double>(bound.views);
   return selection;

@@ -250,6 +250,18 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
   return result;
 }
 
+double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
+                          const std::vector<char>& required, double time_limit_seconds) {
+  const Reduced reduced = reduce(sets, required);
+  if (reduced.rows == 0) return 0;
+  OsiClpSolverInterface solver;
+  loadRelaxation(reduced, solver);
+  solver.getModelPtr()->setMaximumSeconds(time_limit_seconds);
+  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.initialSolve();
+  return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+}
+
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
                                  const std::vector<int>& demand, double time_limit_seconds) {
   const auto began = std::chrono::steady_clock::now();

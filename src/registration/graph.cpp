@@ -212,14 +212,25 @@ class Graph {
     std::vector<View> poses;
     std::vector<Vec3> targets;
     // The orientations of the main component's views, which see stably, are tried at
-    // every target besides the poses around its normal.
+    // every target besides the poses around its normal: those of the kOrientations views
+    // nearest to the other side.
+    constexpr std::size_t kOrientations = 8;
+    std::vector<std::pair<double, std::size_t>> nearest_main;  // (distance to the other side, view)
+    for (std::size_t v = 0; v < views_.size(); ++v)
+      if (sides.in_main[v]) {
+        double d = std::numeric_limits<double>::infinity();
+        for (int i : seen_[v].points) d = std::min(d, sides.to_other[i]);
+        nearest_main.push_back({d, v});
+      }
+    std::stable_sort(nearest_main.begin(), nearest_main.end());
     std::vector<Eigen::Matrix3d> orientations;
-    for (std::size_t v = 0; v < views_.size(); ++v) {
+    for (const auto& [d, v] : nearest_main) {
+      if (orientations.size() == kOrientations) break;
       const Eigen::Matrix3d r = views_[v].camera_to_world.linear();
       const bool known = std::any_of(orientations.begin(), orientations.end(), [&](auto& o) {
         return Eigen::AngleAxisd(o.transpose() * r).angle() < radians(10);
       });
-      if (sides.in_main[v] && !known) orientations.push_back(r);
+      if (!known) orientations.push_back(r);
     }
     for (int i : order) {
       if (targets.size() == 32) break;

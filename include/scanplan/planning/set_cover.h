@@ -27,6 +27,11 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
                                const std::vector<char>& required, double time_limit_seconds,
                                const std::vector<int>& start = {}, int max_nodes = 1000000);
 
+// The optimum of minimumSetCover's LP relaxation (after the same reduction), rounded up: a
+// lower bound on its minimum; 0 when the LP is not solved within `time_limit_seconds`.
+double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
+                          const std::vector<char>& required, double time_limit_seconds);
+
 // The fewest of `sets` such that each element e is in at least demand[e] of them (fewer
 // when fewer sets hold it), as minimumSetCover but without the reduction: a greedy start,
 // the LP relaxation's bound, CBC within `time_limit_seconds`.
