@@ -32,18 +32,19 @@ RegistrationOptions withSeed(RegistrationOptions options, std::uint64_t seed) {
 // covered among those registering to a view already chosen; another group of views is
 // started only when none of those measures anything new.
 //
-// Which poses register to a chosen view is foreseen from the samples they share, and
-// confirmed by the registration's own pair test (registration/overlaps.h) before a pose
-// is chosen: samples are too sparse to judge an overlap by, but cheap to rule one out.
+// Which poses register to a chosen view is foreseen from the samples and markers they
+// share, and confirmed by the registration's own pair test (registration/overlaps.h)
+// before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
+// rule one out.
 class ConnectedCover {
  public:
   ConnectedCover(const Placement& at, const MeasuredViews& pool,
-                 const std::vector<PlannedSample>& samples)
+                 const std::vector<PlannedSample>& samples, const std::vector<Marker>& markers)
       : at_(at),
         pool_(pool),
         samples_(samples),
         options_(withSeed(at.spec.spec.registration, at.settings().seed)),
-        overlaps_(at.simulator, options_, {}) {
+        overlaps_(at.simulator, options_, markers) {
     by_sample_.resize(samples.size());
     gain_.resize(pool.size());
     for (std::size_t v = 0; v < pool.size(); ++v)
@@ -56,9 +57,15 @@ class ConnectedCover {
     used_.resize(pool.size());
     partners_.resize(pool.size());
     shared_.resize(pool.size());
+    if (overlaps_.markers() > 0) markers_seen_ = overlaps_.markersSeen(pool.views);
+    by_marker_.resize(overlaps_.markers());
+    for (std::size_t v = 0; v < markers_seen_.size(); ++v)
+      for (int m : markers_seen_[v]) by_marker_[m].push_back(static_cast<int>(v));
+    const auto least_markers = static_cast<std::size_t>(options_.min_markers);
     constrained_.resize(pool.size());
     for (std::size_t v = 0; v < pool.size(); ++v)
-      constrained_[v] = condition(pool.samples[v]) <= options_.max_condition;
+      constrained_[v] = condition(pool.samples[v]) <= options_.max_condition ||
+                        (!markers_seen_.empty() && markers_seen_[v].size() >= least_markers);
   }
 
   std::vector<std::size_t> run(std::size_t pinned) {
@@ -158,10 +165,12 @@ class ConnectedCover {
   // else they are forgotten.
   std::optional<std::size_t> registeredPartner(std::size_t v) {
     for (std::size_t c : partners_[v])
-      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).stable) return c;
+      if (registers(overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)))) return c;
     partners_[v].clear();
     return std::nullopt;
   }
+
+  static bool registers(const PairCheck& pair) { return pair.markers || pair.stable; }
 
   // The pose passing `allowed` with the largest gain (the first on ties), none gaining.
   template <class Allowed>
@@ -204,6 +213,8 @@ class ConnectedCover {
   const Overlaps overlaps_;
   std::map<std::size_t, Observation> seen_;  // by pool index, as the pair test sees it
   std::vector<std::vector<int>> by_sample_;  // the poses measuring each sample
+  std::vector<std::vector<int>> markers_seen_;  // per pose, when there are markers
+  std::vector<std::vector<int>> by_marker_;     // the poses measuring each marker
   std::vector<Gain> gain_;                   // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
   std::vector<char> constrained_;  // per pose: its own samples may constrain ICP
@@ -218,8 +229,9 @@ class ConnectedCover {
 
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
-                                        const std::vector<PlannedSample>& samples) {
-  return ConnectedCover(at, pool, samples).run(pinned);
+                                        const std::vector<PlannedSample>& samples,
+                                        const std::vector<Marker>& markers) {
+  return ConnectedCover(at, pool, samples, markers).run(pinned);
 }
 
 }  // namespace scanplan::detail

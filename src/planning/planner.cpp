@@ -203,18 +203,14 @@ RegistrationOptions registrationOptions(const Spec& spec) {
   return registration;
 }
 
-// True when the views register by their geometry alone: method geometry (the default
-// without markers), or robot with an accuracy short of the tolerance.
-bool byGeometry(const detail::Placement& at) {
+// The markers the selection keeps views registering by (none: by their geometry alone);
+// nothing when it need not: registration off, or a robot that registers every view.
+std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& at,
+                                                     bool registration) {
   const RegistrationOptions& options = at.spec.spec.registration;
-  switch (options.method) {
-    case RegistrationMode::Geometry: return true;
-    case RegistrationMode::Markers: return false;
-    case RegistrationMode::Robot: return !robotRegistersAll(options);
-    case RegistrationMode::Default:
-      return specMarkers(at.spec.spec, at.part, at.simulator.options().part_to_world).empty();
-  }
-  return false;
+  if (!registration || robotRegistersAll(options)) return std::nullopt;
+  if (options.method == RegistrationMode::Geometry) return std::vector<Marker>{};
+  return specMarkers(at.spec.spec, at.part, at.simulator.options().part_to_world);
 }
 
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
@@ -304,7 +300,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
   const detail::Selection selection =
-      detail::selectViews(at, pool, pinned, plan.samples, options.registration && byGeometry(at));
+      detail::selectViews(at, pool, pinned, plan.samples,
+                          registeringMarkers(at, options.registration));
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");

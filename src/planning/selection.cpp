@@ -121,14 +121,15 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
 }  // namespace
 
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-                      const std::vector<PlannedSample>& samples, bool connected) {
+                      const std::vector<PlannedSample>& samples,
+                      const std::optional<std::vector<Marker>>& registering) {
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
   Selection selection;
   PlanBound& bound = selection.bound;
-  if (connected) {
-    selection.views = connectedCover(at, pool, pinned, samples);
+  if (registering) {
+    selection.views = connectedCover(at, pool, pinned, samples, *registering);
     bound.lower_bound = static_cast<double>(pinned) +
                         setCoverLowerBound(unpinnedSets(pool, pinned),
                                            requiredSamples(at, pool, pinned, samples.size()),

@@ -94,22 +94,24 @@ struct Selection {
 // marginal coverage, priority samples first; improved by CBC on the pool's set cover of
 // every sample some pool view measures (planner.selection_seconds, starting from the
 // greedy cover); views whose samples all others also measure dropped (last first); the
-// rest ordered by marginal coverage, priority samples first. `connected` (views register
-// by their geometry): the connectedCover instead, unless no view of it registers to
-// another; the bound stays that of the plain cover.
+// rest ordered by marginal coverage, priority samples first. With `registering` (the
+// markers views register by, none: by geometry alone), the connectedCover instead, unless
+// no view of it registers to another; its bound is then the LP relaxation's.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-                      const std::vector<PlannedSample>& samples, bool connected);
+                      const std::vector<PlannedSample>& samples,
+                      const std::optional<std::vector<Marker>>& registering);
 
 // The registration-aware cover: views chosen one at a time, the `pinned` first pool views
 // first, each the pose measuring most samples not yet covered (priority first) among the
-// poses that register by geometry to a view already chosen (their shared samples a large
-// enough share of each, and constraining ICP); when none of them measures anything new,
-// the best pose whose own samples constrain ICP, then any pose. Chosen views whose
+// poses that register to a view already chosen (the registration's pair test: `markers`
+// they share, or an overlap constraining ICP); when none of them measures anything new,
+// the best pose something could register to, then any pose. Chosen views whose
 // samples others measure too and that no other registers to are dropped. Pool indices in
 // the order chosen; none when no view registers to another.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
-                                        const std::vector<PlannedSample>& samples);
+                                        const std::vector<PlannedSample>& samples,
+                                        const std::vector<Marker>& markers);
 
 // The selected views as the plan's, ids 1..n in selection order, the task of a candidate
 // taken from most of the samples it measures; the samples' measured_by set to them; each

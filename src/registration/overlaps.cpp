@@ -34,9 +34,13 @@ Overlaps::Overlaps(const Simulator& simulator, const RegistrationOptions& option
   for (const Marker& m : markers) markers_.push_back({m.position, m.normal, 0});
 }
 
+std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views) const {
+  return measuredPoints(simulator_, views, markers_);
+}
+
 std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
   std::vector<std::vector<int>> on_points = points_.measured(simulator_, views);
-  std::vector<std::vector<int>> on_markers = measuredPoints(simulator_, views, markers_);
+  std::vector<std::vector<int>> on_markers = markersSeen(views);
   std::vector<Observation> result(views.size());
   for (std::size_t v = 0; v < views.size(); ++v) {
     Observation& seen = result[v];

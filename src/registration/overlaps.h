@@ -25,6 +25,9 @@ class Overlaps {
            const std::vector<Marker>& markers);
 
   std::vector<Observation> observe(std::span<const View> views) const;
+  // The markers each view measures, indices ascending (observe's, without the surface).
+  std::vector<std::vector<int>> markersSeen(std::span<const View> views) const;
+  std::size_t markers() const { return markers_.size(); }
 
   // The pair test without ICP verification. The condition number is left out of pairs
   // that share neither markers nor enough overlap, which cannot be stable.
