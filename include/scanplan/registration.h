@@ -198,7 +198,7 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
 // (markersRegister).
 struct MarkerProposal {
   std::vector<Marker> markers;
-  std::size_t views = 0;        // views registered to nothing that see enough candidates
+  std::size_t views = 0;        // views registered to nothing that the proposal joins
   std::size_t lower_bound = 0;  // no proposal giving each of them min_markers is smaller
                                 // (the multicover's bound)
 

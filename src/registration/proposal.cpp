@@ -19,11 +19,14 @@ int find(std::vector<int>& parent, int v) {
 
 // The pairs of views markers must join: a spanning forest over the pairs that see at least
 // `least` candidates in common, the pairs that register already taken first and free, then
-// those with the most candidates in common. Each pair with the candidates both see.
-std::vector<std::vector<int>> pairsToJoin(std::span<const View> views,
-                                          const Registration& registration,
-                                          const std::vector<std::vector<int>>& seen,
-                                          std::size_t least) {
+// those with the most candidates in common. Each pair with the candidates both see, and
+// per view whether a pair joins it.
+struct Joins {
+  std::vector<std::vector<int>> pairs;
+  std::vector<char> joined;
+};
+Joins pairsToJoin(std::span<const View> views, const Registration& registration,
+                  const std::vector<std::vector<int>>& seen, std::size_t least) {
   std::map<std::pair<int, int>, std::vector<int>> common;  // view indices -> candidates
   std::map<int, std::vector<int>> viewers;                 // candidate -> view indices
   for (std::size_t v = 0; v < views.size(); ++v)
@@ -43,15 +46,17 @@ std::vector<std::vector<int>> pairsToJoin(std::span<const View> views,
                                                                        common.end());
   std::stable_sort(ranked.begin(), ranked.end(),
                    [](auto& x, auto& y) { return x.second.size() > y.second.size(); });
-  std::vector<std::vector<int>> pairs;
+  Joins joins;
+  joins.joined.resize(views.size(), 0);
   for (auto& [ends, candidates] : ranked) {
     if (candidates.size() < least) break;
     const int a = find(parent, ends.first), b = find(parent, ends.second);
     if (a == b) continue;
     parent[a] = b;
-    pairs.push_back(std::move(candidates));
+    joins.pairs.push_back(std::move(candidates));
+    joins.joined[ends.first] = joins.joined[ends.second] = 1;
   }
-  return pairs;
+  return joins;
 }
 
 // Of `pair`'s candidates not taken, the one farthest from the line through the two markers
@@ -91,7 +96,8 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
   for (const Marker& m : candidates) points.push_back({m.position, m.normal, 0});
   const std::vector<std::vector<int>> seen = measuredPoints(simulator, views, points);
   const auto least = static_cast<std::size_t>(options.min_markers);
-  const std::vector<std::vector<int>> pairs = pairsToJoin(views, registration, seen, least);
+  const Joins joins = pairsToJoin(views, registration, seen, least);
+  const std::vector<std::vector<int>>& pairs = joins.pairs;
 
   // The fewest candidates giving every pair min_markers in common (CBC), then more for the
   // pairs whose markers lie too near one line, farthest from that line first.
@@ -117,12 +123,11 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (taken[c]) proposal.markers.push_back(candidates[c]);
 
-  // The bound: each view registered to nothing needs min_markers markers it sees (or all
-  // it sees, when fewer): the multicover's lower bound.
+  // The bound: each view registered to nothing that the proposal joins needs min_markers
+  // markers it sees: the multicover's lower bound.
   std::vector<std::vector<int>> views_of(candidates.size());
   for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
-    if (registration.views[v].method != RegistrationMethod::None || seen[v].size() < least)
-      continue;
+    if (registration.views[v].method != RegistrationMethod::None || !joins.joined[v]) continue;
     for (int c : seen[v]) views_of[c].push_back(static_cast<int>(proposal.views));
     ++proposal.views;
   }
