@@ -82,12 +82,22 @@ IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCl
   open3d::geometry::PointCloud target, source;
   target.points_ = fixed.points;
   target.normals_ = fixed.normals;
-  source.points_ = moved.points;
   Vec3 centre = Vec3::Zero();
   for (const Vec3& p : moved.points) centre += p;
   centre /= static_cast<double>(moved.points.size());
   double radius = 0;
   for (const Vec3& p : moved.points) radius = std::max(radius, (p - centre).norm());
+  const double largest = options.perturbation + radians(options.perturbation_angle) * radius;
+  // Only points that can find a correspondence take part: those within the widest search
+  // distance, plus the perturbation, of the fixed cloud's box.
+  Box reach;
+  for (const Vec3& p : fixed.points) reach.add(p);
+  reach.min.array() -= 3 * largest;
+  reach.max.array() += 3 * largest;
+  for (const Vec3& p : moved.points)
+    if ((p.array() >= reach.min.array()).all() && (p.array() <= reach.max.array()).all())
+      source.points_.push_back(p);
+  if (source.points_.size() < kLeastPoints) return check;
   const Eigen::Matrix4d start =
       perturbation(centre, options.perturbation, options.perturbation_angle,
                    options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
@@ -98,7 +108,6 @@ IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCl
   // gives to within its noise. Coarse to fine: correspondences first within twice the largest displacement the
   // perturbation causes, then down to one and a half point spacings (plus noise), where
   // points past the edge of the overlap no longer pull.
-  const double largest = options.perturbation + radians(options.perturbation_angle) * radius;
   const double fine = 1.5 * spacing + 3 * scanner.noise_sigma;
   Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
   registration::RegistrationResult result;
