@@ -1,5 +1,6 @@
 // The registration-aware selection (docs/planning.md): a cover of the pool's samples whose
-// views register to each other by their geometry, grown from view to view.
+// views register to each other, by the markers they share or their geometry, grown from
+// view to view.
 
 #include "planning/stages.h"
 #include "registration/overlaps.h"
@@ -161,8 +162,8 @@ class ConnectedCover {
     return found->second;
   }
 
-  // True when `v` passes the registration's pair test with one of its foreseen partners;
-  // else they are forgotten.
+  // The first of `v`'s foreseen partners with which it passes the registration's pair
+  // test; none, and they are forgotten, when it passes with none.
   std::optional<std::size_t> registeredPartner(std::size_t v) {
     for (std::size_t c : partners_[v])
       if (registers(overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)))) return c;
@@ -194,16 +195,32 @@ class ConnectedCover {
       covered_[i] = 1;
       for (int v : by_sample_[i]) --part(gain_[v], i);
     }
-    // The poses sharing samples with it, and how many each shares.
+    std::vector<std::size_t> partnered;  // poses that may register to it
+    for (const auto& [v, both] : sharing(pool_.samples[c], by_sample_))
+      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], both)) partnered.push_back(v);
+    if (!markers_seen_.empty())
+      for (const auto& [v, both] : sharing(markers_seen_[c], by_marker_))
+        if (!used_[v] && both >= static_cast<std::size_t>(options_.min_markers))
+          partnered.push_back(v);
+    std::sort(partnered.begin(), partnered.end());
+    partnered.erase(std::unique(partnered.begin(), partnered.end()), partnered.end());
+    for (std::size_t v : partnered) partners_[v].push_back(c);
+  }
+
+  // The poses sharing any of `seen` (samples or markers, measured by the poses `poses_of`
+  // lists), with how many each shares.
+  std::vector<std::pair<std::size_t, std::size_t>> sharing(
+      const std::vector<int>& seen, const std::vector<std::vector<int>>& poses_of) {
     std::vector<int> touched;
-    for (int i : pool_.samples[c])
-      for (int v : by_sample_[i])
+    for (int i : seen)
+      for (int v : poses_of[i])
         if (shared_[v]++ == 0) touched.push_back(v);
+    std::vector<std::pair<std::size_t, std::size_t>> result;
     for (int v : touched) {
-      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], shared_[v]))
-        partners_[v].push_back(c);
+      result.push_back({static_cast<std::size_t>(v), static_cast<std::size_t>(shared_[v])});
       shared_[v] = 0;
     }
+    return result;
   }
 
   const Placement& at_;
@@ -217,9 +234,9 @@ class ConnectedCover {
   std::vector<std::vector<int>> by_marker_;     // the poses measuring each marker
   std::vector<Gain> gain_;                   // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
-  std::vector<char> constrained_;  // per pose: its own samples may constrain ICP
+  std::vector<char> constrained_;  // per pose: something may register to it
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
-  std::vector<int> shared_;  // per pose: samples shared with the view being chosen
+  std::vector<int> shared_;  // per pose: what it shares, while sharing() counts
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to

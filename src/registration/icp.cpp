@@ -47,6 +47,20 @@ double cloudSpacing(const Simulator& simulator, const RegistrationOptions& optio
   return options.cloud_spacing > 0 ? options.cloud_spacing : simulator.scanner().fov_height / 150;
 }
 
+// The `points` within `margin` of the box around `to`.
+std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>& to,
+                       double margin) {
+  Box box;
+  for (const Vec3& p : to) box.add(p);
+  box.min.array() -= margin;
+  box.max.array() += margin;
+  std::vector<Vec3> result;
+  for (const Vec3& p : points)
+    if ((p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all())
+      result.push_back(p);
+  return result;
+}
+
 // Open3D's ICP splits its sums over OpenMP threads, which makes
 // their results depend on the load. Checks run in parallel over pairs (oneTBB) instead:
 // each keeps its own sums on the thread that runs it, and gives the same result every run.
@@ -90,13 +104,7 @@ IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCl
   const double largest = options.perturbation + radians(options.perturbation_angle) * radius;
   // Only points that can find a correspondence take part: those within the widest search
   // distance, plus the perturbation, of the fixed cloud's box.
-  Box reach;
-  for (const Vec3& p : fixed.points) reach.add(p);
-  reach.min.array() -= 3 * largest;
-  reach.max.array() += 3 * largest;
-  for (const Vec3& p : moved.points)
-    if ((p.array() >= reach.min.array()).all() && (p.array() <= reach.max.array()).all())
-      source.points_.push_back(p);
+  source.points_ = near(moved.points, fixed.points, 3 * largest);
   if (source.points_.size() < kLeastPoints) return check;
   const Eigen::Matrix4d start =
       perturbation(centre, options.perturbation, options.perturbation_angle,
@@ -104,10 +112,10 @@ IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCl
                        static_cast<std::uint64_t>(moved.id));
   source.Transform(start);
 
-  // Point-to-plane against the fixed cloud's surface normals, which a scanner's dense cloud
-  // gives to within its noise. Coarse to fine: correspondences first within twice the largest displacement the
-  // perturbation causes, then down to one and a half point spacings (plus noise), where
-  // points past the edge of the overlap no longer pull.
+  // Point-to-plane against the fixed cloud's surface normals, which a scanner's dense
+  // cloud gives to within its noise. Coarse to fine: correspondences first within twice
+  // the largest displacement the perturbation causes, then down to one and a half point
+  // spacings (plus noise), where points past the edge of the overlap no longer pull.
   const double fine = 1.5 * spacing + 3 * scanner.noise_sigma;
   Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
   registration::RegistrationResult result;
