@@ -16,10 +16,13 @@ namespace {
 // Below this many shared samples, an overlap is not taken to register.
 constexpr std::size_t kLeastShared = 6;
 
-// A pose registering to a chosen view is taken unless it measures less than this share of
-// what the best pose something could register to measures: then that one starts a new group
-// rather than the cover creeping on a sample or two at a time.
-constexpr double kCreep = 0.25;
+// A pose registering to a chosen view is taken unless it measures less than a share of what
+// the best pose something could register to measures: then that one starts a new group,
+// rather than the cover creeping on a sample or two at a time. Which share gives the
+// largest group depends on the part: each of these is tried, the first kept unless a later
+// one's largest group holds kBetter more of its views.
+constexpr double kCreeps[] = {0.25, 0.1, 0};
+constexpr double kBetter = 0.05;
 
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
@@ -47,16 +50,8 @@ class ConnectedCover {
         options_(withSeed(at.spec.spec.registration, at.settings().seed)),
         overlaps_(at.simulator, options_, markers) {
     by_sample_.resize(samples.size());
-    gain_.resize(pool.size());
     for (std::size_t v = 0; v < pool.size(); ++v)
-      for (int i : pool.samples[v]) {
-        by_sample_[i].push_back(static_cast<int>(v));
-        if (!at.isDone(i)) ++part(gain_[v], i);
-      }
-    covered_.resize(samples.size());
-    for (std::size_t i = 0; i < samples.size(); ++i) covered_[i] = at.isDone(i);
-    used_.resize(pool.size());
-    partners_.resize(pool.size());
+      for (int i : pool.samples[v]) by_sample_[i].push_back(static_cast<int>(v));
     shared_.resize(pool.size());
     if (overlaps_.markers() > 0) markers_seen_ = overlaps_.markersSeen(pool.views);
     by_marker_.resize(overlaps_.markers());
@@ -69,13 +64,15 @@ class ConnectedCover {
                         (!markers_seen_.empty() && markers_seen_[v].size() >= least_markers);
   }
 
-  std::vector<std::size_t> run(std::size_t pinned) {
-    pinned_ = pinned;
+  // One cover, with `creep` the share below which a new group starts (kCreeps), and the
+  // share of its views in its largest group of views registering to each other.
+  std::pair<std::vector<std::size_t>, double> run(std::size_t pinned, double creep) {
+    reset(pinned);
     for (std::size_t v = 0; v < pinned; ++v) choose(v);
     for (;;) {
       const auto linked = best([&](std::size_t v) { return !partners_[v].empty(); });
       const auto seed = best([&](std::size_t v) { return constrained_[v] != 0; });
-      const bool jump = seed && (!linked || total(gain_[*linked]) < kCreep * total(gain_[*seed]));
+      const bool jump = seed && (!linked || total(gain_[*linked]) < creep * total(gain_[*seed]));
       if (linked && !jump) {
         if (const auto partner = registeredPartner(*linked)) choose(*linked, partner);
         continue;
@@ -95,10 +92,36 @@ class ConnectedCover {
     }
     if (std::none_of(parent_.begin(), parent_.end(), [](auto& p) { return p.has_value(); }))
       return {};
-    return withoutRedundantLeaves();
+    const std::vector<std::size_t> kept = withoutRedundantLeaves();
+    return {kept, static_cast<double>(largestGroup(kept)) / static_cast<double>(kept.size())};
   }
 
  private:
+  void reset(std::size_t pinned) {
+    pinned_ = pinned;
+    gain_.assign(pool_.size(), {0, 0});
+    for (std::size_t v = 0; v < pool_.size(); ++v)
+      for (int i : pool_.samples[v])
+        if (!at_.isDone(i)) ++part(gain_[v], i);
+    covered_.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i) covered_[i] = at_.isDone(i);
+    used_.assign(pool_.size(), 0);
+    partners_.assign(pool_.size(), {});
+    chosen_.clear();
+    parent_.clear();
+  }
+
+  // The most views of `kept` (chosen views) that register to one another through their
+  // parents.
+  std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
+    std::map<std::size_t, std::size_t> root_of, size_of_root;  // by pool index
+    for (std::size_t k = 0; k < chosen_.size(); ++k)  // parents come before their children
+      root_of[chosen_[k]] = parent_[k] ? root_of[*parent_[k]] : chosen_[k];
+    std::size_t largest = 0;
+    for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root_of[v]]);
+    return largest;
+  }
+
   // The chosen views without those, last first, whose samples others measure too and
   // to which no other view registers.
   std::vector<std::size_t> withoutRedundantLeaves() const {
@@ -248,7 +271,17 @@ std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
                                         const std::vector<Marker>& markers) {
-  return ConnectedCover(at, pool, samples, markers).run(pinned);
+  ConnectedCover cover(at, pool, samples, markers);
+  std::vector<std::size_t> best;
+  double best_share = -1;
+  for (const double creep : kCreeps) {
+    auto [views, share] = cover.run(pinned, creep);
+    if (!views.empty() && share >= best_share + kBetter) {
+      best = std::move(views);
+      best_share = share;
+    }
+  }
+  return best;
 }
 
 }  // namespace scanplan::detail
