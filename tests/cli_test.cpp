@@ -8,7 +8,10 @@
 #include <scanplan/registration.h>
 #include <scanplan/report.h>
 
+#include <nlohmann/json.hpp>
+
 #include <sys/wait.h>
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -290,17 +293,25 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   CommandResult r = run("plan " + part + " -o " + dir.file("out") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
-  // Claim that the first sample is also measured by a view that does not exist.
+  // Claim that the first sample some view measures is measured by none.
   std::ifstream in(dir.file("out/plan.json"));
-  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string key = "\"measured_by\": [";
-  const std::size_t at = json.find(key);
-  ASSERT_NE(at, std::string::npos);
-  json.insert(at + key.size(), json[at + key.size()] == ']' ? "999" : "999,");
-  test::writeText(dir.file("tampered.json"), json);
+  nlohmann::json plan = nlohmann::json::parse(in);
+  auto measured = std::find_if(plan["samples"].begin(), plan["samples"].end(),
+                               [](const nlohmann::json& s) { return !s["measured_by"].empty(); });
+  ASSERT_NE(measured, plan["samples"].end());
+  (*measured)["measured_by"] = nlohmann::json::array();
+  test::writeText(dir.file("tampered.json"), plan.dump());
   r = run("verify " + dir.file("tampered.json") + " " + part + " -q");
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("1 samples measured otherwise than planned"), std::string::npos) << r.out;
+  // A view the plan does not have is an error in the plan, named as such.
+  (*measured)["measured_by"] = {999};
+  test::writeText(dir.file("broken.json"), plan.dump());
+  r = run("verify " + dir.file("broken.json") + " " + part + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("broken.json"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, SurfacePlanOverEveryRestOrientationWritesPatchesAndVerifies) {

@@ -4,6 +4,11 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
 
 namespace scanplan {
 namespace {
@@ -147,6 +152,44 @@ TEST(ImportErrors, NonsenseOptions) {
   options.angular_deflection = -5;
   std::string path = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   EXPECT_NE(importError(path, options).find("invalid import options"), std::string::npos);
+}
+
+// The bundled example's plan, changed by `change`, written to `path`; the reason readPlan
+// gives for it, or a failure when it reads it.
+std::string planError(const std::string& path, const std::function<void(nlohmann::json&)>& change) {
+  std::ifstream in(test::examplePlan());
+  nlohmann::json plan = nlohmann::json::parse(in);
+  change(plan);
+  test::writeText(path, plan.dump());
+  try {
+    readPlan(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.exitCode(), kExitInput);
+    return e.reason();
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return {};
+}
+
+TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
+  test::TempDir dir;
+  const std::string path = dir.file("plan.json");
+  auto contains = [](const std::string& reason, const std::string& part) {
+    return reason.find(part) != std::string::npos;
+  };
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["views"][0]["id"] = -5; }),
+               "ids must be positive");
+  EXPECT_PRED2(contains,
+               planError(path, [](auto& p) { p["views"][1]["registration"]["to"] = 77777; }),
+               "view 2 registration refers to view 77777");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["samples"][0]["face"] = 99999; }),
+               "sample 1: face 99999 is not a face of the part");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["sequence"][0] = 4242; }),
+               "the sequence refers to view 4242");
+  EXPECT_PRED2(contains,
+               planError(path, [](auto& p) { p["samples"][3]["measured_by"] = {1, 999}; }),
+               "sample 4 measured_by refers to view 999");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <map>
 
 namespace scanplan {
@@ -455,6 +456,41 @@ struct PlanReader {
   }
 };
 
+// Every id the plan refers to names one of its views, and every sample's face one of its
+// part's. \throw InputError naming the file and the first that does not.
+void checkReferences(const Plan& plan, const std::string& path) {
+  std::set<int> ids;
+  for (const View& view : plan.views) ids.insert(view.id);
+  auto require = [&](int id, const std::string& where, bool zero_allowed) {
+    if ((id == 0 && zero_allowed) || ids.count(id)) return;
+    throw InputError(path, where + " refers to view " + std::to_string(id) +
+                               ", which the plan does not have");
+  };
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    const PlannedSample& s = plan.samples[i];
+    const std::string where = "sample " + std::to_string(i + 1);
+    if (s.sample.face < 1 || static_cast<std::size_t>(s.sample.face) > plan.part_faces)
+      throw InputError(path, where + ": face " + std::to_string(s.sample.face) +
+                                 " is not a face of the part (1.." +
+                                 std::to_string(plan.part_faces) + ")");
+    for (int id : s.measured_by) require(id, where + " measured_by", false);
+  }
+  if (plan.sequence)
+    for (int id : plan.sequence->views) require(id, "the sequence", false);
+  if (plan.registration) {
+    const Registration& r = plan.registration.value();
+    for (std::size_t v = 0; v < r.views.size(); ++v)
+      require(r.views[v].to, "view " + std::to_string(plan.views[v].id) + " registration", true);
+    require(r.reference, "the registration's reference", true);
+    for (const PairCheck& pair : r.pairs) {
+      require(pair.a, "a registration pair", false);
+      require(pair.b, "a registration pair", false);
+    }
+  }
+  for (const PlannedOrientation& o : plan.orientations)
+    for (int id : o.views) require(id, "an orientation", false);
+}
+
 }  // namespace
 
 Plan readPlan(const std::string& path) {
@@ -497,6 +533,7 @@ Plan readPlan(const std::string& path) {
     plan.sequence->length = summary.value("path_length", 0.0);
     plan.sequence->nearest_neighbour_length = summary.value("nearest_neighbour_path_length", 0.0);
   }
+  checkReferences(plan, path);
   return plan;
 }
 

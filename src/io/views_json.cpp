@@ -43,6 +43,7 @@ ViewsFile readViews(const std::string& path) {
       if (!v["id"].is_number_integer()) throw InputError(path, what + ": id is not an integer");
       view.id = v["id"].get<int>();
       what += " (id " + std::to_string(view.id) + ")";
+      if (view.id < 1) throw InputError(path, what + ": ids must be positive");
     }
     if (!ids.insert(view.id).second) throw InputError(path, what + ": id is used twice");
     if (!v.contains("camera_to_world")) throw InputError(path, what + ": no camera_to_world");
