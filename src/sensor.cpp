@@ -27,8 +27,11 @@ void validate(const Scanner& s, const std::string& source) {
   auto fail = [&](const std::string& what) {
     throw InputError(source, "scanner '" + s.name + "': " + what);
   };
+  // Lengths up to kLongest: beyond it, rays lose the precision the ray caster needs.
+  constexpr double kLongest = 100'000;  // mm
   auto positive = [&](double v, const char* name) {
-    if (!(v > 0) || !std::isfinite(v)) fail(std::string(name) + " must be a positive number of mm");
+    if (!(v > 0) || !(v <= kLongest))
+      fail(std::string(name) + " must be a positive number of mm, at most 100,000 (100 m)");
   };
   auto angle = [&](double v, const char* name, double lo_inclusive) {
     bool ok = std::isfinite(v) && v < 90 && (lo_inclusive == 0 ? v >= 0 : v > 0);
@@ -43,8 +46,8 @@ void validate(const Scanner& s, const std::string& source) {
   positive(s.point_spacing, "point_spacing");
   if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
     fail("noise_sigma must be zero or positive");
-  if (!(s.body_margin >= 0) || !std::isfinite(s.body_margin))
-    fail("body_margin must be zero or a positive number of mm");
+  if (!(s.body_margin >= 0) || !(s.body_margin <= kLongest))
+    fail("body_margin must be zero or a positive number of mm, at most 100,000 (100 m)");
   positive(s.body_depth, "body_depth");
   angle(s.triangulation_angle, "triangulation_angle", 1);
   angle(s.max_camera_angle, "max_camera_angle", 1);
@@ -56,6 +59,11 @@ void validate(const Scanner& s, const std::string& source) {
         "camera)");
   if (s.point_spacing > std::min(s.fov_width, s.fov_height))
     fail("point_spacing must be smaller than the field of view");
+  // A simulated cloud has a point per spacing² of the field of view.
+  constexpr double kMostPoints = 1e8;
+  if (s.fov_width / s.point_spacing * (s.fov_height / s.point_spacing) > kMostPoints)
+    fail("point_spacing gives more than 100 million points over the field of view: at least " +
+         std::to_string(std::sqrt(s.fov_width * s.fov_height / kMostPoints)) + " mm");
 }
 
 const std::array<ScannerParameter, 12>& scannerParameters() {

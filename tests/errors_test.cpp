@@ -147,6 +147,16 @@ TEST(ImportErrors, FaceIndexOutOfRange) {
   EXPECT_NE(importError(dir.file("bad.obj")).find("refers to vertex 9"), std::string::npos);
 }
 
+// A chordal tolerance far finer than the part needs would mesh for minutes into gigabytes,
+// or fail inside the CAD kernel.
+TEST(ImportErrors, DeflectionTooFineForThePart) {
+  ImportOptions options;
+  options.linear_deflection = 1e-9;
+  std::string path = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  const std::string reason = importError(path, options);
+  EXPECT_NE(reason.find("too fine for a part 96.5 mm across"), std::string::npos) << reason;
+}
+
 TEST(ImportErrors, NonsenseOptions) {
   ImportOptions options;
   options.angular_deflection = -5;

@@ -69,6 +69,10 @@ TEST(Scanner, ValidationNamesTheParameter) {
   check([](Scanner& s) { s.noise_sigma = -0.1; }, "noise_sigma");
   check([](Scanner& s) { s.body_margin = -1; }, "body_margin");
   check([](Scanner& s) { s.body_depth = 0; }, "body_depth");
+  // Absurd sizes: rays far beyond the ray caster's precision, clouds beyond memory.
+  check([](Scanner& s) { s.standoff = 1e30; }, "at most 100,000");
+  check([](Scanner& s) { s.body_margin = 1e30; }, "body_margin");
+  check([](Scanner& s) { s.point_spacing = 0.001; }, "more than 100 million points");
   EXPECT_NO_THROW(validate(Scanner{}, "defaults"));
 }
 

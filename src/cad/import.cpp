@@ -3,6 +3,8 @@
 
 #include "cad/brep_import.h"
 
+#include <Standard_Failure.hxx>
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -139,9 +141,16 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   if (format == "STEP") checkStepFraming(path);
   if (format == "IGES") checkIgesFraming(path);
 
-  Part part = format == "STEP" || format == "IGES" || format == "BREP"
-                  ? detail::importBRep(path, format, options, progress)
-                  : detail::importMesh(path, format, options, progress);
+  Part part;
+  try {
+    part = format == "STEP" || format == "IGES" || format == "BREP"
+               ? detail::importBRep(path, format, options, progress)
+               : detail::importMesh(path, format, options, progress);
+  } catch (const Standard_Failure& failure) {
+    throw InputError(path, std::string("the CAD kernel failed on it: ") +
+                               (failure.GetMessageString() ? failure.GetMessageString() : "") +
+                               " (" + failure.DynamicType()->Name() + ")");
+  }
   if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
   double extent = part.bounds().size().maxCoeff();
   if (extent < 1.0)

@@ -34,6 +34,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace scanplan::detail {
 
@@ -223,12 +225,29 @@ TopoDS_Shape freeShapes(const Handle(TDocStd_Document) & doc) {
   return compound;
 }
 
-double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options) {
-  if (options.linear_deflection > 0) return options.linear_deflection;
+// The finest chordal tolerance, as a share of the part's diagonal: a fiftieth of the
+// default. Finer ones mesh for minutes into gigabytes, or fail inside the CAD kernel.
+constexpr double kFinestRelativeDeflection = 1e-5;
+
+// The mesh's chordal tolerance: the options' own, or their share of the diagonal.
+// \throw InputError naming `path` when it is finer than kFinestRelativeDeflection allows.
+double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options,
+                        const std::string& path) {
   Bnd_Box box;
   BRepBndLib::Add(shape, box, false);
-  double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
-  return std::max(options.relative_deflection * diagonal, 1e-4);
+  const double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  const double finest = std::max(kFinestRelativeDeflection * diagonal, 1e-4);
+  const double chosen = options.linear_deflection > 0
+                            ? options.linear_deflection
+                            : std::max(options.relative_deflection * diagonal, 1e-4);
+  if (chosen < finest) {
+    std::ostringstream message;
+    message << std::setprecision(3) << "a chordal deflection of " << chosen
+            << " mm is too fine for a part " << diagonal << " mm across: the finest is "
+            << finest << " mm";
+    throw InputError(path, message.str());
+  }
+  return chosen;
 }
 
 }  // namespace
@@ -247,7 +266,7 @@ Part importBRep(const std::string& path, const std::string& format, const Import
     if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
       throw InputError(path, "not a readable OCCT BREP file");
     part.file_unit = "mm";  // BREP carries no unit; OCCT's convention is millimetres
-    buildFromShape(part, shape, chooseDeflection(shape, options), angle, progress);
+    buildFromShape(part, shape, chooseDeflection(shape, options, path), angle, progress);
     return part;
   }
 
@@ -255,7 +274,7 @@ Part importBRep(const std::string& path, const std::string& format, const Import
   TopoDS_Shape shape = freeShapes(doc);
   if (shape.IsNull())
     throw InputError(path, "no geometry: the file holds no shape that could be read");
-  buildFromShape(part, shape, chooseDeflection(shape, options), angle, progress);
+  buildFromShape(part, shape, chooseDeflection(shape, options, path), angle, progress);
 
   XdeFaceLookup lookup;
   lookup.model = part.brep.get();
