@@ -1,4 +1,5 @@
 #include <scanplan/errors.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/sensor.h>
 
 #include <yaml-cpp/yaml.h>
@@ -119,7 +120,7 @@ Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& 
 }
 
 YAML::Node loadYaml(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   try {
     return YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {
@@ -156,7 +157,13 @@ Scanner loadScanner(const std::string& path) {
   try {
     if (root.IsMap() && root["scanner"]) {
       const YAML::Node& node = root["scanner"];
-      if (node.IsScalar()) return scannerPreset(node.as<std::string>());
+      if (node.IsScalar()) {
+        try {
+          return scannerPreset(node.as<std::string>());
+        } catch (const InputError& e) {  // named by the preset: name the spec too
+          throw InputError(path, "scanner '" + e.file() + "': " + e.reason());
+        }
+      }
       return fromMapping(node, Scanner{}, path);
     }
     return fromMapping(root, Scanner{}, path);

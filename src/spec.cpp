@@ -1,5 +1,6 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/spec.h>
 
 #include <yaml-cpp/yaml.h>
@@ -262,6 +263,11 @@ class SpecReader {
       if (field != "type" && field != "faces" && field != "file")
         fail(key + ": unknown field '" + field + "'");
     }
+    if (node["faces"] && (task.type == TaskType::Global || task.type == TaskType::Points))
+      fail(key + ": a " + type + " task takes no faces (" +
+           (task.type == TaskType::Global ? "it covers every face but the fixture's; "
+                                            "a surface or trim task takes chosen faces)"
+                                          : "its points come from its file)"));
     task.faces = faces(node["faces"], key + ".faces");
     if (task.type == TaskType::Points) {
       if (!node["file"]) fail(key + ": a points task needs file: control_points.csv");
@@ -275,6 +281,22 @@ class SpecReader {
  private:
   std::string path_;
 };
+
+// Fails on the first mapping anywhere under `node` that gives a key twice (YAML forbids
+// it; the reader would silently take one of them).
+void rejectDuplicateKeys(const YAML::Node& node, const SpecReader& reader,
+                         const std::string& where) {
+  if (node.IsSequence())
+    for (std::size_t i = 0; i < node.size(); ++i)
+      rejectDuplicateKeys(node[i], reader, where + "[" + std::to_string(i + 1) + "]");
+  if (!node.IsMap()) return;
+  std::set<std::string> keys;
+  for (const auto& item : node) {
+    const std::string key = item.first.Scalar();
+    if (!keys.insert(key).second) reader.fail("key '" + key + "' given twice in " + where);
+    rejectDuplicateKeys(item.second, reader, key);
+  }
+}
 
 void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
                const SpecReader& reader, const std::string& section) {
@@ -462,7 +484,7 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
 }  // namespace
 
 Spec loadSpec(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -475,6 +497,7 @@ Spec loadSpec(const std::string& path) {
   const SpecReader reader(path);
   if (!root.IsMap())
     reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
+  rejectDuplicateKeys(root, reader, "the spec");
   checkKeys(
       root,
       {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},

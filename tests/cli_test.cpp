@@ -304,6 +304,11 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   r = run("verify " + dir.file("tampered.json") + " " + part + " -q");
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_NE(r.out.find("1 samples measured otherwise than planned"), std::string::npos) << r.out;
+  // The plan is an input: exporting over it is refused, and it is left as it was.
+  r = run("export " + dir.file("tampered.json") + " --format csv -o " + dir.file("tampered.json"));
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(r.out.find("is an input of this command"), std::string::npos) << r.out;
+  EXPECT_NO_THROW(readPlan(dir.file("tampered.json")));
   // A view the plan does not have is an error in the plan, named as such.
   (*measured)["measured_by"] = {999};
   test::writeText(dir.file("broken.json"), plan.dump());

@@ -4,10 +4,13 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/spec.h>
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <functional>
 
 namespace scanplan {
@@ -37,12 +40,6 @@ std::string truncatedCopy(const std::string& from, const std::string& to, double
 
 TEST(ImportErrors, MissingFile) {
   EXPECT_EQ(importError("/nonexistent/part.step"), "no such file");
-}
-
-TEST(ImportErrors, Directory) {
-  test::TempDir dir;
-  std::filesystem::create_directory(dir.file("part.step"));
-  EXPECT_EQ(importError(dir.file("part.step")), "not a regular file");
 }
 
 TEST(ImportErrors, EmptyFile) {
@@ -200,6 +197,73 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   EXPECT_PRED2(contains,
                planError(path, [](auto& p) { p["samples"][3]["measured_by"] = {1, 999}; }),
                "sample 4 measured_by refers to view 999");
+}
+
+// Loads the spec `text` (written to spec.yaml in `dir`) and returns the error's reason.
+std::string specError(const test::TempDir& dir, const std::string& text) {
+  const std::string path = dir.file("spec.yaml");
+  test::writeText(path, text);
+  try {
+    loadSpec(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.exitCode(), kExitInput);
+    return e.reason();
+  }
+  ADD_FAILURE() << "no InputError for " << text;
+  return {};
+}
+
+TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
+  test::TempDir dir;
+  auto contains = [](const std::string& reason, const std::string& part) {
+    return reason.find(part) != std::string::npos;
+  };
+  EXPECT_PRED2(contains, specError(dir, "tasks:\n  - {type: global}\ntasks:\n  - {type: gdt}\n"),
+               "key 'tasks' given twice in the spec");
+  EXPECT_PRED2(contains, specError(dir, "planner:\n  seed: 1\n  seed: 2\n"),
+               "key 'seed' given twice in planner");
+  EXPECT_PRED2(contains, specError(dir, "tasks:\n  - {type: global, faces: [1, 2]}\n"),
+               "tasks[1]: a global task takes no faces");
+  EXPECT_PRED2(contains, specError(dir, "scanner: hyperscan-9000\n"),
+               "scanner 'hyperscan-9000': unknown scanner preset");
+}
+
+TEST(InputFiles, ADirectoryIsNotAFile) {
+  test::TempDir dir;
+  std::filesystem::create_directory(dir.file("folder"));
+  for (auto read : std::initializer_list<std::function<void(const std::string&)>>{
+           [](const std::string& p) { loadSpec(p); }, [](const std::string& p) { readPlan(p); },
+           [](const std::string& p) { importPart(p); }}) {
+    try {
+      read(dir.file("folder"));
+      ADD_FAILURE() << "a directory was read";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), dir.file("folder"));
+      EXPECT_EQ(e.reason(), "not a regular file (a directory)");
+    }
+  }
+}
+
+// Outputs go to regular files only, through a link to its target, and leave no
+// temporary behind when writing fails.
+TEST(OutputFiles, OnlyRegularFilesAreWrittenAndLinksAreKept) {
+  test::TempDir dir;
+  auto write = [](const std::string& path) {
+    writeFileAtomically(path, [](std::ostream& out) { out << "x\n"; });
+  };
+  std::filesystem::create_directory(dir.file("folder"));
+  EXPECT_THROW(write(dir.file("folder")), OutputError);
+  EXPECT_THROW(write("/dev/null"), OutputError);
+  std::filesystem::create_symlink("target.txt", dir.file("link.txt"));
+  write(dir.file("link.txt"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir.file("link.txt")));
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir.file("target.txt")));
+  EXPECT_THROW(writeFileAtomically(dir.file("failed.txt"),
+                                   [](std::ostream&) { throw OutputError("x", "stop"); }),
+               OutputError);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt.tmp")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt")));
 }
 
 }  // namespace

@@ -27,6 +27,14 @@ struct Input {
   std::string spec;
 };
 
+// \throw OutputError when `out` is one of the command's own input files.
+void refuseInputAsOutput(const std::string& out, const Input& input) {
+  std::error_code ec;
+  for (const std::string& in : {input.plan, input.part, input.spec})
+    if (!in.empty() && std::filesystem::equivalent(in, out, ec))
+      throw OutputError(out, "is an input of this command (" + in + "): choose another output");
+}
+
 struct Checked {
   Plan plan;
   Part part;
@@ -71,6 +79,8 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
       options.out.empty()
           ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
           : options.out;
+  refuseInputAsOutput(out, options.input);
+  if (!options.png.empty()) refuseInputAsOutput(options.png, options.input);
   writeReport(c.plan, c.part, c.spec, out, {}, progress);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part)), options.png);
   clearProgress();
@@ -87,6 +97,7 @@ struct ExportCommand {
 };
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
+  refuseInputAsOutput(options.out, options.input);
   if (options.format == "csv") {
     writeViewsCsv(readPlan(options.input.plan).views, options.out);
   } else {

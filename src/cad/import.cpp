@@ -1,5 +1,6 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/input_file.h>
 
 #include "cad/brep_import.h"
 
@@ -125,9 +126,7 @@ void checkIgesFraming(const std::string& path) {
 Part importPart(const std::string& path, const ImportOptions& options, const Progress& progress) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "no such file");
-  if (!fs::is_regular_file(path, ec)) throw InputError(path, "not a regular file");
-  if (!std::ifstream(path).good()) throw InputError(path, "cannot be opened for reading");
+  requireInputFile(path);
   if (fs::file_size(path, ec) == 0) throw InputError(path, "empty file");
   if (!(options.linear_deflection >= 0) || !(options.relative_deflection > 0) ||
       !(options.angular_deflection > 0 && options.angular_deflection < 90) ||

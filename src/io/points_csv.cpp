@@ -1,4 +1,5 @@
 #include <scanplan/errors.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/io/points_csv.h>
 
 #include <filesystem>
@@ -8,9 +9,8 @@
 namespace scanplan {
 
 std::vector<ControlPoint> readPointsCsv(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened for reading");
   std::vector<ControlPoint> points;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

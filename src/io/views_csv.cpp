@@ -1,5 +1,6 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/io/views_csv.h>
 
 #include <fmt/format.h>
@@ -28,7 +29,7 @@ void writeViewsCsv(const std::vector<View>& views, const std::string& path) {
 }
 
 std::vector<View> readViewsCsv(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   std::ifstream in(path);
   std::string line;
   if (!std::getline(in, line) || line.rfind("id,m00", 0) != 0)

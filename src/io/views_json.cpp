@@ -1,6 +1,7 @@
 #include "io/json_values.h"
 
 #include <scanplan/errors.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/io/views_json.h>
 
 #include <nlohmann/json.hpp>
@@ -14,7 +15,7 @@ namespace scanplan {
 using nlohmann::json;
 
 ViewsFile readViews(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   std::ifstream in(path);
   json root;
   try {

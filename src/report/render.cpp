@@ -4,6 +4,7 @@
 
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
+#include <scanplan/io/input_file.h>
 #include <scanplan/raycast.h>
 #include <scanplan/report.h>
 
@@ -218,7 +219,7 @@ void writePng(const Image& image, const std::string& path) {
 }
 
 Image readPng(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "no such file");
+  requireInputFile(path);
   int width = 0, height = 0, channels = 0;
   stbi_uc* data = stbi_load(path.c_str(), &width, &height, &channels, 3);
   if (data == nullptr)

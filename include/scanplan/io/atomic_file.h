@@ -9,7 +9,9 @@
 namespace scanplan {
 
 // Calls `write` on a binary stream for `<path>.tmp` and renames it to `path`; on any
-// failure the temporary is removed. \throw OutputError naming `path`.
+// failure, an exception from `write` included, the temporary is removed. A link at `path`
+// is kept and its target replaced. \throw OutputError naming `path`, also when it is a
+// directory or a device rather than a file.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace scanplan
