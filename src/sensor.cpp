@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -63,8 +65,9 @@ void validate(const Scanner& s, const std::string& source) {
   // A simulated cloud has a point per spacing² of the field of view.
   constexpr double kMostPoints = 1e8;
   if (s.fov_width / s.point_spacing * (s.fov_height / s.point_spacing) > kMostPoints)
-    fail("point_spacing gives more than 100 million points over the field of view: at least " +
-         std::to_string(std::sqrt(s.fov_width * s.fov_height / kMostPoints)) + " mm");
+    fail(fmt::format("point_spacing gives more than 100 million points over the field of view: "
+                     "at least {:.3g} mm",
+                     std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
 }
 
 const std::array<ScannerParameter, 12>& scannerParameters() {

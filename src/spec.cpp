@@ -235,7 +235,7 @@ class SpecReader {
     }
     if (node["step"]) {
       t.step = radians(scalar<double>(node["step"], key + ".step"));
-      if (!(t.step > 0)) fail(key + ".step must be positive (degrees)");
+      if (!(t.step >= radians(0.1))) fail(key + ".step must be at least 0.1 degrees");
     }
     return t;
   }
@@ -333,8 +333,9 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     reader.read(rescue, "planner.rescue", "step", p.rescue_step);
     reader.read(rescue, "planner.rescue", "rotations", p.rescue_rotations);
   }
-  if (!(p.vm_step > 0 && p.vm_step <= 45))
-    reader.fail("planner.vm_step must be within (0, 45] degrees");
+  // A visibility map has a cell per vm_step² of the hemisphere, for every sample.
+  if (!(p.vm_step >= 1 && p.vm_step <= 45))
+    reader.fail("planner.vm_step must be within [1, 45] degrees");
   if (!(p.tilt_min >= 0 && p.tilt_min <= p.tilt_max && p.tilt_max < 90))
     reader.fail("planner.tilt must be [min, max] with 0 <= min <= max < 90 degrees");
   if (p.max_failures < 1) reader.fail("planner.max_failures must be at least 1");

@@ -6,6 +6,7 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/planning.h>
 #include <scanplan/spec.h>
 
 #include <nlohmann/json.hpp>
@@ -227,6 +228,28 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                "tasks[1]: a global task takes no faces");
   EXPECT_PRED2(contains, specError(dir, "scanner: hyperscan-9000\n"),
                "scanner 'hyperscan-9000': unknown scanner preset");
+  // Settings that would exhaust memory are refused before anything is allocated.
+  EXPECT_PRED2(contains, specError(dir, "planner: {vm_step: 0.0001}\n"),
+               "planner.vm_step must be within [1, 45] degrees");
+  EXPECT_PRED2(contains,
+               specError(dir, "cell:\n  robot: {preset: abb-irb4600-60-205}\n"
+                              "  table: {step: 1.0e-9}\n"),
+               "cell.table.step must be at least 0.1 degrees");
+}
+
+// A marker grid finer than the part can hold is refused by size, naming the spec.
+TEST(SpecErrors, MarkerGridOfAMillionMarkers) {
+  test::TempDir dir;
+  TriangleMesh mesh;
+  test::addCube(mesh, Vec3::Zero(), 100, 1);
+  test::writeText(dir.file("spec.yaml"), "markers: {grid: 0.001}\n");
+  try {
+    planViews(test::meshPart(mesh), loadSpec(dir.file("spec.yaml")));
+    ADD_FAILURE() << "planned with a million markers";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), dir.file("spec.yaml"));
+    EXPECT_NE(e.reason().find("more than a million markers"), std::string::npos) << e.reason();
+  }
 }
 
 TEST(InputFiles, ADirectoryIsNotAFile) {

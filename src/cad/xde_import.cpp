@@ -31,11 +31,11 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
 namespace scanplan::detail {
 
@@ -240,13 +240,10 @@ double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options,
   const double chosen = options.linear_deflection > 0
                             ? options.linear_deflection
                             : std::max(options.relative_deflection * diagonal, 1e-4);
-  if (chosen < finest) {
-    std::ostringstream message;
-    message << std::setprecision(3) << "a chordal deflection of " << chosen
-            << " mm is too fine for a part " << diagonal << " mm across: the finest is "
-            << finest << " mm";
-    throw InputError(path, message.str());
-  }
+  if (chosen < finest)
+    throw InputError(path, fmt::format("a chordal deflection of {:.3g} mm is too fine for a part "
+                                       "{:.3g} mm across: the finest is {:.3g} mm",
+                                       chosen, diagonal, finest));
   return chosen;
 }
 

@@ -8,6 +8,8 @@
 #include <scanplan/localization.h>
 #include <scanplan/planning/cell_poses.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -27,6 +29,18 @@ std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& 
   if (!(spec.marker_grid > 0)) return {};
   TriangleMesh world = part.mesh;
   for (Vec3& v : world.vertices) v = part_to_world * v;
+  Box box;
+  for (const Vec3& v : world.vertices) box.add(v);
+  // A marker per grid cell over the part and its margin: refused past kMostMarkers.
+  constexpr double kMostMarkers = 1e6;
+  const Vec3 size = box.empty() ? Vec3::Zero() : box.size();
+  const double cells = (size.x() + 2 * spec.marker_margin) / spec.marker_grid *
+                       ((size.y() + 2 * spec.marker_margin) / spec.marker_grid);
+  if (!(cells <= kMostMarkers))
+    throw InputError(spec.source,
+                     fmt::format("markers: a grid of {:g} mm with a margin of {:g} mm gives more "
+                                 "than a million markers around this part",
+                                 spec.marker_grid, spec.marker_margin));
   std::vector<Marker> markers;
   if (spec.markers_on_part) markers = markersOnPart(world, spec.marker_grid);
   if (spec.markers_on_plate) {
