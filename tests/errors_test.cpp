@@ -122,6 +122,40 @@ TEST(ImportErrors, TruncatedOff) {
   EXPECT_NE(importError(dir.file("cut.off")).find("truncated OFF file"), std::string::npos);
 }
 
+TEST(ImportErrors, OffVertexThatIsNotANumber) {
+  test::TempDir dir;
+  test::writeText(dir.file("nan.off"), "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(importError(dir.file("nan.off")), "OFF file: vertex 2 of 3 is not three numbers");
+}
+
+// An ASCII STL is read strictly: a facet out of shape is an error naming its line, never
+// a mesh with the facet left out.
+TEST(ImportErrors, MalformedAsciiStl) {
+  test::TempDir dir;
+  const std::string facet =
+      " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 1 1 0\n"
+      "  endloop\n endfacet\n";
+  test::writeText(dir.file("good.stl"), "solid t\n" + facet + facet + "endsolid t\n");
+  EXPECT_EQ(importPart(dir.file("good.stl")).mesh.triangles.size(), 2u);
+  std::string bad = facet;
+  bad.replace(bad.find("vertex 1 0 0"), 12, "vertex 1 x 0");
+  test::writeText(dir.file("bad.stl"), "solid t\n" + facet + bad + "endsolid t\n");
+  EXPECT_EQ(importError(dir.file("bad.stl")), "line 12: three numbers expected");
+  test::writeText(dir.file("text.stl"), "solid x\n this is not stl\nendsolid\n");
+  EXPECT_NE(importError(dir.file("text.stl")).find("line 2: 'facet normal' expected"),
+            std::string::npos);
+  test::writeText(dir.file("cut.stl"), "solid t\n" + facet.substr(0, facet.find("vertex 1")));
+  EXPECT_NE(importError(dir.file("cut.stl")).find("truncated STL file"), std::string::npos);
+}
+
+TEST(ImportErrors, PartOfAbsurdSize) {
+  test::TempDir dir;
+  test::writeText(dir.file("huge.off"),
+                  "OFF\n4 4 0\n0 0 0\n1e30 0 0\n0 1e30 0\n0 0 1e30\n"
+                  "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+  EXPECT_NE(importError(dir.file("huge.off")).find("more than 100 m"), std::string::npos);
+}
+
 TEST(ImportErrors, TruncatedBinaryPly) {
   test::TempDir dir;
   test::writeText(dir.file("cut.ply"),

@@ -5,6 +5,7 @@
 #include "cad/brep_import.h"
 
 #include <Standard_Failure.hxx>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -152,6 +153,11 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   }
   if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
   double extent = part.bounds().size().maxCoeff();
+  constexpr double kLargest = 100'000;  // mm: beyond, the ray caster loses its precision
+  if (!(extent <= kLargest))
+    throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
+                                       "length unit the file declares ({})",
+                                       extent, part.file_unit.empty() ? "none" : part.file_unit));
   if (extent < 1.0)
     part.warnings.push_back("the part is only " + std::to_string(extent) +
                             " mm across: check the length unit the file declares (" +

@@ -14,6 +14,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <numeric>
@@ -45,7 +46,74 @@ void addPolygon(RawMesh& mesh, const std::vector<int>& polygon, int group,
   }
 }
 
+// An ASCII STL, read strictly: every facet whole, every number a number. \throw InputError
+// naming the line of the first word out of place.
+RawMesh readAsciiStl(const std::string& path) {
+  std::ifstream in(path);
+  RawMesh mesh;
+  std::string line;
+  int line_no = 0;
+  std::istringstream words;
+  auto next = [&](const std::string& expected) {  // the next line, which must start so
+    std::string first;
+    while (std::getline(in, line)) {
+      ++line_no;
+      words.clear();
+      words.str(line);
+      if (words >> first) break;
+    }
+    if (!in && first.empty())
+      throw InputError(path, "truncated STL file: '" + expected + "' expected at the end");
+    std::string rest = first;
+    for (std::size_t n = std::count(expected.begin(), expected.end(), ' '); n > 0; --n) {
+      std::string word;
+      words >> word;
+      rest += " " + word;
+    }
+    if (rest != expected && !(expected == "facet normal" && first == "endsolid"))
+      throw InputError(path, "line " + std::to_string(line_no) + ": '" + expected +
+                                 "' expected, found '" + line + "'");
+    return first;
+  };
+  auto point = [&] {
+    Vec3 p;
+    if (!(words >> p.x() >> p.y() >> p.z()) || !p.allFinite())
+      throw InputError(path, "line " + std::to_string(line_no) + ": three numbers expected");
+    return p;
+  };
+  next("solid");
+  while (next("facet normal") != "endsolid") {
+    point();
+    next("outer loop");
+    const int first = static_cast<int>(mesh.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      next("vertex");
+      mesh.vertices.push_back(point());
+    }
+    next("endloop");
+    next("endfacet");
+    mesh.triangles.emplace_back(first, first + 1, first + 2);
+    mesh.groups.push_back(-1);
+  }
+  return mesh;
+}
+
+// True when the file is an ASCII STL: it starts with "solid" and is not the size a binary
+// STL with its triangle count would be (a binary header may start with "solid" too).
+bool isAsciiStl(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char header[84] = {};
+  in.read(header, sizeof header);
+  if (std::strncmp(header, "solid", 5) != 0) return false;
+  if (in.gcount() < 84) return true;
+  std::uint32_t count = 0;
+  std::memcpy(&count, header + 80, 4);
+  std::error_code ec;
+  return std::filesystem::file_size(path, ec) != 84 + 50 * static_cast<std::uintmax_t>(count);
+}
+
 RawMesh readStl(const std::string& path) {
+  if (isAsciiStl(path)) return readAsciiStl(path);
   Handle(Poly_Triangulation) tri = RWStl::ReadFile(path.c_str());
   RawMesh mesh;
   if (tri.IsNull()) return mesh;
@@ -122,8 +190,9 @@ RawMesh readOff(const std::string& path) {
   for (long i = 0; i < vertices; ++i) {
     Vec3 p;
     if (!(body >> p.x() >> p.y() >> p.z()))
-      throw InputError(path, "truncated OFF file: vertex " + std::to_string(i + 1) + " of " +
-                                 std::to_string(vertices) + " is missing");
+      throw InputError(path, (body.eof() ? "truncated OFF file: vertex " : "OFF file: vertex ") +
+                                 std::to_string(i + 1) + " of " + std::to_string(vertices) +
+                                 (body.eof() ? " is missing" : " is not three numbers"));
     if (colored) std::getline(body, rest);
     mesh.vertices.push_back(p);
   }

@@ -24,6 +24,9 @@ SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& par
   return simulation;
 }
 
+// The most markers a grid may give around a part.
+constexpr double kMostMarkers = 1e6;
+
 std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world) {
   if (!spec.markers_file.empty()) return readMarkers(spec.markers_file);
   if (!(spec.marker_grid > 0)) return {};
@@ -32,7 +35,6 @@ std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& 
   Box box;
   for (const Vec3& v : world.vertices) box.add(v);
   // A marker per grid cell over the part and its margin: refused past kMostMarkers.
-  constexpr double kMostMarkers = 1e6;
   const Vec3 size = box.empty() ? Vec3::Zero() : box.size();
   const double cells = (size.x() + 2 * spec.marker_margin) / spec.marker_grid *
                        ((size.y() + 2 * spec.marker_margin) / spec.marker_grid);
@@ -229,13 +231,15 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
 
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
 // the part's upward faces and on the plate around it, a fifteenth of the field of view
-// apart; none when every view registers or the robot alone registers them.
+// apart (or as far as a million candidates need); none when every view registers or the robot alone registers them.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
   Spec grid = at.spec.spec;  // a marker grid on part and plate, as markers: {on: both}
   grid.markers_file.clear();
-  grid.marker_grid = at.scanner().fov_height / 15;
+  // A fifteenth of the field of view, coarser on parts too large for that many candidates.
+  const double across = at.part.bounds().size().maxCoeff() + 2 * grid.marker_margin;
+  grid.marker_grid = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
   grid.markers_on_part = grid.markers_on_plate = true;
   const std::vector<Marker> candidates = specMarkers(grid, at.part, plan.part_to_world);
   plan.proposed_markers =
