@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <tuple>
@@ -317,6 +318,35 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("broken.json"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
       << r.out;
+}
+
+// A part with nothing measurable: the plan is written, with no views and the reason per
+// sample, and fails (exit 3); every command reads it, and verify fails it too.
+TEST(Cli, APlanWithNoViewsIsWrittenAndFails) {
+  test::TempDir dir;
+  test::writeText(dir.file("down.off"),
+                  "OFF\n4 2 0\n0 0 0\n100 0 0\n100 100 0\n0 100 0\n3 0 2 1\n3 0 3 2\n");
+  CommandResult r = run("plan " + dir.file("down.off") + " -o " + dir.file("out") + " -q");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("no sample of the spec's tasks can be measured"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("occluded_by_working_plane"), std::string::npos) << r.out;
+  const std::string plan = dir.file("out/plan.json");
+  EXPECT_TRUE(readPlan(plan).views.empty());
+  r = run("verify " + plan + " " + dir.file("down.off") + " -q");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("nothing: no view measures a sample"), std::string::npos) << r.out;
+  EXPECT_EQ(run("report " + plan + " -q").code, 0);
+  EXPECT_EQ(run("export " + plan + " --format glb -o " + dir.file("plan.glb") + " -q").code, 0);
+  EXPECT_EQ(run("export " + plan + " --format csv -o " + dir.file("views.csv") + " -q").code, 0);
+}
+
+// A run that fails on its inputs leaves no output folder behind.
+TEST(Cli, AFailedPlanLeavesNoFolder) {
+  test::TempDir dir;
+  CommandResult r = run("plan " + dir.file("missing.stp") + " -o " + dir.file("out") + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out")));
 }
 
 TEST(Cli, SurfacePlanOverEveryRestOrientationWritesPatchesAndVerifies) {

@@ -63,13 +63,14 @@ void printTaskRows(const Plan& plan, const Part& part) {
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  std::error_code ec;
-  std::filesystem::create_directories(options.outdir, ec);
-  if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
   const Part part = importPart(options.part, {}, progress);
   PlanningOptions planning;
   planning.registration = options.registration;
   Plan plan = planViews(part, spec, planning, progress);
+  // The folder only once the inputs are read and planned: a failed run leaves none.
+  std::error_code ec;
+  std::filesystem::create_directories(options.outdir, ec);
+  if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
   const std::string markers_csv = (std::filesystem::path(options.outdir) / kProposedMarkers).string();
   const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
   if (proposed) writeMarkers(plan.proposed_markers->markers, markers_csv);
@@ -114,7 +115,12 @@ int run(const Options& options, const GlobalOptions& global) {
   if (proposed)
     fmt::print("markers    {}{}\n", markers_csv,
                options.place_markers ? " (placed: the plan above uses them)" : "");
-  return 0;
+  if (plan.views.empty()) {  // a valid plan, but nothing to scan: say why, and fail
+    fmt::print(stderr, "error: {}: no sample of the spec's tasks can be measured (see 'not "
+                       "coverable' above)\n", part.file);
+    return kExitPlanning;
+  }
+  return kExitOk;
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace scanplan::cli {
 namespace {
 
@@ -55,7 +57,10 @@ int run(const Options& options, const GlobalOptions& global) {
                    ? std::string("every view once, each after one it registers to")
                    : fmt::format("{} views missing or repeated, {} not after one they register to",
                                  check.sequence_missing, check.sequence_breaks));
-  return check.holds() ? kExitOk : kExitPlanning;
+  const bool measures = std::any_of(check.plan.samples.begin(), check.plan.samples.end(),
+                                    [](const PlannedSample& s) { return !s.measured_by.empty(); });
+  if (!measures) fmt::print("{:<22} {}\n", "measured", "nothing: no view measures a sample");
+  return check.holds() && measures ? kExitOk : kExitPlanning;
 }
 
 }  // namespace
