@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <type_traits>
 
 namespace scanplan {
 
@@ -35,13 +36,18 @@ class SpecReader {
     return (std::filesystem::path(path_).parent_path() / p).lexically_normal().string();
   }
 
+  // A value of the spec; a number must be finite (YAML's .nan and .inf are refused).
   template <typename T>
   T scalar(const YAML::Node& node, const std::string& key) const {
+    T value{};
     try {
-      return node.as<T>();
+      value = node.as<T>();
     } catch (const YAML::Exception&) {
       fail(key + ": '" + YAML::Dump(node) + "' is not a valid value");
     }
+    if constexpr (std::is_floating_point_v<T>)
+      if (!std::isfinite(value)) fail(key + ": '" + YAML::Dump(node) + "' is not a finite number");
+    return value;
   }
 
   // `value` from `section`.`key` of `node` when it is given.
@@ -202,6 +208,9 @@ class SpecReader {
     }
     if (!(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
       fail(key + ": c2 and c3 must be positive and c4 not negative (mm)");
+    for (int i = 0; i < 7; ++i)
+      if (!(std::abs(*lengths[i]) <= 100'000))
+        fail(key + "." + names[i] + " must be at most 100,000 mm");
     for (int i = 0; i < 6; ++i) {
       if (!(r.lower[i] < r.upper[i]))
         fail(key + ": joint " + std::to_string(i + 1) + " has lower >= upper");

@@ -262,6 +262,12 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                "tasks[1]: a global task takes no faces");
   EXPECT_PRED2(contains, specError(dir, "scanner: hyperscan-9000\n"),
                "scanner 'hyperscan-9000': unknown scanner preset");
+  // Numbers must be finite, wherever they are.
+  EXPECT_PRED2(contains,
+               specError(dir, "cell:\n  robot:\n    preset: abb-irb4600-60-205\n    a1: .nan\n"),
+               "cell.robot.a1: '.nan' is not a finite number");
+  EXPECT_PRED2(contains, specError(dir, "registration: {tolerance: .inf}\n"),
+               "registration.tolerance: '.inf' is not a finite number");
   // Settings that would exhaust memory are refused before anything is allocated.
   EXPECT_PRED2(contains, specError(dir, "planner: {vm_step: 0.0001}\n"),
                "planner.vm_step must be within [1, 45] degrees");
