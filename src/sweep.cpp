@@ -4,6 +4,7 @@
 #include "cad/brep_model.h"
 
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/raycast.h>
 #include <scanplan/sweep.h>
 
@@ -481,25 +482,21 @@ void writePatch(const InterpolatedPatch& patch, const std::string& path) {
       if (face.IsDone()) builder.Add(compound, face.Face());
       i = end;
     }
-  const std::string temporary = path + ".tmp";
-  bool written = false;
-  try {
-    if (step) {
-      STEPControl_Writer writer;
-      written = writer.Transfer(compound, STEPControl_AsIs) == IFSelect_RetDone &&
-                writer.Write(temporary.c_str()) == IFSelect_RetDone;
-    } else {
-      written = BRepTools::Write(compound, temporary.c_str());
+  writeFileAtomically(path, [&](const std::string& temporary) {
+    bool written = false;
+    try {
+      if (step) {
+        STEPControl_Writer writer;
+        written = writer.Transfer(compound, STEPControl_AsIs) == IFSelect_RetDone &&
+                  writer.Write(temporary.c_str()) == IFSelect_RetDone;
+      } else {
+        written = BRepTools::Write(compound, temporary.c_str());
+      }
+    } catch (const Standard_Failure&) {
+      written = false;
     }
-  } catch (const Standard_Failure&) {
-    written = false;
-  }
-  std::error_code error;
-  if (written) std::filesystem::rename(temporary, path, error);
-  if (!written || error) {
-    std::filesystem::remove(temporary, error);
-    throw OutputError(path, "cannot write the interpolated patch");
-  }
+    if (!written) throw OutputError(path, "cannot write the interpolated patch");
+  });
 }
 
 namespace {

@@ -327,6 +327,16 @@ TEST(OutputFiles, OnlyRegularFilesAreWrittenAndLinksAreKept) {
                OutputError);
   EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt.tmp")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt")));
+  // An interrupt's handler removes the temporary of a write under way.
+  EXPECT_THROW(writeFileAtomically(dir.file("cut.txt"),
+                                   [&](std::ostream& out) {
+                                     out << "x\n";
+                                     EXPECT_TRUE(std::filesystem::exists(dir.file("cut.txt.tmp")));
+                                     removeTemporaries();
+                                     EXPECT_FALSE(std::filesystem::exists(dir.file("cut.txt.tmp")));
+                                   }),
+               OutputError);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("cut.txt")));
 }
 
 }  // namespace

@@ -5,15 +5,30 @@
 #include "terminal.h"
 
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
+namespace {
+
+// Interrupted: the files being written are removed, then the signal ends the run as usual.
+extern "C" void onInterrupt(int signal) {
+  scanplan::removeTemporaries();
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace scanplan;
+  std::signal(SIGINT, onInterrupt);
+  std::signal(SIGTERM, onInterrupt);
   // OCCT's readers print their statistics on stdout; the tool speaks for itself.
   Message::DefaultMessenger()->ChangePrinters().Clear();
 

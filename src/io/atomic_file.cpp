@@ -1,13 +1,49 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 
 namespace scanplan {
 
 namespace {
+
+// The temporaries being written, for removeTemporaries(): fixed slots that a signal handler
+// may read without allocating.
+constexpr std::size_t kSlots = 16, kLongestPath = 4096;
+char g_temporaries[kSlots][kLongestPath];
+std::mutex g_slots;
+
+// Holds `temporary` in a slot while it lives (none when the slots are full or the path
+// too long: then it is only removed by the usual paths).
+class RegisteredTemporary {
+ public:
+  explicit RegisteredTemporary(const std::string& temporary) {
+    if (temporary.size() >= kLongestPath) return;
+    const std::lock_guard lock(g_slots);
+    for (std::size_t k = 0; k < kSlots; ++k)
+      if (g_temporaries[k][0] == '\0') {
+        std::memcpy(g_temporaries[k], temporary.c_str(), temporary.size() + 1);
+        slot_ = k;
+        return;
+      }
+  }
+  ~RegisteredTemporary() {
+    if (slot_ == kSlots) return;
+    const std::lock_guard lock(g_slots);
+    g_temporaries[slot_][0] = '\0';
+  }
+  RegisteredTemporary(const RegisteredTemporary&) = delete;
+  RegisteredTemporary& operator=(const RegisteredTemporary&) = delete;
+
+ private:
+  std::size_t slot_ = kSlots;
+};
 
 // Where `path` leads: the target of a link (which is kept, and its target replaced), else
 // the path itself. \throw OutputError when that is something other than a regular file.
@@ -29,15 +65,13 @@ std::filesystem::path destination(const std::string& path) {
 
 }  // namespace
 
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(const std::string&)>& write_file) {
   const std::filesystem::path target = destination(path);
   const std::string temporary = target.string() + ".tmp";
+  const RegisteredTemporary registered(temporary);
   try {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw OutputError(path, "cannot be written");
-    write(out);
-    out.flush();
-    if (!out.good()) throw OutputError(path, "write failed");
+    write_file(temporary);
   } catch (...) {
     std::remove(temporary.c_str());
     throw;
@@ -48,6 +82,21 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
     std::remove(temporary.c_str());
     throw OutputError(path, "cannot be written: " + ec.message());
   }
+}
+
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+  writeFileAtomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary);
+    if (!out) throw OutputError(path, "cannot be written");
+    write(out);
+    out.flush();
+    if (!out.good()) throw OutputError(path, "write failed");
+  });
+}
+
+void removeTemporaries() noexcept {
+  for (const char* temporary : g_temporaries)
+    if (temporary[0] != '\0') ::unlink(temporary);
 }
 
 }  // namespace scanplan

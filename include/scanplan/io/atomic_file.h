@@ -14,4 +14,13 @@ namespace scanplan {
 // directory or a device rather than a file.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+// The same for writers that take a file name: `write_file` writes the temporary it is
+// given, and throws (an OutputError naming `path`) when it cannot.
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(const std::string&)>& write_file);
+
+// Removes the temporaries of the writes under way (up to 16 at once). Async-signal-safe:
+// for a handler of SIGINT and SIGTERM, so that an interrupted run leaves none behind.
+void removeTemporaries() noexcept;
+
 }  // namespace scanplan
