@@ -80,6 +80,25 @@ TEST(ImportErrors, CorruptStepBody) {
   EXPECT_FALSE(reason.empty());
 }
 
+// An entity removed from a STEP file leaves references to it: OCCT's translator would
+// follow one into a crash, so the file is refused, naming both entities.
+TEST(ImportErrors, StepReferringToAMissingEntity) {
+  test::TempDir dir;
+  std::ifstream in(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t point = text.find("\n#", text.find("CARTESIAN_POINT") - 40);
+  ASSERT_NE(point, std::string::npos);
+  const std::size_t end = text.find('\n', point + 1);
+  const std::string id = text.substr(point + 1, text.find('=', point) - point - 1);
+  text.erase(point, end - point);  // the point's line, with its id
+  test::writeText(dir.file("cut.stp"), text);
+  const std::string reason = importError(dir.file("cut.stp"));
+  EXPECT_NE(reason.find("refers to " + id.substr(0, id.find_last_not_of(' ') + 1) +
+                        ", which the file does not define"),
+            std::string::npos)
+      << reason;
+}
+
 TEST(ImportErrors, StepWithoutGeometry) {
   test::TempDir dir;
   test::writeText(dir.file("nogeometry.step"),

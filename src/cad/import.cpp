@@ -11,6 +11,9 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <unordered_set>
+#include <vector>
 
 namespace scanplan {
 
@@ -111,6 +114,51 @@ void checkStepFraming(const std::string& path) {
     throw InputError(path, "truncated STEP file: it does not end with END-ISO-10303-21;");
 }
 
+// Every entity a STEP file's data section refers to (#n) must be defined there: OCCT's
+// translator follows a dangling reference into a crash.
+void checkStepReferences(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t k = text.find("DATA;");
+  if (k == std::string::npos) return;
+  std::unordered_set<long> defined;
+  std::vector<std::pair<long, long>> references;  // (referenced, by the entity)
+  long entity = 0;
+  bool in_string = false, statement_start = true;
+  for (k += 5; k < text.size(); ++k) {
+    const char c = text[k];
+    if (in_string) {
+      if (c == '\'' && k + 1 < text.size() && text[k + 1] == '\'')
+        ++k;
+      else if (c == '\'')
+        in_string = false;
+      continue;
+    }
+    if (c == '\'') in_string = true;
+    if (c == ';') statement_start = true;
+    if (c != '#') {
+      if (!std::isspace(static_cast<unsigned char>(c)) && c != ';') statement_start = false;
+      continue;
+    }
+    long id = 0;
+    while (k + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[k + 1])))
+      id = id * 10 + (text[++k] - '0');
+    std::size_t next = k + 1;
+    while (next < text.size() && std::isspace(static_cast<unsigned char>(text[next]))) ++next;
+    if (statement_start && next < text.size() && text[next] == '=') {
+      defined.insert(id);
+      entity = id;
+    } else {
+      references.push_back({id, entity});
+    }
+    statement_start = false;
+  }
+  for (const auto& [id, by] : references)
+    if (!defined.count(id))
+      throw InputError(path, "entity #" + std::to_string(by) + " refers to #" + std::to_string(id) +
+                                 ", which the file does not define");
+}
+
 // IGES files end with the one-line Terminate section, marked 'T' in column 73.
 void checkIgesFraming(const std::string& path) {
   auto [head, tail] = headAndTail(path, 1024);
@@ -138,7 +186,10 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
                      "within [0, 180] degrees)");
 
   std::string format = formatOf(path);
-  if (format == "STEP") checkStepFraming(path);
+  if (format == "STEP") {
+    checkStepFraming(path);
+    checkStepReferences(path);
+  }
   if (format == "IGES") checkIgesFraming(path);
 
   Part part;
