@@ -10,6 +10,12 @@ shift || true
 fuzzers=("$@")
 [ ${#fuzzers[@]} -gt 0 ] || fuzzers=(mesh points_csv spec plan)
 
+scripts/install-deps.sh
+# The fuzzers need clang and its libFuzzer, which the build itself does not.
+if ! command -v clang++ >/dev/null; then
+  echo "fuzz: installing clang"
+  $( [ "$(id -u)" -eq 0 ] || echo sudo ) apt-get install -y --no-install-recommends clang
+fi
 cmake --preset fuzz
 cmake --build --preset fuzz --target "${fuzzers[@]/#/fuzz_}"
 export ASAN_OPTIONS=detect_leaks=0
