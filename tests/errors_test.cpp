@@ -251,6 +251,8 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   EXPECT_PRED2(contains,
                planError(path, [](auto& p) { p["samples"][3]["measured_by"] = {1, 999}; }),
                "sample 4 measured_by refers to view 999");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["views"][0]["registration"]["to"] = "x"; }),
+               "a value has the wrong type");
 }
 
 // Loads the spec `text` (written to spec.yaml in `dir`) and returns the error's reason.

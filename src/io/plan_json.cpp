@@ -491,9 +491,9 @@ void checkReferences(const Plan& plan, const std::string& path) {
     for (int id : o.views) require(id, "an orientation", false);
 }
 
-}  // namespace
 
-Plan readPlan(const std::string& path) {
+// readPlan without its net for values of the wrong type.
+Plan readPlanFields(const std::string& path) {
   ViewsFile views = readViews(path);  // checks the file, the JSON and every view
   std::ifstream in(path);
   const json root = json::parse(in, nullptr, false);
@@ -535,6 +535,16 @@ Plan readPlan(const std::string& path) {
   }
   checkReferences(plan, path);
   return plan;
+}
+
+}  // namespace
+
+Plan readPlan(const std::string& path) {
+  try {
+    return readPlanFields(path);
+  } catch (const nlohmann::json::exception& e) {  // a value of the wrong type left unnamed
+    throw InputError(path, std::string("a value has the wrong type: ") + e.what());
+  }
 }
 
 }  // namespace scanplan
