@@ -17,10 +17,11 @@
 namespace scanplan {
 namespace {
 
-// Imports `path` and returns the error's reason; fails the test if nothing is thrown.
-std::string importError(const std::string& path, const ImportOptions& options = {}) {
+// The reason of the InputError `read` throws naming `path`; fails the test if nothing is
+// thrown.
+std::string inputError(const std::string& path, const std::function<void()>& read) {
   try {
-    importPart(path, options);
+    read();
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), path);
     EXPECT_EQ(e.exitCode(), kExitInput);
@@ -29,6 +30,15 @@ std::string importError(const std::string& path, const ImportOptions& options = 
   }
   ADD_FAILURE() << "no InputError for " << path;
   return {};
+}
+
+// Imports `path` and returns the error's reason.
+std::string importError(const std::string& path, const ImportOptions& options = {}) {
+  return inputError(path, [&] { importPart(path, options); });
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
 }
 
 std::string truncatedCopy(const std::string& from, const std::string& to, double fraction) {
@@ -222,23 +232,12 @@ std::string planError(const std::string& path, const std::function<void(nlohmann
   nlohmann::json plan = nlohmann::json::parse(in);
   change(plan);
   test::writeText(path, plan.dump());
-  try {
-    readPlan(path);
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.exitCode(), kExitInput);
-    return e.reason();
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return {};
+  return inputError(path, [&] { readPlan(path); });
 }
 
 TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");
-  auto contains = [](const std::string& reason, const std::string& part) {
-    return reason.find(part) != std::string::npos;
-  };
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["views"][0]["id"] = -5; }),
                "ids must be positive");
   EXPECT_PRED2(contains,
@@ -259,22 +258,11 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
 std::string specError(const test::TempDir& dir, const std::string& text) {
   const std::string path = dir.file("spec.yaml");
   test::writeText(path, text);
-  try {
-    loadSpec(path);
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.exitCode(), kExitInput);
-    return e.reason();
-  }
-  ADD_FAILURE() << "no InputError for " << text;
-  return {};
+  return inputError(path, [&] { loadSpec(path); });
 }
 
 TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
   test::TempDir dir;
-  auto contains = [](const std::string& reason, const std::string& part) {
-    return reason.find(part) != std::string::npos;
-  };
   EXPECT_PRED2(contains, specError(dir, "tasks:\n  - {type: global}\ntasks:\n  - {type: gdt}\n"),
                "key 'tasks' given twice in the spec");
   EXPECT_PRED2(contains, specError(dir, "planner:\n  seed: 1\n  seed: 2\n"),
@@ -304,29 +292,19 @@ TEST(SpecErrors, MarkerGridOfAMillionMarkers) {
   TriangleMesh mesh;
   test::addCube(mesh, Vec3::Zero(), 100, 1);
   test::writeText(dir.file("spec.yaml"), "markers: {grid: 0.001}\n");
-  try {
+  const std::string reason = inputError(dir.file("spec.yaml"), [&] {
     planViews(test::meshPart(mesh), loadSpec(dir.file("spec.yaml")));
-    ADD_FAILURE() << "planned with a million markers";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), dir.file("spec.yaml"));
-    EXPECT_NE(e.reason().find("more than a million markers"), std::string::npos) << e.reason();
-  }
+  });
+  EXPECT_PRED2(contains, reason, "more than a million markers");
 }
 
 TEST(InputFiles, ADirectoryIsNotAFile) {
   test::TempDir dir;
   std::filesystem::create_directory(dir.file("folder"));
-  for (auto read : std::initializer_list<std::function<void(const std::string&)>>{
-           [](const std::string& p) { loadSpec(p); }, [](const std::string& p) { readPlan(p); },
-           [](const std::string& p) { importPart(p); }}) {
-    try {
-      read(dir.file("folder"));
-      ADD_FAILURE() << "a directory was read";
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), dir.file("folder"));
-      EXPECT_EQ(e.reason(), "not a regular file (a directory)");
-    }
-  }
+  const std::string folder = dir.file("folder");
+  for (const std::function<void()>& read : std::initializer_list<std::function<void()>>{
+           [&] { loadSpec(folder); }, [&] { readPlan(folder); }, [&] { importPart(folder); }})
+    EXPECT_EQ(inputError(folder, read), "not a regular file (a directory)");
 }
 
 // Outputs go to regular files only, through a link to its target, and leave no
