@@ -507,12 +507,12 @@ Spec loadSpec(const std::string& path) {
   const SpecReader reader(path);
   if (!root.IsMap())
     reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
-  rejectDuplicateKeys(root, reader, "the spec");
-  checkKeys(
-      root,
-      {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},
-      reader, "the spec");
   try {
+    rejectDuplicateKeys(root, reader, "the spec");
+    checkKeys(
+        root,
+        {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},
+        reader, "the spec");
     if (root["scanner"]) spec.scanner = loadScanner(path);
     if (const YAML::Node part = root["part"]) readPart(part, reader, spec);
     if (const YAML::Node roles = root["roles"]) {

@@ -98,23 +98,22 @@ RawMesh readAsciiStl(const std::string& path) {
   return mesh;
 }
 
-// True when the file is an ASCII STL: it starts with "solid" and is not the size a binary
-// STL with its triangle count would be (a binary header may start with "solid" too).
-bool isAsciiStl(const std::string& path) {
+// True when the file is a binary STL: exactly the size its triangle count gives (84 bytes
+// of header and count, 50 per triangle). Its header may start with "solid" too.
+bool isBinaryStl(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char header[84] = {};
   in.read(header, sizeof header);
-  if (std::strncmp(header, "solid", 5) != 0) return false;
-  if (in.gcount() < 84) return true;
+  if (in.gcount() < 84) return false;
   std::uint32_t count = 0;
   std::memcpy(&count, header + 80, 4);
   std::error_code ec;
-  return std::filesystem::file_size(path, ec) != 84 + 50 * static_cast<std::uintmax_t>(count);
+  return std::filesystem::file_size(path, ec) == 84 + 50 * static_cast<std::uintmax_t>(count);
 }
 
 RawMesh readStl(const std::string& path) {
-  if (isAsciiStl(path)) return readAsciiStl(path);
-  Handle(Poly_Triangulation) tri = RWStl::ReadFile(path.c_str());
+  if (!isBinaryStl(path)) return readAsciiStl(path);
+  Handle(Poly_Triangulation) tri = RWStl::ReadBinary(OSD_Path(path.c_str()));
   RawMesh mesh;
   if (tri.IsNull()) return mesh;
   for (int i = 1; i <= tri->NbNodes(); ++i) {
