@@ -251,7 +251,15 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
                planError(path, [](auto& p) { p["samples"][3]["measured_by"] = {1, 999}; }),
                "sample 4 measured_by refers to view 999");
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["views"][0]["registration"]["to"] = "x"; }),
+               "view 1 registration: 'to' has the wrong type");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["path_length"] = "x"; }),
                "a value has the wrong type");
+  // A number where a whole one belongs (converting 1e38 to an int is undefined).
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["samples"][0]["face"] = 1.1e38; }),
+               "sample 1: 'face' has the wrong type");
+  EXPECT_PRED2(contains,
+               planError(path, [](auto& p) { p["views"][0]["registration"]["to"] = 2.5; }),
+               "view 1 registration: 'to' has the wrong type");
 }
 
 // Loads the spec `text` (written to spec.yaml in `dir`) and returns the error's reason.

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <type_traits>
 #include <map>
 
 namespace scanplan {
@@ -292,17 +293,40 @@ void writePlan(const Plan& plan, const std::string& path) {
 
 namespace {
 
+// True when `value` may be read as a T without a conversion that loses it: a whole number
+// for an integer (a float out of its range would be undefined), or a list of them.
+template <typename T>
+bool fits(const json& value) {
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    return value.is_number_integer() && (std::is_signed_v<T> || !(value.get<long long>() < 0));
+  } else if constexpr (std::is_same_v<T, std::vector<int>>) {
+    return value.is_array() &&
+           std::all_of(value.begin(), value.end(), [](const json& v) { return fits<int>(v); });
+  } else {
+    return true;
+  }
+}
+
 // The value of `key` in `object` as a T. \throw InputError naming the file and the key.
 template <typename T>
 T field(const json& object, const std::string& key, const std::string& path,
         const std::string& where) {
   if (!object.is_object() || !object.contains(key))
     throw InputError(path, where + ": no '" + key + "'");
+  if (!fits<T>(object[key])) throw InputError(path, where + ": '" + key + "' has the wrong type");
   try {
     return object[key].get<T>();
   } catch (const json::exception&) {
     throw InputError(path, where + ": '" + key + "' has the wrong type");
   }
+}
+
+// field(), or `otherwise` when `object` has no `key`.
+template <typename T>
+T fieldOr(const json& object, const std::string& key, T otherwise, const std::string& path,
+          const std::string& where) {
+  return object.is_object() && object.contains(key) ? field<T>(object, key, path, where)
+                                                     : otherwise;
 }
 
 template <typename Enum, std::size_t N>
@@ -390,7 +414,7 @@ struct PlanReader {
                                         RegistrationMethod::Icp, RegistrationMethod::Robot,
                                         RegistrationMethod::None},
                              path, where);
-      view.to = r.value("to", 0);
+      view.to = fieldOr(r, "to", 0, path, where);
       view.constrained = r.value("constrained", true);
       view.bridge = entries[v].value("bridge", false);
       registered = true;
@@ -400,7 +424,7 @@ struct PlanReader {
     const json pairs = section.value("pairs", json::array());
     if (!pairs.is_array()) throw InputError(path, "registration: 'pairs' is not an array");
     for (std::size_t k = 0; k < pairs.size(); ++k) result.pairs.push_back(pair(pairs[k], k));
-    result.reference = section.value("reference", 0);
+    result.reference = fieldOr(section, "reference", 0, path, "registration");
     if (section.contains("method"))
       result.method = enumFrom(field<std::string>(section, "method", path, "registration"),
                                std::array{RegistrationMode::Markers, RegistrationMode::Geometry,
@@ -412,8 +436,9 @@ struct PlanReader {
         section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
                                               [](auto& p) { return p.icp.has_value(); }));
     const json summary = objectAt(root, "summary");
-    result.components = summary.value("registration_components", std::size_t{0});
-    result.bridging_views = summary.value("bridging_views", std::size_t{0});
+    result.components =
+        fieldOr(summary, "registration_components", std::size_t{0}, path, "summary");
+    result.bridging_views = fieldOr(summary, "bridging_views", std::size_t{0}, path, "summary");
     return result;
   }
 
@@ -425,7 +450,7 @@ struct PlanReader {
     o.rest.down = detail::vectorFrom(entry.value("down", json()), path, where);
     o.rest.margin = entry.value("margin", 0.0);
     o.views = field<std::vector<int>>(entry, "views", path, where);
-    o.reference = entry.value("reference", 0);
+    o.reference = fieldOr(entry, "reference", 0, path, where);
     o.markers = markers(entry.value("markers", json()));
     return o;
   }
@@ -513,8 +538,10 @@ Plan readPlanFields(const std::string& path) {
     plan.markers = reader.markers(registration.value("markers", json()));
     if (const json proposed = registration.value("proposed_markers", json()); proposed.is_object())
       plan.proposed_markers = MarkerProposal{reader.markers(proposed.value("markers", json())),
-                                             proposed.value("views", std::size_t{0}),
-                                             proposed.value("lower_bound", std::size_t{0})};
+                                             fieldOr(proposed, "views", std::size_t{0}, path,
+                                                     "proposed_markers"),
+                                             fieldOr(proposed, "lower_bound", std::size_t{0},
+                                                     path, "proposed_markers")};
   }
   if (root.contains("orientations")) {
     const json& list = root["orientations"];
