@@ -18,7 +18,7 @@ if ! command -v clang++ >/dev/null; then
 fi
 cmake --preset fuzz
 cmake --build --preset fuzz --target "${fuzzers[@]/#/fuzz_}"
-export ASAN_OPTIONS=detect_leaks=0
+export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 for name in "${fuzzers[@]}"; do
   work=build/fuzz/corpus/$name findings=build/fuzz/findings/$name
   mkdir -p "$work" "$findings"
