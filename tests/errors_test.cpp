@@ -194,6 +194,16 @@ TEST(ImportErrors, TruncatedBinaryPly) {
   EXPECT_NE(importError(dir.file("cut.ply")).find("truncated PLY file"), std::string::npos);
 }
 
+// Found by the mesh fuzzer: an index far beyond an int was converted regardless.
+TEST(ImportErrors, PlyIndexThatIsNoIndex) {
+  test::TempDir dir;
+  test::writeText(dir.file("big.ply"),
+                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n");
+  EXPECT_PRED2(contains, importError(dir.file("big.ply")), "not an index");
+}
+
 TEST(ImportErrors, PlyHeaderClaimingMoreThanTheFileHolds) {
   test::TempDir dir;
   test::writeText(dir.file("huge.ply"),

@@ -10,7 +10,9 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 
 namespace scanplan {
@@ -70,9 +72,16 @@ class Reader {
             continue;
           }
           const double n = value(p.count_type);
-          if (n < 0 || n > (1 << 20)) fail("a list of element '" + element.name + "' is too long");
+          if (!(n >= 0 && n <= (1 << 20)))
+            fail("a list of element '" + element.name + "' is too long");
           std::vector<int>& list = p.lists.emplace_back(static_cast<std::size_t>(n));
-          for (int& item : list) item = static_cast<int>(value(p.type));
+          for (int& item : list) {
+            const double v = value(p.type);
+            if (!(v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max()))
+              fail("a list of element '" + element.name + "' holds " + std::to_string(v) +
+                   ", not an index");
+            item = static_cast<int>(v);
+          }
         }
     }
     return std::move(data_);
