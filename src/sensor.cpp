@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -136,8 +137,15 @@ YAML::Node loadYaml(const std::string& path) {
 Scanner scannerPreset(const std::string& name) {
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(dataDirectory()) / "scanners";
+  // A preset is named by letters, digits, '.', '_' and '-' (no path, no file name too long).
+  const bool plain = !name.empty() && name.size() <= 100 &&
+                     std::all_of(name.begin(), name.end(), [](char c) {
+                       return std::isalnum(static_cast<unsigned char>(c)) || c == '.' ||
+                              c == '_' || c == '-';
+                     });
   const fs::path file = folder / (name + ".yaml");
-  if (name.empty() || name.find('/') != std::string::npos || !fs::exists(file)) {
+  std::error_code missing;
+  if (!plain || !fs::exists(file, missing)) {
     std::string known;
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(folder, ec))

@@ -289,6 +289,9 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                "tasks[1]: a global task takes no faces");
   EXPECT_PRED2(contains, specError(dir, "scanner: hyperscan-9000\n"),
                "scanner 'hyperscan-9000': unknown scanner preset");
+  // Found by the spec fuzzer: a name too long for a file name threw from the file system.
+  EXPECT_PRED2(contains, specError(dir, "scanner: " + std::string(300, 'x') + "\n"),
+               "unknown scanner preset");
   // Numbers must be finite, wherever they are.
   EXPECT_PRED2(contains,
                specError(dir, "cell:\n  robot:\n    preset: abb-irb4600-60-205\n    a1: .nan\n"),

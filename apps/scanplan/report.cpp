@@ -50,7 +50,9 @@ Checked check(const Input& input, const Progress& progress) {
   // The part file the plan names, else a file of that name beside the plan.
   const std::filesystem::path beside =
       std::filesystem::path(input.plan).parent_path() / std::filesystem::path(part_file).filename();
-  if (input.part.empty() && !std::filesystem::exists(part_file) && std::filesystem::exists(beside))
+  std::error_code ec;  // a name the file system refuses is left for importPart to name
+  if (input.part.empty() && !std::filesystem::exists(part_file, ec) &&
+      std::filesystem::exists(beside, ec))
     part_file = beside.string();
   Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
   Part part = importPart(part_file, {}, progress);
