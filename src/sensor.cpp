@@ -31,10 +31,8 @@ void validate(const Scanner& s, const std::string& source) {
   auto fail = [&](const std::string& what) {
     throw InputError(source, "scanner '" + s.name + "': " + what);
   };
-  // Lengths up to kLongest: beyond it, rays lose the precision the ray caster needs.
-  constexpr double kLongest = 100'000;  // mm
   auto positive = [&](double v, const char* name) {
-    if (!(v > 0) || !(v <= kLongest))
+    if (!(v > 0) || !(v <= kLongestLength))
       fail(std::string(name) + " must be a positive number of mm, at most 100,000 (100 m)");
   };
   auto angle = [&](double v, const char* name, double lo_inclusive) {
@@ -50,7 +48,7 @@ void validate(const Scanner& s, const std::string& source) {
   positive(s.point_spacing, "point_spacing");
   if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
     fail("noise_sigma must be zero or positive");
-  if (!(s.body_margin >= 0) || !(s.body_margin <= kLongest))
+  if (!(s.body_margin >= 0) || !(s.body_margin <= kLongestLength))
     fail("body_margin must be zero or a positive number of mm, at most 100,000 (100 m)");
   positive(s.body_depth, "body_depth");
   angle(s.triangulation_angle, "triangulation_angle", 1);

@@ -209,7 +209,7 @@ class SpecReader {
     if (!(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
       fail(key + ": c2 and c3 must be positive and c4 not negative (mm)");
     for (int i = 0; i < 7; ++i)
-      if (!(std::abs(*lengths[i]) <= 100'000))
+      if (!(std::abs(*lengths[i]) <= kLongestLength))
         fail(key + "." + names[i] + " must be at most 100,000 mm");
     for (int i = 0; i < 6; ++i) {
       if (!(r.lower[i] < r.upper[i]))

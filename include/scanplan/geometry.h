@@ -17,6 +17,10 @@ constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
 constexpr double radians(double degrees) { return degrees * kRadiansPerDegree; }
 constexpr double degrees(double radians) { return radians * kDegreesPerRadian; }
 
+// The longest length an input may give (mm, 100 m): parts, scanner and robot sizes. Beyond
+// it, rays lose the precision the ray caster needs.
+constexpr double kLongestLength = 100'000;
+
 // Axis-aligned bounding box; empty until a point is added.
 struct Box {
   Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());

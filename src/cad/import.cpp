@@ -204,8 +204,7 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   }
   if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
   double extent = part.bounds().size().maxCoeff();
-  constexpr double kLargest = 100'000;  // mm: beyond, the ray caster loses its precision
-  if (!(extent <= kLargest))
+  if (!(extent <= kLongestLength))
     throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
                                        "length unit the file declares ({})",
                                        extent, part.file_unit.empty() ? "none" : part.file_unit));

@@ -27,11 +27,6 @@ constexpr double kBetter = 0.05;
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
 
-RegistrationOptions withSeed(RegistrationOptions options, std::uint64_t seed) {
-  options.seed = seed;
-  return options;
-}
-
 // Grows the cover one view at a time, each the pose that measures most samples not yet
 // covered among those registering to a view already chosen; another group of views is
 // started only when none of those measures anything new.
@@ -47,7 +42,7 @@ class ConnectedCover {
       : at_(at),
         pool_(pool),
         samples_(samples),
-        options_(withSeed(at.spec.spec.registration, at.settings().seed)),
+        options_(registrationOptions(at.spec.spec)),
         overlaps_(at.simulator, options_, markers) {
     by_sample_.resize(samples.size());
     for (std::size_t v = 0; v < pool.size(); ++v)

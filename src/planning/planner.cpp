@@ -94,6 +94,12 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
 
 namespace detail {
 
+RegistrationOptions registrationOptions(const Spec& spec) {
+  RegistrationOptions registration = spec.registration;
+  registration.seed = spec.planner.seed;
+  return registration;
+}
+
 namespace {
 
 // Per sample of `unmeasured` (indices), the furthest the pool's poses aimed nearest to it
@@ -212,13 +218,6 @@ Plan placedPlan(const Part& part, const ResolvedSpec& spec, const std::vector<Sa
   return plan;
 }
 
-// The spec's registration options, with the planner's seed.
-RegistrationOptions registrationOptions(const Spec& spec) {
-  RegistrationOptions registration = spec.registration;
-  registration.seed = spec.planner.seed;
-  return registration;
-}
-
 // The markers the selection keeps views registering by (none: by their geometry alone);
 // nothing when it need not: registration off, or a robot that registers every view.
 std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& at,
@@ -233,7 +232,7 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
 // the part's upward faces and on the plate around it, a fifteenth of the field of view
 // apart (or as far as a million candidates need); none when every view registers or the robot alone registers them.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
-  const RegistrationOptions options = registrationOptions(at.spec.spec);
+  const RegistrationOptions options = detail::registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
   Spec grid = at.spec.spec;  // a marker grid on part and plate, as markers: {on: both}
   grid.markers_file.clear();
@@ -254,7 +253,7 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
   plan.markers = specMarkers(at.spec.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
   plan.registration = registerViews(at.simulator, plan.views, plan.markers,
-                                    registrationOptions(at.spec.spec), at.cell, progress);
+                                    detail::registrationOptions(at.spec.spec), at.cell, progress);
   proposeMarkers(at, plan);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
   const auto measured = measuredPoints(at.simulator, bridges, at.points);

@@ -23,6 +23,10 @@ struct MeasuredViews {
   }
 };
 
+// The spec's registration options, with the planner's seed: as the registration stage,
+// and the selection that foresees it, use them.
+RegistrationOptions registrationOptions(const Spec& spec);
+
 // What every stage of one placement reads.
 struct Placement {
   const Part& part;
