@@ -11,6 +11,7 @@
 #include <scanplan/sequencing.h>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -603,6 +604,27 @@ TEST(RegistrationTest, RegistrationAwareSelectionRegistersMoreViewsOfABlockRow) 
                          [](const PlannedSample& s) { return !s.measured_by.empty(); });
   };
   EXPECT_EQ(measured(plan), measured(plain));
+}
+
+// A plan does not depend on the number of threads: the block row, whose plan runs every
+// parallel stage (pool, selection with pair checks, registration and bridging), planned on
+// one thread and on two gives the same plan.json but for the seconds it took.
+TEST(RegistrationTest, APlanIsTheSameOnOneThreadAndOnTwo) {
+  const Part part = blockRow();
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"), "tasks:\n  - {type: global}\n");
+  const Spec spec = loadSpec(dir.file("spec.yaml"));
+  auto planned = [&](std::size_t threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    nlohmann::json json = planJson(planViews(part, spec));
+    json["summary"].erase("seconds");
+    json["summary"].erase("stage_seconds");
+    return json;
+  };
+  const nlohmann::json one = planned(1);
+  RecordProperty("bridging_views", one["summary"]["bridging_views"].dump());
+  EXPECT_FALSE(one["registration"]["pairs"].empty());
+  EXPECT_EQ(one.dump(), planned(2).dump());
 }
 
 // Seen from the front, from above and from one end, an L-bracket registers by its geometry

@@ -10,9 +10,12 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 
+#include <tbb/global_control.h>
+
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <memory>
 
 namespace {
 
@@ -37,6 +40,9 @@ int main(int argc, char** argv) {
   cli::GlobalOptions global;
   app.fallthrough();
   app.add_flag("-q,--quiet", global.quiet, "Show no progress");
+  int threads = 0;
+  app.add_option("-j,--threads", threads, "Threads to use (default: all cores); plans do not depend on it")
+      ->check(CLI::Range(1, 1024));
   cli::Action action;
   cli::addInfoCommand(app, global, action);
   cli::addPlanCommand(app, global, action);
@@ -52,6 +58,10 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   try {
     int code = action();
     cli::clearProgress();
