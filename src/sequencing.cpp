@@ -2,6 +2,8 @@
 
 #include <scanplan/sequencing.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,24 +41,17 @@ Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> vi
 }
 
 Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct) {
-  const Eigen::Index n = direct.rows();
-  Eigen::MatrixXd distance(n, n);
-  for (Eigen::Index source = 0; source < n; ++source) {
-    // Dense Dijkstra: the graph is complete.
-    std::vector<double> d(static_cast<std::size_t>(n), std::numeric_limits<double>::infinity());
-    std::vector<char> done(static_cast<std::size_t>(n), 0);
-    d[source] = 0;
-    for (Eigen::Index step = 0; step < n; ++step) {
-      Eigen::Index u = -1;
-      for (Eigen::Index v = 0; v < n; ++v)
-        if (!done[v] && (u < 0 || d[v] < d[u])) u = v;
-      done[u] = 1;
-      for (Eigen::Index v = 0; v < n; ++v)
-        if (!done[v]) d[v] = std::min(d[v], d[u] + direct(u, v));
-    }
-    for (Eigen::Index v = 0; v < n; ++v) distance(source, v) = d[v];
-  }
-  return distance;
+  // Floyd-Warshall, a column at a time: through view k, column j (the moves into j) becomes
+  // the shorter of itself and column k plus the move k -> j. Columns are independent within
+  // a step; column k itself does not change (no cost is negative).
+  Eigen::MatrixXd d = direct;
+  const Eigen::Index n = d.rows();
+  for (Eigen::Index k = 0; k < n; ++k)
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 64), [&](const auto& columns) {
+      for (Eigen::Index j = columns.begin(); j < columns.end(); ++j)
+        if (j != k) d.col(j) = d.col(j).cwiseMin((d.col(k).array() + d(k, j)).matrix());
+    });
+  return d;
 }
 
 std::vector<std::vector<char>> registrationLinks(std::span<const View> views,

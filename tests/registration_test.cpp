@@ -369,6 +369,27 @@ TEST(SequencingTest, ShortestPathsGoAroundWhatBlocksTheDirectMove) {
   EXPECT_DOUBLE_EQ(paths(0, 1), 1);
 }
 
+// Against Floyd-Warshall on a random cost matrix: not symmetric, with moves that cannot be
+// made (infinite) and a view no move reaches.
+TEST(SequencingTest, ShortestPathsAgreeWithFloydWarshall) {
+  const int n = 60;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> cost(1, 100);
+  const double inf = std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd direct(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) direct(i, j) = i == j ? 0 : (random() % 3 == 0 ? inf : cost(random));
+  for (int i = 0; i < n - 1; ++i) direct(i, n - 1) = inf;
+  Eigen::MatrixXd expected = direct;
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) expected(i, j) = std::min(expected(i, j), expected(i, k) + expected(k, j));
+  const Eigen::MatrixXd paths = shortestPaths(direct);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) EXPECT_DOUBLE_EQ(paths(i, j), expected(i, j)) << i << "-" << j;
+  EXPECT_EQ(paths(0, n - 1), inf);
+}
+
 TEST(SequencingTest, MovesThroughThePartGoOverIt) {
   // Two cameras on either side of a 200 mm cube, level with it: the straight move crosses
   // the cube, so it goes over the top (clearance 100 mm above z = 200).

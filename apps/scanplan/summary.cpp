@@ -25,13 +25,17 @@ void printRegistration(const Plan& plan, const Registration& r) {
              percent(plan.registeredMeasuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "bridging views added", r.bridging_views);
   if (r.registered() < plan.views.size()) {
+    // Their ids, the first kListed of them (plan.json lists them all).
+    constexpr std::size_t kListed = 40;
     std::string ids;
-    std::size_t unconstrained = 0;
+    std::size_t unconstrained = 0, unregistrable = 0;
     for (std::size_t v = 0; v < plan.views.size() && v < r.views.size(); ++v)
       if (r.views[v].method == RegistrationMethod::None) {
-        ids += fmt::format("{}{}", ids.empty() ? "" : " ", plan.views[v].id);
+        if (unregistrable++ < kListed)
+          ids += fmt::format("{}{}", ids.empty() ? "" : " ", plan.views[v].id);
         unconstrained += !r.views[v].constrained;
       }
+    if (unregistrable > kListed) ids += fmt::format(" and {} more", unregistrable - kListed);
     fmt::print("{:<22} {}\n", "unregistrable views", ids);
     if (unconstrained)
       fmt::print(
