@@ -3,6 +3,7 @@
 #include <scanplan/io/input_file.h>
 #include <scanplan/spec.h>
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -319,7 +320,7 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
-             "anchors", "pool_rotations", "selection_nodes", "selection_seconds"},
+             "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -331,6 +332,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   reader.read(node, "planner", "pool_rotations", p.pool_rotations);
   reader.read(node, "planner", "selection_nodes", p.selection_nodes);
   reader.read(node, "planner", "selection_seconds", p.selection_seconds);
+  reader.read(node, "planner", "most_views", p.most_views);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
       reader.fail("planner.tilt must be [min, max] in degrees");
@@ -359,6 +361,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   if (p.selection_nodes < 0) reader.fail("planner.selection_nodes must not be negative");
   if (!(p.selection_seconds >= 0 && p.selection_seconds <= 3600))
     reader.fail("planner.selection_seconds must be within [0, 3600]");
+  if (p.most_views < 1) reader.fail("planner.most_views must be at least 1");
   if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
     reader.fail("planner.rescue.step must be within [1, 45] degrees");
   return p;
@@ -590,12 +593,44 @@ TaskTargets taskTargets(const Part& part, const ResolvedSpec& resolved, std::siz
   return targets;
 }
 
+// Settings absurd for the part's size, refused before anything is allocated for them: a
+// field of view that would take more than planner.most_views views to cover the part
+// once, surface points for the registration's overlaps (registration.point_spacing) past
+// kMostSurfacePoints, a view's ICP cloud (registration.cloud_spacing) past kMostCloudPoints.
+void checkScale(const Part& part, const Spec& spec, const std::string& source) {
+  constexpr double kMostSurfacePoints = 3e7, kMostCloudPoints = 1e6;
+  const Scanner& s = spec.scanner;
+  const double area = part.area(), field = s.fov_width * s.fov_height;
+  const double views = area / field;
+  if (views > spec.planner.most_views) {
+    const double k = std::sqrt(views / spec.planner.most_views);
+    throw InputError(source, fmt::format("scanner: a {:.4g} x {:.4g} mm field of view is too small for "
+                                         "{} ({:.0f} mm² of surface): covering it once takes {:.0f} "
+                                         "views, more than planner.most_views ({}); a field of at "
+                                         "least {:.3g} x {:.3g} mm",
+                                         s.fov_width, s.fov_height, part.file, area, views,
+                                         spec.planner.most_views, k * s.fov_width, k * s.fov_height));
+  }
+  const RegistrationOptions& r = spec.registration;
+  const double points = r.point_spacing > 0 ? r.point_spacing : s.fov_height / 40;
+  if (area / (points * points) > kMostSurfacePoints)
+    throw InputError(source, fmt::format("registration.point_spacing: surface points every {:.3g} mm "
+                                         "are more than 30 million over {} ({:.0f} mm²); at least "
+                                         "{:.3g} mm",
+                                         points, part.file, area, std::sqrt(area / kMostSurfacePoints)));
+  if (r.cloud_spacing > 0 && field / (r.cloud_spacing * r.cloud_spacing) > kMostCloudPoints)
+    throw InputError(source, fmt::format("registration.cloud_spacing: a cloud point every {:.3g} mm is "
+                                         "more than a million points per view; at least {:.3g} mm",
+                                         r.cloud_spacing, std::sqrt(field / kMostCloudPoints)));
+}
+
 }  // namespace
 
 ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   ResolvedSpec resolved;
   resolved.spec = spec;
   resolved.source = spec.source.empty() ? part.file : spec.source;
+  checkScale(part, spec, resolved.source);
   if (spec.gdt_from_file) {
     resolved.gdt_faces = gdtFaces(part);
     if (resolved.gdt_faces.empty())

@@ -319,6 +319,35 @@ TEST(SpecErrors, MarkerGridOfAMillionMarkers) {
   EXPECT_PRED2(contains, reason, "more than a million markers");
 }
 
+// Settings absurd for the part's size are refused naming the key and a sensible value:
+// a 0.5 mm field of view on a 100 mm cube (60,000 mm²) would take 240,000 views to
+// cover once; surface points every 0.01 mm would be 600 million.
+TEST(SpecErrors, SettingsAbsurdForThePartsSize) {
+  test::TempDir dir;
+  TriangleMesh mesh;
+  test::addCube(mesh, Vec3::Zero(), 100, 1);
+  const Part part = test::meshPart(mesh);
+  auto reason = [&](const std::string& text) {
+    test::writeText(dir.file("spec.yaml"), text);
+    return inputError(dir.file("spec.yaml"), [&] { resolveSpec(part, loadSpec(dir.file("spec.yaml"))); });
+  };
+  EXPECT_PRED2(contains, reason("scanner: {preset: laser-line, fov_width: 0.5, fov_height: 0.5}\n"),
+               "takes 240000 views, more than planner.most_views (10000); a field of at least "
+               "2.45 x 2.45 mm");
+  EXPECT_PRED2(contains,
+               reason("scanner: {preset: laser-line, fov_width: 0.5, fov_height: 0.5}\n"
+                      "planner: {most_views: 100000}\n"),
+               "a field of at least 0.775 x 0.775 mm");
+  EXPECT_PRED2(contains, reason("registration: {point_spacing: 0.01}\n"),
+               "registration.point_spacing: surface points every 0.01 mm are more than 30 million");
+  EXPECT_PRED2(contains, reason("registration: {cloud_spacing: 0.01}\n"),
+               "registration.cloud_spacing: a cloud point every 0.01 mm is more than a million "
+               "points per view; at least 0.26 mm");
+  // The same field of view is sensible on a part its size allows.
+  test::writeText(dir.file("spec.yaml"), "scanner: {preset: laser-line, fov_width: 3, fov_height: 3}\n");
+  EXPECT_NO_THROW(resolveSpec(part, loadSpec(dir.file("spec.yaml"))));
+}
+
 TEST(InputFiles, ADirectoryIsNotAFile) {
   test::TempDir dir;
   std::filesystem::create_directory(dir.file("folder"));

@@ -45,6 +45,7 @@ struct PlannerSettings {
   int selection_nodes = 200;      // the exact selection's branch-and-bound nodes (CBC)
   double selection_seconds = 8;   // and its time cap, per placement (results depend on
                                   // the machine when it is reached)
+  int most_views = 10000;         // a part larger than this many fields of view is refused
 };
 
 struct Spec {
