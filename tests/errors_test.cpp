@@ -109,6 +109,33 @@ TEST(ImportErrors, StepReferringToAMissingEntity) {
       << reason;
 }
 
+// The bundled FTC 11 test part with `from` replaced by `to`, written to `dir`; the reason
+// importPart gives for it.
+std::string editedStepError(const test::TempDir& dir, const std::string& from, const std::string& to) {
+  std::ifstream in(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find(from);
+  if (at == std::string::npos) return "'" + from + "' is not in the file";
+  text.replace(at, from.size(), to);
+  test::writeText(dir.file("edited.stp"), text);
+  return importError(dir.file("edited.stp"));
+}
+
+// An entity of the shape with a parameter removed is half-made by the STEP parser, and
+// OCCT's translator would follow it into a crash; a face whose bound is removed is an
+// untrimmed surface of endless area. Both are refused, naming the entity or the face.
+TEST(ImportErrors, StepWithAnEntityOrABoundRemoved) {
+  test::TempDir dir;
+  EXPECT_PRED2(contains,
+               editedStepError(dir, "#632=EDGE_CURVE('',#624,#624,#610,.T.);",
+                               "#632=EDGE_CURVE('',#624,#610,.T.);"),
+               "entity #632 (StepShape_EdgeCurve) cannot be read: Count of Parameters is not 5");
+  EXPECT_PRED2(contains,
+               editedStepError(dir, "#679=ADVANCED_FACE('',(#593,#579),#581,.T.);",
+                               "#679=ADVANCED_FACE('',(),#581,.T.);"),
+               "more than the part can hold: it has no boundary");
+}
+
 TEST(ImportErrors, StepWithoutGeometry) {
   test::TempDir dir;
   test::writeText(dir.file("nogeometry.step"),

@@ -208,6 +208,12 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
     throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
                                        "length unit the file declares ({})",
                                        extent, part.file_unit.empty() ? "none" : part.file_unit));
+  // A face without a boundary (an untrimmed plane) has an area without end.
+  for (const Face& face : part.faces)
+    if (!(face.area <= kLongestLength * kLongestLength))
+      throw InputError(path, fmt::format("face {} has an area of {:.3g} mm², more than the part "
+                                         "can hold: it has no boundary",
+                                         face.id, face.area));
   if (extent < 1.0)
     part.warnings.push_back("the part is only " + std::to_string(extent) +
                             " mm across: check the length unit the file declares (" +

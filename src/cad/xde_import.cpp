@@ -13,6 +13,9 @@
 #include <IGESCAFControl_Reader.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <Interface_InterfaceModel.hxx>
 #include <Interface_Static.hxx>
 #include <Quantity_Color.hxx>
 #include <STEPCAFControl_Controller.hxx>
@@ -22,7 +25,15 @@
 #include <TCollection_AsciiString.hxx>
 #include <TDF_LabelSequence.hxx>
 #include <TDF_Tool.hxx>
+#include <StepGeom_Curve.hxx>
+#include <StepGeom_Direction.hxx>
+#include <StepGeom_Placement.hxx>
+#include <StepGeom_Point.hxx>
+#include <StepGeom_Surface.hxx>
+#include <StepGeom_Vector.hxx>
+#include <StepShape_TopologicalRepresentationItem.hxx>
 #include <TDataStd_Name.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS_Compound.hxx>
@@ -163,6 +174,37 @@ Handle(TDocStd_Document) newDocument() {
   return doc;
 }
 
+// Points, directions, placements, curves, surfaces and topology: what the shape
+// translator reads (presentation and PMI entities are not).
+bool isShapeGeometry(const Handle(Standard_Transient) & entity) {
+  for (const Handle(Standard_Type)& type :
+       {STANDARD_TYPE(StepGeom_Point), STANDARD_TYPE(StepGeom_Direction),
+        STANDARD_TYPE(StepGeom_Vector), STANDARD_TYPE(StepGeom_Placement),
+        STANDARD_TYPE(StepGeom_Curve), STANDARD_TYPE(StepGeom_Surface),
+        STANDARD_TYPE(StepShape_TopologicalRepresentationItem)})
+    if (entity->IsKind(type)) return true;
+  return false;
+}
+
+// A geometric or topological entity the STEP parser could not read as its type (a
+// parameter missing, or of the wrong kind) is left half-made, and OCCT's translator
+// follows it into a crash: the file is refused, naming the entity. (Files in use carry
+// such failures in their PMI, which the translator tolerates.)
+void refuseBrokenGeometry(XSControl_Reader& reader, const std::string& path) {
+  const Handle(XSControl_WorkSession) session = reader.WS();
+  const Handle(Interface_InterfaceModel) model = session->Model();
+  const Interface_CheckIterator checks = session->ModelCheckList(false);
+  for (checks.Start(); checks.More(); checks.Next()) {
+    const int number = checks.Number();
+    if (!checks.Value()->HasFailed() || number < 1 || number > model->NbEntities()) continue;
+    const Handle(Standard_Transient) entity = model->Value(number);
+    if (!isShapeGeometry(entity)) continue;
+    throw InputError(path, "entity " + std::string(model->StringLabel(entity)->ToCString()) +
+                               " (" + entity->DynamicType()->Name() +
+                               ") cannot be read: " + checks.Value()->CFail(1));
+  }
+}
+
 // Reads a STEP or IGES file into a new XDE document, filling the file's declared unit.
 Handle(TDocStd_Document)
     readExchangeFile(const std::string& path, const std::string& format,
@@ -186,6 +228,7 @@ Handle(TDocStd_Document)
     reader.SetViewMode(false);
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
       throw InputError(path, "not a readable STEP file: the STEP parser rejected it");
+    refuseBrokenGeometry(reader.ChangeReader(), path);
     TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
     reader.ChangeReader().FileUnits(lengths, angles, solid_angles);
     if (!lengths.IsEmpty()) part.file_unit = lowercase(lengths.First().ToCString());
