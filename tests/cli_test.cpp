@@ -97,6 +97,7 @@ TEST(Cli, BadUsageIsExitCodeOne) {
   EXPECT_EQ(run("frobnicate").code, 1);
   EXPECT_EQ(run("info").code, 1);
   EXPECT_EQ(run("info x.step --deflection nonsense").code, 1);
+  EXPECT_EQ(run("--threads 0 info x.step").code, 1);
 }
 
 TEST(Cli, SimulateTwoViewsWithClouds) {
@@ -185,8 +186,11 @@ TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {
       << r.out;
 }
 
+// Also: a picture an earlier run left in the folder does not stay beside this run's plan.
 TEST(Cli, PlanWritesPlanJsonAndSummary) {
   test::TempDir dir;
+  std::filesystem::create_directory(dir.file("out"));
+  test::writeText(dir.file("out/plan.png"), "an earlier run's picture");
   CommandResult r = run("plan " + test::example("parts/nist_ctc_01_asme1_ap242-e1.stp") + " -o " +
                         dir.file("out") + " --no-registration");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -196,6 +200,8 @@ TEST(Cli, PlanWritesPlanJsonAndSummary) {
   ASSERT_TRUE(in.good());
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"format\": \"scanplan.plan\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir.file("out/report.html")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/plan.png")));
 }
 
 // The bundled example as `scanplan plan` planned it once for the test run (support.h).

@@ -415,5 +415,45 @@ TEST(OutputFiles, OnlyRegularFilesAreWrittenAndLinksAreKept) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("cut.txt")));
 }
 
+// A run's files are written as a set: none is in place before all are written, a failed
+// or interrupted set leaves none (and no temporary), and a file of the set the run does
+// not write is removed, so that no earlier run's file sits beside the new ones.
+TEST(OutputFiles, ARunsFilesAreWrittenAsASet) {
+  test::TempDir dir;
+  auto write = [](const std::string& path, const std::string& text) {
+    writeFileAtomically(path, [&](std::ostream& out) { out << text; });
+  };
+  auto files = [&] {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir.file("")))
+      names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  write(dir.file("report.html"), "an earlier run's report");
+  {
+    FileSet outputs;
+    write(outputs.stage(dir.file("plan.json")), "{}");
+    outputs.drop(dir.file("report.html"));
+    EXPECT_FALSE(std::filesystem::exists(dir.file("plan.json")));
+    outputs.commit();
+  }
+  EXPECT_EQ(files(), std::vector<std::string>{"plan.json"});
+  {
+    FileSet outputs;  // fails after its first file: nothing changes
+    write(outputs.stage(dir.file("plan.json")), "a new plan");
+    EXPECT_THROW(write(outputs.stage(dir.file("folder/report.html")), "x"), OutputError);
+  }
+  EXPECT_EQ(files(), std::vector<std::string>{"plan.json"});
+  std::ifstream plan(dir.file("plan.json"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(plan), {}), "{}");
+  {
+    FileSet outputs;  // interrupted: the handler removes the staged files
+    write(outputs.stage(dir.file("views.csv")), "x");
+    removeTemporaries();
+    EXPECT_EQ(files(), std::vector<std::string>{"plan.json"});
+  }
+}
+
 }  // namespace
 }  // namespace scanplan

@@ -6,6 +6,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
+#include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
 #include <scanplan/report.h>
@@ -60,6 +61,43 @@ void printTaskRows(const Plan& plan, const Part& part) {
                100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
 }
 
+// Earlier runs' surface patches in `outdir` (patch-N.step), for `outputs` to drop.
+void dropPatches(const std::filesystem::path& outdir, FileSet& outputs) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(outdir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("patch-") && name.ends_with(".step")) outputs.drop(entry.path().string());
+  }
+}
+
+// Into `outputs`: the surface task's interpolated patches, plan.json, and as asked
+// report.html and plan.png; the files of the set this run does not write are dropped.
+// Returns the report's seconds.
+double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Options& options,
+                    FileSet& outputs, const Progress& progress) {
+  const std::filesystem::path outdir(options.outdir);
+  dropPatches(outdir, outputs);
+  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
+    Sweep& sweep = plan.sweeps[k];
+    if (!sweep.patch) continue;
+    sweep.patch_file = fmt::format("patch-{}.step", k + 1);
+    writePatch(*sweep.patch, outputs.stage((outdir / sweep.patch_file).string()));
+  }
+  writePlan(plan, outputs.stage((outdir / "plan.json").string()));
+  const auto report_start = std::chrono::steady_clock::now();
+  if (options.report)
+    writeReport(plan, part, spec, outputs.stage((outdir / "report.html").string()), {}, progress);
+  else
+    outputs.drop((outdir / "report.html").string());
+  const double report_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
+  if (options.png)
+    writePng(renderScene(planScene(plan, part)), outputs.stage((outdir / "plan.png").string()));
+  else
+    outputs.drop((outdir / "plan.png").string());
+  return report_seconds;
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
@@ -71,27 +109,21 @@ int run(const Options& options, const GlobalOptions& global) {
   std::error_code ec;
   std::filesystem::create_directories(options.outdir, ec);
   if (ec) throw OutputError(options.outdir, "cannot create the folder: " + ec.message());
-  const std::string markers_csv = (std::filesystem::path(options.outdir) / kProposedMarkers).string();
-  const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
-  if (proposed) writeMarkers(plan.proposed_markers->markers, markers_csv);
-  if (proposed && options.place_markers)
-    plan = withProposedMarkers(part, spec, plan, markers_csv, planning, progress);
-  // The surface task's interpolated patches, to be looked at beside the plan.
-  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
-    Sweep& sweep = plan.sweeps[k];
-    if (!sweep.patch) continue;
-    sweep.patch_file = fmt::format("patch-{}.step", k + 1);
-    writePatch(*sweep.patch, (std::filesystem::path(options.outdir) / sweep.patch_file).string());
-  }
-  const std::string path = (std::filesystem::path(options.outdir) / "plan.json").string();
-  writePlan(plan, path);
   const std::filesystem::path outdir(options.outdir);
-  const auto report_start = std::chrono::steady_clock::now();
-  if (options.report)
-    writeReport(plan, part, spec, (outdir / "report.html").string(), {}, progress);
-  const double report_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
-  if (options.png) writePng(renderScene(planScene(plan, part)), (outdir / "plan.png").string());
+  const std::string markers_csv = (outdir / kProposedMarkers).string();
+  const std::string path = (outdir / "plan.json").string();
+  FileSet outputs;
+  const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
+  if (proposed) {
+    const std::string staged = outputs.stage(markers_csv);
+    writeMarkers(plan.proposed_markers->markers, staged);
+    if (options.place_markers)
+      plan = withProposedMarkers(part, spec, plan, staged, planning, progress);
+  } else {
+    outputs.drop(markers_csv);
+  }
+  const double report_seconds = writeOutputs(plan, part, spec, options, outputs, progress);
+  outputs.commit();
   clearProgress();
 
   printTaskRows(plan, part);

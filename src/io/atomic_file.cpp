@@ -7,7 +7,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
+#include <vector>
 
 namespace scanplan {
 
@@ -15,7 +17,7 @@ namespace {
 
 // The temporaries being written, for removeTemporaries(): fixed slots that a signal handler
 // may read without allocating.
-constexpr std::size_t kSlots = 16, kLongestPath = 4096;
+constexpr std::size_t kSlots = 64, kLongestPath = 4096;
 char g_temporaries[kSlots][kLongestPath];
 std::mutex g_slots;
 
@@ -92,6 +94,46 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
     out.flush();
     if (!out.good()) throw OutputError(path, "write failed");
   });
+}
+
+struct FileSet::Impl {
+  struct Staged {
+    std::string path;
+    std::filesystem::path target, temporary;
+    std::unique_ptr<RegisteredTemporary> registered;
+  };
+  std::vector<Staged> staged;
+  std::vector<std::string> dropped;
+  bool committed = false;
+};
+
+FileSet::FileSet() : impl_(std::make_unique<Impl>()) {}
+
+FileSet::~FileSet() {
+  if (impl_->committed) return;
+  for (const Impl::Staged& s : impl_->staged) std::remove(s.temporary.c_str());
+}
+
+std::string FileSet::stage(const std::string& path) {
+  Impl::Staged s{path, destination(path), {}, {}};
+  // Beside the target, with its extension, which some writers go by.
+  s.temporary = s.target;
+  s.temporary.replace_filename(s.target.stem().string() + ".staged" + s.target.extension().string());
+  s.registered = std::make_unique<RegisteredTemporary>(s.temporary.string());
+  impl_->staged.push_back(std::move(s));
+  return impl_->staged.back().temporary.string();
+}
+
+void FileSet::drop(const std::string& path) { impl_->dropped.push_back(path); }
+
+void FileSet::commit() {
+  for (const Impl::Staged& s : impl_->staged) {
+    std::error_code ec;
+    std::filesystem::rename(s.temporary, s.target, ec);
+    if (ec) throw OutputError(s.path, "cannot be written: " + ec.message());
+  }
+  impl_->committed = true;
+  for (const std::string& path : impl_->dropped) std::remove(path.c_str());
 }
 
 void removeTemporaries() noexcept {

@@ -3,6 +3,7 @@
 // into place.
 
 #include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 
@@ -19,7 +20,32 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 void writeFileAtomically(const std::string& path,
                          const std::function<void(const std::string&)>& write_file);
 
-// Removes the temporaries of the writes under way (up to 16 at once). Async-signal-safe:
+// The files of one run, written as a set: each is written to a temporary beside its path,
+// and all are renamed into place by commit(). Until then a failure, or a signal
+// (removeTemporaries), leaves none of them, and no file of the set beside another run's.
+class FileSet {
+ public:
+  FileSet();
+  ~FileSet();  // without commit(): removes the temporaries
+  FileSet(const FileSet&) = delete;
+  FileSet& operator=(const FileSet&) = delete;
+
+  // The file to write `path` to (with any writer, itself atomic): a temporary until
+  // commit(). \throw OutputError when `path` is a directory or a device.
+  std::string stage(const std::string& path);
+  // `path` belongs to the set but this run does not write it: commit() removes an earlier
+  // run's file there.
+  void drop(const std::string& path);
+  // Renames every staged file into place and removes the dropped ones.
+  // \throw OutputError naming the file that could not be renamed.
+  void commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Removes the temporaries of the writes under way (up to 64 at once). Async-signal-safe:
 // for a handler of SIGINT and SIGTERM, so that an interrupted run leaves none behind.
 void removeTemporaries() noexcept;
 
