@@ -186,6 +186,10 @@ class SpecReader {
     double* lengths[] = {&r.a1, &r.a2, &r.b, &r.c1, &r.c2, &r.c3, &r.c4};
     const char* names[] = {"a1", "a2", "b", "c1", "c2", "c3", "c4"};
     for (int i = 0; i < 7; ++i)
+      if (node[names[i]] && r.offset_wrist)
+        fail(key + "." + names[i] + ": an ortho-parallel length, but " + r.name +
+             " has an offset wrist (its lengths come with the preset)");
+    for (int i = 0; i < 7; ++i)
       if (node[names[i]]) *lengths[i] = scalar<double>(node[names[i]], key + "." + names[i]);
     if (node["offsets"]) r.offsets = joints(node["offsets"], key + ".offsets");
     if (node["lower"]) r.lower = joints(node["lower"], key + ".lower");
@@ -207,7 +211,7 @@ class SpecReader {
         r.signs[i] = static_cast<int>(signs[i]);
       }
     }
-    if (!(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
+    if (!r.offset_wrist && !(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
       fail(key + ": c2 and c3 must be positive and c4 not negative (mm)");
     for (int i = 0; i < 7; ++i)
       if (!(std::abs(*lengths[i]) <= kLongestLength))

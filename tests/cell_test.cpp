@@ -173,6 +173,31 @@ TEST(Cell, PlanKeepsOnlyReachableViewsAndSaysWhatIsOutOfReach) {
   EXPECT_EQ(json["summary"]["robot"]["unreached_views"], 0);
 }
 
+// A collaborative cell: a UR10e (offset wrist) beside a rotary table, read from the spec,
+// measures every side of a cube but the one it stands on; each view's joints put the
+// flange where the view needs it, at its table angle.
+TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 100).Shape(), dir.file("cube.brep").c_str());
+  const Part part = importPart(dir.file("cube.brep"));
+  test::writeText(dir.file("spec.yaml"),
+                  "cell:\n  robot: {preset: ur10e, base: {position: [-750, 50, 0]}}\n"
+                  "  table: {origin: [50, 50, 0]}\n");
+  const Plan plan = planViews(part, loadSpec(dir.file("spec.yaml")));
+  ASSERT_TRUE(plan.cell && plan.cell->robot.offset_wrist);
+  ASSERT_FALSE(plan.views.empty());
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    ASSERT_TRUE(plan.cell_poses[v]) << plan.views[v].id;
+    const CellPose& pose = *plan.cell_poses[v];
+    EXPECT_TRUE(forwardKinematics(plan.cell->robot, pose.joints)
+                    .isApprox(flangeFor(*plan.cell, plan.views[v], pose.table_angle), 1e-9));
+  }
+  for (const PlannedSample& s : plan.samples) {
+    if (s.sample.normal.z() < -0.99) continue;  // the face the cube stands on
+    EXPECT_FALSE(s.measured_by.empty()) << s.sample.position.transpose();
+  }
+}
+
 TEST(Cell, RotaryTableMeasuresTheFarSide) {
   test::TempDir dir;
   const Plan plan = cubePlanInCell(dir, true);

@@ -1,5 +1,6 @@
 // Robot kinematics: forward kinematics against hand-computed poses, and the closed-form
-// inverse against forward kinematics on random poses of every preset.
+// inverse against forward kinematics on random poses of every preset (the ortho-parallel
+// arms and the offset-wrist Universal Robots).
 
 #include "support.h"
 
@@ -37,6 +38,21 @@ TEST(Robot, HomePoseOfTheKukaIsItsDrawing) {
   EXPECT_LT((home.linear().col(2) - Vec3::UnitX()).norm(), 1e-12);
   EXPECT_NEAR(home.translation().x(), 25 + 365 + 80, 1e-9);
   EXPECT_NEAR(home.translation().z(), 400 + 315 + 35, 1e-9);
+}
+
+// A UR5e with every joint at 0, from its Denavit-Hartenberg table: the arm stretched
+// along -x, the flange at (a2 + a3, -(d4 + d6), d1 - d5), its axis along -y.
+TEST(Robot, ZeroPoseOfTheUr5eIsItsDrawing) {
+  const RobotModel ur = robotPreset("ur5e");
+  ASSERT_TRUE(ur.offset_wrist);
+  const Pose zero = forwardKinematics(ur, Joints{});
+  EXPECT_LT((zero.translation() - Vec3(-425 - 392.2, -(133.3 + 99.6), 162.5 - 99.7)).norm(), 1e-9);
+  EXPECT_LT((zero.linear().col(2) - Vec3(0, -1, 0)).norm(), 1e-12);
+  // Joint 1 at 90° turns it all about z; joint 2 at -90° lifts the arm straight up.
+  const Pose turned = forwardKinematics(ur, {M_PI / 2, 0, 0, 0, 0, 0});
+  EXPECT_LT((turned.translation() - Vec3(133.3 + 99.6, -425 - 392.2, 162.5 - 99.7)).norm(), 1e-9);
+  const std::array<Vec3, 4> up = jointCentres(ur, {0, -M_PI / 2, 0, 0, 0, 0});
+  EXPECT_LT((up[2] - Vec3(0, 0, 162.5 + 425 + 392.2)).norm(), 1e-9);
 }
 
 TEST(Robot, InverseOfForwardOnRandomPosesOfEveryPreset) {

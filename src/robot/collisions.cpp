@@ -80,8 +80,10 @@ CellCollisions::CellCollisions(const Cell& cell, const TriangleMesh& part,
   d.working_plane = working_plane;
   const RobotModel& r = cell.robot;
   d.radii = r.link_radii;
-  if (d.radii[0] <= 0) d.radii[0] = 0.1 * r.c2 + 20;
-  if (d.radii[1] <= 0) d.radii[1] = 0.1 * std::hypot(r.a2, r.c3) + 20;
+  const double upper = r.offset_wrist ? std::abs(r.offset_wrist->a2) : r.c2;
+  const double fore = r.offset_wrist ? std::abs(r.offset_wrist->a3) : std::hypot(r.a2, r.c3);
+  if (d.radii[0] <= 0) d.radii[0] = 0.1 * upper + 20;
+  if (d.radii[1] <= 0) d.radii[1] = 0.1 * fore + 20;
   if (d.radii[2] <= 0) d.radii[2] = 60;
 
   for (const TriangleMesh& mesh : cell.link_meshes) {

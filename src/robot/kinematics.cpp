@@ -1,7 +1,10 @@
 // Forward and closed-form inverse kinematics of ortho-parallel robots with a spherical
 // wrist (Brandstötter, Angerer, Hofbaur 2014): the wrist centre C = flange - c4 * z gives
 // joints 1-3 (two shoulder solutions, each with elbow up and down), the rotation left for
-// the wrist gives joints 4-6 (and the flipped wrist).
+// the wrist gives joints 4-6 (and the flipped wrist). Offset-wrist arms are solved in
+// robot/offset_wrist.cpp; what follows is shared.
+
+#include "robot/offset_wrist.h"
 
 #include <scanplan/errors.h>
 #include <scanplan/robot/kinematics.h>
@@ -50,13 +53,47 @@ std::optional<double> withinLimits(double angle, double lower, double upper, dou
 
 }  // namespace
 
-double RobotModel::reach() const { return c2 + std::hypot(a2, c3) + c4; }
-
-std::vector<std::string> robotPresets() {
-  return {"kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205"};
+double RobotModel::reach() const {
+  if (offset_wrist) {
+    const OffsetWrist& w = *offset_wrist;
+    return std::abs(w.a2) + std::abs(w.a3) + w.d5 + w.d6;
+  }
+  return c2 + std::hypot(a2, c3) + c4;
 }
 
+std::vector<std::string> robotPresets() {
+  return {"kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e", "ur10e", "ur16e"};
+}
+
+namespace {
+
+// Universal Robots e-Series: Denavit-Hartenberg lengths from Universal Robots' "DH
+// parameters for calculations of kinematics and dynamics"; every joint turns ±360°;
+// speeds from the e-Series technical specifications.
+std::optional<RobotModel> universalRobot(std::string_view name) {
+  RobotModel r;
+  r.name = std::string(name);
+  if (name == "ur5e") {
+    r.offset_wrist = OffsetWrist{162.5, -425, -392.2, 133.3, 99.7, 99.6};
+    r.speeds = degrees({180, 180, 180, 180, 180, 180});
+  } else if (name == "ur10e") {
+    r.offset_wrist = OffsetWrist{180.7, -612.7, -571.55, 174.15, 119.85, 116.55};
+    r.speeds = degrees({120, 120, 180, 180, 180, 180});
+  } else if (name == "ur16e") {
+    r.offset_wrist = OffsetWrist{180.7, -478.4, -360, 174.15, 119.85, 116.55};
+    r.speeds = degrees({120, 120, 180, 180, 180, 180});
+  } else {
+    return std::nullopt;
+  }
+  r.lower = degrees({-360, -360, -360, -360, -360, -360});
+  r.upper = degrees({360, 360, 360, 360, 360, 360});
+  return r;
+}
+
+}  // namespace
+
 RobotModel robotPreset(std::string_view name, const std::string& source) {
+  if (std::optional<RobotModel> ur = universalRobot(name)) return *ur;
   RobotModel r;
   r.name = std::string(name);
   if (name == "kuka-kr6-r700-sixx") {
@@ -97,6 +134,7 @@ RobotModel robotPreset(std::string_view name, const std::string& source) {
 
 Pose forwardKinematics(const RobotModel& r, const Joints& joints) {
   const Joints q = modelAngles(r, joints);
+  if (r.offset_wrist) return detail::offsetWristFrames(*r.offset_wrist, q)[5];
   const double psi3 = std::atan2(r.a2, r.c3), k = std::hypot(r.a2, r.c3);
   // Wrist centre in the plane of the arm, then turned by joint 1.
   const double x1 = r.c2 * std::sin(q[1]) + k * std::sin(q[1] + q[2] + psi3) + r.a1;
@@ -117,6 +155,10 @@ Pose forwardKinematics(const RobotModel& r, const Joints& joints) {
 
 std::array<Vec3, 4> jointCentres(const RobotModel& r, const Joints& joints) {
   const Joints q = modelAngles(r, joints);
+  if (r.offset_wrist) {
+    const std::array<Pose, 6> f = detail::offsetWristFrames(*r.offset_wrist, q);
+    return {f[0].translation(), f[1].translation(), f[2].translation(), f[5].translation()};
+  }
   const double psi3 = std::atan2(r.a2, r.c3), k = std::hypot(r.a2, r.c3);
   // In the arm's plane (x out, z up), then turned by joint 1.
   const Eigen::AngleAxisd turn(q[0], Vec3::UnitZ());
@@ -130,6 +172,12 @@ std::array<Vec3, 4> jointCentres(const RobotModel& r, const Joints& joints) {
 
 std::array<Pose, 3> linkMotions(const RobotModel& r, const Joints& joints) {
   const Joints q = modelAngles(r, joints);
+  if (r.offset_wrist) {
+    // Each link's frame at `joints` against its frame at the zero pose.
+    const std::array<Pose, 6> at = detail::offsetWristFrames(*r.offset_wrist, q);
+    const std::array<Pose, 6> zero = detail::offsetWristFrames(*r.offset_wrist, Joints{});
+    return {at[1] * zero[1].inverse(), at[2] * zero[2].inverse(), at[5] * zero[5].inverse()};
+  }
   auto about = [](const Vec3& point, const Vec3& axis, double angle) {
     return Pose(Eigen::Translation3d(point) * Eigen::AngleAxisd(angle, axis) *
                 Eigen::Translation3d(-point));
@@ -147,6 +195,7 @@ namespace {
 
 // The up to 8 model-angle solutions, NaN where a configuration does not exist.
 std::array<Joints, 8> solutions(const RobotModel& r, const Pose& flange) {
+  if (r.offset_wrist) return detail::offsetWristSolutions(*r.offset_wrist, flange);
   const Eigen::Matrix3d& m = flange.linear();
   const Vec3 c = flange.translation() - r.c4 * m.col(2);
   const double nx1 = std::sqrt(c.x() * c.x() + c.y() * c.y() - r.b * r.b) - r.a1;

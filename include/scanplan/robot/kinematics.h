@@ -1,9 +1,13 @@
 #pragma once
-// The inspection cell's robot: a 6-axis industrial arm with a spherical wrist, described
-// by its ortho-parallel ("OPW") kinematic parameters, with the closed-form inverse
-// kinematics of Brandstötter, Angerer and Hofbaur, "An analytical solution of the inverse
-// kinematics problem of industrial serial manipulators with an ortho-parallel basis and a
-// spherical wrist", Austrian Robotics Workshop 2014 (docs/cell.md).
+// The inspection cell's robot (docs/cell.md), a 6-axis arm of one of two families:
+// - an industrial arm with a spherical wrist, described by its ortho-parallel ("OPW")
+//   parameters, with the closed-form inverse kinematics of Brandstötter, Angerer and
+//   Hofbaur, "An analytical solution of the inverse kinematics problem of industrial serial
+//   manipulators with an ortho-parallel basis and a spherical wrist", Austrian Robotics
+//   Workshop 2014;
+// - an offset-wrist arm (Universal Robots), described by its Denavit-Hartenberg lengths,
+//   with the closed form of Hawkins, "Analytic Inverse Kinematics for the Universal Robots
+//   UR-5/UR-10 Arms" (2013).
 
 #include <scanplan/view.h>
 
@@ -16,6 +20,14 @@
 namespace scanplan {
 
 using Joints = std::array<double, 6>;  // radians, as the controller counts them
+
+// An offset-wrist arm's standard Denavit-Hartenberg lengths, mm (the manufacturer's
+// table): base height d1, upper arm a2 and forearm a3 (negative, as Universal Robots give
+// them), wrist offsets d4, d5 and flange d6. The twists are the family's: 90°, 0, 0, 90°,
+// -90°, 0.
+struct OffsetWrist {
+  double d1 = 0, a2 = 0, a3 = 0, d4 = 0, d5 = 0, d6 = 0;
+};
 
 // Ortho-parallel parameters (the paper's figure 1), mm: a1 shoulder offset along x, a2
 // elbow offset, b lateral offset, c1 base height, c2 upper arm, c3 forearm, c4 wrist to
@@ -30,12 +42,17 @@ struct RobotModel {
   // Radii of the upper arm, the forearm and the wrist for collisions, mm; 0: sized from
   // the lengths (upper arm and forearm 0.1 x length + 20 mm, wrist 60 mm).
   std::array<double, 3> link_radii{};
+  // Set: an offset-wrist arm, whose model angles are the Denavit-Hartenberg angles; the
+  // ortho-parallel lengths are then unused.
+  std::optional<OffsetWrist> offset_wrist;
 
-  // Distance from the shoulder axis to the wrist centre when stretched, mm.
+  // Distance from the shoulder axis to the wrist centre (to the flange, for an offset
+  // wrist) when stretched, mm.
   double reach() const;
 };
 
-// The presets: "kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205".
+// The presets: "kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e",
+// "ur10e", "ur16e".
 std::vector<std::string> robotPresets();
 // \throw InputError (naming `source`) for an unknown preset.
 RobotModel robotPreset(std::string_view name, const std::string& source = "spec");
@@ -44,7 +61,7 @@ RobotModel robotPreset(std::string_view name, const std::string& source = "spec"
 Pose forwardKinematics(const RobotModel& robot, const Joints& joints);
 
 // The arm's joint centres in the base frame for `joints`: shoulder (axis 2), elbow (axis
-// 3), wrist centre, flange.
+// 3), wrist centre (of an offset wrist: axis 4), flange.
 std::array<Vec3, 4> jointCentres(const RobotModel& robot, const Joints& joints);
 
 // Where the upper arm, the forearm and the wrist have moved to at `joints` from the
