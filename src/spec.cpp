@@ -211,17 +211,7 @@ class SpecReader {
         r.signs[i] = static_cast<int>(signs[i]);
       }
     }
-    if (!r.offset_wrist && !(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
-      fail(key + ": c2 and c3 must be positive and c4 not negative (mm)");
-    for (int i = 0; i < 7; ++i)
-      if (!(std::abs(*lengths[i]) <= kLongestLength))
-        fail(key + "." + names[i] + " must be at most 100,000 mm");
-    for (int i = 0; i < 6; ++i) {
-      if (!(r.lower[i] < r.upper[i]))
-        fail(key + ": joint " + std::to_string(i + 1) + " has lower >= upper");
-      if (!(r.speeds[i] > 0))
-        fail(key + ".speeds: joint " + std::to_string(i + 1) + " needs a positive speed");
-    }
+    validate(r, path_, key);
     return r;
   }
 

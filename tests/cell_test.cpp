@@ -196,6 +196,16 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
     if (s.sample.normal.z() < -0.99) continue;  // the face the cube stands on
     EXPECT_FALSE(s.measured_by.empty()) << s.sample.position.transpose();
   }
+  // plan.json carries the cell whole, and each view's joints.
+  writePlan(plan, dir.file("plan.json"));
+  const Plan back = readPlan(dir.file("plan.json"));
+  ASSERT_TRUE(back.cell && back.cell->robot.offset_wrist && back.cell->table);
+  EXPECT_EQ(back.cell->robot.offset_wrist->a3, -571.55);
+  EXPECT_TRUE(back.cell->base.isApprox(plan.cell->base));
+  ASSERT_EQ(back.cell_poses.size(), plan.views.size());
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    EXPECT_TRUE(forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
+                    .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
 }
 
 TEST(Cell, RotaryTableMeasuresTheFarSide) {

@@ -422,7 +422,15 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
 
   r = run("export " + out + "/plan.json --format csv -o " + dir.file("views.csv"));
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(readViewsCsv(dir.file("views.csv")).size(), plan.views.size());
+  // In the order the cell takes them: the plan's sequence.
+  const std::vector<View> in_order = readViewsCsv(dir.file("views.csv"));
+  ASSERT_TRUE(plan.sequence);
+  ASSERT_EQ(in_order.size(), plan.sequence->views.size());
+  for (std::size_t k = 0; k < in_order.size(); ++k) EXPECT_EQ(in_order[k].id, plan.sequence->views[k]);
+  std::ifstream csv(dir.file("views.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.substr(0, 16), "sequence,id,m00,");
   r = run("export " + out + "/plan.json " + part + " --format samples-ply -o " +
           dir.file("samples.ply") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -490,8 +498,17 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
        at = krl.find("PTP {E6AXIS", at + 1))
     ++moves;
   EXPECT_EQ(moves, plan.views.size());
-  // Without a cell in the spec there is no robot to write for.
-  r = run("export " + out + "/plan.json --format rapid -o " + dir.file("x.mod") + " -q");
+  // The plan carries its cell: without --spec the program is the same.
+  std::filesystem::create_directory(dir.file("again"));
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("again/cell_plan.src") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream again(dir.file("again/cell_plan.src"));
+  const std::string krl_again{std::istreambuf_iterator<char>(again), {}};
+  EXPECT_EQ(krl_again.substr(krl_again.find("DEF ")), krl.substr(krl.find("DEF ")));
+  // A plan made without a cell has no robot to write for.
+  r = run("plan " + part + " -o " + dir.file("plain") + " --no-report --no-registration -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("export " + dir.file("plain/plan.json") + " --format rapid -o " + dir.file("x.mod") + " -q");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("cell"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.mod")));

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <map>
 
 namespace scanplan::cli {
 namespace {
@@ -98,10 +99,35 @@ struct ExportCommand {
   double spacing = 1;
 };
 
+// The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
+void writeProgram(const Checked& c, const ExportCommand& options) {
+  const std::optional<Cell>& cell = c.spec.cell ? c.spec.cell : c.plan.cell;
+  if (!cell)
+    throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
+                     "robot programs need the cell: the plan carries none (made without one, "
+                     "or with link meshes); give a spec with cell.robot (--spec)");
+  // KRL wants the program named as its file.
+  const std::string name = std::filesystem::path(options.out).stem().string();
+  const SimulationOptions placed =
+      simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
+  const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
+                                  placed.working_plane, cell->clearance);
+  const RobotProgram program = robotProgram(c.plan, *cell, name, options.input.plan, &collisions);
+  const std::string language = options.format == "robot-json" ? "json" : options.format;
+  writeRobotProgram(program, language, options.out);
+  if (!program.unreached.empty())
+    fmt::print("left out  {} views the cell cannot reach\n", program.unreached.size());
+}
+
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
   refuseInputAsOutput(options.out, options.input);
   if (options.format == "csv") {
-    writeViewsCsv(readPlan(options.input.plan).views, options.out);
+    const Plan plan = readPlan(options.input.plan);
+    std::map<int, const View*> by_id;
+    for (const View& view : plan.views) by_id[view.id] = &view;
+    std::vector<View> in_order;
+    for (int id : visitingOrder(plan)) in_order.push_back(*by_id.at(id));
+    writeViewsCsv(in_order, options.out);
   } else {
     Progress progress = terminalProgress(global.quiet);
     const Checked c = check(options.input, progress);
@@ -113,23 +139,8 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
       writeCloudsPly(c.plan, c.part, c.spec, options.spacing, options.out, progress);
     } else if (options.format == "png") {
       writePng(renderScene(planScene(c.plan, c.part)), options.out);
-    } else {  // a robot program
-      if (!c.spec.cell)
-        throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
-                         "robot programs need the cell: give a spec with cell.robot (--spec)");
-      // KRL wants the program named as its file.
-      const std::string name = std::filesystem::path(options.out).stem().string();
-      const SimulationOptions placed =
-          simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
-      const CellCollisions collisions(*c.spec.cell, c.part.mesh, c.plan.part_to_world,
-                                      placed.fixtures, placed.working_plane,
-                                      c.spec.cell->clearance);
-      const RobotProgram program =
-          robotProgram(c.plan, *c.spec.cell, name, options.input.plan, &collisions);
-      const std::string language = options.format == "robot-json" ? "json" : options.format;
-      writeRobotProgram(program, language, options.out);
-      if (!program.unreached.empty())
-        fmt::print("left out  {} views the cell cannot reach\n", program.unreached.size());
+    } else {
+      writeProgram(c, options);
     }
     clearProgress();
   }
@@ -162,7 +173,7 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       ->add_option("--format", options->format,
                    "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
                    "clouds-ply (every view's simulated cloud), csv (views), png (picture), "
-                   "krl, rapid, urscript, robot-json (robot programs; the spec's cell)")
+                   "krl, rapid, urscript, robot-json (robot programs; the plan's cell, or the spec's)")
       ->required()
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
                              "urscript", "robot-json"}));

@@ -194,20 +194,38 @@ json inDegrees(const Joints& q) {
   return values;
 }
 
+// The robot's kinematic lengths, mm, by the names of its family.
+json robotLengths(const RobotModel& r) {
+  if (r.offset_wrist) {
+    const OffsetWrist& w = *r.offset_wrist;
+    return {{"d1", w.d1}, {"a2", w.a2}, {"a3", w.a3}, {"d4", w.d4}, {"d5", w.d5}, {"d6", w.d6}};
+  }
+  return {{"a1", r.a1}, {"a2", r.a2}, {"b", r.b}, {"c1", r.c1}, {"c2", r.c2}, {"c3", r.c3}, {"c4", r.c4}};
+}
+
 // The cell (robot, mount, table), each view's joints and the plan's joint motion.
 void addCell(const Plan& plan, json& result) {
   const Cell& cell = *plan.cell;
-  json robot = {{"model", cell.robot.name},
+  const RobotModel& r = cell.robot;
+  json robot = {{"model", r.name},
+                {"family", r.offset_wrist ? "offset-wrist" : "ortho-parallel"},
+                {"lengths", robotLengths(r)},
+                {"offsets", inDegrees(r.offsets)},
+                {"signs", r.signs},
+                {"link_radii", r.link_radii},
                 {"base", matrix(cell.base)},
                 {"mount", matrix(cell.mount)},
-                {"lower", inDegrees(cell.robot.lower)},
-                {"upper", inDegrees(cell.robot.upper)},
-                {"speeds", inDegrees(cell.robot.speeds)},
+                {"lower", inDegrees(r.lower)},
+                {"upper", inDegrees(r.upper)},
+                {"speeds", inDegrees(r.speeds)},
+                {"clearance", cell.clearance},
+                {"link_meshes", cell.link_meshes.size()},
                 {"table", nullptr}};
   if (cell.table)
     robot["table"] = {{"origin", vec(cell.table->origin)},
                       {"axis", vec(cell.table->axis)},
-                      {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}}};
+                      {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}},
+                      {"step", degrees(cell.table->step)}};
   result["cell"] = robot;
   for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
     const std::optional<CellPose>& pose = plan.cell_poses[v];
@@ -442,6 +460,84 @@ struct PlanReader {
     return result;
   }
 
+  Joints joints(const json& entry, const char* key, const std::string& where) const {
+    const std::vector<double> values = field<std::vector<double>>(entry, key, path, where);
+    if (values.size() != 6) throw InputError(path, where + ": '" + key + "' is not 6 numbers");
+    Joints q{};
+    for (int i = 0; i < 6; ++i) q[i] = radians(values[i]);
+    return q;
+  }
+
+  RobotModel robot(const json& entry) const {
+    RobotModel r;
+    r.name = field<std::string>(entry, "model", path, "cell");
+    const json lengths = objectAt(entry, "lengths");
+    auto length = [&](const char* key) { return field<double>(lengths, key, path, "cell lengths"); };
+    if (fieldOr<std::string>(entry, "family", "ortho-parallel", path, "cell") == "offset-wrist") {
+      r.offset_wrist = OffsetWrist{length("d1"), length("a2"), length("a3"),
+                                   length("d4"), length("d5"), length("d6")};
+    } else {
+      r.a1 = length("a1");
+      r.a2 = length("a2");
+      r.b = length("b");
+      r.c1 = length("c1");
+      r.c2 = length("c2");
+      r.c3 = length("c3");
+      r.c4 = length("c4");
+    }
+    r.offsets = joints(entry, "offsets", "cell");
+    const std::vector<int> signs = field<std::vector<int>>(entry, "signs", path, "cell");
+    for (std::size_t i = 0; i < 6; ++i)
+      r.signs[i] = i < signs.size() && signs[i] == -1 ? -1 : 1;
+    r.lower = joints(entry, "lower", "cell");
+    r.upper = joints(entry, "upper", "cell");
+    r.speeds = joints(entry, "speeds", "cell");
+    const std::vector<double> radii = fieldOr(entry, "link_radii", std::vector<double>{}, path, "cell");
+    for (std::size_t i = 0; i < 3 && i < radii.size(); ++i) r.link_radii[i] = radii[i];
+    validate(r, path, "cell");
+    return r;
+  }
+
+  // The cell the plan was made in. None when it has none, when it names no robot family
+  // (written before plans carried their cell whole), or when the cell had link meshes,
+  // which stay in their own files.
+  std::optional<Cell> cell(const json& root) const {
+    const json entry = objectAt(root, "cell");
+    if (!entry.contains("family") || fieldOr(entry, "link_meshes", 0, path, "cell") > 0)
+      return std::nullopt;
+    Cell cell;
+    cell.robot = robot(entry);
+    cell.base = Pose(detail::matrixFrom(entry.value("base", json()), path, "cell base"));
+    cell.mount = Pose(detail::matrixFrom(entry.value("mount", json()), path, "cell mount"));
+    cell.clearance = fieldOr(entry, "clearance", cell.clearance, path, "cell");
+    if (const json table = entry.value("table", json()); table.is_object()) {
+      RotaryTable& t = cell.table.emplace();
+      t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");
+      t.axis = detail::vectorFrom(table.value("axis", json()), path, "cell table").normalized();
+      const std::vector<double> range = field<std::vector<double>>(table, "range", path, "cell table");
+      if (range.size() != 2 || !(range[0] <= 0 && 0 <= range[1]))
+        throw InputError(path, "cell table: 'range' is not [lower, upper] around 0");
+      t.lower = radians(range[0]);
+      t.upper = radians(range[1]);
+      t.step = radians(fieldOr(table, "step", degrees(t.step), path, "cell table"));
+    }
+    return cell;
+  }
+
+  // Each view's joints and table angle (none where the cell cannot take it).
+  std::vector<std::optional<CellPose>> cellPoses(const json& root, std::size_t views) const {
+    std::vector<std::optional<CellPose>> poses(views);
+    const json& entries = root.contains("views") ? root["views"] : json::array();
+    for (std::size_t v = 0; v < views && v < entries.size(); ++v) {
+      const json robot = entries[v].value("robot", json());
+      if (!robot.is_object()) continue;
+      const std::string where = "view " + std::to_string(v + 1) + " robot";
+      poses[v] = CellPose{radians(field<double>(robot, "table", path, where)),
+                          joints(robot, "joints", where)};
+    }
+    return poses;
+  }
+
   PlannedOrientation orientation(const json& entry, std::size_t k) const {
     const std::string where = "orientation " + std::to_string(k + 1);
     PlannedOrientation o;
@@ -560,6 +656,8 @@ Plan readPlanFields(const std::string& path) {
     plan.sequence->length = summary.value("path_length", 0.0);
     plan.sequence->nearest_neighbour_length = summary.value("nearest_neighbour_path_length", 0.0);
   }
+  plan.cell = reader.cell(root);
+  if (plan.cell) plan.cell_poses = reader.cellPoses(root, plan.views.size());
   checkReferences(plan, path);
   return plan;
 }

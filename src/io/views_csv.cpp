@@ -13,12 +13,13 @@ namespace scanplan {
 
 void writeViewsCsv(const std::vector<View>& views, const std::string& path) {
   writeFileAtomically(path, [&](std::ostream& out) {
-    out << "id";
+    out << "sequence,id";
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) out << ",m" << r << c;
     out << ",target_x,target_y,target_z,task\n";
-    for (const View& view : views) {
-      out << view.id;
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      const View& view = views[v];
+      out << v + 1 << ',' << view.id;
       const Eigen::Matrix4d& m = view.camera_to_world.matrix();
       for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) out << fmt::format(",{:.17g}", m(r, c));
@@ -32,8 +33,11 @@ std::vector<View> readViewsCsv(const std::string& path) {
   requireInputFile(path);
   std::ifstream in(path);
   std::string line;
-  if (!std::getline(in, line) || line.rfind("id,m00", 0) != 0)
-    throw InputError(path, "not a views CSV: the first line is not the header 'id,m00,...'");
+  if (!std::getline(in, line) ||
+      (line.rfind("sequence,id,m00", 0) != 0 && line.rfind("id,m00", 0) != 0))
+    throw InputError(path,
+                     "not a views CSV: the first line is not the header 'sequence,id,m00,...'");
+  const std::size_t first = line.rfind("sequence", 0) == 0 ? 1 : 0;  // the id's field
   std::vector<View> views;
   for (int number = 2; std::getline(in, line); ++number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -45,7 +49,8 @@ std::vector<View> readViewsCsv(const std::string& path) {
     std::istringstream row(line);
     for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
     if (line.back() == ',') fields.emplace_back();
-    if (fields.size() != 21) fail(fmt::format("{} fields, expected 21", fields.size()));
+    if (fields.size() != 21 + first)
+      fail(fmt::format("{} fields, expected {}", fields.size(), 21 + first));
     auto number_at = [&](std::size_t i) {
       try {
         std::size_t used = 0;
@@ -57,15 +62,16 @@ std::vector<View> readViewsCsv(const std::string& path) {
                                            i + 1, fields[i]));
       }
     };
+    if (first == 1) number_at(0);  // the sequence
     View view;
-    view.id = static_cast<int>(number_at(0));
+    view.id = static_cast<int>(number_at(first));
     Eigen::Matrix4d m;
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) m(r, c) = number_at(1 + static_cast<std::size_t>(4 * r + c));
+    for (std::size_t r = 0; r < 4; ++r)
+      for (std::size_t c = 0; c < 4; ++c) m(r, c) = number_at(first + 1 + 4 * r + c);
     if (!isRigid(m)) fail("the matrix is not a rigid transform");
     view.camera_to_world.matrix() = m;
-    for (int k = 0; k < 3; ++k) view.target[k] = number_at(17 + static_cast<std::size_t>(k));
-    view.task = fields[20];
+    for (std::size_t k = 0; k < 3; ++k) view.target[k] = number_at(first + 17 + k);
+    view.task = fields[first + 20];
     views.push_back(view);
   }
   return views;

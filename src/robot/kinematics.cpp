@@ -61,6 +61,22 @@ double RobotModel::reach() const {
   return c2 + std::hypot(a2, c3) + c4;
 }
 
+void validate(const RobotModel& r, const std::string& source, const std::string& key) {
+  auto fail = [&](const std::string& what) { throw InputError(source, key + what); };
+  const OffsetWrist w = r.offset_wrist.value_or(OffsetWrist{});
+  const double lengths[] = {r.a1, r.a2, r.b, r.c1, r.c2, r.c3, r.c4, w.d1, w.a2, w.a3, w.d4, w.d5, w.d6};
+  for (double length : lengths)
+    if (!(std::abs(length) <= kLongestLength)) fail(": lengths must be at most 100,000 mm");
+  if (!r.offset_wrist && !(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
+    fail(": c2 and c3 must be positive and c4 not negative (mm)");
+  for (int i = 0; i < 6; ++i) {
+    if (!(r.lower[i] < r.upper[i]))
+      fail(": joint " + std::to_string(i + 1) + " has lower >= upper");
+    if (!(r.speeds[i] > 0) || !std::isfinite(r.speeds[i]))
+      fail(".speeds: joint " + std::to_string(i + 1) + " needs a positive speed");
+  }
+}
+
 std::vector<std::string> robotPresets() {
   return {"kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e", "ur10e", "ur16e"};
 }

@@ -51,6 +51,11 @@ struct RobotModel {
   double reach() const;
 };
 
+// Checks `robot`: lengths within 100 m (an ortho-parallel arm's c2 and c3 positive, c4 not
+// negative), each joint's lower limit below its upper, positive speeds.
+// \throw InputError naming `source` and `key`.
+void validate(const RobotModel& robot, const std::string& source, const std::string& key);
+
 // The presets: "kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e",
 // "ur10e", "ur16e".
 std::vector<std::string> robotPresets();
