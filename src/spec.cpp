@@ -453,8 +453,47 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
 }
 
 // cell: working plane, robot, mount, table, clearance.
+// cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame}.
+ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
+  checkKeys(node, {"mass", "centre"}, reader, "cell.tool");
+  ToolLoad tool;
+  reader.read(node, "cell.tool", "mass", tool.mass);
+  if (!(tool.mass > 0 && tool.mass <= 1000)) reader.fail("cell.tool.mass must be within (0, 1000] kg");
+  if (node["centre"]) {
+    const std::vector<double> c = reader.numbers(node["centre"], 3, "cell.tool.centre");
+    tool.centre = Vec3(c[0], c[1], c[2]);
+    if (!(tool.centre->cwiseAbs().maxCoeff() <= kLongestLength))
+      reader.fail("cell.tool.centre must be within 100,000 mm of the flange");
+  }
+  return tool;
+}
+
+// cell.signals: {view, trigger, acknowledge, table: {angle, move, ready}}, whole numbers.
+CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
+  checkKeys(node, {"view", "trigger", "acknowledge", "table"}, reader, "cell.signals");
+  auto number = [&](const YAML::Node& at, const std::string& section, const char* key, int& into) {
+    reader.read(at, section, key, into);
+    if (into < 0 || into > 4095) reader.fail(section + "." + key + " must be within [0, 4095]");
+  };
+  CellSignals signals;
+  number(node, "cell.signals", "view", signals.view);
+  number(node, "cell.signals", "trigger", signals.trigger);
+  number(node, "cell.signals", "acknowledge", signals.acknowledge);
+  if (const YAML::Node table = node["table"]) {
+    checkKeys(table, {"angle", "move", "ready"}, reader, "cell.signals.table");
+    for (const char* key : {"angle", "move", "ready"})
+      if (!table[key]) reader.fail(std::string("cell.signals.table needs '") + key + "'");
+    CellSignals::Table& t = signals.table.emplace();
+    number(table, "cell.signals.table", "angle", t.angle);
+    number(table, "cell.signals.table", "move", t.move);
+    number(table, "cell.signals.table", "ready", t.ready);
+  }
+  return signals;
+}
+
 void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
-  checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance"}, reader, "cell");
+  checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance", "tool", "signals"},
+            reader, "cell");
   if (cell["working_plane"])
     spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
   if (cell["robot"]) {
@@ -482,8 +521,11 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
       c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
       if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
     }
+    if (cell["tool"]) c.tool = readTool(cell["tool"], reader);
+    if (cell["signals"]) c.signals = readSignals(cell["signals"], reader);
     spec.cell = c;
-  } else if (cell["mount"] || cell["table"] || cell["clearance"]) {
+  } else if (cell["mount"] || cell["table"] || cell["clearance"] || cell["tool"] ||
+             cell["signals"]) {
     reader.fail("cell: a mount or a table needs a robot (cell.robot)");
   }
 }

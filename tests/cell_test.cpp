@@ -85,8 +85,17 @@ TEST(Cell, SpecReadsTheCell) {
                              "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
                              "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
                              "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
-                             "step: 10}\n");
+                             "step: 10}\n"
+                             "  tool: {mass: 2.7, centre: [0, 10, 95]}\n"
+                             "  signals: {view: 17, trigger: 2, acknowledge: 3, "
+                             "table: {angle: 1, move: 4, ready: 5}}\n");
   ASSERT_TRUE(spec.cell);
+  EXPECT_EQ(spec.cell->tool.mass, 2.7);
+  EXPECT_TRUE(spec.cell->tool.centre->isApprox(Vec3(0, 10, 95)));
+  EXPECT_EQ(spec.cell->signals.view, 17);
+  EXPECT_EQ(spec.cell->signals.acknowledge, 3);
+  ASSERT_TRUE(spec.cell->signals.table);
+  EXPECT_EQ(spec.cell->signals.table->ready, 5);
   EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
   EXPECT_EQ(spec.cell->robot.link_radii[0], 150);
   EXPECT_EQ(spec.cell->robot.link_radii[2], 80);
@@ -114,7 +123,11 @@ TEST(Cell, SpecRejectsABadCell) {
        {"cell:\n  robot: {preset: kuka-kr1000}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {range: [10, 90]}\n",
         "cell:\n  mount: {position: [0, 0, 100]}\n", "cell:\n  robot: {a1: 100}\n",
-        "cell:\n  robot: {preset: abb-irb2400-10, base: {turn: [0, 0, 1]}}\n"}) {
+        "cell:\n  robot: {preset: abb-irb2400-10, base: {turn: [0, 0, 1]}}\n",
+        "cell:\n  robot: {preset: ur5e, c2: 400}\n",
+        "cell:\n  robot: {preset: ur5e}\n  tool: {mass: -1}\n",
+        "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
+        "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n"}) {
     test::writeText(dir.file("bad.yaml"), text);
     try {
       loadSpec(dir.file("bad.yaml"));

@@ -483,11 +483,18 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   const std::string json{std::istreambuf_iterator<char>(in), {}};
   EXPECT_NE(json.find("\"robot\""), std::string::npos);
   const std::string spec = " --spec " + dir.file("spec.yaml") + " -q";
-  for (const char* format : {"krl", "rapid", "urscript", "robot-json"}) {
+  for (const char* format : {"krl", "rapid", "robot-json"}) {
     r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file("cell_plan.txt") +
             spec);
     ASSERT_EQ(r.code, 0) << format << ": " << r.out;
   }
+  // URScript runs on Universal Robots only: a usage error naming the format, nothing written.
+  r = run("export " + out + "/plan.json --format urscript -o " + dir.file("x.script") + spec);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("--format urscript: abb-irb4600-60-205 is not a Universal Robots arm"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.script")));
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("cell_plan.src") + spec);
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream src(dir.file("cell_plan.src"));

@@ -6,12 +6,14 @@
 
 #include "support.h"
 
+#include <scanplan/errors.h>
 #include <scanplan/robot/program.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 
@@ -37,6 +39,30 @@ RobotProgram program() {
     p.steps.push_back({views[k], tasks[k], CellPose{table[k], joints[k]},
                        forwardKinematics(p.cell.robot, joints[k])});
   p.unreached = {9};
+  p.cell.tool.mass = 3.2;
+  p.cell.tool.centre = Vec3(0, 0, 90);
+  p.cell.signals.view = 9;
+  p.cell.signals.trigger = 3;
+  p.cell.signals.acknowledge = 4;
+  return p;
+}
+
+// Three views of a UR10e on a rotary table driven through its signals.
+RobotProgram urProgram() {
+  RobotProgram p;
+  p.name = "ur_plan";
+  p.source = "plan.json";
+  p.cell.robot = robotPreset("ur10e");
+  p.cell.mount.translation() = Vec3(0, 0, 120);
+  p.cell.table = RotaryTable{};
+  p.cell.signals.table = CellSignals::Table{2, 5, 6};
+  const Joints joints[3] = {{0.1, -1.2, 1.3, -1.6, -1.5, 0.6},
+                            {-0.2, -1.4, 1.1, -1.0, -1.4, 2.0},
+                            {0.5, -1.1, 1.4, -1.9, -1.6, -1.5}};
+  const double table[3] = {0, 0, M_PI / 2};
+  for (int k = 0; k < 3; ++k)
+    p.steps.push_back({k + 1, "global", CellPose{table[k], joints[k]},
+                       forwardKinematics(p.cell.robot, joints[k])});
   return p;
 }
 
@@ -79,11 +105,23 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
       std::regex(R"(DEF [A-Za-z_][A-Za-z0-9_]{0,23}\(\)|DEF SCAN\(VIEW:IN\))"),
       std::regex(R"(END|\s*INT VIEW|)"),
       std::regex(R"(\s*BAS\(#(INITMOV|VEL_PTP|ACC_PTP), \d+\))"),
+      std::regex(R"(\s*\$TOOL = \{X )" + n + ", Y " + n + ", Z " + n + ", A " + n + ", B " + n +
+                 ", C " + n + R"(\})"),
+      std::regex(R"(\s*\$LOAD\.M = )" + n),
+      std::regex(R"(\s*\$LOAD\.CM = \{X )" + n + ", Y " + n + ", Z " + n + R"(, A 0, B 0, C 0\})"),
+      std::regex(R"(\s*\$BASE = \$NULLFRAME)"),
+      std::regex(R"(\s*SIGNAL VIEW_NO \$OUT\[\d+\] TO \$OUT\[\d+\]|\s*VIEW_NO = VIEW)"),
       std::regex(R"(\s*PTP \{E6AXIS: )" + axes + "E1 " + n + R"(\})"),
       std::regex(R"(\s*SCAN\(\d+\))"),
       std::regex(R"(\s*WAIT SEC )" + n +
-                 R"(|\s*WAIT FOR \$IN\[\d+\]|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
+                 R"(|\s*WAIT FOR (NOT )?\$IN\[\d+\]|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
   };
+  // The tool, the load and the handshake's signals are the cell's.
+  EXPECT_NE(text.find("$TOOL = {X 0.000, Y 0.000, Z 150.000,"), std::string::npos);
+  EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"), std::string::npos);
+  EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
+  EXPECT_NE(text.find("  $OUT[3] = TRUE\n  WAIT FOR $IN[4]\n  $OUT[3] = FALSE\n  WAIT FOR NOT $IN[4]\n"),
+            std::string::npos);
   int defs = 0, ends = 0;
   std::vector<std::vector<double>> ptp;
   for (const std::string& line : lines(text)) {
@@ -129,7 +167,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
       EXPECT_EQ(code.back(), ';') << line;
       if (code.find("MoveAbsJ") != std::string::npos) {
         EXPECT_TRUE(
-            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tool0;)")))
+            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tScanner;)")))
             << line;
         ++moves;
       }
@@ -147,6 +185,12 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   EXPECT_EQ(modules, 0);
   EXPECT_EQ(procs, 0);
   EXPECT_EQ(moves, 3);
+  EXPECT_NE(text.find("PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,"
+                      "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];"),
+            std::string::npos);
+  EXPECT_NE(text.find("SetGO GO_9, view;\n    SetDO DO_3, 1;\n    WaitDI DI_4, 1;\n"
+                      "    SetDO DO_3, 0;\n    WaitDI DI_4, 0;"),
+            std::string::npos);
   ASSERT_EQ(robtargets.size(), p.steps.size());
   for (std::size_t k = 0; k < robtargets.size(); ++k) {
     const std::vector<double>& r = robtargets[k];
@@ -159,11 +203,11 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   }
 }
 
-TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsThePoses) {
-  const RobotProgram p = program();
+TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
+  const RobotProgram p = urProgram();
   const std::string text = urScript(p);
   expectGolden(text, "program.script");
-  int depth = 0, moves = 0;
+  int depth = 0, moves = 0, turns = 0;
   for (const std::string& line : lines(text)) {
     const std::string code = line.substr(0, line.find('#'));
     if (code.find_first_not_of(' ') == std::string::npos) continue;
@@ -179,24 +223,53 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsThePoses) {
       EXPECT_GE(depth, 0) << line;
     } else if (code.find("movej") != std::string::npos) {
       const std::vector<double> v = numbersIn(code);
-      ASSERT_EQ(v.size(), 8u) << line;  // the pose's 6 numbers, a and v
-      const Vec3 xyz = p.steps[static_cast<std::size_t>(moves)].flange.translation() / 1000;
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(v[static_cast<std::size_t>(i)], xyz[i], 1e-6);
-      const Vec3 r(v[3], v[4], v[5]);
-      EXPECT_TRUE(Eigen::AngleAxisd(r.norm(), r.normalized())
-                      .toRotationMatrix()
-                      .isApprox(p.steps[static_cast<std::size_t>(moves)].flange.linear(), 1e-5));
+      ASSERT_EQ(v.size(), 8u) << line;  // the 6 joints (radians), a and v
+      for (std::size_t j = 0; j < 6; ++j)
+        EXPECT_NEAR(v[j], p.steps[static_cast<std::size_t>(moves)].pose.joints[j], 1e-6);
       ++moves;
     } else {
+      turns += code.find("turn_table(") != std::string::npos;
       EXPECT_TRUE(std::regex_match(
           code,
           std::regex(
-              R"(\s*(scan\(\d+\)|sleep\([0-9.]+\)|sync\(\)|set_standard_digital_out\(\d, (True|False)\)))")))
+              R"(\s*(scan\(\d+\)|turn_table\([-0-9.]+\)|sleep\([0-9.]+\)|sync\(\)|)"
+              R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
+              R"(set_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
+              R"(write_output_(integer|float)_register\(\d+, (view|angle)\)))")))
           << line;
     }
   }
   EXPECT_EQ(depth, 0);
   EXPECT_EQ(moves, 3);
+  EXPECT_EQ(turns, 2);  // to 0 before the first view, to 90° before the third
+  EXPECT_NE(text.find("set_tcp(p[0.000000, 0.000000, 0.120000, 0.000000, 0.000000, 0.000000])"),
+            std::string::npos);
+  EXPECT_NE(text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"
+                      "    while not get_standard_digital_in(6):"),
+            std::string::npos);
+}
+
+// Each format runs on its robots only, and URScript drives a table only through its
+// signals: anything else is refused naming the format.
+TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
+  auto refusal = [](const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal([] { urScript(program()); }),
+            "--format urscript: abb-irb2400-10 is not a Universal Robots arm, and URScript runs "
+            "on their controllers only (krl or rapid)");
+  EXPECT_EQ(refusal([] { krlProgram(urProgram()); }),
+            "--format krl: ur10e runs URScript (--format urscript)");
+  RobotProgram undriven = urProgram();
+  undriven.cell.signals.table.reset();
+  EXPECT_EQ(refusal([&] { urScript(undriven); }),
+            "--format urscript: URScript cannot drive the rotary table without its signals: give "
+            "cell.signals.table {angle, move, ready} in the spec");
 }
 
 TEST(RobotProgram, JsonHoldsJointsAndFlangePoses) {

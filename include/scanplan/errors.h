@@ -34,6 +34,14 @@ class Error : public std::runtime_error {
   std::string reason_;
 };
 
+// A request that does not fit the rest of the command line: a robot program format the
+// cell's robot does not run. `file()` names the option.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+  ExitCode exitCode() const noexcept override { return kExitUsage; }
+};
+
 // A missing, unreadable or invalid input: CAD file, mesh, spec, parameter, face id.
 class InputError : public Error {
  public:

@@ -203,6 +203,13 @@ json robotLengths(const RobotModel& r) {
   return {{"a1", r.a1}, {"a2", r.a2}, {"b", r.b}, {"c1", r.c1}, {"c2", r.c2}, {"c3", r.c3}, {"c4", r.c4}};
 }
 
+json signalsJson(const CellSignals& s) {
+  json result = {{"view", s.view}, {"trigger", s.trigger}, {"acknowledge", s.acknowledge}};
+  if (s.table)
+    result["table"] = {{"angle", s.table->angle}, {"move", s.table->move}, {"ready", s.table->ready}};
+  return result;
+}
+
 // The cell (robot, mount, table), each view's joints and the plan's joint motion.
 void addCell(const Plan& plan, json& result) {
   const Cell& cell = *plan.cell;
@@ -219,6 +226,9 @@ void addCell(const Plan& plan, json& result) {
                 {"upper", inDegrees(r.upper)},
                 {"speeds", inDegrees(r.speeds)},
                 {"clearance", cell.clearance},
+                {"tool", {{"mass", cell.tool.mass},
+                          {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)}}},
+                {"signals", signalsJson(cell.signals)},
                 {"link_meshes", cell.link_meshes.size()},
                 {"table", nullptr}};
   if (cell.table)
@@ -498,6 +508,18 @@ struct PlanReader {
     return r;
   }
 
+  CellSignals signals(const json& entry) const {
+    CellSignals s;
+    s.view = fieldOr(entry, "view", s.view, path, "cell signals");
+    s.trigger = fieldOr(entry, "trigger", s.trigger, path, "cell signals");
+    s.acknowledge = fieldOr(entry, "acknowledge", s.acknowledge, path, "cell signals");
+    if (const json table = objectAt(entry, "table"); !table.empty())
+      s.table = CellSignals::Table{field<int>(table, "angle", path, "cell signals table"),
+                                   field<int>(table, "move", path, "cell signals table"),
+                                   field<int>(table, "ready", path, "cell signals table")};
+    return s;
+  }
+
   // The cell the plan was made in. None when it has none, when it names no robot family
   // (written before plans carried their cell whole), or when the cell had link meshes,
   // which stay in their own files.
@@ -510,6 +532,11 @@ struct PlanReader {
     cell.base = Pose(detail::matrixFrom(entry.value("base", json()), path, "cell base"));
     cell.mount = Pose(detail::matrixFrom(entry.value("mount", json()), path, "cell mount"));
     cell.clearance = fieldOr(entry, "clearance", cell.clearance, path, "cell");
+    const json tool = objectAt(entry, "tool");
+    cell.tool.mass = fieldOr(tool, "mass", cell.tool.mass, path, "cell tool");
+    if (tool.contains("centre") && !tool["centre"].is_null())
+      cell.tool.centre = detail::vectorFrom(tool["centre"], path, "cell tool");
+    cell.signals = signals(objectAt(entry, "signals"));
     if (const json table = entry.value("table", json()); table.is_object()) {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");

@@ -2,6 +2,7 @@
 // chose, so the robot takes the configuration the plan checked), waits there and triggers
 // the scanner, in sequence order. Poses of the flange are given too, for the integrator.
 
+#include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/robot/program.h>
 
@@ -23,35 +24,50 @@ std::string identifier(const std::string& name, std::size_t length) {
   return id.substr(0, length);
 }
 
-// KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees.
+// KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees (no -0).
 Vec3 kukaAbc(const Eigen::Matrix3d& r) {
-  return Vec3(degrees(std::atan2(r(1, 0), r(0, 0))),
-              degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
-              degrees(std::atan2(r(2, 1), r(2, 2))));
+  const Vec3 abc(degrees(std::atan2(r(1, 0), r(0, 0))),
+                 degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
+                 degrees(std::atan2(r(2, 1), r(2, 2))));
+  return abc + Vec3::Zero();
+}
+
+// The quaternion with a non-negative scalar part (the same rotation), as ABB writes them.
+Eigen::Quaterniond positive(Eigen::Quaterniond q) {
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  return q;
 }
 
 // ABB's configuration quadrants cf1, cf4, cf6: floor(angle / 90°).
 int quadrant(double angle) { return static_cast<int>(std::floor(degrees(angle) / 90)); }
 
-std::string header(const RobotProgram& p, std::string_view comment) {
+// The header comment; URScript counts joints in radians and drives the table by signals.
+std::string header(const RobotProgram& p, std::string_view comment, bool urscript = false) {
   std::ostringstream out;
   out << comment << " scanplan robot program " << p.name << "\n"
       << comment << " from " << p.source << "\n"
       << comment << " robot " << p.cell.robot.name << ", " << p.steps.size()
       << " views in sequence order";
-  if (p.cell.table) out << ", rotary table as external axis 1";
+  if (p.cell.table) out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
   out << "\n";
   if (!p.unreached.empty()) {
     out << comment << " left out, the cell cannot reach them: views";
     for (int id : p.unreached) out << ' ' << id;
     out << "\n";
   }
+  const CellSignals& s = p.cell.signals;
   out << comment
-      << " joints in degrees as the controller counts them; flange poses in the robot's\n"
-      << comment << " base frame, mm; the scan is triggered on the first digital output and\n"
-      << comment << " done when the first digital input is set\n";
+      << " joints in " << (urscript ? "radians" : "degrees")
+      << " as the controller counts them; flange poses in the robot's\n"
+      << comment << " base frame, mm; the tool is the scanner frame on its mount\n"
+      << comment << fmt::format(" scan handshake: view number to output {}, trigger output {}, "
+                                "acknowledge input {}\n",
+                                s.view, s.trigger, s.acknowledge);
   return out.str();
 }
+
+// The scanner's load: its mass and centre of gravity in the flange frame, mm.
+Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
 
 }  // namespace
 
@@ -77,11 +93,33 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
   return program;
 }
 
+void checkProgramFormat(const Cell& cell, std::string_view format) {
+  const std::string option = "--format " + std::string(format);
+  const bool universal = cell.robot.offset_wrist.has_value();
+  if (format == "urscript" && !universal)
+    throw UsageError(option, cell.robot.name + " is not a Universal Robots arm, and URScript "
+                                               "runs on their controllers only (krl or rapid)");
+  if ((format == "krl" || format == "rapid") && universal)
+    throw UsageError(option, cell.robot.name + " runs URScript (--format urscript)");
+  if (format == "urscript" && cell.table && !cell.signals.table)
+    throw UsageError(option, "URScript cannot drive the rotary table without its signals: give "
+                             "cell.signals.table {angle, move, ready} in the spec");
+}
+
 std::string krlProgram(const RobotProgram& p) {
+  checkProgramFormat(p.cell, "krl");
   std::ostringstream out;
+  const Vec3 tool = p.cell.mount.translation(), tool_abc = kukaAbc(p.cell.mount.linear());
+  const Vec3 centre = loadCentre(p.cell);
   out << "&ACCESS RVP\n&REL 1\n"
       << header(p, ";") << "DEF " << p.name << "()\n"
-      << "  BAS(#INITMOV, 0)\n  BAS(#VEL_PTP, 20)\n  BAS(#ACC_PTP, 20)\n";
+      << "  BAS(#INITMOV, 0)\n  BAS(#VEL_PTP, 20)\n  BAS(#ACC_PTP, 20)\n"
+      << fmt::format("  $TOOL = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.4f}, B {:.4f}, C {:.4f}}}\n",
+                     tool.x(), tool.y(), tool.z(), tool_abc.x(), tool_abc.y(), tool_abc.z())
+      << fmt::format("  $LOAD.M = {:.3f}\n", p.cell.tool.mass)
+      << fmt::format("  $LOAD.CM = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A 0, B 0, C 0}}\n", centre.x(),
+                     centre.y(), centre.z())
+      << "  $BASE = $NULLFRAME\n";
   for (std::size_t k = 0; k < p.steps.size(); ++k) {
     const ProgramStep& s = p.steps[k];
     const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
@@ -97,22 +135,34 @@ std::string krlProgram(const RobotProgram& p) {
       out << fmt::format(" A{} {:.4f},", j + 1, degrees(s.pose.joints[j]));
     out << fmt::format(" E1 {:.4f}}}\n", e1) << fmt::format("  SCAN({})\n", s.view);
   }
+  const CellSignals& sig = p.cell.signals;
   out << "END\n\n"
-      << "DEF SCAN(VIEW:IN)\n  INT VIEW\n  WAIT SEC 0.2\n  $OUT[1] = TRUE\n"
-      << "  WAIT FOR $IN[1]\n  $OUT[1] = FALSE\nEND\n";
+      << "DEF SCAN(VIEW:IN)\n  INT VIEW\n"
+      << fmt::format("  SIGNAL VIEW_NO $OUT[{}] TO $OUT[{}]\n", sig.view, sig.view + 15)
+      << "  WAIT SEC 0.2\n  VIEW_NO = VIEW\n"
+      << fmt::format("  $OUT[{0}] = TRUE\n  WAIT FOR $IN[{1}]\n  $OUT[{0}] = FALSE\n"
+                     "  WAIT FOR NOT $IN[{1}]\nEND\n",
+                     sig.trigger, sig.acknowledge);
   return out.str();
 }
 
 std::string rapidProgram(const RobotProgram& p) {
+  checkProgramFormat(p.cell, "rapid");
   std::ostringstream out;
-  out << "MODULE " << p.name << "\n" << header(p, "  !");
+  const Eigen::Quaterniond mount = positive(Eigen::Quaterniond(p.cell.mount.linear()));
+  const Vec3 tool = p.cell.mount.translation(), centre = loadCentre(p.cell);
+  out << "MODULE " << p.name << "\n"
+      << header(p, "  !")
+      << fmt::format("  PERS tooldata tScanner := [TRUE,[[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},"
+                     "{:.6f},{:.6f}]],[{:.3f},[{:.3f},{:.3f},{:.3f}],[1,0,0,0],0,0,0]];\n",
+                     tool.x(), tool.y(), tool.z(), mount.w(), mount.x(), mount.y(), mount.z(),
+                     p.cell.tool.mass, centre.x(), centre.y(), centre.z());
   auto external = [&](double angle) {
     return p.cell.table ? fmt::format("{:.4f}", degrees(angle)) : std::string("9E+09");
   };
   for (const ProgramStep& s : p.steps) {
     const Vec3 xyz = s.flange.translation();
-    Eigen::Quaterniond q(s.flange.linear());
-    if (q.w() < 0) q.coeffs() = -q.coeffs();
+    const Eigen::Quaterniond q = positive(Eigen::Quaterniond(s.flange.linear()));
     const Joints& j = s.pose.joints;
     out << fmt::format(
         "  CONST jointtarget jView{} := [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
@@ -127,29 +177,64 @@ std::string rapidProgram(const RobotProgram& p) {
   }
   out << "\n  PROC main()\n";
   for (const ProgramStep& s : p.steps)
-    out << fmt::format("    MoveAbsJ jView{}, v500, fine, tool0;\n    Scan {};\n", s.view, s.view);
+    out << fmt::format("    MoveAbsJ jView{}, v500, fine, tScanner;\n    Scan {};\n", s.view,
+                       s.view);
+  const CellSignals& sig = p.cell.signals;
   out << "  ENDPROC\n\n"
-      << "  PROC Scan(num view)\n    WaitTime 0.2;\n    SetDO DO_1, 1;\n"
-      << "    WaitDI DI_1, 1;\n    SetDO DO_1, 0;\n  ENDPROC\nENDMODULE\n";
+      << "  PROC Scan(num view)\n    WaitTime 0.2;\n"
+      << fmt::format("    SetGO GO_{}, view;\n    SetDO DO_{}, 1;\n    WaitDI DI_{}, 1;\n"
+                     "    SetDO DO_{}, 0;\n    WaitDI DI_{}, 0;\n",
+                     sig.view, sig.trigger, sig.acknowledge, sig.trigger, sig.acknowledge)
+      << "  ENDPROC\nENDMODULE\n";
   return out.str();
 }
 
+// URScript's pose p[x, y, z, rx, ry, rz]: metres and a rotation vector.
+std::string urPose(const Pose& pose) {
+  const Vec3 xyz = pose.translation() / 1000;
+  const Eigen::AngleAxisd turn(pose.linear());
+  const Vec3 r = turn.angle() * turn.axis();
+  return fmt::format("p[{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}]", xyz.x(), xyz.y(),
+                     xyz.z(), r.x(), r.y(), r.z());
+}
+
 std::string urScript(const RobotProgram& p) {
-  // A UR arm has no spherical wrist: its controller solves the inverse kinematics of the
-  // flange poses (metres, rotation vectors) itself.
+  checkProgramFormat(p.cell, "urscript");
+  const CellSignals& sig = p.cell.signals;
+  const Vec3 centre = loadCentre(p.cell) / 1000;
   std::ostringstream out;
-  out << header(p, "#") << "def " << p.name << "():\n"
-      << "  def scan(view):\n    sleep(0.2)\n    set_standard_digital_out(0, True)\n"
-      << "    while not get_standard_digital_in(0):\n      sync()\n    end\n"
-      << "    set_standard_digital_out(0, False)\n  end\n";
+  out << header(p, "#", true) << "def " << p.name << "():\n"
+      << "  set_tcp(" << urPose(p.cell.mount) << ")\n"
+      << fmt::format("  set_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
+                     centre.x(), centre.y(), centre.z())
+      << "  def scan(view):\n    sleep(0.2)\n"
+      << fmt::format("    write_output_integer_register({}, view)\n", sig.view)
+      << fmt::format("    set_standard_digital_out({}, True)\n", sig.trigger)
+      << fmt::format("    while not get_standard_digital_in({}):\n      sync()\n    end\n",
+                     sig.acknowledge)
+      << fmt::format("    set_standard_digital_out({}, False)\n", sig.trigger)
+      << fmt::format("    while get_standard_digital_in({}):\n      sync()\n    end\n  end\n",
+                     sig.acknowledge);
+  if (sig.table)
+    out << "  def turn_table(angle):\n"
+        << fmt::format("    write_output_float_register({}, angle)\n", sig.table->angle)
+        << fmt::format("    set_standard_digital_out({}, True)\n", sig.table->move)
+        << fmt::format("    while not get_standard_digital_in({}):\n      sync()\n    end\n",
+                       sig.table->ready)
+        << fmt::format("    set_standard_digital_out({}, False)\n", sig.table->move)
+        << fmt::format("    while get_standard_digital_in({}):\n      sync()\n    end\n  end\n",
+                       sig.table->ready);
+  std::optional<double> table;
   for (std::size_t k = 0; k < p.steps.size(); ++k) {
     const ProgramStep& s = p.steps[k];
-    const Vec3 xyz = s.flange.translation() / 1000;
-    const Eigen::AngleAxisd turn(s.flange.linear());
-    const Vec3 r = turn.angle() * turn.axis();
-    out << fmt::format("  # view {} ({} of {})\n", s.view, k + 1, p.steps.size())
-        << fmt::format("  movej(p[{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}], a=1.2, v=0.5)\n",
-                       xyz.x(), xyz.y(), xyz.z(), r.x(), r.y(), r.z())
+    out << fmt::format("  # view {} ({} of {}), flange {}\n", s.view, k + 1, p.steps.size(),
+                       urPose(s.flange));
+    if (p.cell.table && (!table || *table != s.pose.table_angle))
+      out << fmt::format("  turn_table({:.4f})\n", degrees(s.pose.table_angle));
+    table = s.pose.table_angle;
+    const Joints& q = s.pose.joints;
+    out << fmt::format("  movej([{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}], a=1.2, v=0.5)\n",
+                       q[0], q[1], q[2], q[3], q[4], q[5])
         << fmt::format("  scan({})\n", s.view);
   }
   out << "end\n";

@@ -25,12 +25,37 @@ struct RotaryTable {
   double step = radians(5);            // angles tried, radians
 };
 
+// The scanner as the robot's load, for the controller's payload: its mass and centre of
+// gravity in the flange frame. The default stands for a 2 kg head centred on the mount's
+// origin; give the scanner's data-sheet values in the spec (cell.tool).
+struct ToolLoad {
+  double mass = 2;             // kg
+  std::optional<Vec3> centre;  // mm, flange frame; none: the mount's origin
+};
+
+// The controller's signals, numbered as the controller counts them (docs/cell.md). At
+// each view the program writes the view number to group output (KRL, RAPID) or integer
+// output register (URScript) `view`, raises output `trigger`, waits for input
+// `acknowledge`, drops the trigger and waits for the acknowledgement to drop.
+struct CellSignals {
+  int view = 1, trigger = 1, acknowledge = 1;
+  // A rotary table that URScript drives (KRL and RAPID drive it as an external axis):
+  // the angle (degrees) to float output register `angle`, output `move` raised until
+  // input `ready` rises, then both dropped. None: URScript cannot drive the table.
+  struct Table {
+    int angle = 0, move = 0, ready = 0;
+  };
+  std::optional<Table> table;
+};
+
 struct Cell {
   RobotModel robot;
   Pose base = Pose::Identity();   // the robot's base frame in the world
   Pose mount = Pose::Identity();  // the scanner frame S in the flange frame
   std::optional<RotaryTable> table;
   double clearance = 10;  // mm the arm keeps from the part, fixtures and working plane
+  ToolLoad tool;
+  CellSignals signals;
   // Meshes of the upper arm, the forearm and the wrist in the robot's base frame at the
   // zero pose (linkMotions), used for collisions instead of the capsules; empty: capsules.
   std::vector<TriangleMesh> link_meshes;

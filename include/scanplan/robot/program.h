@@ -33,12 +33,18 @@ struct RobotProgram {
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
                           const std::string& source, const CellCollisions* collisions = nullptr);
 
+// Refuses a format the cell's robot does not run (URScript for Universal Robots only, KRL
+// and RAPID for the others) or a rotary table the format cannot drive (URScript without
+// the table's signals). \throw UsageError naming the format.
+void checkProgramFormat(const Cell& cell, std::string_view format);
+
 std::string krlProgram(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);
 std::string urScript(const RobotProgram& program);
 std::string programJson(const RobotProgram& program);
 
-// "krl", "rapid", "urscript" or "json". \throw OutputError when it cannot be written.
+// "krl", "rapid", "urscript" or "json". \throw UsageError (checkProgramFormat), or
+// OutputError when it cannot be written.
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path);
 

@@ -4,8 +4,9 @@ MODULE ctc01_plan
   ! robot abb-irb2400-10, 3 views in sequence order, rotary table as external axis 1
   ! left out, the cell cannot reach them: views 9
   ! joints in degrees as the controller counts them; flange poses in the robot's
-  ! base frame, mm; the scan is triggered on the first digital output and
-  ! done when the first digital input is set
+  ! base frame, mm; the tool is the scanner frame on its mount
+  ! scan handshake: view number to output 9, trigger output 3, acknowledge input 4
+  PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];
   CONST jointtarget jView4 := [[5.7296,11.4592,-17.1887,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST robtarget pView4 := [[1048.923,121.192,1485.747],[0.448432,0.291909,0.768551,0.350753],[0,0,0,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jView2 := [[-11.4592,22.9183,5.7296,-57.2958,45.8366,114.5916],[90.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
@@ -14,18 +15,20 @@ MODULE ctc01_plan
   CONST robtarget pView7 := [[772.007,410.884,1330.955],[0.745797,-0.412633,0.374887,-0.364665],[0,0,-1,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
 
   PROC main()
-    MoveAbsJ jView4, v500, fine, tool0;
+    MoveAbsJ jView4, v500, fine, tScanner;
     Scan 4;
-    MoveAbsJ jView2, v500, fine, tool0;
+    MoveAbsJ jView2, v500, fine, tScanner;
     Scan 2;
-    MoveAbsJ jView7, v500, fine, tool0;
+    MoveAbsJ jView7, v500, fine, tScanner;
     Scan 7;
   ENDPROC
 
   PROC Scan(num view)
     WaitTime 0.2;
-    SetDO DO_1, 1;
-    WaitDI DI_1, 1;
-    SetDO DO_1, 0;
+    SetGO GO_9, view;
+    SetDO DO_3, 1;
+    WaitDI DI_4, 1;
+    SetDO DO_3, 0;
+    WaitDI DI_4, 0;
   ENDPROC
 ENDMODULE
