@@ -453,6 +453,25 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
 }
 
 // cell: working plane, robot, mount, table, clearance.
+// cell.home (joints, degrees, within the robot's limits), cell.approach (mm),
+// cell.motion_step (degrees).
+void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
+  if (cell["home"]) {
+    const Joints home = reader.joints(cell["home"], "cell.home");
+    for (int i = 0; i < 6; ++i)
+      if (!(home[i] >= c.robot.lower[i] && home[i] <= c.robot.upper[i]))
+        reader.fail("cell.home: joint " + std::to_string(i + 1) + " is beyond its limits");
+    c.home = home;
+  }
+  reader.read(cell, "cell", "approach", c.approach);
+  if (!(c.approach >= 0 && c.approach <= 1000)) reader.fail("cell.approach must be within [0, 1000] mm");
+  if (cell["motion_step"]) {
+    const double step = reader.scalar<double>(cell["motion_step"], "cell.motion_step");
+    if (!(step >= 0.1 && step <= 10)) reader.fail("cell.motion_step must be within [0.1, 10] degrees");
+    c.motion_step = radians(step);
+  }
+}
+
 // cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame}.
 ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node, {"mass", "centre"}, reader, "cell.tool");
@@ -492,7 +511,9 @@ CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
 }
 
 void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
-  checkKeys(cell, {"working_plane", "robot", "mount", "table", "clearance", "tool", "signals"},
+  checkKeys(cell,
+            {"working_plane", "robot", "mount", "table", "clearance", "tool", "signals", "home",
+             "approach", "motion_step"},
             reader, "cell");
   if (cell["working_plane"])
     spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
@@ -521,11 +542,12 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
       c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
       if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
     }
+    readMotion(cell, reader, c);
     if (cell["tool"]) c.tool = readTool(cell["tool"], reader);
     if (cell["signals"]) c.signals = readSignals(cell["signals"], reader);
     spec.cell = c;
   } else if (cell["mount"] || cell["table"] || cell["clearance"] || cell["tool"] ||
-             cell["signals"]) {
+             cell["signals"] || cell["home"] || cell["approach"] || cell["motion_step"]) {
     reader.fail("cell: a mount or a table needs a robot (cell.robot)");
   }
 }

@@ -9,6 +9,7 @@
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
 #include <scanplan/robot/cell.h>
+#include <scanplan/robot/motion.h>
 #include <scanplan/sequencing.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -88,7 +89,8 @@ TEST(Cell, SpecReadsTheCell) {
                              "step: 10}\n"
                              "  tool: {mass: 2.7, centre: [0, 10, 95]}\n"
                              "  signals: {view: 17, trigger: 2, acknowledge: 3, "
-                             "table: {angle: 1, move: 4, ready: 5}}\n");
+                             "table: {angle: 1, move: 4, ready: 5}}\n"
+                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n  motion_step: 1\n");
   ASSERT_TRUE(spec.cell);
   EXPECT_EQ(spec.cell->tool.mass, 2.7);
   EXPECT_TRUE(spec.cell->tool.centre->isApprox(Vec3(0, 10, 95)));
@@ -96,6 +98,10 @@ TEST(Cell, SpecReadsTheCell) {
   EXPECT_EQ(spec.cell->signals.acknowledge, 3);
   ASSERT_TRUE(spec.cell->signals.table);
   EXPECT_EQ(spec.cell->signals.table->ready, 5);
+  ASSERT_TRUE(spec.cell->home);
+  EXPECT_NEAR((*spec.cell->home)[4], M_PI / 4, 1e-12);
+  EXPECT_EQ(spec.cell->approach, 80);
+  EXPECT_NEAR(spec.cell->motion_step, radians(1), 1e-12);
   EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
   EXPECT_EQ(spec.cell->robot.link_radii[0], 150);
   EXPECT_EQ(spec.cell->robot.link_radii[2], 80);
@@ -127,7 +133,9 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: ur5e, c2: 400}\n",
         "cell:\n  robot: {preset: ur5e}\n  tool: {mass: -1}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
-        "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n"}) {
+        "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
+        "cell:\n  robot: {preset: ur5e}\n  motion_step: 0\n"}) {
     test::writeText(dir.file("bad.yaml"), text);
     try {
       loadSpec(dir.file("bad.yaml"));
@@ -219,6 +227,44 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   for (std::size_t v = 0; v < plan.views.size(); ++v)
     EXPECT_TRUE(forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
                     .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
+}
+
+// An IRB 2400 and a 400 mm block 700 mm ahead of it; two poses on either side of the block,
+// the flange 250 mm up and pointing down. Turning joint 1 straight from one to the other
+// sweeps the arm through the block; planMotion lifts the move over it, and every
+// configuration along the program, sampled eight times finer than the planner samples,
+// is clear.
+TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
+  TriangleMesh block;
+  test::addCube(block, Vec3(700, -200, 0), 400, 1);
+  Cell cell = irb2400At(Vec3::Zero());
+  const CellCollisions collisions(cell, block, Pose::Identity(), {}, true, cell.clearance);
+  RobotProgram program;
+  program.cell = cell;
+  for (const double side : {1.0, -1.0}) {
+    Pose flange = Pose::Identity();
+    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+    flange.translation() = Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 250);
+    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
+    ASSERT_FALSE(q.empty());
+    ASSERT_FALSE(collisions.collides({0, q.front()}));
+    program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
+  }
+  ASSERT_FALSE(moveIsClear(collisions, program.steps[0].pose, program.steps[1].pose, radians(2)));
+  planMotion(program, collisions, 420);
+  EXPECT_TRUE(program.uncleared.empty());
+  ASSERT_TRUE(program.home);
+  EXPECT_FALSE(program.steps[1].via.empty());
+  for (const ProgramStep& step : program.steps) EXPECT_TRUE(step.approach);
+  const std::vector<Waypoint> path = waypoints(program);
+  std::size_t checked = 0;
+  for (std::size_t k = 1; k < path.size(); ++k)
+    for (const CellPose& pose : sampledMove(path[k - 1].pose, path[k].pose, radians(0.25))) {
+      EXPECT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
+      ++checked;
+    }
+  RecordProperty("configurations_checked", std::to_string(checked));
+  EXPECT_GT(programSeconds(program), 0);
 }
 
 TEST(Cell, RotaryTableMeasuresTheFarSide) {

@@ -500,11 +500,17 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   std::ifstream src(dir.file("cell_plan.src"));
   const std::string krl{std::istreambuf_iterator<char>(src), {}};
   EXPECT_NE(krl.find("DEF cell_plan()"), std::string::npos);  // named as its file
-  std::size_t moves = 0;
-  for (std::size_t at = krl.find("PTP {E6AXIS"); at != std::string::npos;
-       at = krl.find("PTP {E6AXIS", at + 1))
-    ++moves;
-  EXPECT_EQ(moves, plan.views.size());
+  auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = krl.find(what); at != std::string::npos; at = krl.find(what, at + 1)) ++n;
+    return n;
+  };
+  // A scan at every view; home, each view's approach and retract, and any via points.
+  EXPECT_EQ(count("  SCAN("), plan.views.size());
+  EXPECT_EQ(count("PTP {E6AXIS"), 2 + plan.views.size() + count("; approach view") +
+                                       count("; retract view") + count("; via"));
+  EXPECT_EQ(count("; home"), 2u);
+  EXPECT_EQ(count("could not be cleared"), 0u);
   // The plan carries its cell: without --spec the program is the same.
   std::filesystem::create_directory(dir.file("again"));
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("again/cell_plan.src") + " -q");

@@ -37,8 +37,12 @@ RobotProgram program() {
   const char* tasks[3] = {"gdt", "global", ""};
   for (int k = 0; k < 3; ++k)
     p.steps.push_back({views[k], tasks[k], CellPose{table[k], joints[k]},
-                       forwardKinematics(p.cell.robot, joints[k])});
+                       forwardKinematics(p.cell.robot, joints[k]), {}, {}});
   p.unreached = {9};
+  // Safe motion as planMotion gives it: home, an approach, a via point.
+  p.home = CellPose{0, {0, -0.3, 0.2, 0, 0.6, 0}};
+  p.steps[0].approach = Joints{0.1, 0.1, -0.2, 0.4, 0.5, 0.6};
+  p.steps[1].via = {CellPose{0.8, {-0.1, -0.2, 0.1, -0.5, 0.7, 1.0}}};
   p.cell.tool.mass = 3.2;
   p.cell.tool.centre = Vec3(0, 0, 90);
   p.cell.signals.view = 9;
@@ -62,7 +66,9 @@ RobotProgram urProgram() {
   const double table[3] = {0, 0, M_PI / 2};
   for (int k = 0; k < 3; ++k)
     p.steps.push_back({k + 1, "global", CellPose{table[k], joints[k]},
-                       forwardKinematics(p.cell.robot, joints[k])});
+                       forwardKinematics(p.cell.robot, joints[k]), {}, {}});
+  p.home = CellPose{0, {0, -1.57, 1.2, -1.2, -1.57, 0}};
+  p.steps[2].approach = Joints{0.5, -1.2, 1.3, -1.7, -1.6, -1.5};
   return p;
 }
 
@@ -135,12 +141,15 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   }
   EXPECT_EQ(defs, 2);
   EXPECT_EQ(ends, 2);
-  ASSERT_EQ(ptp.size(), p.steps.size());
+  // Home, approach, view 4, retract, via, view 2, view 7, home.
+  const std::vector<Waypoint> path = waypoints(p);
+  ASSERT_EQ(path.size(), 8u);
+  ASSERT_EQ(ptp.size(), path.size());
   for (std::size_t k = 0; k < ptp.size(); ++k) {
     ASSERT_EQ(ptp[k].size(), 14u);  // A1..A6 and E1, each value after its axis number
     for (int j = 0; j < 6; ++j)
-      EXPECT_NEAR(ptp[k][2 * j + 1], degrees(p.steps[k].pose.joints[j]), 1e-4);
-    EXPECT_NEAR(ptp[k][13], degrees(p.steps[k].pose.table_angle), 1e-4);
+      EXPECT_NEAR(ptp[k][2 * j + 1], degrees(path[k].pose.joints[j]), 1e-4);
+    EXPECT_NEAR(ptp[k][13], degrees(path[k].pose.table_angle), 1e-4);
   }
 }
 
@@ -167,7 +176,9 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
       EXPECT_EQ(code.back(), ';') << line;
       if (code.find("MoveAbsJ") != std::string::npos) {
         EXPECT_TRUE(
-            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tScanner;)")))
+            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tScanner;)")) ||
+            std::regex_match(code, std::regex(R"(\s*MoveAbsJ \[\[([-0-9.]+,){5}[-0-9.]+\],)"
+                                              R"(\[[-0-9.E+]+(,9E\+09){5}\]\], v\d+, z\d+, tScanner;)")))
             << line;
         ++moves;
       }
@@ -184,7 +195,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   }
   EXPECT_EQ(modules, 0);
   EXPECT_EQ(procs, 0);
-  EXPECT_EQ(moves, 3);
+  EXPECT_EQ(moves, 8);
   EXPECT_NE(text.find("PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,"
                       "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];"),
             std::string::npos);
@@ -207,6 +218,7 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = urProgram();
   const std::string text = urScript(p);
   expectGolden(text, "program.script");
+  const std::vector<Waypoint> path = waypoints(p);  // home, 3 views, approach, retract, home
   int depth = 0, moves = 0, turns = 0;
   for (const std::string& line : lines(text)) {
     const std::string code = line.substr(0, line.find('#'));
@@ -224,8 +236,9 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
     } else if (code.find("movej") != std::string::npos) {
       const std::vector<double> v = numbersIn(code);
       ASSERT_EQ(v.size(), 8u) << line;  // the 6 joints (radians), a and v
+      ASSERT_LT(static_cast<std::size_t>(moves), path.size());
       for (std::size_t j = 0; j < 6; ++j)
-        EXPECT_NEAR(v[j], p.steps[static_cast<std::size_t>(moves)].pose.joints[j], 1e-6);
+        EXPECT_NEAR(v[j], path[static_cast<std::size_t>(moves)].pose.joints[j], 1e-6);
       ++moves;
     } else {
       turns += code.find("turn_table(") != std::string::npos;
@@ -240,8 +253,8 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
     }
   }
   EXPECT_EQ(depth, 0);
-  EXPECT_EQ(moves, 3);
-  EXPECT_EQ(turns, 2);  // to 0 before the first view, to 90° before the third
+  EXPECT_EQ(moves, 7);
+  EXPECT_EQ(turns, 3);  // to 0 at home, to 90° to approach the third view, to 0 back home
   EXPECT_NE(text.find("set_tcp(p[0.000000, 0.000000, 0.120000, 0.000000, 0.000000, 0.000000])"),
             std::string::npos);
   EXPECT_NE(text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"

@@ -11,6 +11,7 @@
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
 #include <scanplan/report.h>
+#include <scanplan/robot/motion.h>
 #include <scanplan/robot/program.h>
 #include <scanplan/spec.h>
 
@@ -112,11 +113,19 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
       simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
   const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
                                   placed.working_plane, cell->clearance);
-  const RobotProgram program = robotProgram(c.plan, *cell, name, options.input.plan, &collisions);
+  RobotProgram program = robotProgram(c.plan, *cell, name, options.input.plan, &collisions);
+  // Via points go this far above the scene: the mount, the scanner's body, the clearance.
+  const Scanner& scanner = c.plan.scanner;
+  planMotion(program, collisions,
+             cell->mount.translation().norm() + scanner.body_depth + scanner.body_margin +
+                 cell->clearance);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
   writeRobotProgram(program, language, options.out);
   if (!program.unreached.empty())
-    fmt::print("left out  {} views the cell cannot reach\n", program.unreached.size());
+    fmt::print("left out   {} views the cell cannot reach\n", program.unreached.size());
+  for (const std::string& move : program.uncleared)
+    fmt::print("warning    the move {} collides and could not be cleared\n", move);
+  fmt::print("motion     {:.1f} s of joint travel\n", programSeconds(program));
 }
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {

@@ -229,6 +229,9 @@ void addCell(const Plan& plan, json& result) {
                 {"tool", {{"mass", cell.tool.mass},
                           {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)}}},
                 {"signals", signalsJson(cell.signals)},
+                {"home", cell.home ? inDegrees(*cell.home) : json(nullptr)},
+                {"approach", cell.approach},
+                {"motion_step", degrees(cell.motion_step)},
                 {"link_meshes", cell.link_meshes.size()},
                 {"table", nullptr}};
   if (cell.table)
@@ -537,6 +540,11 @@ struct PlanReader {
     if (tool.contains("centre") && !tool["centre"].is_null())
       cell.tool.centre = detail::vectorFrom(tool["centre"], path, "cell tool");
     cell.signals = signals(objectAt(entry, "signals"));
+    if (entry.contains("home") && !entry["home"].is_null()) cell.home = joints(entry, "home", "cell");
+    cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
+    cell.motion_step = radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
+    if (!(cell.approach >= 0 && cell.motion_step >= radians(0.1) && cell.motion_step <= radians(10)))
+      throw InputError(path, "cell: 'approach' or 'motion_step' out of range");
     if (const json table = entry.value("table", json()); table.is_object()) {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");

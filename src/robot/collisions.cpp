@@ -18,6 +18,7 @@ struct CellCollisions::Impl {
   std::unique_ptr<fcl::CollisionObjectd> scene;  // null when there are no triangles
   std::vector<std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> links;  // the cell's link meshes
   std::vector<std::vector<Vec3>> link_vertices;                     // for the working plane
+  double top = 0;                                                   // highest scene z
 
   // The robot's base frame carried into the plan's frame (the part at table angle 0).
   Pose toPlan(const CellPose& pose) const {
@@ -99,11 +100,15 @@ CellCollisions::CellCollisions(const Cell& cell, const TriangleMesh& part,
   for (const TriangleMesh& fixture : fixtures)
     append(fixture, Pose::Identity(), vertices, triangles);
   if (triangles.empty()) return;
+  d.top = vertices.front().z();
+  for (const fcl::Vector3d& v : vertices) d.top = std::max(d.top, v.z());
   d.model = bvh(vertices, triangles);
   d.scene = std::make_unique<fcl::CollisionObjectd>(d.model);
 }
 
 CellCollisions::~CellCollisions() = default;
+
+double CellCollisions::top() const { return impl_->top; }
 
 std::vector<CellCollisions::Capsule> CellCollisions::links(const CellPose& pose) const {
   const Impl& d = *impl_;

@@ -55,6 +55,8 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
     for (int id : p.unreached) out << ' ' << id;
     out << "\n";
   }
+  for (const std::string& move : p.uncleared)
+    out << comment << " WARNING: the move " << move << " collides and could not be cleared\n";
   const CellSignals& s = p.cell.signals;
   out << comment
       << " joints in " << (urscript ? "radians" : "degrees")
@@ -87,10 +89,25 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
       program.unreached.push_back(id);
       continue;
     }
-    program.steps.push_back(
-        {id, plan.views[i].task, *poses[i], forwardKinematics(cell.robot, poses[i]->joints)});
+    program.steps.push_back({id, plan.views[i].task, *poses[i],
+                             forwardKinematics(cell.robot, poses[i]->joints), {}, {}});
   }
   return program;
+}
+
+std::vector<Waypoint> waypoints(const RobotProgram& p) {
+  std::vector<Waypoint> path;
+  if (p.home) path.push_back({*p.home, "home", nullptr});
+  for (const ProgramStep& s : p.steps) {
+    for (const CellPose& v : s.via) path.push_back({v, "via", &s});
+    const CellPose back{s.pose.table_angle, s.approach.value_or(Joints{})};
+    if (s.approach) path.push_back({back, "approach", &s});
+    path.push_back({s.pose, "view", &s});
+    if (s.approach) path.push_back({back, "retract", &s});
+  }
+  for (const CellPose& v : p.via_home) path.push_back({v, "via", nullptr});
+  if (p.home) path.push_back({*p.home, "home", nullptr});
+  return path;
 }
 
 void checkProgramFormat(const Cell& cell, std::string_view format) {
@@ -120,20 +137,24 @@ std::string krlProgram(const RobotProgram& p) {
       << fmt::format("  $LOAD.CM = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A 0, B 0, C 0}}\n", centre.x(),
                      centre.y(), centre.z())
       << "  $BASE = $NULLFRAME\n";
-  for (std::size_t k = 0; k < p.steps.size(); ++k) {
-    const ProgramStep& s = p.steps[k];
-    const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
-    const double e1 = degrees(s.pose.table_angle);
-    out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, k + 1, p.steps.size(),
-                       s.task.empty() ? "-" : s.task)
-        << fmt::format(
-               "  ; flange {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, C {:.3f}, E1 "
-               "{:.3f}}}\n",
-               xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(), e1);
+  int taken = 0;
+  for (const Waypoint& w : waypoints(p)) {
+    if (w.what == "view") {
+      const ProgramStep& s = *w.step;
+      const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
+      out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, ++taken, p.steps.size(),
+                         s.task.empty() ? "-" : s.task)
+          << fmt::format("  ; flange {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
+                         "C {:.3f}, E1 {:.3f}}}\n",
+                         xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(),
+                         degrees(s.pose.table_angle));
+    } else {
+      out << "  ; " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
+    }
     out << "  PTP {E6AXIS:";
-    for (int j = 0; j < 6; ++j)
-      out << fmt::format(" A{} {:.4f},", j + 1, degrees(s.pose.joints[j]));
-    out << fmt::format(" E1 {:.4f}}}\n", e1) << fmt::format("  SCAN({})\n", s.view);
+    for (int j = 0; j < 6; ++j) out << fmt::format(" A{} {:.4f},", j + 1, degrees(w.pose.joints[j]));
+    out << fmt::format(" E1 {:.4f}}}\n", degrees(w.pose.table_angle));
+    if (w.what == "view") out << fmt::format("  SCAN({})\n", w.step->view);
   }
   const CellSignals& sig = p.cell.signals;
   out << "END\n\n"
@@ -176,9 +197,19 @@ std::string rapidProgram(const RobotProgram& p) {
         quadrant(j[3]), quadrant(j[5]), external(s.pose.table_angle));
   }
   out << "\n  PROC main()\n";
-  for (const ProgramStep& s : p.steps)
-    out << fmt::format("    MoveAbsJ jView{}, v500, fine, tScanner;\n    Scan {};\n", s.view,
-                       s.view);
+  for (const Waypoint& w : waypoints(p)) {
+    if (w.what == "view") {
+      out << fmt::format("    MoveAbsJ jView{}, v500, fine, tScanner;\n    Scan {};\n",
+                         w.step->view, w.step->view);
+      continue;
+    }
+    const Joints& j = w.pose.joints;
+    out << fmt::format("    ! {}{}\n", w.what, w.step ? " view " + std::to_string(w.step->view) : "")
+        << fmt::format("    MoveAbsJ [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
+                       "[{},9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;\n",
+                       degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
+                       degrees(j[5]), external(w.pose.table_angle));
+  }
   const CellSignals& sig = p.cell.signals;
   out << "  ENDPROC\n\n"
       << "  PROC Scan(num view)\n    WaitTime 0.2;\n"
@@ -225,17 +256,20 @@ std::string urScript(const RobotProgram& p) {
         << fmt::format("    while get_standard_digital_in({}):\n      sync()\n    end\n  end\n",
                        sig.table->ready);
   std::optional<double> table;
-  for (std::size_t k = 0; k < p.steps.size(); ++k) {
-    const ProgramStep& s = p.steps[k];
-    out << fmt::format("  # view {} ({} of {}), flange {}\n", s.view, k + 1, p.steps.size(),
-                       urPose(s.flange));
-    if (p.cell.table && (!table || *table != s.pose.table_angle))
-      out << fmt::format("  turn_table({:.4f})\n", degrees(s.pose.table_angle));
-    table = s.pose.table_angle;
-    const Joints& q = s.pose.joints;
+  int taken = 0;
+  for (const Waypoint& w : waypoints(p)) {
+    if (w.what == "view")
+      out << fmt::format("  # view {} ({} of {}), flange {}\n", w.step->view, ++taken,
+                         p.steps.size(), urPose(w.step->flange));
+    else
+      out << "  # " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
+    if (p.cell.table && (!table || *table != w.pose.table_angle))
+      out << fmt::format("  turn_table({:.4f})\n", degrees(w.pose.table_angle));
+    table = w.pose.table_angle;
+    const Joints& q = w.pose.joints;
     out << fmt::format("  movej([{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}], a=1.2, v=0.5)\n",
-                       q[0], q[1], q[2], q[3], q[4], q[5])
-        << fmt::format("  scan({})\n", s.view);
+                       q[0], q[1], q[2], q[3], q[4], q[5]);
+    if (w.what == "view") out << fmt::format("  scan({})\n", w.step->view);
   }
   out << "end\n";
   return out.str();
@@ -248,16 +282,28 @@ std::string programJson(const RobotProgram& p) {
     for (int r = 0; r < 4; ++r) rows.push_back({pose(r, 0), pose(r, 1), pose(r, 2), pose(r, 3)});
     return rows;
   };
+  auto poseJson = [](const CellPose& pose) {
+    json joints = json::array();
+    for (double q : pose.joints) joints.push_back(degrees(q));
+    return json{{"joints", joints}, {"table", degrees(pose.table_angle)}};
+  };
   json steps = json::array();
   for (const ProgramStep& s : p.steps) {
     json joints = json::array();
     for (double q : s.pose.joints) joints.push_back(degrees(q));
+    json via = json::array();
+    for (const CellPose& v : s.via) via.push_back(poseJson(v));
     steps.push_back({{"view", s.view},
                      {"task", s.task},
                      {"joints", joints},
                      {"table", degrees(s.pose.table_angle)},
-                     {"flange", matrix(s.flange)}});
+                     {"flange", matrix(s.flange)},
+                     {"via", via},
+                     {"approach", s.approach ? poseJson({s.pose.table_angle, *s.approach})
+                                             : json(nullptr)}});
   }
+  json via_home = json::array();
+  for (const CellPose& v : p.via_home) via_home.push_back(poseJson(v));
   const json root = {{"format", "scanplan.robot_program"},
                      {"version", 1},
                      {"units", {{"length", "mm"}, {"angle", "deg"}}},
@@ -266,7 +312,10 @@ std::string programJson(const RobotProgram& p) {
                      {"robot", p.cell.robot.name},
                      {"base", matrix(p.cell.base)},
                      {"mount", matrix(p.cell.mount)},
+                     {"home", p.home ? poseJson(*p.home) : json(nullptr)},
                      {"steps", steps},
+                     {"via_home", via_home},
+                     {"uncleared", p.uncleared},
                      {"unreached", p.unreached}};
   return root.dump(1) + "\n";
 }

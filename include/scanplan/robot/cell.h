@@ -56,6 +56,12 @@ struct Cell {
   double clearance = 10;  // mm the arm keeps from the part, fixtures and working plane
   ToolLoad tool;
   CellSignals signals;
+  // Safe motion (robot/motion.h): the home joints (none: above the first view, lifted over
+  // the part), the approach distance along each view's axis, mm, and the largest joint
+  // step between the configurations checked along a move, radians.
+  std::optional<Joints> home;
+  double approach = 100;
+  double motion_step = radians(2);
   // Meshes of the upper arm, the forearm and the wrist in the robot's base frame at the
   // zero pose (linkMotions), used for collisions instead of the capsules; empty: capsules.
   std::vector<TriangleMesh> link_meshes;
@@ -99,6 +105,9 @@ class CellCollisions {
   // True when a link of the robot at `pose` comes within the margin of the part, a
   // fixture or the working plane. Thread-safe.
   bool collides(const CellPose& pose) const;
+
+  // The highest point of the part and the fixtures, world z, mm (0: nothing).
+  double top() const;
 
   struct Capsule {
     Vec3 a, b;  // segment ends, world frame at table angle 0, mm

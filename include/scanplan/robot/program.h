@@ -17,6 +17,11 @@ struct ProgramStep {
   std::string task;  // the task that asked for it
   CellPose pose;     // joints (radians) and table angle
   Pose flange;       // the flange in the robot's base frame, mm
+  // Safe motion (robot/motion.h): the configurations passed on the way from the previous
+  // step (or home), and the approach and retract pose back along the view's axis (none:
+  // straight to the view).
+  std::vector<CellPose> via;
+  std::optional<Joints> approach;
 };
 
 struct RobotProgram {
@@ -25,6 +30,9 @@ struct RobotProgram {
   Cell cell;
   std::vector<ProgramStep> steps;  // in sequence order
   std::vector<int> unreached;      // views of the plan the cell cannot take (left out)
+  std::optional<CellPose> home;    // where the program starts and ends (planMotion)
+  std::vector<CellPose> via_home;  // on the way back home from the last step
+  std::vector<std::string> uncleared;  // moves that collide and could not be lifted clear
 };
 
 // The program of `plan` in `cell`: its views in sequence order (then any outside the
@@ -32,6 +40,15 @@ struct RobotProgram {
 // `collisions`). `name` is made a valid identifier.
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
                           const std::string& source, const CellCollisions* collisions = nullptr);
+
+// One move of a program, in order: home, the via points, each view's approach, the view
+// (where the scan is taken), its retract (the approach again), the way home.
+struct Waypoint {
+  CellPose pose;
+  std::string what;                   // "home", "via", "approach", "view", "retract"
+  const ProgramStep* step = nullptr;  // the step it belongs to (none: home and its way)
+};
+std::vector<Waypoint> waypoints(const RobotProgram& program);
 
 // Refuses a format the cell's robot does not run (URScript for Universal Robots only, KRL
 // and RAPID for the others) or a rotary table the format cannot drive (URScript without

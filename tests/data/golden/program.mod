@@ -15,12 +15,22 @@ MODULE ctc01_plan
   CONST robtarget pView7 := [[772.007,410.884,1330.955],[0.745797,-0.412633,0.374887,-0.364665],[0,0,-1,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
 
   PROC main()
+    ! home
+    MoveAbsJ [[0.0000,-17.1887,11.4592,0.0000,34.3775,0.0000],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
+    ! approach view 4
+    MoveAbsJ [[5.7296,5.7296,-11.4592,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
     MoveAbsJ jView4, v500, fine, tScanner;
     Scan 4;
+    ! retract view 4
+    MoveAbsJ [[5.7296,5.7296,-11.4592,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
+    ! via view 2
+    MoveAbsJ [[-5.7296,-11.4592,5.7296,-28.6479,40.1070,57.2958],[45.8366,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
     MoveAbsJ jView2, v500, fine, tScanner;
     Scan 2;
     MoveAbsJ jView7, v500, fine, tScanner;
     Scan 7;
+    ! home
+    MoveAbsJ [[0.0000,-17.1887,11.4592,0.0000,34.3775,0.0000],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
   ENDPROC
 
   PROC Scan(num view)
