@@ -229,6 +229,16 @@ std::string urPose(const Pose& pose) {
                      xyz.z(), r.x(), r.y(), r.z());
 }
 
+// Raises output `request`, waits for input `done`, drops the output, waits for the input
+// to drop.
+std::string urHandshake(int request, int done) {
+  return fmt::format(
+      "    set_standard_digital_out({0}, True)\n    while not get_standard_digital_in({1}):\n"
+      "      sync()\n    end\n    set_standard_digital_out({0}, False)\n"
+      "    while get_standard_digital_in({1}):\n      sync()\n    end\n",
+      request, done);
+}
+
 std::string urScript(const RobotProgram& p) {
   checkProgramFormat(p.cell, "urscript");
   const CellSignals& sig = p.cell.signals;
@@ -240,21 +250,11 @@ std::string urScript(const RobotProgram& p) {
                      centre.x(), centre.y(), centre.z())
       << "  def scan(view):\n    sleep(0.2)\n"
       << fmt::format("    write_output_integer_register({}, view)\n", sig.view)
-      << fmt::format("    set_standard_digital_out({}, True)\n", sig.trigger)
-      << fmt::format("    while not get_standard_digital_in({}):\n      sync()\n    end\n",
-                     sig.acknowledge)
-      << fmt::format("    set_standard_digital_out({}, False)\n", sig.trigger)
-      << fmt::format("    while get_standard_digital_in({}):\n      sync()\n    end\n  end\n",
-                     sig.acknowledge);
+      << urHandshake(sig.trigger, sig.acknowledge) << "  end\n";
   if (sig.table)
     out << "  def turn_table(angle):\n"
         << fmt::format("    write_output_float_register({}, angle)\n", sig.table->angle)
-        << fmt::format("    set_standard_digital_out({}, True)\n", sig.table->move)
-        << fmt::format("    while not get_standard_digital_in({}):\n      sync()\n    end\n",
-                       sig.table->ready)
-        << fmt::format("    set_standard_digital_out({}, False)\n", sig.table->move)
-        << fmt::format("    while get_standard_digital_in({}):\n      sync()\n    end\n  end\n",
-                       sig.table->ready);
+        << urHandshake(sig.table->move, sig.table->ready) << "  end\n";
   std::optional<double> table;
   int taken = 0;
   for (const Waypoint& w : waypoints(p)) {
