@@ -227,6 +227,11 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   for (std::size_t v = 0; v < plan.views.size(); ++v)
     EXPECT_TRUE(forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
                     .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
+  // A cell that would hang or mislead the programs is refused: a table step of 0.
+  nlohmann::json json = planJson(plan);
+  json["cell"]["table"]["step"] = 0;
+  test::writeText(dir.file("bad.json"), json.dump());
+  EXPECT_THROW(readPlan(dir.file("bad.json")), InputError);
 }
 
 // An IRB 2400 and a 400 mm block 700 mm ahead of it; two poses on either side of the block,

@@ -520,6 +520,10 @@ struct PlanReader {
       s.table = CellSignals::Table{field<int>(table, "angle", path, "cell signals table"),
                                    field<int>(table, "move", path, "cell signals table"),
                                    field<int>(table, "ready", path, "cell signals table")};
+    std::vector<int> numbers = {s.view, s.trigger, s.acknowledge};
+    if (s.table) numbers.insert(numbers.end(), {s.table->angle, s.table->move, s.table->ready});
+    for (int n : numbers)
+      if (n < 0 || n > 4095) throw InputError(path, "cell signals: a number outside [0, 4095]");
     return s;
   }
 
@@ -543,8 +547,10 @@ struct PlanReader {
     if (entry.contains("home") && !entry["home"].is_null()) cell.home = joints(entry, "home", "cell");
     cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
     cell.motion_step = radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
-    if (!(cell.approach >= 0 && cell.motion_step >= radians(0.1) && cell.motion_step <= radians(10)))
-      throw InputError(path, "cell: 'approach' or 'motion_step' out of range");
+    if (!(cell.approach >= 0 && cell.approach <= 1000 && cell.motion_step >= radians(0.1) &&
+          cell.motion_step <= radians(10) && cell.tool.mass > 0 && cell.tool.mass <= 1000 &&
+          cell.clearance >= 0 && cell.clearance <= kLongestLength))
+      throw InputError(path, "cell: approach, motion_step, tool mass or clearance out of range");
     if (const json table = entry.value("table", json()); table.is_object()) {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");
@@ -555,6 +561,8 @@ struct PlanReader {
       t.lower = radians(range[0]);
       t.upper = radians(range[1]);
       t.step = radians(fieldOr(table, "step", degrees(t.step), path, "cell table"));
+      if (!(t.axis.allFinite() && t.step >= radians(0.1)))
+        throw InputError(path, "cell table: no axis, or a step under 0.1 degrees");
     }
     return cell;
   }
