@@ -502,7 +502,7 @@ CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
     checkKeys(table, {"angle", "move", "ready"}, reader, "cell.signals.table");
     for (const char* key : {"angle", "move", "ready"})
       if (!table[key]) reader.fail(std::string("cell.signals.table needs '") + key + "'");
-    CellSignals::Table& t = signals.table.emplace();
+    TableSignals& t = signals.table.emplace();
     number(table, "cell.signals.table", "angle", t.angle);
     number(table, "cell.signals.table", "move", t.move);
     number(table, "cell.signals.table", "ready", t.ready);

@@ -59,7 +59,7 @@ RobotProgram urProgram() {
   p.cell.robot = robotPreset("ur10e");
   p.cell.mount.translation() = Vec3(0, 0, 120);
   p.cell.table = RotaryTable{};
-  p.cell.signals.table = CellSignals::Table{2, 5, 6};
+  p.cell.signals.table = TableSignals{2, 5, 6};
   const Joints joints[3] = {{0.1, -1.2, 1.3, -1.6, -1.5, 0.6},
                             {-0.2, -1.4, 1.1, -1.0, -1.4, 2.0},
                             {0.5, -1.1, 1.4, -1.9, -1.6, -1.5}};

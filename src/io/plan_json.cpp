@@ -517,7 +517,7 @@ struct PlanReader {
     s.trigger = fieldOr(entry, "trigger", s.trigger, path, "cell signals");
     s.acknowledge = fieldOr(entry, "acknowledge", s.acknowledge, path, "cell signals");
     if (const json table = objectAt(entry, "table"); !table.empty())
-      s.table = CellSignals::Table{field<int>(table, "angle", path, "cell signals table"),
+      s.table = TableSignals{field<int>(table, "angle", path, "cell signals table"),
                                    field<int>(table, "move", path, "cell signals table"),
                                    field<int>(table, "ready", path, "cell signals table")};
     std::vector<int> numbers = {s.view, s.trigger, s.acknowledge};

@@ -33,19 +33,20 @@ struct ToolLoad {
   std::optional<Vec3> centre;  // mm, flange frame; none: the mount's origin
 };
 
+// The signals of a rotary table that URScript drives (KRL and RAPID drive it as an
+// external axis): the angle (degrees) to float output register `angle`, output `move`
+// raised until input `ready` rises, then both dropped.
+struct TableSignals {
+  int angle = 0, move = 0, ready = 0;
+};
+
 // The controller's signals, numbered as the controller counts them (docs/cell.md). At
 // each view the program writes the view number to group output (KRL, RAPID) or integer
 // output register (URScript) `view`, raises output `trigger`, waits for input
 // `acknowledge`, drops the trigger and waits for the acknowledgement to drop.
 struct CellSignals {
   int view = 1, trigger = 1, acknowledge = 1;
-  // A rotary table that URScript drives (KRL and RAPID drive it as an external axis):
-  // the angle (degrees) to float output register `angle`, output `move` raised until
-  // input `ready` rises, then both dropped. None: URScript cannot drive the table.
-  struct Table {
-    int angle = 0, move = 0, ready = 0;
-  };
-  std::optional<Table> table;
+  std::optional<TableSignals> table;  // none: URScript cannot drive the table
 };
 
 struct Cell {
