@@ -527,5 +527,33 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.mod")));
 }
 
+// A UR10e with a rotary table: URScript drives the table only through the signals the
+// spec gives it; without them the export is refused (exit 1) naming the format, with them
+// the program turns the table before the views that need it.
+TEST(Cli, UrScriptDrivesATableOnlyThroughItsSignals) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  const std::string cell = "cell:\n  robot: {preset: ur10e, base: {position: [-700, 0, 0]}}\n"
+                           "  table: {origin: [0, 0, 0]}\n";
+  test::writeText(dir.file("spec.yaml"), cell);
+  CommandResult r = run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " +
+                        dir.file("out") + " --no-report -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("export " + dir.file("out/plan.json") + " --format urscript -o " + dir.file("ur.script") + " -q");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("--format urscript: URScript cannot drive the rotary table"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("ur.script")));
+  test::writeText(dir.file("signals.yaml"),
+                  cell + "  signals: {table: {angle: 0, move: 2, ready: 2}}\n");
+  r = run("export " + dir.file("out/plan.json") + " --spec " + dir.file("signals.yaml") +
+          " --format urscript -o " + dir.file("ur.script") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir.file("ur.script"));
+  const std::string script{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_NE(script.find("  turn_table("), std::string::npos);
+  EXPECT_NE(script.find("set_tcp(p[0.000000, 0.000000, 0.150000,"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace scanplan
