@@ -174,7 +174,8 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
   spec.marker_grid = 0;
   const Plan marked = planViews(part, spec);
   state.counters["views_with_markers"] = static_cast<double>(marked.views.size());
-  state.counters["registered_with_markers"] = static_cast<double>(marked.registration->registered());
+  state.counters["registered_with_markers"] =
+      static_cast<double>(marked.registration->registered());
 }
 
 // verifyPlan of a plan of about 2,000 views: CTC 02's global task with a laser-line
@@ -183,7 +184,8 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
 // pair of views whose measured surfaces overlap, ICP where they could register, and the
 // sequence.
 void verifyManyViews(benchmark::State& state) {
-  const std::string path = std::string(SCANPLAN_SHARED_DATA) + "/nist/nist_ctc_02_asme1_ap242-e2.stp";
+  const std::string path =
+      std::string(SCANPLAN_SHARED_DATA) + "/nist/nist_ctc_02_asme1_ap242-e2.stp";
   if (!std::filesystem::exists(path)) return state.SkipWithError("shared data not found");
   const Part part = importPart(path);
   Spec spec = defaultSpec();
@@ -229,11 +231,12 @@ const int registered = [] {
           })
           ->Unit(benchmark::kSecond)
           ->Iterations(1);
-  for (const char* name : {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
-                           "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
-                           "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
-                           "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
-                           "mech/asi_repatch-hpdc.stp"})
+  for (const char* name :
+       {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
+        "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
+        "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
+        "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
+        "mech/asi_repatch-hpdc.stp"})
     benchmark::RegisterBenchmark((std::string("BM_RegisterGlobal/") + name).c_str(),
                                  [name](benchmark::State& state) { registerGlobal(state, name); })
         ->Unit(benchmark::kSecond)

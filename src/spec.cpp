@@ -413,12 +413,11 @@ void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec
 
 RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& reader,
                                      const std::string& path) {
-  checkKeys(
-      node,
-      {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "min_overlap",
-       "max_condition", "point_spacing", "verify", "cloud_spacing", "perturbation", "tolerance",
-       "bridging", "max_bridging_views"},
-      reader, "registration");
+  checkKeys(node,
+            {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "min_overlap",
+             "max_condition", "point_spacing", "verify", "cloud_spacing", "perturbation",
+             "tolerance", "bridging", "max_bridging_views"},
+            reader, "registration");
   RegistrationOptions r;
   if (const YAML::Node method = node["method"]) {
     const auto name = reader.scalar<std::string>(method, "registration.method");
@@ -464,10 +463,12 @@ void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
     c.home = home;
   }
   reader.read(cell, "cell", "approach", c.approach);
-  if (!(c.approach >= 0 && c.approach <= 1000)) reader.fail("cell.approach must be within [0, 1000] mm");
+  if (!(c.approach >= 0 && c.approach <= 1000))
+    reader.fail("cell.approach must be within [0, 1000] mm");
   if (cell["motion_step"]) {
     const double step = reader.scalar<double>(cell["motion_step"], "cell.motion_step");
-    if (!(step >= 0.1 && step <= 10)) reader.fail("cell.motion_step must be within [0.1, 10] degrees");
+    if (!(step >= 0.1 && step <= 10))
+      reader.fail("cell.motion_step must be within [0.1, 10] degrees");
     c.motion_step = radians(step);
   }
 }
@@ -477,7 +478,8 @@ ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node, {"mass", "centre"}, reader, "cell.tool");
   ToolLoad tool;
   reader.read(node, "cell.tool", "mass", tool.mass);
-  if (!(tool.mass > 0 && tool.mass <= 1000)) reader.fail("cell.tool.mass must be within (0, 1000] kg");
+  if (!(tool.mass > 0 && tool.mass <= 1000))
+    reader.fail("cell.tool.mass must be within (0, 1000] kg");
   if (node["centre"]) {
     const std::vector<double> c = reader.numbers(node["centre"], 3, "cell.tool.centre");
     tool.centre = Vec3(c[0], c[1], c[2]);
@@ -662,24 +664,27 @@ void checkScale(const Part& part, const Spec& spec, const std::string& source) {
   const double views = area / field;
   if (views > spec.planner.most_views) {
     const double k = std::sqrt(views / spec.planner.most_views);
-    throw InputError(source, fmt::format("scanner: a {:.4g} x {:.4g} mm field of view is too small for "
-                                         "{} ({:.0f} mm² of surface): covering it once takes {:.0f} "
-                                         "views, more than planner.most_views ({}); a field of at "
-                                         "least {:.3g} x {:.3g} mm",
-                                         s.fov_width, s.fov_height, part.file, area, views,
-                                         spec.planner.most_views, k * s.fov_width, k * s.fov_height));
+    throw InputError(source,
+                     fmt::format("scanner: a {:.4g} x {:.4g} mm field of view is too small for "
+                                 "{} ({:.0f} mm² of surface): covering it once takes {:.0f} "
+                                 "views, more than planner.most_views ({}); a field of at "
+                                 "least {:.3g} x {:.3g} mm",
+                                 s.fov_width, s.fov_height, part.file, area, views,
+                                 spec.planner.most_views, k * s.fov_width, k * s.fov_height));
   }
   const RegistrationOptions& r = spec.registration;
   const double points = r.point_spacing > 0 ? r.point_spacing : s.fov_height / 40;
   if (area / (points * points) > kMostSurfacePoints)
-    throw InputError(source, fmt::format("registration.point_spacing: surface points every {:.3g} mm "
-                                         "are more than 30 million over {} ({:.0f} mm²); at least "
-                                         "{:.3g} mm",
-                                         points, part.file, area, std::sqrt(area / kMostSurfacePoints)));
+    throw InputError(source,
+                     fmt::format("registration.point_spacing: surface points every {:.3g} mm "
+                                 "are more than 30 million over {} ({:.0f} mm²); at least "
+                                 "{:.3g} mm",
+                                 points, part.file, area, std::sqrt(area / kMostSurfacePoints)));
   if (r.cloud_spacing > 0 && field / (r.cloud_spacing * r.cloud_spacing) > kMostCloudPoints)
-    throw InputError(source, fmt::format("registration.cloud_spacing: a cloud point every {:.3g} mm is "
-                                         "more than a million points per view; at least {:.3g} mm",
-                                         r.cloud_spacing, std::sqrt(field / kMostCloudPoints)));
+    throw InputError(source,
+                     fmt::format("registration.cloud_spacing: a cloud point every {:.3g} mm is "
+                                 "more than a million points per view; at least {:.3g} mm",
+                                 r.cloud_spacing, std::sqrt(field / kMostCloudPoints)));
 }
 
 }  // namespace

@@ -225,8 +225,9 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   EXPECT_TRUE(back.cell->base.isApprox(plan.cell->base));
   ASSERT_EQ(back.cell_poses.size(), plan.views.size());
   for (std::size_t v = 0; v < plan.views.size(); ++v)
-    EXPECT_TRUE(forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
-                    .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
+    EXPECT_TRUE(
+        forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
+            .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
   // A cell that would hang or mislead the programs is refused: a table step of 0.
   nlohmann::json json = planJson(plan);
   json["cell"]["table"]["step"] = 0;
@@ -249,7 +250,8 @@ TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
   for (const double side : {1.0, -1.0}) {
     Pose flange = Pose::Identity();
     flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
-    flange.translation() = Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 250);
+    flange.translation() =
+        Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 250);
     const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
     ASSERT_FALSE(q.empty());
     ASSERT_FALSE(collisions.collides({0, q.front()}));

@@ -17,8 +17,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <tuple>
 #include <set>
+#include <tuple>
 
 namespace scanplan {
 namespace {
@@ -266,8 +266,7 @@ TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
 
   std::tie(plan, verify) = planAndVerify("none", "", "--no-registration");
   EXPECT_EQ(verify.code, 0) << verify.out;
-  EXPECT_NE(verify.out.find("none: planned without registration"), std::string::npos)
-      << verify.out;
+  EXPECT_NE(verify.out.find("none: planned without registration"), std::string::npos) << verify.out;
 
   std::tie(plan, verify) =
       planAndVerify("robot", "registration: {method: robot, robot_accuracy: 0.05}\n", "");
@@ -358,10 +357,9 @@ TEST(Cli, AFailedPlanLeavesNoFolder) {
 TEST(Cli, SurfacePlanOverEveryRestOrientationWritesPatchesAndVerifies) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
-  test::writeText(
-      dir.file("spec.yaml"),
-      "part: {rest: all}\nregistration: {required: false}\n"
-      "tasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
+  test::writeText(dir.file("spec.yaml"),
+                  "part: {rest: all}\nregistration: {required: false}\n"
+                  "tasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n");
   CommandResult r =
       run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " + dir.file("out") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -426,7 +424,8 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
   const std::vector<View> in_order = readViewsCsv(dir.file("views.csv"));
   ASSERT_TRUE(plan.sequence);
   ASSERT_EQ(in_order.size(), plan.sequence->views.size());
-  for (std::size_t k = 0; k < in_order.size(); ++k) EXPECT_EQ(in_order[k].id, plan.sequence->views[k]);
+  for (std::size_t k = 0; k < in_order.size(); ++k)
+    EXPECT_EQ(in_order[k].id, plan.sequence->views[k]);
   std::ifstream csv(dir.file("views.csv"));
   std::string header;
   std::getline(csv, header);
@@ -508,12 +507,13 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   // A scan at every view; home, each view's approach and retract, and any via points.
   EXPECT_EQ(count("  SCAN("), plan.views.size());
   EXPECT_EQ(count("PTP {E6AXIS"), 2 + plan.views.size() + count("; approach view") +
-                                       count("; retract view") + count("; via"));
+                                      count("; retract view") + count("; via"));
   EXPECT_EQ(count("; home"), 2u);
   EXPECT_EQ(count("could not be cleared"), 0u);
   // The plan carries its cell: without --spec the program is the same.
   std::filesystem::create_directory(dir.file("again"));
-  r = run("export " + out + "/plan.json --format krl -o " + dir.file("again/cell_plan.src") + " -q");
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("again/cell_plan.src") +
+          " -q");
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream again(dir.file("again/cell_plan.src"));
   const std::string krl_again{std::istreambuf_iterator<char>(again), {}};
@@ -521,7 +521,8 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   // A plan made without a cell has no robot to write for.
   r = run("plan " + part + " -o " + dir.file("plain") + " --no-report --no-registration -q");
   ASSERT_EQ(r.code, 0) << r.out;
-  r = run("export " + dir.file("plain/plan.json") + " --format rapid -o " + dir.file("x.mod") + " -q");
+  r = run("export " + dir.file("plain/plan.json") + " --format rapid -o " + dir.file("x.mod") +
+          " -q");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("cell"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.mod")));
@@ -533,15 +534,18 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
 TEST(Cli, UrScriptDrivesATableOnlyThroughItsSignals) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
-  const std::string cell = "cell:\n  robot: {preset: ur10e, base: {position: [-700, 0, 0]}}\n"
-                           "  table: {origin: [0, 0, 0]}\n";
+  const std::string cell =
+      "cell:\n  robot: {preset: ur10e, base: {position: [-700, 0, 0]}}\n"
+      "  table: {origin: [0, 0, 0]}\n";
   test::writeText(dir.file("spec.yaml"), cell);
   CommandResult r = run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " +
                         dir.file("out") + " --no-report -q");
   ASSERT_EQ(r.code, 0) << r.out;
-  r = run("export " + dir.file("out/plan.json") + " --format urscript -o " + dir.file("ur.script") + " -q");
+  r = run("export " + dir.file("out/plan.json") + " --format urscript -o " + dir.file("ur.script") +
+          " -q");
   EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("--format urscript: URScript cannot drive the rotary table"), std::string::npos)
+  EXPECT_NE(r.out.find("--format urscript: URScript cannot drive the rotary table"),
+            std::string::npos)
       << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir.file("ur.script")));
   test::writeText(dir.file("signals.yaml"),

@@ -111,7 +111,8 @@ TEST(ImportErrors, StepReferringToAMissingEntity) {
 
 // The bundled FTC 11 test part with `from` replaced by `to`, written to `dir`; the reason
 // importPart gives for it.
-std::string editedStepError(const test::TempDir& dir, const std::string& from, const std::string& to) {
+std::string editedStepError(const test::TempDir& dir, const std::string& from,
+                            const std::string& to) {
   std::ifstream in(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t at = text.find(from);
@@ -285,9 +286,13 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["sequence"][0] = 4242; }),
                "the sequence refers to view 4242");
   EXPECT_PRED2(contains,
-               planError(path, [](auto& p) { p["samples"][3]["measured_by"] = {1, 999}; }),
+               planError(path,
+                         [](auto& p) {
+                           p["samples"][3]["measured_by"] = {1, 999};
+                         }),
                "sample 4 measured_by refers to view 999");
-  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["views"][0]["registration"]["to"] = "x"; }),
+  EXPECT_PRED2(contains,
+               planError(path, [](auto& p) { p["views"][0]["registration"]["to"] = "x"; }),
                "view 1 registration: 'to' has the wrong type");
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["path_length"] = "x"; }),
                "a value has the wrong type");
@@ -329,8 +334,9 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
   EXPECT_PRED2(contains, specError(dir, "planner: {vm_step: 0.0001}\n"),
                "planner.vm_step must be within [1, 45] degrees");
   EXPECT_PRED2(contains,
-               specError(dir, "cell:\n  robot: {preset: abb-irb4600-60-205}\n"
-                              "  table: {step: 1.0e-9}\n"),
+               specError(dir,
+                         "cell:\n  robot: {preset: abb-irb4600-60-205}\n"
+                         "  table: {step: 1.0e-9}\n"),
                "cell.table.step must be at least 0.1 degrees");
 }
 
@@ -356,7 +362,8 @@ TEST(SpecErrors, SettingsAbsurdForThePartsSize) {
   const Part part = test::meshPart(mesh);
   auto reason = [&](const std::string& text) {
     test::writeText(dir.file("spec.yaml"), text);
-    return inputError(dir.file("spec.yaml"), [&] { resolveSpec(part, loadSpec(dir.file("spec.yaml"))); });
+    return inputError(dir.file("spec.yaml"),
+                      [&] { resolveSpec(part, loadSpec(dir.file("spec.yaml"))); });
   };
   EXPECT_PRED2(contains, reason("scanner: {preset: laser-line, fov_width: 0.5, fov_height: 0.5}\n"),
                "takes 240000 views, more than planner.most_views (10000); a field of at least "
@@ -371,7 +378,8 @@ TEST(SpecErrors, SettingsAbsurdForThePartsSize) {
                "registration.cloud_spacing: a cloud point every 0.01 mm is more than a million "
                "points per view; at least 0.26 mm");
   // The same field of view is sensible on a part its size allows.
-  test::writeText(dir.file("spec.yaml"), "scanner: {preset: laser-line, fov_width: 3, fov_height: 3}\n");
+  test::writeText(dir.file("spec.yaml"),
+                  "scanner: {preset: laser-line, fov_width: 3, fov_height: 3}\n");
   EXPECT_NO_THROW(resolveSpec(part, loadSpec(dir.file("spec.yaml"))));
 }
 

@@ -378,12 +378,14 @@ TEST(SequencingTest, ShortestPathsAgreeWithFloydWarshall) {
   const double inf = std::numeric_limits<double>::infinity();
   Eigen::MatrixXd direct(n, n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) direct(i, j) = i == j ? 0 : (random() % 3 == 0 ? inf : cost(random));
+    for (int j = 0; j < n; ++j)
+      direct(i, j) = i == j ? 0 : (random() % 3 == 0 ? inf : cost(random));
   for (int i = 0; i < n - 1; ++i) direct(i, n - 1) = inf;
   Eigen::MatrixXd expected = direct;
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) expected(i, j) = std::min(expected(i, j), expected(i, k) + expected(k, j));
+      for (int j = 0; j < n; ++j)
+        expected(i, j) = std::min(expected(i, j), expected(i, k) + expected(k, j));
   const Eigen::MatrixXd paths = shortestPaths(direct);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) EXPECT_DOUBLE_EQ(paths(i, j), expected(i, j)) << i << "-" << j;
@@ -558,15 +560,15 @@ void addGrid(TriangleMesh& mesh, const Vec3& corner, const Vec3& u, const Vec3& 
 Part lBracket() {
   TriangleMesh mesh;
   const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
-  addGrid(mesh, Vec3::Zero(), 100 * y, 200 * x, 1);              // bottom
-  addGrid(mesh, Vec3(15, 0, 15), 185 * x, 100 * y, 2);          // top of the base
-  addGrid(mesh, Vec3(200, 0, 0), 100 * y, 15 * z, 3);            // end of the base
-  addGrid(mesh, Vec3(15, 0, 15), 100 * y, 135 * z, 4);           // front of the upright
-  addGrid(mesh, Vec3(0, 0, 150), 15 * x, 100 * y, 5);            // top of the upright
-  addGrid(mesh, Vec3::Zero(), 150 * z, 100 * y, 6);              // back
-  addGrid(mesh, Vec3::Zero(), 200 * x, 15 * z, 7);               // side, y = 0
+  addGrid(mesh, Vec3::Zero(), 100 * y, 200 * x, 1);     // bottom
+  addGrid(mesh, Vec3(15, 0, 15), 185 * x, 100 * y, 2);  // top of the base
+  addGrid(mesh, Vec3(200, 0, 0), 100 * y, 15 * z, 3);   // end of the base
+  addGrid(mesh, Vec3(15, 0, 15), 100 * y, 135 * z, 4);  // front of the upright
+  addGrid(mesh, Vec3(0, 0, 150), 15 * x, 100 * y, 5);   // top of the upright
+  addGrid(mesh, Vec3::Zero(), 150 * z, 100 * y, 6);     // back
+  addGrid(mesh, Vec3::Zero(), 200 * x, 15 * z, 7);      // side, y = 0
   addGrid(mesh, Vec3(0, 0, 15), 15 * x, 135 * z, 7);
-  addGrid(mesh, Vec3(0, 100, 0), 15 * z, 200 * x, 8);            // side, y = 100
+  addGrid(mesh, Vec3(0, 100, 0), 15 * z, 200 * x, 8);  // side, y = 100
   addGrid(mesh, Vec3(0, 100, 15), 135 * z, 15 * x, 8);
   addGrid(mesh, Vec3(-5, -100, 0), 210 * y, 250 * z, 9);
   addGrid(mesh, Vec3(-5, 105, 0), 300 * x, 250 * z, 9);
@@ -577,12 +579,12 @@ Part lBracket() {
 void addBox(TriangleMesh& mesh, const Vec3& lo, const Vec3& hi, int first) {
   const Vec3 d = hi - lo, x = d.x() * Vec3::UnitX(), y = d.y() * Vec3::UnitY(),
              z = d.z() * Vec3::UnitZ();
-  addGrid(mesh, lo, y, x, first);           // bottom
-  addGrid(mesh, lo + z, x, y, first + 1);   // top
-  addGrid(mesh, lo, x, z, first + 2);       // y = lo
-  addGrid(mesh, lo + y, z, x, first + 3);   // y = hi
-  addGrid(mesh, lo, z, y, first + 4);       // x = lo
-  addGrid(mesh, lo + x, y, z, first + 5);   // x = hi
+  addGrid(mesh, lo, y, x, first);          // bottom
+  addGrid(mesh, lo + z, x, y, first + 1);  // top
+  addGrid(mesh, lo, x, z, first + 2);      // y = lo
+  addGrid(mesh, lo + y, z, x, first + 3);  // y = hi
+  addGrid(mesh, lo, z, y, first + 4);      // x = lo
+  addGrid(mesh, lo + x, y, z, first + 5);  // x = hi
 }
 
 // A row of eight blocks 40 mm wide and 30 mm apart, 15 and 30 mm high in turn, on a plate
@@ -669,9 +671,10 @@ TEST(RegistrationTest, AnLBracketRegistersByItsGeometry) {
   RecordProperty("views", std::to_string(plan.views.size()));
   EXPECT_EQ(registration.method, RegistrationMode::Geometry);
   for (int face : {2, 4, 7})  // the top, the front and the end
-    EXPECT_TRUE(std::any_of(plan.samples.begin(), plan.samples.end(), [&](const PlannedSample& s) {
-      return s.sample.face == face && !s.measured_by.empty();
-    })) << "face " << face;
+    EXPECT_TRUE(std::any_of(
+        plan.samples.begin(), plan.samples.end(),
+        [&](const PlannedSample& s) { return s.sample.face == face && !s.measured_by.empty(); }))
+        << "face " << face;
   EXPECT_GE(plan.views.size(), 2u);
   EXPECT_EQ(registration.registered(), plan.views.size());
   for (std::size_t v = 0; v < plan.views.size(); ++v) {
@@ -770,8 +773,8 @@ TEST(RegistrationTest, MarkersProposedForAFlatPartRegisterItsViews) {
   EXPECT_LE(proposal.markers.size(), 4 * (bare.views.size() - 1));
 
   writeMarkers(proposal.markers, dir.file("markers.csv"));
-  test::writeText(dir.file("marked.yaml"), "markers: " + dir.file("markers.csv") +
-                                               "\ntasks:\n  - {type: global}\n");
+  test::writeText(dir.file("marked.yaml"),
+                  "markers: " + dir.file("markers.csv") + "\ntasks:\n  - {type: global}\n");
   const Plan marked = planViews(part, loadSpec(dir.file("marked.yaml")));
   RecordProperty("registered_with_them", std::to_string(marked.registration->registered()) +
                                              " of " + std::to_string(marked.views.size()));

@@ -36,8 +36,12 @@ RobotProgram program() {
   const int views[3] = {4, 2, 7};
   const char* tasks[3] = {"gdt", "global", ""};
   for (int k = 0; k < 3; ++k)
-    p.steps.push_back({views[k], tasks[k], CellPose{table[k], joints[k]},
-                       forwardKinematics(p.cell.robot, joints[k]), {}, {}});
+    p.steps.push_back({views[k],
+                       tasks[k],
+                       CellPose{table[k], joints[k]},
+                       forwardKinematics(p.cell.robot, joints[k]),
+                       {},
+                       {}});
   p.unreached = {9};
   // Safe motion as planMotion gives it: home, an approach, a via point.
   p.home = CellPose{0, {0, -0.3, 0.2, 0, 0.6, 0}};
@@ -65,8 +69,12 @@ RobotProgram urProgram() {
                             {0.5, -1.1, 1.4, -1.9, -1.6, -1.5}};
   const double table[3] = {0, 0, M_PI / 2};
   for (int k = 0; k < 3; ++k)
-    p.steps.push_back({k + 1, "global", CellPose{table[k], joints[k]},
-                       forwardKinematics(p.cell.robot, joints[k]), {}, {}});
+    p.steps.push_back({k + 1,
+                       "global",
+                       CellPose{table[k], joints[k]},
+                       forwardKinematics(p.cell.robot, joints[k]),
+                       {},
+                       {}});
   p.home = CellPose{0, {0, -1.57, 1.2, -1.2, -1.57, 0}};
   p.steps[2].approach = Joints{0.5, -1.2, 1.3, -1.7, -1.6, -1.5};
   return p;
@@ -124,10 +132,12 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   };
   // The tool, the load and the handshake's signals are the cell's.
   EXPECT_NE(text.find("$TOOL = {X 0.000, Y 0.000, Z 150.000,"), std::string::npos);
-  EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"), std::string::npos);
-  EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
-  EXPECT_NE(text.find("  $OUT[3] = TRUE\n  WAIT FOR $IN[4]\n  $OUT[3] = FALSE\n  WAIT FOR NOT $IN[4]\n"),
+  EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"),
             std::string::npos);
+  EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
+  EXPECT_NE(
+      text.find("  $OUT[3] = TRUE\n  WAIT FOR $IN[4]\n  $OUT[3] = FALSE\n  WAIT FOR NOT $IN[4]\n"),
+      std::string::npos);
   int defs = 0, ends = 0;
   std::vector<std::vector<double>> ptp;
   for (const std::string& line : lines(text)) {
@@ -177,8 +187,9 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
       if (code.find("MoveAbsJ") != std::string::npos) {
         EXPECT_TRUE(
             std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tScanner;)")) ||
-            std::regex_match(code, std::regex(R"(\s*MoveAbsJ \[\[([-0-9.]+,){5}[-0-9.]+\],)"
-                                              R"(\[[-0-9.E+]+(,9E\+09){5}\]\], v\d+, z\d+, tScanner;)")))
+            std::regex_match(code,
+                             std::regex(R"(\s*MoveAbsJ \[\[([-0-9.]+,){5}[-0-9.]+\],)"
+                                        R"(\[[-0-9.E+]+(,9E\+09){5}\]\], v\d+, z\d+, tScanner;)")))
             << line;
         ++moves;
       }
@@ -257,9 +268,10 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_EQ(turns, 3);  // to 0 at home, to 90° to approach the third view, to 0 back home
   EXPECT_NE(text.find("set_tcp(p[0.000000, 0.000000, 0.120000, 0.000000, 0.000000, 0.000000])"),
             std::string::npos);
-  EXPECT_NE(text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"
-                      "    while not get_standard_digital_in(6):"),
-            std::string::npos);
+  EXPECT_NE(
+      text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"
+                "    while not get_standard_digital_in(6):"),
+      std::string::npos);
 }
 
 // Each format runs on its robots only, and URScript drives a table only through its

@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
   app.fallthrough();
   app.add_flag("-q,--quiet", global.quiet, "Show no progress");
   int threads = 0;
-  app.add_option("-j,--threads", threads, "Threads to use (default: all cores); plans do not depend on it")
+  app.add_option("-j,--threads", threads,
+                 "Threads to use (default: all cores); plans do not depend on it")
       ->check(CLI::Range(1, 1024));
   cli::Action action;
   cli::addInfoCommand(app, global, action);

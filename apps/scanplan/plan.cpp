@@ -148,8 +148,10 @@ int run(const Options& options, const GlobalOptions& global) {
     fmt::print("markers    {}{}\n", markers_csv,
                options.place_markers ? " (placed: the plan above uses them)" : "");
   if (plan.views.empty()) {  // a valid plan, but nothing to scan: say why, and fail
-    fmt::print(stderr, "error: {}: no sample of the spec's tasks can be measured (see 'not "
-                       "coverable' above)\n", part.file);
+    fmt::print(stderr,
+               "error: {}: no sample of the spec's tasks can be measured (see 'not "
+               "coverable' above)\n",
+               part.file);
     return kExitPlanning;
   }
   return kExitOk;

@@ -179,10 +179,11 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       "programs");
   addInput(*command, options->input);
   command
-      ->add_option("--format", options->format,
-                   "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
-                   "clouds-ply (every view's simulated cloud), csv (views), png (picture), "
-                   "krl, rapid, urscript, robot-json (robot programs; the plan's cell, or the spec's)")
+      ->add_option(
+          "--format", options->format,
+          "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
+          "clouds-ply (every view's simulated cloud), csv (views), png (picture), "
+          "krl, rapid, urscript, robot-json (robot programs; the plan's cell, or the spec's)")
       ->required()
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
                              "urscript", "robot-json"}));

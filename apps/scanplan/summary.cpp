@@ -17,8 +17,8 @@ void printRegistration(const Plan& plan, const Registration& r) {
   std::string by;
   for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
                                RegistrationMethod::Icp, RegistrationMethod::Robot})
-    if (const auto n = std::count_if(r.views.begin(), r.views.end(),
-                                     [&](auto& v) { return v.method == m; }))
+    if (const auto n =
+            std::count_if(r.views.begin(), r.views.end(), [&](auto& v) { return v.method == m; }))
       by += fmt::format("{}{} {}", by.empty() ? "" : ", ", toString(m), n);
   if (!by.empty()) fmt::print("{:<22} {}\n", "", by);
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured, registered", plan.registeredMeasuredCount(),

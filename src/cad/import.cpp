@@ -4,8 +4,8 @@
 
 #include "cad/brep_import.h"
 
-#include <Standard_Failure.hxx>
 #include <fmt/format.h>
+#include <Standard_Failure.hxx>
 
 #include <algorithm>
 #include <cctype>

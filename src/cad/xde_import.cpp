@@ -21,10 +21,6 @@
 #include <STEPCAFControl_Controller.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
-#include <TColStd_SequenceOfAsciiString.hxx>
-#include <TCollection_AsciiString.hxx>
-#include <TDF_LabelSequence.hxx>
-#include <TDF_Tool.hxx>
 #include <StepGeom_Curve.hxx>
 #include <StepGeom_Direction.hxx>
 #include <StepGeom_Placement.hxx>
@@ -32,8 +28,11 @@
 #include <StepGeom_Surface.hxx>
 #include <StepGeom_Vector.hxx>
 #include <StepShape_TopologicalRepresentationItem.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TCollection_AsciiString.hxx>
+#include <TDF_LabelSequence.hxx>
+#include <TDF_Tool.hxx>
 #include <TDataStd_Name.hxx>
-#include <XSControl_WorkSession.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS_Compound.hxx>
@@ -41,6 +40,7 @@
 #include <XCAFDoc_ColorTool.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
+#include <XSControl_WorkSession.hxx>
 
 #include <fmt/format.h>
 
@@ -177,7 +177,7 @@ Handle(TDocStd_Document) newDocument() {
 // Points, directions, placements, curves, surfaces and topology: what the shape
 // translator reads (presentation and PMI entities are not).
 bool isShapeGeometry(const Handle(Standard_Transient) & entity) {
-  for (const Handle(Standard_Type)& type :
+  for (const Handle(Standard_Type) & type :
        {STANDARD_TYPE(StepGeom_Point), STANDARD_TYPE(StepGeom_Direction),
         STANDARD_TYPE(StepGeom_Vector), STANDARD_TYPE(StepGeom_Placement),
         STANDARD_TYPE(StepGeom_Curve), STANDARD_TYPE(StepGeom_Surface),
@@ -199,8 +199,8 @@ void refuseBrokenGeometry(XSControl_Reader& reader, const std::string& path) {
     if (!checks.Value()->HasFailed() || number < 1 || number > model->NbEntities()) continue;
     const Handle(Standard_Transient) entity = model->Value(number);
     if (!isShapeGeometry(entity)) continue;
-    throw InputError(path, "entity " + std::string(model->StringLabel(entity)->ToCString()) +
-                               " (" + entity->DynamicType()->Name() +
+    throw InputError(path, "entity " + std::string(model->StringLabel(entity)->ToCString()) + " (" +
+                               entity->DynamicType()->Name() +
                                ") cannot be read: " + checks.Value()->CFail(1));
   }
 }

@@ -118,7 +118,8 @@ std::string FileSet::stage(const std::string& path) {
   Impl::Staged s{path, destination(path), {}, {}};
   // Beside the target, with its extension, which some writers go by.
   s.temporary = s.target;
-  s.temporary.replace_filename(s.target.stem().string() + ".staged" + s.target.extension().string());
+  s.temporary.replace_filename(s.target.stem().string() + ".staged" +
+                               s.target.extension().string());
   s.registered = std::make_unique<RegisteredTemporary>(s.temporary.string());
   impl_->staged.push_back(std::move(s));
   return impl_->staged.back().temporary.string();

@@ -10,9 +10,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <type_traits>
-#include <map>
 
 namespace scanplan {
 namespace {
@@ -143,9 +143,9 @@ void addRegistration(const Plan& plan, json& result) {
   json by = json::object();
   for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
                                RegistrationMethod::Icp, RegistrationMethod::Robot})
-    by[std::string(toString(m))] = std::count_if(registration.views.begin(),
-                                                 registration.views.end(),
-                                                 [&](auto& v) { return v.method == m; });
+    by[std::string(toString(m))] =
+        std::count_if(registration.views.begin(), registration.views.end(),
+                      [&](auto& v) { return v.method == m; });
   summary["registered_by"] = by;
   if (plan.sequence) {
     summary["path_length"] = plan.sequence->length;
@@ -200,13 +200,15 @@ json robotLengths(const RobotModel& r) {
     const OffsetWrist& w = *r.offset_wrist;
     return {{"d1", w.d1}, {"a2", w.a2}, {"a3", w.a3}, {"d4", w.d4}, {"d5", w.d5}, {"d6", w.d6}};
   }
-  return {{"a1", r.a1}, {"a2", r.a2}, {"b", r.b}, {"c1", r.c1}, {"c2", r.c2}, {"c3", r.c3}, {"c4", r.c4}};
+  return {{"a1", r.a1}, {"a2", r.a2}, {"b", r.b},  {"c1", r.c1},
+          {"c2", r.c2}, {"c3", r.c3}, {"c4", r.c4}};
 }
 
 json signalsJson(const CellSignals& s) {
   json result = {{"view", s.view}, {"trigger", s.trigger}, {"acknowledge", s.acknowledge}};
   if (s.table)
-    result["table"] = {{"angle", s.table->angle}, {"move", s.table->move}, {"ready", s.table->ready}};
+    result["table"] = {
+        {"angle", s.table->angle}, {"move", s.table->move}, {"ready", s.table->ready}};
   return result;
 }
 
@@ -226,8 +228,9 @@ void addCell(const Plan& plan, json& result) {
                 {"upper", inDegrees(r.upper)},
                 {"speeds", inDegrees(r.speeds)},
                 {"clearance", cell.clearance},
-                {"tool", {{"mass", cell.tool.mass},
-                          {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)}}},
+                {"tool",
+                 {{"mass", cell.tool.mass},
+                  {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)}}},
                 {"signals", signalsJson(cell.signals)},
                 {"home", cell.home ? inDegrees(*cell.home) : json(nullptr)},
                 {"approach", cell.approach},
@@ -357,7 +360,7 @@ template <typename T>
 T fieldOr(const json& object, const std::string& key, T otherwise, const std::string& path,
           const std::string& where) {
   return object.is_object() && object.contains(key) ? field<T>(object, key, path, where)
-                                                     : otherwise;
+                                                    : otherwise;
 }
 
 template <typename Enum, std::size_t N>
@@ -440,11 +443,11 @@ struct PlanReader {
       if (!r.is_object()) continue;
       const std::string where = "view " + std::to_string(views[v].id) + " registration";
       ViewRegistration& view = result.views[v];
-      view.method = enumFrom(field<std::string>(r, "method", path, where),
-                             std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
-                                        RegistrationMethod::Icp, RegistrationMethod::Robot,
-                                        RegistrationMethod::None},
-                             path, where);
+      view.method = enumFrom(
+          field<std::string>(r, "method", path, where),
+          std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
+                     RegistrationMethod::Icp, RegistrationMethod::Robot, RegistrationMethod::None},
+          path, where);
       view.to = fieldOr(r, "to", 0, path, where);
       view.constrained = r.value("constrained", true);
       view.bridge = entries[v].value("bridge", false);
@@ -485,7 +488,9 @@ struct PlanReader {
     RobotModel r;
     r.name = field<std::string>(entry, "model", path, "cell");
     const json lengths = objectAt(entry, "lengths");
-    auto length = [&](const char* key) { return field<double>(lengths, key, path, "cell lengths"); };
+    auto length = [&](const char* key) {
+      return field<double>(lengths, key, path, "cell lengths");
+    };
     if (fieldOr<std::string>(entry, "family", "ortho-parallel", path, "cell") == "offset-wrist") {
       r.offset_wrist = OffsetWrist{length("d1"), length("a2"), length("a3"),
                                    length("d4"), length("d5"), length("d6")};
@@ -500,12 +505,12 @@ struct PlanReader {
     }
     r.offsets = joints(entry, "offsets", "cell");
     const std::vector<int> signs = field<std::vector<int>>(entry, "signs", path, "cell");
-    for (std::size_t i = 0; i < 6; ++i)
-      r.signs[i] = i < signs.size() && signs[i] == -1 ? -1 : 1;
+    for (std::size_t i = 0; i < 6; ++i) r.signs[i] = i < signs.size() && signs[i] == -1 ? -1 : 1;
     r.lower = joints(entry, "lower", "cell");
     r.upper = joints(entry, "upper", "cell");
     r.speeds = joints(entry, "speeds", "cell");
-    const std::vector<double> radii = fieldOr(entry, "link_radii", std::vector<double>{}, path, "cell");
+    const std::vector<double> radii =
+        fieldOr(entry, "link_radii", std::vector<double>{}, path, "cell");
     for (std::size_t i = 0; i < 3 && i < radii.size(); ++i) r.link_radii[i] = radii[i];
     validate(r, path, "cell");
     return r;
@@ -518,8 +523,8 @@ struct PlanReader {
     s.acknowledge = fieldOr(entry, "acknowledge", s.acknowledge, path, "cell signals");
     if (const json table = objectAt(entry, "table"); !table.empty())
       s.table = TableSignals{field<int>(table, "angle", path, "cell signals table"),
-                                   field<int>(table, "move", path, "cell signals table"),
-                                   field<int>(table, "ready", path, "cell signals table")};
+                             field<int>(table, "move", path, "cell signals table"),
+                             field<int>(table, "ready", path, "cell signals table")};
     std::vector<int> numbers = {s.view, s.trigger, s.acknowledge};
     if (s.table) numbers.insert(numbers.end(), {s.table->angle, s.table->move, s.table->ready});
     for (int n : numbers)
@@ -544,9 +549,11 @@ struct PlanReader {
     if (tool.contains("centre") && !tool["centre"].is_null())
       cell.tool.centre = detail::vectorFrom(tool["centre"], path, "cell tool");
     cell.signals = signals(objectAt(entry, "signals"));
-    if (entry.contains("home") && !entry["home"].is_null()) cell.home = joints(entry, "home", "cell");
+    if (entry.contains("home") && !entry["home"].is_null())
+      cell.home = joints(entry, "home", "cell");
     cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
-    cell.motion_step = radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
+    cell.motion_step =
+        radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
     if (!(cell.approach >= 0 && cell.approach <= 1000 && cell.motion_step >= radians(0.1) &&
           cell.motion_step <= radians(10) && cell.tool.mass > 0 && cell.tool.mass <= 1000 &&
           cell.clearance >= 0 && cell.clearance <= kLongestLength))
@@ -555,7 +562,8 @@ struct PlanReader {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");
       t.axis = detail::vectorFrom(table.value("axis", json()), path, "cell table").normalized();
-      const std::vector<double> range = field<std::vector<double>>(table, "range", path, "cell table");
+      const std::vector<double> range =
+          field<std::vector<double>>(table, "range", path, "cell table");
       if (range.size() != 2 || !(range[0] <= 0 && 0 <= range[1]))
         throw InputError(path, "cell table: 'range' is not [lower, upper] around 0");
       t.lower = radians(range[0]);
@@ -627,8 +635,8 @@ void checkReferences(const Plan& plan, const std::string& path) {
   for (const View& view : plan.views) ids.insert(view.id);
   auto require = [&](int id, const std::string& where, bool zero_allowed) {
     if ((id == 0 && zero_allowed) || ids.count(id)) return;
-    throw InputError(path, where + " refers to view " + std::to_string(id) +
-                               ", which the plan does not have");
+    throw InputError(
+        path, where + " refers to view " + std::to_string(id) + ", which the plan does not have");
   };
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
     const PlannedSample& s = plan.samples[i];
@@ -655,7 +663,6 @@ void checkReferences(const Plan& plan, const std::string& path) {
     for (int id : o.views) require(id, "an orientation", false);
 }
 
-
 // readPlan without its net for values of the wrong type.
 Plan readPlanFields(const std::string& path) {
   ViewsFile views = readViews(path);  // checks the file, the JSON and every view
@@ -676,11 +683,10 @@ Plan readPlanFields(const std::string& path) {
     const json& registration = root["registration"];
     plan.markers = reader.markers(registration.value("markers", json()));
     if (const json proposed = registration.value("proposed_markers", json()); proposed.is_object())
-      plan.proposed_markers = MarkerProposal{reader.markers(proposed.value("markers", json())),
-                                             fieldOr(proposed, "views", std::size_t{0}, path,
-                                                     "proposed_markers"),
-                                             fieldOr(proposed, "lower_bound", std::size_t{0},
-                                                     path, "proposed_markers")};
+      plan.proposed_markers = MarkerProposal{
+          reader.markers(proposed.value("markers", json())),
+          fieldOr(proposed, "views", std::size_t{0}, path, "proposed_markers"),
+          fieldOr(proposed, "lower_bound", std::size_t{0}, path, "proposed_markers")};
   }
   if (root.contains("orientations")) {
     const json& list = root["orientations"];

@@ -64,7 +64,8 @@ double RobotModel::reach() const {
 void validate(const RobotModel& r, const std::string& source, const std::string& key) {
   auto fail = [&](const std::string& what) { throw InputError(source, key + what); };
   const OffsetWrist w = r.offset_wrist.value_or(OffsetWrist{});
-  const double lengths[] = {r.a1, r.a2, r.b, r.c1, r.c2, r.c3, r.c4, w.d1, w.a2, w.a3, w.d4, w.d5, w.d6};
+  const double lengths[] = {r.a1, r.a2, r.b,  r.c1, r.c2, r.c3, r.c4,
+                            w.d1, w.a2, w.a3, w.d4, w.d5, w.d6};
   for (double length : lengths)
     if (!(std::abs(length) <= kLongestLength)) fail(": lengths must be at most 100,000 mm");
   if (!r.offset_wrist && !(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))

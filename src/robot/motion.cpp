@@ -38,8 +38,8 @@ std::optional<CellPose> lifted(const Cell& cell, const CellCollisions& collision
                                const CellPose& pose, double height) {
   Pose world = cell.base * forwardKinematics(cell.robot, pose.joints);
   world.translation().z() = std::max(world.translation().z(), height);
-  const std::optional<Joints> q =
-      nearestClear(collisions, cell.robot, cell.base.inverse() * world, pose.joints, pose.table_angle);
+  const std::optional<Joints> q = nearestClear(collisions, cell.robot, cell.base.inverse() * world,
+                                               pose.joints, pose.table_angle);
   if (!q) return std::nullopt;
   return CellPose{pose.table_angle, *q};
 }
@@ -49,8 +49,8 @@ std::optional<CellPose> lifted(const Cell& cell, const CellCollisions& collision
 std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisions,
                                  const ProgramStep& step) {
   if (cell.approach <= 0) return std::nullopt;
-  const Pose back = step.flange * cell.mount * Eigen::Translation3d(0, 0, -cell.approach) *
-                    cell.mount.inverse();
+  const Pose back =
+      step.flange * cell.mount * Eigen::Translation3d(0, 0, -cell.approach) * cell.mount.inverse();
   const std::optional<Joints> q =
       nearestClear(collisions, cell.robot, back, step.pose.joints, step.pose.table_angle);
   if (!q || !moveIsClear(collisions, {step.pose.table_angle, *q}, step.pose, cell.motion_step))
@@ -102,7 +102,9 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   const Cell& cell = program.cell;
   const double height = collisions.top() + lift;
   for (ProgramStep& step : program.steps) step.approach = approachOf(cell, collisions, step);
-  auto start = [](const ProgramStep& s) { return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)}; };
+  auto start = [](const ProgramStep& s) {
+    return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)};
+  };
   if (cell.home)
     program.home = CellPose{0, *cell.home};
   else
@@ -110,7 +112,8 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   if (!program.home) program.home = start(program.steps.front());
   auto join = [&](const CellPose& from, const CellPose& to, const std::string& name,
                   std::vector<CellPose>& via) {
-    const std::optional<std::vector<CellPose>> points = viaPoints(cell, collisions, from, to, height);
+    const std::optional<std::vector<CellPose>> points =
+        viaPoints(cell, collisions, from, to, height);
     if (points)
       via = *points;
     else

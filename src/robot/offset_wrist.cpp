@@ -53,16 +53,16 @@ std::array<Joints, 8> offsetWristSolutions(const OffsetWrist& arm, const Pose& f
     for (const double up : {1.0, -1.0}) {
       const double q5 = up * wrist, s5 = std::sin(q5);
       // Joint 6 is free where the wrist is straight (joint 5 at 0): any value does.
-      const double q6 = std::abs(s5) < 1e-12
-                            ? 0.0
-                            : std::atan2((-r(0, 1) * s1 + r(1, 1) * c1) / s5,
-                                         (r(0, 0) * s1 - r(1, 0) * c1) / s5);
+      const double q6 = std::abs(s5) < 1e-12 ? 0.0
+                                             : std::atan2((-r(0, 1) * s1 + r(1, 1) * c1) / s5,
+                                                          (r(0, 0) * s1 - r(1, 0) * c1) / s5);
       // Frame 4 in frame 1: the planar arm, its origin d4 off the arm's plane.
-      const Pose t14 =
-          link(arm, 0, q1).inverse() * flange * link(arm, 5, q6).inverse() * link(arm, 4, q5).inverse();
+      const Pose t14 = link(arm, 0, q1).inverse() * flange * link(arm, 5, q6).inverse() *
+                       link(arm, 4, q5).inverse();
       const Vec3 p14 = t14.translation();
       const double reach2 = p14.x() * p14.x() + p14.y() * p14.y();
-      const double elbow = std::acos((reach2 - arm.a2 * arm.a2 - arm.a3 * arm.a3) / (2 * arm.a2 * arm.a3));
+      const double elbow =
+          std::acos((reach2 - arm.a2 * arm.a2 - arm.a3 * arm.a3) / (2 * arm.a2 * arm.a3));
       for (const double bend : {1.0, -1.0}) {
         const double q3 = bend * elbow;
         const double q2 = std::atan2(p14.y(), p14.x()) -

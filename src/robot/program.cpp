@@ -48,7 +48,8 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
       << comment << " from " << p.source << "\n"
       << comment << " robot " << p.cell.robot.name << ", " << p.steps.size()
       << " views in sequence order";
-  if (p.cell.table) out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
+  if (p.cell.table)
+    out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
   out << "\n";
   if (!p.unreached.empty()) {
     out << comment << " left out, the cell cannot reach them: views";
@@ -58,13 +59,14 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
   for (const std::string& move : p.uncleared)
     out << comment << " WARNING: the move " << move << " collides and could not be cleared\n";
   const CellSignals& s = p.cell.signals;
-  out << comment
-      << " joints in " << (urscript ? "radians" : "degrees")
+  out << comment << " joints in " << (urscript ? "radians" : "degrees")
       << " as the controller counts them; flange poses in the robot's\n"
       << comment << " base frame, mm; the tool is the scanner frame on its mount\n"
-      << comment << fmt::format(" scan handshake: view number to output {}, trigger output {}, "
-                                "acknowledge input {}\n",
-                                s.view, s.trigger, s.acknowledge);
+      << comment
+      << fmt::format(
+             " scan handshake: view number to output {}, trigger output {}, "
+             "acknowledge input {}\n",
+             s.view, s.trigger, s.acknowledge);
   return out.str();
 }
 
@@ -89,8 +91,12 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
       program.unreached.push_back(id);
       continue;
     }
-    program.steps.push_back({id, plan.views[i].task, *poses[i],
-                             forwardKinematics(cell.robot, poses[i]->joints), {}, {}});
+    program.steps.push_back({id,
+                             plan.views[i].task,
+                             *poses[i],
+                             forwardKinematics(cell.robot, poses[i]->joints),
+                             {},
+                             {}});
   }
   return program;
 }
@@ -114,13 +120,15 @@ void checkProgramFormat(const Cell& cell, std::string_view format) {
   const std::string option = "--format " + std::string(format);
   const bool universal = cell.robot.offset_wrist.has_value();
   if (format == "urscript" && !universal)
-    throw UsageError(option, cell.robot.name + " is not a Universal Robots arm, and URScript "
-                                               "runs on their controllers only (krl or rapid)");
+    throw UsageError(option, cell.robot.name +
+                                 " is not a Universal Robots arm, and URScript "
+                                 "runs on their controllers only (krl or rapid)");
   if ((format == "krl" || format == "rapid") && universal)
     throw UsageError(option, cell.robot.name + " runs URScript (--format urscript)");
   if (format == "urscript" && cell.table && !cell.signals.table)
-    throw UsageError(option, "URScript cannot drive the rotary table without its signals: give "
-                             "cell.signals.table {angle, move, ready} in the spec");
+    throw UsageError(option,
+                     "URScript cannot drive the rotary table without its signals: give "
+                     "cell.signals.table {angle, move, ready} in the spec");
 }
 
 std::string krlProgram(const RobotProgram& p) {
@@ -144,15 +152,16 @@ std::string krlProgram(const RobotProgram& p) {
       const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
       out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, ++taken, p.steps.size(),
                          s.task.empty() ? "-" : s.task)
-          << fmt::format("  ; flange {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
-                         "C {:.3f}, E1 {:.3f}}}\n",
-                         xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(),
-                         degrees(s.pose.table_angle));
+          << fmt::format(
+                 "  ; flange {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
+                 "C {:.3f}, E1 {:.3f}}}\n",
+                 xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(), degrees(s.pose.table_angle));
     } else {
       out << "  ; " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
     }
     out << "  PTP {E6AXIS:";
-    for (int j = 0; j < 6; ++j) out << fmt::format(" A{} {:.4f},", j + 1, degrees(w.pose.joints[j]));
+    for (int j = 0; j < 6; ++j)
+      out << fmt::format(" A{} {:.4f},", j + 1, degrees(w.pose.joints[j]));
     out << fmt::format(" E1 {:.4f}}}\n", degrees(w.pose.table_angle));
     if (w.what == "view") out << fmt::format("  SCAN({})\n", w.step->view);
   }
@@ -161,9 +170,10 @@ std::string krlProgram(const RobotProgram& p) {
       << "DEF SCAN(VIEW:IN)\n  INT VIEW\n"
       << fmt::format("  SIGNAL VIEW_NO $OUT[{}] TO $OUT[{}]\n", sig.view, sig.view + 15)
       << "  WAIT SEC 0.2\n  VIEW_NO = VIEW\n"
-      << fmt::format("  $OUT[{0}] = TRUE\n  WAIT FOR $IN[{1}]\n  $OUT[{0}] = FALSE\n"
-                     "  WAIT FOR NOT $IN[{1}]\nEND\n",
-                     sig.trigger, sig.acknowledge);
+      << fmt::format(
+             "  $OUT[{0}] = TRUE\n  WAIT FOR $IN[{1}]\n  $OUT[{0}] = FALSE\n"
+             "  WAIT FOR NOT $IN[{1}]\nEND\n",
+             sig.trigger, sig.acknowledge);
   return out.str();
 }
 
@@ -174,10 +184,11 @@ std::string rapidProgram(const RobotProgram& p) {
   const Vec3 tool = p.cell.mount.translation(), centre = loadCentre(p.cell);
   out << "MODULE " << p.name << "\n"
       << header(p, "  !")
-      << fmt::format("  PERS tooldata tScanner := [TRUE,[[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},"
-                     "{:.6f},{:.6f}]],[{:.3f},[{:.3f},{:.3f},{:.3f}],[1,0,0,0],0,0,0]];\n",
-                     tool.x(), tool.y(), tool.z(), mount.w(), mount.x(), mount.y(), mount.z(),
-                     p.cell.tool.mass, centre.x(), centre.y(), centre.z());
+      << fmt::format(
+             "  PERS tooldata tScanner := [TRUE,[[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},"
+             "{:.6f},{:.6f}]],[{:.3f},[{:.3f},{:.3f},{:.3f}],[1,0,0,0],0,0,0]];\n",
+             tool.x(), tool.y(), tool.z(), mount.w(), mount.x(), mount.y(), mount.z(),
+             p.cell.tool.mass, centre.x(), centre.y(), centre.z());
   auto external = [&](double angle) {
     return p.cell.table ? fmt::format("{:.4f}", degrees(angle)) : std::string("9E+09");
   };
@@ -204,18 +215,21 @@ std::string rapidProgram(const RobotProgram& p) {
       continue;
     }
     const Joints& j = w.pose.joints;
-    out << fmt::format("    ! {}{}\n", w.what, w.step ? " view " + std::to_string(w.step->view) : "")
-        << fmt::format("    MoveAbsJ [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
-                       "[{},9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;\n",
-                       degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
-                       degrees(j[5]), external(w.pose.table_angle));
+    out << fmt::format("    ! {}{}\n", w.what,
+                       w.step ? " view " + std::to_string(w.step->view) : "")
+        << fmt::format(
+               "    MoveAbsJ [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
+               "[{},9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;\n",
+               degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
+               degrees(j[5]), external(w.pose.table_angle));
   }
   const CellSignals& sig = p.cell.signals;
   out << "  ENDPROC\n\n"
       << "  PROC Scan(num view)\n    WaitTime 0.2;\n"
-      << fmt::format("    SetGO GO_{}, view;\n    SetDO DO_{}, 1;\n    WaitDI DI_{}, 1;\n"
-                     "    SetDO DO_{}, 0;\n    WaitDI DI_{}, 0;\n",
-                     sig.view, sig.trigger, sig.acknowledge, sig.trigger, sig.acknowledge)
+      << fmt::format(
+             "    SetGO GO_{}, view;\n    SetDO DO_{}, 1;\n    WaitDI DI_{}, 1;\n"
+             "    SetDO DO_{}, 0;\n    WaitDI DI_{}, 0;\n",
+             sig.view, sig.trigger, sig.acknowledge, sig.trigger, sig.acknowledge)
       << "  ENDPROC\nENDMODULE\n";
   return out.str();
 }
@@ -225,8 +239,8 @@ std::string urPose(const Pose& pose) {
   const Vec3 xyz = pose.translation() / 1000;
   const Eigen::AngleAxisd turn(pose.linear());
   const Vec3 r = turn.angle() * turn.axis();
-  return fmt::format("p[{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}]", xyz.x(), xyz.y(),
-                     xyz.z(), r.x(), r.y(), r.z());
+  return fmt::format("p[{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}]", xyz.x(), xyz.y(), xyz.z(),
+                     r.x(), r.y(), r.z());
 }
 
 // Raises output `request`, waits for input `done`, drops the output, waits for the input
@@ -293,14 +307,14 @@ std::string programJson(const RobotProgram& p) {
     for (double q : s.pose.joints) joints.push_back(degrees(q));
     json via = json::array();
     for (const CellPose& v : s.via) via.push_back(poseJson(v));
-    steps.push_back({{"view", s.view},
-                     {"task", s.task},
-                     {"joints", joints},
-                     {"table", degrees(s.pose.table_angle)},
-                     {"flange", matrix(s.flange)},
-                     {"via", via},
-                     {"approach", s.approach ? poseJson({s.pose.table_angle, *s.approach})
-                                             : json(nullptr)}});
+    steps.push_back(
+        {{"view", s.view},
+         {"task", s.task},
+         {"joints", joints},
+         {"table", degrees(s.pose.table_angle)},
+         {"flange", matrix(s.flange)},
+         {"via", via},
+         {"approach", s.approach ? poseJson({s.pose.table_angle, *s.approach}) : json(nullptr)}});
   }
   json via_home = json::array();
   for (const CellPose& v : p.via_home) via_home.push_back(poseJson(v));

@@ -15,8 +15,8 @@ namespace scanplan {
 // file cannot be written.
 void writeViewsCsv(const std::vector<View>& views, const std::string& path);
 
-// Reads what writeViewsCsv writes, in its order (also files without the sequence column). \throw InputError naming the file and line of a
-// malformed row or a matrix that is not rigid.
+// Reads what writeViewsCsv writes, in its order (also files without the sequence column). \throw
+// InputError naming the file and line of a malformed row or a matrix that is not rigid.
 std::vector<View> readViewsCsv(const std::string& path);
 
 }  // namespace scanplan

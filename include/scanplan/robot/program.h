@@ -28,10 +28,10 @@ struct RobotProgram {
   std::string name;    // a valid identifier in every language: letters, digits, _
   std::string source;  // what it was made from, for the header comment
   Cell cell;
-  std::vector<ProgramStep> steps;  // in sequence order
-  std::vector<int> unreached;      // views of the plan the cell cannot take (left out)
-  std::optional<CellPose> home;    // where the program starts and ends (planMotion)
-  std::vector<CellPose> via_home;  // on the way back home from the last step
+  std::vector<ProgramStep> steps;      // in sequence order
+  std::vector<int> unreached;          // views of the plan the cell cannot take (left out)
+  std::optional<CellPose> home;        // where the program starts and ends (planMotion)
+  std::vector<CellPose> via_home;      // on the way back home from the last step
   std::vector<std::string> uncleared;  // moves that collide and could not be lifted clear
 };
 
