@@ -29,6 +29,7 @@ class SpecReader {
   explicit SpecReader(std::string path) : path_(std::move(path)) {}
 
   [[noreturn]] void fail(const std::string& what) const { throw InputError(path_, what); }
+  const std::string& path() const { return path_; }
 
   // A path in the spec, relative to the spec's folder.
   std::string resolvePath(const std::string& file) const {
@@ -211,7 +212,6 @@ class SpecReader {
         r.signs[i] = static_cast<int>(signs[i]);
       }
     }
-    validate(r, path_, key);
     return r;
   }
 
@@ -225,22 +225,13 @@ class SpecReader {
     }
     RotaryTable t;
     if (node["origin"]) t.origin = vector(node["origin"], key + ".origin");
-    if (node["axis"]) {
-      t.axis = vector(node["axis"], key + ".axis");
-      if (t.axis.norm() < 1e-9) fail(key + ".axis must not be zero");
-      t.axis.normalize();
-    }
+    if (node["axis"]) t.axis = vector(node["axis"], key + ".axis").normalized();
     if (node["range"]) {
       const std::vector<double> range = numbers(node["range"], 2, key + ".range");
       t.lower = radians(range[0]);
       t.upper = radians(range[1]);
-      if (!(t.lower <= 0 && 0 <= t.upper))
-        fail(key + ".range must hold 0 (the angle the plan is made at)");
     }
-    if (node["step"]) {
-      t.step = radians(scalar<double>(node["step"], key + ".step"));
-      if (!(t.step >= radians(0.1))) fail(key + ".step must be at least 0.1 degrees");
-    }
+    if (node["step"]) t.step = radians(scalar<double>(node["step"], key + ".step"));
     return t;
   }
 
@@ -457,20 +448,11 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
 void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
   if (cell["home"]) {
     const Joints home = reader.joints(cell["home"], "cell.home");
-    for (int i = 0; i < 6; ++i)
-      if (!(home[i] >= c.robot.lower[i] && home[i] <= c.robot.upper[i]))
-        reader.fail("cell.home: joint " + std::to_string(i + 1) + " is beyond its limits");
     c.home = home;
   }
   reader.read(cell, "cell", "approach", c.approach);
-  if (!(c.approach >= 0 && c.approach <= 1000))
-    reader.fail("cell.approach must be within [0, 1000] mm");
-  if (cell["motion_step"]) {
-    const double step = reader.scalar<double>(cell["motion_step"], "cell.motion_step");
-    if (!(step >= 0.1 && step <= 10))
-      reader.fail("cell.motion_step must be within [0.1, 10] degrees");
-    c.motion_step = radians(step);
-  }
+  if (cell["motion_step"])
+    c.motion_step = radians(reader.scalar<double>(cell["motion_step"], "cell.motion_step"));
 }
 
 // cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame}.
@@ -478,13 +460,9 @@ ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node, {"mass", "centre"}, reader, "cell.tool");
   ToolLoad tool;
   reader.read(node, "cell.tool", "mass", tool.mass);
-  if (!(tool.mass > 0 && tool.mass <= 1000))
-    reader.fail("cell.tool.mass must be within (0, 1000] kg");
   if (node["centre"]) {
     const std::vector<double> c = reader.numbers(node["centre"], 3, "cell.tool.centre");
     tool.centre = Vec3(c[0], c[1], c[2]);
-    if (!(tool.centre->cwiseAbs().maxCoeff() <= kLongestLength))
-      reader.fail("cell.tool.centre must be within 100,000 mm of the flange");
   }
   return tool;
 }
@@ -494,7 +472,6 @@ CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node, {"view", "trigger", "acknowledge", "table"}, reader, "cell.signals");
   auto number = [&](const YAML::Node& at, const std::string& section, const char* key, int& into) {
     reader.read(at, section, key, into);
-    if (into < 0 || into > 4095) reader.fail(section + "." + key + " must be within [0, 4095]");
   };
   CellSignals signals;
   number(node, "cell.signals", "view", signals.view);
@@ -542,11 +519,11 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
     if (cell["table"]) c.table = reader.table(cell["table"]);
     if (cell["clearance"]) {
       c.clearance = reader.scalar<double>(cell["clearance"], "cell.clearance");
-      if (!(c.clearance >= 0)) reader.fail("cell.clearance must not be negative (mm)");
     }
     readMotion(cell, reader, c);
     if (cell["tool"]) c.tool = readTool(cell["tool"], reader);
     if (cell["signals"]) c.signals = readSignals(cell["signals"], reader);
+    validate(c, reader.path());
     spec.cell = c;
   } else if (cell["mount"] || cell["table"] || cell["clearance"] || cell["tool"] ||
              cell["signals"] || cell["home"] || cell["approach"] || cell["motion_step"]) {

@@ -369,9 +369,10 @@ TEST(SequencingTest, ShortestPathsGoAroundWhatBlocksTheDirectMove) {
   EXPECT_DOUBLE_EQ(paths(0, 1), 1);
 }
 
-// Against Floyd-Warshall on a random cost matrix: not symmetric, with moves that cannot be
-// made (infinite) and a view no move reaches.
-TEST(SequencingTest, ShortestPathsAgreeWithFloydWarshall) {
+// Against Bellman-Ford (another algorithm than the library's Floyd-Warshall) on a random
+// cost matrix: not symmetric, with moves that cannot be made (infinite) and a view no
+// move reaches.
+TEST(SequencingTest, ShortestPathsAgreeWithBellmanFord) {
   const int n = 60;
   std::mt19937 random(7);
   std::uniform_real_distribution<double> cost(1, 100);
@@ -381,11 +382,15 @@ TEST(SequencingTest, ShortestPathsAgreeWithFloydWarshall) {
     for (int j = 0; j < n; ++j)
       direct(i, j) = i == j ? 0 : (random() % 3 == 0 ? inf : cost(random));
   for (int i = 0; i < n - 1; ++i) direct(i, n - 1) = inf;
-  Eigen::MatrixXd expected = direct;
-  for (int k = 0; k < n; ++k)
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j)
-        expected(i, j) = std::min(expected(i, j), expected(i, k) + expected(k, j));
+  // From each source, relax every move n - 1 times.
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Constant(n, n, inf);
+  for (int source = 0; source < n; ++source) {
+    expected(source, source) = 0;
+    for (int round = 1; round < n; ++round)
+      for (int u = 0; u < n; ++u)
+        for (int v = 0; v < n; ++v)
+          expected(source, v) = std::min(expected(source, v), expected(source, u) + direct(u, v));
+  }
   const Eigen::MatrixXd paths = shortestPaths(direct);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) EXPECT_DOUBLE_EQ(paths(i, j), expected(i, j)) << i << "-" << j;

@@ -512,7 +512,6 @@ struct PlanReader {
     const std::vector<double> radii =
         fieldOr(entry, "link_radii", std::vector<double>{}, path, "cell");
     for (std::size_t i = 0; i < 3 && i < radii.size(); ++i) r.link_radii[i] = radii[i];
-    validate(r, path, "cell");
     return r;
   }
 
@@ -525,10 +524,6 @@ struct PlanReader {
       s.table = TableSignals{field<int>(table, "angle", path, "cell signals table"),
                              field<int>(table, "move", path, "cell signals table"),
                              field<int>(table, "ready", path, "cell signals table")};
-    std::vector<int> numbers = {s.view, s.trigger, s.acknowledge};
-    if (s.table) numbers.insert(numbers.end(), {s.table->angle, s.table->move, s.table->ready});
-    for (int n : numbers)
-      if (n < 0 || n > 4095) throw InputError(path, "cell signals: a number outside [0, 4095]");
     return s;
   }
 
@@ -554,24 +549,18 @@ struct PlanReader {
     cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
     cell.motion_step =
         radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
-    if (!(cell.approach >= 0 && cell.approach <= 1000 && cell.motion_step >= radians(0.1) &&
-          cell.motion_step <= radians(10) && cell.tool.mass > 0 && cell.tool.mass <= 1000 &&
-          cell.clearance >= 0 && cell.clearance <= kLongestLength))
-      throw InputError(path, "cell: approach, motion_step, tool mass or clearance out of range");
     if (const json table = entry.value("table", json()); table.is_object()) {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");
       t.axis = detail::vectorFrom(table.value("axis", json()), path, "cell table").normalized();
       const std::vector<double> range =
           field<std::vector<double>>(table, "range", path, "cell table");
-      if (range.size() != 2 || !(range[0] <= 0 && 0 <= range[1]))
-        throw InputError(path, "cell table: 'range' is not [lower, upper] around 0");
+      if (range.size() != 2) throw InputError(path, "cell table: 'range' is not [lower, upper]");
       t.lower = radians(range[0]);
       t.upper = radians(range[1]);
       t.step = radians(fieldOr(table, "step", degrees(t.step), path, "cell table"));
-      if (!(t.axis.allFinite() && t.step >= radians(0.1)))
-        throw InputError(path, "cell table: no axis, or a step under 0.1 degrees");
     }
+    validate(cell, path);
     return cell;
   }
 

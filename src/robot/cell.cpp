@@ -1,6 +1,7 @@
 // Reaching a view in the cell: the view turned with the table, carried into the robot's
 // base frame and from the scanner frame to the flange, then the inverse kinematics.
 
+#include <scanplan/errors.h>
 #include <scanplan/robot/cell.h>
 
 #include <cmath>
@@ -15,6 +16,40 @@ std::string_view toString(CellFailure failure) {
     case CellFailure::Collision: return "collision";
   }
   return "?";
+}
+
+void validate(const Cell& c, const std::string& source) {
+  auto require = [&](bool ok, const std::string& what) {
+    if (!ok) throw InputError(source, "cell." + what);
+  };
+  validate(c.robot, source, "cell.robot");
+  if (c.table) {
+    const RotaryTable& t = *c.table;
+    require(t.axis.allFinite() && t.axis.norm() > 0.5, "table.axis must not be zero");
+    require(t.lower <= 0 && 0 <= t.upper,
+            "table.range must hold 0 (the angle the plan is made at)");
+    require(t.step >= radians(0.1), "table.step must be at least 0.1 degrees");
+  }
+  require(c.clearance >= 0 && c.clearance <= kLongestLength, "clearance must not be negative (mm)");
+  require(c.tool.mass > 0 && c.tool.mass <= 1000, "tool.mass must be within (0, 1000] kg");
+  require(!c.tool.centre || c.tool.centre->cwiseAbs().maxCoeff() <= kLongestLength,
+          "tool.centre must be within 100,000 mm of the flange");
+  std::vector<std::pair<std::string, int>> signals = {
+      {"signals.view", c.signals.view},
+      {"signals.trigger", c.signals.trigger},
+      {"signals.acknowledge", c.signals.acknowledge}};
+  if (c.signals.table)
+    signals.insert(signals.end(), {{"signals.table.angle", c.signals.table->angle},
+                                   {"signals.table.move", c.signals.table->move},
+                                   {"signals.table.ready", c.signals.table->ready}});
+  for (const auto& [key, number] : signals)
+    require(number >= 0 && number <= 4095, key + " must be within [0, 4095]");
+  for (int i = 0; c.home && i < 6; ++i)
+    require((*c.home)[i] >= c.robot.lower[i] && (*c.home)[i] <= c.robot.upper[i],
+            "home: joint " + std::to_string(i + 1) + " is beyond its limits");
+  require(c.approach >= 0 && c.approach <= 1000, "approach must be within [0, 1000] mm");
+  require(c.motion_step >= radians(0.1) && c.motion_step <= radians(10),
+          "motion_step must be within [0.1, 10] degrees");
 }
 
 Pose flangeFor(const Cell& cell, const View& view, double table_angle) {

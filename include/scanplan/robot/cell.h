@@ -10,6 +10,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -67,6 +68,12 @@ struct Cell {
   // zero pose (linkMotions), used for collisions instead of the capsules; empty: capsules.
   std::vector<TriangleMesh> link_meshes;
 };
+
+// Checks `cell` against the ranges of the spec's cell section (docs/cell.md): the robot,
+// the table's axis, range and step, clearance, tool, signals, home, approach and motion
+// step. The one check of a cell, whether it comes from a spec or a plan.
+// \throw InputError naming `source` and the key.
+void validate(const Cell& cell, const std::string& source);
 
 // Where the robot must put its flange (base frame) for the scanner to be at `view` with
 // the table turned by `table_angle`.
