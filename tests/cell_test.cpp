@@ -10,6 +10,7 @@
 #include <scanplan/planning.h>
 #include <scanplan/robot/cell.h>
 #include <scanplan/robot/motion.h>
+#include <scanplan/robot/program.h>
 #include <scanplan/sequencing.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -194,17 +195,22 @@ TEST(Cell, PlanKeepsOnlyReachableViewsAndSaysWhatIsOutOfReach) {
   EXPECT_EQ(json["summary"]["robot"]["unreached_views"], 0);
 }
 
-// A collaborative cell: a UR10e (offset wrist) beside a rotary table, read from the spec,
-// measures every side of a cube but the one it stands on; each view's joints put the
-// flange where the view needs it, at its table angle.
-TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
-  test::TempDir dir;
+// A 100 mm cube planned in a collaborative cell: a UR10e (offset wrist) beside a rotary
+// table, read from the spec.
+Plan cubePlanWithUr(const test::TempDir& dir) {
   BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 100).Shape(), dir.file("cube.brep").c_str());
   const Part part = importPart(dir.file("cube.brep"));
   test::writeText(dir.file("spec.yaml"),
                   "cell:\n  robot: {preset: ur10e, base: {position: [-750, 50, 0]}}\n"
                   "  table: {origin: [50, 50, 0]}\n");
-  const Plan plan = planViews(part, loadSpec(dir.file("spec.yaml")));
+  return planViews(part, loadSpec(dir.file("spec.yaml")));
+}
+
+// The UR10e with its table measures every side of the cube but the one it stands on; each
+// view's joints put the flange where the view needs it, at its table angle.
+TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
+  test::TempDir dir;
+  const Plan plan = cubePlanWithUr(dir);
   ASSERT_TRUE(plan.cell && plan.cell->robot.offset_wrist);
   ASSERT_FALSE(plan.views.empty());
   for (std::size_t v = 0; v < plan.views.size(); ++v) {
@@ -233,6 +239,36 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   json["cell"]["table"]["step"] = 0;
   test::writeText(dir.file("bad.json"), json.dump());
   EXPECT_THROW(readPlan(dir.file("bad.json")), InputError);
+}
+
+// The plan's robot travel is its program's: the approach and retract moves at each view
+// add to the joint travel between the views. The program gives each view's scanner pose
+// in the part's frame, which is the view's camera pose in the part's frame whatever the
+// table angle.
+TEST(Cell, ThePlanCountsItsProgramsMotionAndGivesPosesInThePartsFrame) {
+  test::TempDir dir;
+  const Plan plan = cubePlanWithUr(dir);
+  ASSERT_TRUE(plan.cell && plan.cell_motion);
+  EXPECT_TRUE(plan.cell_motion->uncleared.empty());
+  const JointMotion between =
+      jointMotion(*plan.cell, plan.cell_poses, plan.views, visitingOrder(plan));
+  EXPECT_GT(plan.cell_motion->seconds, between.seconds);
+  writePlan(plan, dir.file("plan.json"));
+  const Plan back = readPlan(dir.file("plan.json"));
+  ASSERT_TRUE(back.cell_motion);
+  EXPECT_DOUBLE_EQ(back.cell_motion->seconds, plan.cell_motion->seconds);
+
+  const RobotProgram program = robotProgram(plan, *plan.cell, plan.cell_poses, "cube", "plan");
+  ASSERT_EQ(program.steps.size(), plan.views.size());
+  std::map<int, const View*> views;
+  for (const View& v : plan.views) views[v.id] = &v;
+  bool turned = false;
+  for (const ProgramStep& step : program.steps) {
+    turned = turned || step.pose.table_angle != 0;
+    const Pose expected = plan.part_to_world.inverse() * views.at(step.view)->camera_to_world;
+    EXPECT_TRUE(scannerInPart(program, step).isApprox(expected, 1e-9)) << step.view;
+  }
+  EXPECT_TRUE(turned);  // the check covers views at other table angles
 }
 
 // An IRB 2400 and a 400 mm block 700 mm ahead of it; two poses on either side of the block,

@@ -29,6 +29,8 @@ RobotProgram program() {
   p.cell.base.translation() = Vec3(-1000, 0, 0);
   p.cell.mount.translation() = Vec3(0, 0, 150);
   p.cell.table = RotaryTable{};
+  // The part 1 m ahead of the robot (at the world's origin), turned 30° about z.
+  p.work_object = Eigen::Translation3d(1000, 0, 0) * Eigen::AngleAxisd(radians(30), Vec3::UnitZ());
   const Joints joints[3] = {{0.1, 0.2, -0.3, 0.4, 0.5, 0.6},
                             {-0.2, 0.4, 0.1, -1.0, 0.8, 2.0},
                             {0.5, -0.1, 0.3, 0.2, -0.6, -1.5}};
@@ -119,19 +121,20 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
       std::regex(R"(DEF [A-Za-z_][A-Za-z0-9_]{0,23}\(\)|DEF SCAN\(VIEW:IN\))"),
       std::regex(R"(END|\s*INT VIEW|)"),
       std::regex(R"(\s*BAS\(#(INITMOV|VEL_PTP|ACC_PTP), \d+\))"),
-      std::regex(R"(\s*\$TOOL = \{X )" + n + ", Y " + n + ", Z " + n + ", A " + n + ", B " + n +
-                 ", C " + n + R"(\})"),
+      std::regex(R"(\s*\$(TOOL|BASE) = \{X )" + n + ", Y " + n + ", Z " + n + ", A " + n + ", B " +
+                 n + ", C " + n + R"(\})"),
       std::regex(R"(\s*\$LOAD\.M = )" + n),
       std::regex(R"(\s*\$LOAD\.CM = \{X )" + n + ", Y " + n + ", Z " + n + R"(, A 0, B 0, C 0\})"),
-      std::regex(R"(\s*\$BASE = \$NULLFRAME)"),
       std::regex(R"(\s*SIGNAL VIEW_NO \$OUT\[\d+\] TO \$OUT\[\d+\]|\s*VIEW_NO = VIEW)"),
       std::regex(R"(\s*PTP \{E6AXIS: )" + axes + "E1 " + n + R"(\})"),
       std::regex(R"(\s*SCAN\(\d+\))"),
       std::regex(R"(\s*WAIT SEC )" + n +
                  R"(|\s*WAIT FOR (NOT )?\$IN\[\d+\]|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
   };
-  // The tool, the load and the handshake's signals are the cell's.
+  // The tool, the work object, the load and the handshake's signals are the cell's.
   EXPECT_NE(text.find("$TOOL = {X 0.000, Y 0.000, Z 150.000,"), std::string::npos);
+  EXPECT_NE(text.find("$BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}"),
+            std::string::npos);
   EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"),
             std::string::npos);
   EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
@@ -193,8 +196,15 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
             << line;
         ++moves;
       }
-      if (code.find("CONST robtarget") != std::string::npos)
+      if (code.find("CONST robtarget") != std::string::npos) {
+        // [trans, rot, robconf, extax] (RAPID reference manual, robtarget).
+        EXPECT_TRUE(std::regex_match(
+            code, std::regex(R"(\s*CONST robtarget pView\d+ := \[\[([-0-9.]+,){2}[-0-9.]+\],)"
+                             R"(\[([-0-9.]+,){3}[-0-9.]+\],\[(-?\d,){3}0\],)"
+                             R"(\[[-0-9.E+]+(,9E\+09){5}\]\];)")))
+            << line;
         robtargets.push_back(numbersIn(code.substr(code.find(":="))));
+      }
       if (code.find("CONST jointtarget") != std::string::npos) {
         EXPECT_TRUE(std::regex_match(
             code,
@@ -210,18 +220,26 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   EXPECT_NE(text.find("PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,"
                       "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];"),
             std::string::npos);
+  // cos 15°, sin 15°: the quaternion of 30° about z.
+  EXPECT_NE(text.find("PERS wobjdata wPart := [FALSE,TRUE,\"\",[[1000.000,0.000,0.000],[0.965926,"
+                      "0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];"),
+            std::string::npos);
   EXPECT_NE(text.find("SetGO GO_9, view;\n    SetDO DO_3, 1;\n    WaitDI DI_4, 1;\n"
                       "    SetDO DO_3, 0;\n    WaitDI DI_4, 0;"),
             std::string::npos);
+  // Each robtarget is the scanner in the work object: carried back by the work object and
+  // the table, it is the flange on its mount.
   ASSERT_EQ(robtargets.size(), p.steps.size());
   for (std::size_t k = 0; k < robtargets.size(); ++k) {
     const std::vector<double>& r = robtargets[k];
     ASSERT_GE(r.size(), 11u);
-    const Vec3 xyz = p.steps[k].flange.translation();
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], xyz[i], 1e-3);
-    const Eigen::Quaterniond q(r[3], r[4], r[5], r[6]);
-    EXPECT_NEAR(q.norm(), 1, 1e-5);
-    EXPECT_TRUE(q.normalized().toRotationMatrix().isApprox(p.steps[k].flange.linear(), 1e-5));
+    Pose target = Pose::Identity();
+    target.translation() = Vec3(r[0], r[1], r[2]);
+    target.linear() = Eigen::Quaterniond(r[3], r[4], r[5], r[6]).normalized().toRotationMatrix();
+    const ProgramStep& step = p.steps[k];
+    const Pose world = tableTurn(p.cell, step.pose.table_angle) * p.cell.base * p.work_object *
+                       target * p.cell.mount.inverse();
+    EXPECT_TRUE((p.cell.base.inverse() * world).isApprox(step.flange, 1e-5)) << step.view;
   }
 }
 
@@ -259,6 +277,7 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
               R"(\s*(scan\(\d+\)|turn_table\([-0-9.]+\)|sleep\([0-9.]+\)|sync\(\)|)"
               R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
               R"(set_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
+              R"(part_frame = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
               R"(write_output_(integer|float)_register\(\d+, (view|angle)\)))")))
           << line;
     }

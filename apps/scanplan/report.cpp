@@ -113,18 +113,18 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
       simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
   const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
                                   placed.working_plane, cell->clearance);
-  RobotProgram program = robotProgram(c.plan, *cell, name, options.input.plan, &collisions);
-  // Via points go this far above the scene: the mount, the scanner's body, the clearance.
-  const Scanner& scanner = c.plan.scanner;
-  planMotion(program, collisions,
-             cell->mount.translation().norm() + scanner.body_depth + scanner.body_margin +
-                 cell->clearance);
+  // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.
+  const std::vector<std::optional<CellPose>> poses =
+      c.spec.cell ? cellPoses(*cell, c.plan.views, visitingOrder(c.plan), &collisions)
+                  : c.plan.cell_poses;
+  const RobotProgram program =
+      safeProgram(c.plan, *cell, collisions, poses, name, options.input.plan);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
   writeRobotProgram(program, language, options.out);
   if (!program.unreached.empty())
     fmt::print("left out   {} views the cell cannot reach\n", program.unreached.size());
-  for (const std::string& move : program.uncleared)
-    fmt::print("warning    the move {} collides and could not be cleared\n", move);
+  for (const RobotMove& move : program.uncleared)
+    fmt::print("warning    the move {} collides and could not be cleared\n", toString(move));
   fmt::print("motion     {:.1f} s of joint travel\n", programSeconds(program));
 }
 

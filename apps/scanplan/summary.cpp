@@ -83,6 +83,12 @@ void printPlanSummary(const Plan& plan, const Part& part) {
   if (plan.sequence)
     fmt::print("{:<22} {:.0f} mm (nearest neighbour {:.0f} mm)\n", "path length",
                plan.sequence->length, plan.sequence->nearest_neighbour_length);
+  if (plan.cell_motion) {
+    fmt::print("{:<22} {:.1f} s of joint travel (home, approaches, via points)\n", "robot motion",
+               plan.cell_motion->seconds);
+    for (const RobotMove& move : plan.cell_motion->uncleared)
+      fmt::print("{:<22} {} collides and could not be cleared\n", "robot move", toString(move));
+  }
 }
 
 }  // namespace scanplan::cli

@@ -252,11 +252,18 @@ void addCell(const Plan& plan, json& result) {
              : json(nullptr);
   }
   const JointMotion motion = jointMotion(cell, plan.cell_poses, plan.views, visitingOrder(plan));
-  result["summary"]["robot"] = {{"max_joint_step", degrees(motion.max_step)},
-                                {"max_joint_step_joint", motion.max_step_joint},
-                                {"travel_seconds", motion.seconds},
-                                {"table_moves", motion.table_moves},
-                                {"unreached_views", motion.unreached}};
+  json uncleared = json::array();
+  if (plan.cell_motion)
+    for (const RobotMove& move : plan.cell_motion->uncleared)
+      uncleared.push_back({move.from, move.to});
+  result["summary"]["robot"] = {
+      {"max_joint_step", degrees(motion.max_step)},
+      {"max_joint_step_joint", motion.max_step_joint},
+      {"travel_seconds", plan.cell_motion ? json(plan.cell_motion->seconds) : json(nullptr)},
+      {"views_travel_seconds", motion.seconds},
+      {"uncleared_moves", uncleared},
+      {"table_moves", motion.table_moves},
+      {"unreached_views", motion.unreached}};
 }
 
 void addSweeps(const Plan& plan, json& result) {
@@ -578,6 +585,21 @@ struct PlanReader {
     return poses;
   }
 
+  // The program's travel and the moves it could not clear (summary.robot), if recorded.
+  std::optional<CellMotion> cellMotion(const json& root) const {
+    const json robot = objectAt(objectAt(root, "summary"), "robot");
+    if (!robot.contains("travel_seconds") || robot["travel_seconds"].is_null()) return std::nullopt;
+    CellMotion motion{field<double>(robot, "travel_seconds", path, "summary robot"), {}};
+    const auto moves =
+        fieldOr(robot, "uncleared_moves", std::vector<std::vector<int>>{}, path, "summary robot");
+    for (const std::vector<int>& move : moves) {
+      if (move.size() != 2)
+        throw InputError(path, "summary robot: an uncleared move is not [from, to]");
+      motion.uncleared.push_back({move[0], move[1]});
+    }
+    return motion;
+  }
+
   PlannedOrientation orientation(const json& entry, std::size_t k) const {
     const std::string where = "orientation " + std::to_string(k + 1);
     PlannedOrientation o;
@@ -650,6 +672,11 @@ void checkReferences(const Plan& plan, const std::string& path) {
   }
   for (const PlannedOrientation& o : plan.orientations)
     for (int id : o.views) require(id, "an orientation", false);
+  if (plan.cell_motion)
+    for (const RobotMove& move : plan.cell_motion->uncleared) {
+      require(move.from, "an uncleared move", true);
+      require(move.to, "an uncleared move", true);
+    }
 }
 
 // readPlan without its net for values of the wrong type.
@@ -695,7 +722,10 @@ Plan readPlanFields(const std::string& path) {
     plan.sequence->nearest_neighbour_length = summary.value("nearest_neighbour_path_length", 0.0);
   }
   plan.cell = reader.cell(root);
-  if (plan.cell) plan.cell_poses = reader.cellPoses(root, plan.views.size());
+  if (plan.cell) {
+    plan.cell_poses = reader.cellPoses(root, plan.views.size());
+    plan.cell_motion = reader.cellMotion(root);
+  }
   checkReferences(plan, path);
   return plan;
 }

@@ -19,6 +19,11 @@ std::string_view toString(Uncoverable reason) {
   return "unknown";
 }
 
+std::string toString(const RobotMove& move) {
+  auto name = [](int id) { return id > 0 ? "view " + std::to_string(id) : std::string("home"); };
+  return name(move.from) + " -> " + name(move.to);
+}
+
 std::vector<Plan::FaceShortfall> Plan::priorityShortfall() const {
   std::map<int, FaceShortfall> faces;
   for (const PlannedSample& s : samples) {

@@ -7,6 +7,7 @@
 #include <scanplan/errors.h>
 #include <scanplan/localization.h>
 #include <scanplan/planning/cell_poses.h>
+#include <scanplan/robot/motion.h>
 
 #include <fmt/format.h>
 
@@ -221,7 +222,7 @@ Plan placedPlan(const Part& part, const ResolvedSpec& spec, const std::vector<Sa
 // The markers the selection keeps views registering by (none: by their geometry alone);
 // nothing when it need not: registration off, or a robot that registers every view.
 std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& at,
-                                                     bool registration) {
+                                                      bool registration) {
   const RegistrationOptions& options = at.spec.spec.registration;
   if (!registration || robotRegistersAll(options)) return std::nullopt;
   if (options.method == RegistrationMode::Geometry) return std::vector<Marker>{};
@@ -230,7 +231,8 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
 
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
 // the part's upward faces and on the plate around it, a fifteenth of the field of view
-// apart (or as far as a million candidates need); none when every view registers or the robot alone registers them.
+// apart (or as far as a million candidates need); none when every view registers or the robot alone
+// registers them.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = detail::registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
@@ -238,7 +240,8 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
   grid.markers_file.clear();
   // A fifteenth of the field of view, coarser on parts too large for that many candidates.
   const double across = at.part.bounds().size().maxCoeff() + 2 * grid.marker_margin;
-  grid.marker_grid = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
+  grid.marker_grid =
+      std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
   grid.markers_on_part = grid.markers_on_plate = true;
   const std::vector<Marker> candidates = specMarkers(grid, at.part, plan.part_to_world);
   plan.proposed_markers =
@@ -316,9 +319,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
-  const detail::Selection selection =
-      detail::selectViews(at, pool, pinned, plan.samples,
-                          registeringMarkers(at, options.registration));
+  const detail::Selection selection = detail::selectViews(
+      at, pool, pinned, plan.samples, registeringMarkers(at, options.registration));
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");
@@ -332,6 +334,10 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     if (solutions.size() != plan.views.size())  // not sequenced in joint space
       solutions = cellSolutions(*cell, plan.views, collisions.get());
     plan.cell_poses = cellPoses(*cell, plan.views, visitingOrder(plan), solutions);
+    report(progress, "robot motion", 0);
+    const RobotProgram program = safeProgram(plan, *cell, *collisions, plan.cell_poses, "plan", "");
+    plan.cell_motion = CellMotion{programSeconds(program), program.uncleared};
+    clock.lap("robot motion");
   }
   plan.seconds = clock.total();
   return plan;
@@ -376,6 +382,15 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   }
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
+  if (part.cell_motion) {  // one program per orientation, one after the other
+    CellMotion& sum = merged.cell_motion ? *merged.cell_motion : merged.cell_motion.emplace();
+    sum.seconds += part.cell_motion->seconds;
+    for (RobotMove move : part.cell_motion->uncleared) {
+      shift(move.from);
+      shift(move.to);
+      sum.uncleared.push_back(move);
+    }
+  }
   for (Sweep& sweep : part.sweeps) {
     for (int& id : sweep.views) shift(id);
     merged.sweeps.push_back(std::move(sweep));
@@ -417,6 +432,7 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
       merged = plan;
       merged.views.clear();
       merged.cell_poses.clear();
+      merged.cell_motion.reset();
       merged.sweeps.clear();
       merged.times.clear();
       merged.bound.reset();

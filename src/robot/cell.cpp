@@ -52,14 +52,16 @@ void validate(const Cell& c, const std::string& source) {
           "motion_step must be within [0.1, 10] degrees");
 }
 
+Pose tableTurn(const Cell& cell, double angle) {
+  if (!cell.table) return Pose::Identity();
+  const RotaryTable& t = *cell.table;
+  return Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(angle, t.axis) *
+         Eigen::Translation3d(-t.origin);
+}
+
 Pose flangeFor(const Cell& cell, const View& view, double table_angle) {
-  Pose turn = Pose::Identity();
-  if (cell.table) {
-    const RotaryTable& t = *cell.table;
-    turn = Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(table_angle, t.axis) *
-           Eigen::Translation3d(-t.origin);
-  }
-  return cell.base.inverse() * turn * view.camera_to_world * cell.mount.inverse();
+  return cell.base.inverse() * tableTurn(cell, table_angle) * view.camera_to_world *
+         cell.mount.inverse();
 }
 
 CellReach reachView(const Cell& cell, const View& view, const Joints& near, double preferred_angle,

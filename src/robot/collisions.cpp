@@ -21,15 +21,7 @@ struct CellCollisions::Impl {
   double top = 0;                                                   // highest scene z
 
   // The robot's base frame carried into the plan's frame (the part at table angle 0).
-  Pose toPlan(const CellPose& pose) const {
-    Pose to_plan = cell.base;
-    if (cell.table) {
-      const RotaryTable& t = *cell.table;
-      to_plan = Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(-pose.table_angle, t.axis) *
-                Eigen::Translation3d(-t.origin) * to_plan;
-    }
-    return to_plan;
-  }
+  Pose toPlan(const CellPose& pose) const { return tableTurn(cell, -pose.table_angle) * cell.base; }
 
   bool meshesCollide(const CellPose& pose) const {
     const Pose to_plan = toPlan(pose);

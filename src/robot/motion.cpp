@@ -73,8 +73,6 @@ std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellColli
   return std::vector<CellPose>{*up, *over};
 }
 
-std::string moveName(const std::string& from, const std::string& to) { return from + " -> " + to; }
-
 }  // namespace
 
 std::vector<CellPose> sampledMove(const CellPose& from, const CellPose& to, double step) {
@@ -110,24 +108,36 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   else
     program.home = lifted(cell, collisions, start(program.steps.front()), height);
   if (!program.home) program.home = start(program.steps.front());
-  auto join = [&](const CellPose& from, const CellPose& to, const std::string& name,
+  auto join = [&](const CellPose& from, const CellPose& to, RobotMove move,
                   std::vector<CellPose>& via) {
     const std::optional<std::vector<CellPose>> points =
         viaPoints(cell, collisions, from, to, height);
     if (points)
       via = *points;
     else
-      program.uncleared.push_back(name);
+      program.uncleared.push_back(move);
   };
   CellPose at = *program.home;
-  std::string at_name = "home";
+  int at_view = 0;  // home
   for (ProgramStep& step : program.steps) {
-    const std::string name = "view " + std::to_string(step.view);
-    join(at, start(step), moveName(at_name, name), step.via);
+    join(at, start(step), {at_view, step.view}, step.via);
     at = start(step);
-    at_name = name;
+    at_view = step.view;
   }
-  join(at, *program.home, moveName(at_name, "home"), program.via_home);
+  join(at, *program.home, {at_view, 0}, program.via_home);
+}
+
+double viaLift(const Cell& cell, const Scanner& scanner) {
+  return cell.mount.translation().norm() + scanner.body_depth + scanner.body_margin +
+         cell.clearance;
+}
+
+RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
+                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
+                         const std::string& source) {
+  RobotProgram program = robotProgram(plan, cell, poses, name, source);
+  planMotion(program, collisions, viaLift(cell, plan.scanner));
+  return program;
 }
 
 double programSeconds(const RobotProgram& program) {

@@ -1,6 +1,7 @@
 // Robot programs from a plan. Each moves in joint space to every view (the joints the plan
 // chose, so the robot takes the configuration the plan checked), waits there and triggers
-// the scanner, in sequence order. Poses of the flange are given too, for the integrator.
+// the scanner, in sequence order. The scanner poses are given too, in the part's frame (the
+// work object), for the integrator.
 
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
@@ -32,10 +33,25 @@ Vec3 kukaAbc(const Eigen::Matrix3d& r) {
   return abc + Vec3::Zero();
 }
 
+// A KRL FRAME: {X, Y, Z, A, B, C}, mm and degrees.
+std::string krlFrame(const Pose& pose) {
+  const Vec3 xyz = pose.translation(), abc = kukaAbc(pose.linear());
+  return fmt::format("{{X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.4f}, B {:.4f}, C {:.4f}}}", xyz.x(),
+                     xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z());
+}
+
 // The quaternion with a non-negative scalar part (the same rotation), as ABB writes them.
 Eigen::Quaterniond positive(Eigen::Quaterniond q) {
   if (q.w() < 0) q.coeffs() = -q.coeffs();
   return q;
+}
+
+// ABB's position and orientation "[x, y, z],[q1, q2, q3, q4]": mm and a quaternion.
+std::string rapidPose(const Pose& pose) {
+  const Vec3 xyz = pose.translation();
+  const Eigen::Quaterniond q = positive(Eigen::Quaterniond(pose.linear()));
+  return fmt::format("[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},{:.6f},{:.6f}]", xyz.x(), xyz.y(),
+                     xyz.z(), q.w(), q.x(), q.y(), q.z());
 }
 
 // ABB's configuration quadrants cf1, cf4, cf6: floor(angle / 90°).
@@ -56,12 +72,14 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
     for (int id : p.unreached) out << ' ' << id;
     out << "\n";
   }
-  for (const std::string& move : p.uncleared)
-    out << comment << " WARNING: the move " << move << " collides and could not be cleared\n";
+  for (const RobotMove& move : p.uncleared)
+    out << comment << " WARNING: the move " << toString(move)
+        << " collides and could not be cleared\n";
   const CellSignals& s = p.cell.signals;
   out << comment << " joints in " << (urscript ? "radians" : "degrees")
-      << " as the controller counts them; flange poses in the robot's\n"
-      << comment << " base frame, mm; the tool is the scanner frame on its mount\n"
+      << " as the controller counts them; the tool is the scanner frame on its mount\n"
+      << comment
+      << " scanner poses in the part's frame (the work object: the part, table at 0), mm\n"
       << comment
       << fmt::format(
              " scan handshake: view number to output {}, trigger output {}, "
@@ -75,19 +93,19 @@ Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.
 
 }  // namespace
 
-RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
-                          const std::string& source, const CellCollisions* collisions) {
+RobotProgram robotProgram(const Plan& plan, const Cell& cell,
+                          const std::vector<std::optional<CellPose>>& poses,
+                          const std::string& name, const std::string& source) {
   RobotProgram program;
   program.name = identifier(name, 24);
   program.source = source;
   program.cell = cell;
-  const std::vector<int> order = visitingOrder(plan);
-  const std::vector<std::optional<CellPose>> poses = cellPoses(cell, plan.views, order, collisions);
+  program.work_object = cell.base.inverse() * plan.part_to_world;
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
-  for (int id : order) {
+  for (int id : visitingOrder(plan)) {
     const std::size_t i = index.at(id);
-    if (!poses[i]) {
+    if (i >= poses.size() || !poses[i]) {
       program.unreached.push_back(id);
       continue;
     }
@@ -99,6 +117,20 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
                              {}});
   }
   return program;
+}
+
+RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
+                          const std::string& source, const CellCollisions* collisions) {
+  return robotProgram(plan, cell, cellPoses(cell, plan.views, visitingOrder(plan), collisions),
+                      name, source);
+}
+
+Pose scannerInPart(const RobotProgram& p, const ProgramStep& step) {
+  const Cell& cell = p.cell;
+  // The part's frame in the base frame with the table at the step's angle.
+  const Pose part =
+      cell.base.inverse() * tableTurn(cell, step.pose.table_angle) * cell.base * p.work_object;
+  return part.inverse() * step.flange * cell.mount;
 }
 
 std::vector<Waypoint> waypoints(const RobotProgram& p) {
@@ -134,26 +166,25 @@ void checkProgramFormat(const Cell& cell, std::string_view format) {
 std::string krlProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "krl");
   std::ostringstream out;
-  const Vec3 tool = p.cell.mount.translation(), tool_abc = kukaAbc(p.cell.mount.linear());
   const Vec3 centre = loadCentre(p.cell);
   out << "&ACCESS RVP\n&REL 1\n"
       << header(p, ";") << "DEF " << p.name << "()\n"
       << "  BAS(#INITMOV, 0)\n  BAS(#VEL_PTP, 20)\n  BAS(#ACC_PTP, 20)\n"
-      << fmt::format("  $TOOL = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.4f}, B {:.4f}, C {:.4f}}}\n",
-                     tool.x(), tool.y(), tool.z(), tool_abc.x(), tool_abc.y(), tool_abc.z())
+      << "  $TOOL = " << krlFrame(p.cell.mount) << "\n"
       << fmt::format("  $LOAD.M = {:.3f}\n", p.cell.tool.mass)
       << fmt::format("  $LOAD.CM = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A 0, B 0, C 0}}\n", centre.x(),
                      centre.y(), centre.z())
-      << "  $BASE = $NULLFRAME\n";
+      << "  $BASE = " << krlFrame(p.work_object) << "\n";
   int taken = 0;
   for (const Waypoint& w : waypoints(p)) {
     if (w.what == "view") {
       const ProgramStep& s = *w.step;
-      const Vec3 xyz = s.flange.translation(), abc = kukaAbc(s.flange.linear());
+      const Pose scanner = scannerInPart(p, s);
+      const Vec3 xyz = scanner.translation(), abc = kukaAbc(scanner.linear());
       out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, ++taken, p.steps.size(),
                          s.task.empty() ? "-" : s.task)
           << fmt::format(
-                 "  ; flange {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
+                 "  ; scanner {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
                  "C {:.3f}, E1 {:.3f}}}\n",
                  xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(), degrees(s.pose.table_angle));
     } else {
@@ -180,21 +211,19 @@ std::string krlProgram(const RobotProgram& p) {
 std::string rapidProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "rapid");
   std::ostringstream out;
-  const Eigen::Quaterniond mount = positive(Eigen::Quaterniond(p.cell.mount.linear()));
-  const Vec3 tool = p.cell.mount.translation(), centre = loadCentre(p.cell);
+  const Vec3 centre = loadCentre(p.cell);
   out << "MODULE " << p.name << "\n"
       << header(p, "  !")
       << fmt::format(
-             "  PERS tooldata tScanner := [TRUE,[[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},"
-             "{:.6f},{:.6f}]],[{:.3f},[{:.3f},{:.3f},{:.3f}],[1,0,0,0],0,0,0]];\n",
-             tool.x(), tool.y(), tool.z(), mount.w(), mount.x(), mount.y(), mount.z(),
-             p.cell.tool.mass, centre.x(), centre.y(), centre.z());
+             "  PERS tooldata tScanner := [TRUE,[{}],[{:.3f},[{:.3f},{:.3f},{:.3f}],"
+             "[1,0,0,0],0,0,0]];\n",
+             rapidPose(p.cell.mount), p.cell.tool.mass, centre.x(), centre.y(), centre.z())
+      << fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
+                     rapidPose(p.work_object));
   auto external = [&](double angle) {
     return p.cell.table ? fmt::format("{:.4f}", degrees(angle)) : std::string("9E+09");
   };
   for (const ProgramStep& s : p.steps) {
-    const Vec3 xyz = s.flange.translation();
-    const Eigen::Quaterniond q = positive(Eigen::Quaterniond(s.flange.linear()));
     const Joints& j = s.pose.joints;
     out << fmt::format(
         "  CONST jointtarget jView{} := [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
@@ -202,10 +231,9 @@ std::string rapidProgram(const RobotProgram& p) {
         s.view, degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
         degrees(j[5]), external(s.pose.table_angle));
     out << fmt::format(
-        "  CONST robtarget pView{} := [[{:.3f},{:.3f},{:.3f}],[{:.6f},{:.6f},{:.6f},{:.6f}],"
-        "[{},{},{},0],[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
-        s.view, xyz.x(), xyz.y(), xyz.z(), q.w(), q.x(), q.y(), q.z(), quadrant(j[0]),
-        quadrant(j[3]), quadrant(j[5]), external(s.pose.table_angle));
+        "  CONST robtarget pView{} := [{},[{},{},{},0],[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
+        s.view, rapidPose(scannerInPart(p, s)), quadrant(j[0]), quadrant(j[3]), quadrant(j[5]),
+        external(s.pose.table_angle));
   }
   out << "\n  PROC main()\n";
   for (const Waypoint& w : waypoints(p)) {
@@ -260,6 +288,7 @@ std::string urScript(const RobotProgram& p) {
   std::ostringstream out;
   out << header(p, "#", true) << "def " << p.name << "():\n"
       << "  set_tcp(" << urPose(p.cell.mount) << ")\n"
+      << "  part_frame = " << urPose(p.work_object) << "\n"
       << fmt::format("  set_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
                      centre.x(), centre.y(), centre.z())
       << "  def scan(view):\n    sleep(0.2)\n"
@@ -273,8 +302,8 @@ std::string urScript(const RobotProgram& p) {
   int taken = 0;
   for (const Waypoint& w : waypoints(p)) {
     if (w.what == "view")
-      out << fmt::format("  # view {} ({} of {}), flange {}\n", w.step->view, ++taken,
-                         p.steps.size(), urPose(w.step->flange));
+      out << fmt::format("  # view {} ({} of {}), scanner pose_trans(part_frame, {})\n",
+                         w.step->view, ++taken, p.steps.size(), urPose(scannerInPart(p, *w.step)));
     else
       out << "  # " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
     if (p.cell.table && (!table || *table != w.pose.table_angle))
@@ -313,11 +342,14 @@ std::string programJson(const RobotProgram& p) {
          {"joints", joints},
          {"table", degrees(s.pose.table_angle)},
          {"flange", matrix(s.flange)},
+         {"scanner", matrix(scannerInPart(p, s))},
          {"via", via},
          {"approach", s.approach ? poseJson({s.pose.table_angle, *s.approach}) : json(nullptr)}});
   }
   json via_home = json::array();
   for (const CellPose& v : p.via_home) via_home.push_back(poseJson(v));
+  json uncleared = json::array();
+  for (const RobotMove& move : p.uncleared) uncleared.push_back(toString(move));
   const json root = {{"format", "scanplan.robot_program"},
                      {"version", 1},
                      {"units", {{"length", "mm"}, {"angle", "deg"}}},
@@ -326,10 +358,11 @@ std::string programJson(const RobotProgram& p) {
                      {"robot", p.cell.robot.name},
                      {"base", matrix(p.cell.base)},
                      {"mount", matrix(p.cell.mount)},
+                     {"work_object", matrix(p.work_object)},
                      {"home", p.home ? poseJson(*p.home) : json(nullptr)},
                      {"steps", steps},
                      {"via_home", via_home},
-                     {"uncleared", p.uncleared},
+                     {"uncleared", uncleared},
                      {"unreached", p.unreached}};
   return root.dump(1) + "\n";
 }

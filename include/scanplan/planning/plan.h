@@ -71,6 +71,20 @@ struct PlannedOrientation {
   std::vector<Marker> markers;  // world frame of this orientation
 };
 
+// A move of the robot program between two views, by id (0: home).
+struct RobotMove {
+  int from = 0, to = 0;
+};
+std::string toString(const RobotMove& move);  // "view 3 -> home"
+
+// The robot program's motion with a cell (robot/motion.h): the joint travel of the whole
+// program, seconds (home, approaches, views, retracts, via points, back home), and the
+// moves that collide and could not be lifted clear.
+struct CellMotion {
+  double seconds = 0;
+  std::vector<RobotMove> uncleared;
+};
+
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
@@ -82,8 +96,8 @@ struct Plan {
   std::optional<Registration> registration;  // per view, with PlanningOptions::registration
   // Where views register to nothing, markers that would register them (world frame).
   std::optional<MarkerProposal> proposed_markers;
-  std::optional<Sequence> sequence;          // of the registered views
-  std::vector<Sweep> sweeps;                 // their views come first, in sweep order
+  std::optional<Sequence> sequence;  // of the registered views
+  std::vector<Sweep> sweeps;         // their views come first, in sweep order
   // part.rest: all: the orientations planned, steadiest first. part_to_world and the
   // samples' frame are the first one's; each view is planned in the world of the
   // orientation that lists it; registration and sequence are per orientation, one after
@@ -95,6 +109,7 @@ struct Plan {
   // the least joint travel.
   std::optional<Cell> cell;
   std::vector<std::optional<CellPose>> cell_poses;
+  std::optional<CellMotion> cell_motion;  // of the program along the sequence
   std::vector<StageTime> times;
   double seconds = 0;
   std::optional<PlanBound> bound;  // of the selection; per orientation, summed

@@ -75,6 +75,9 @@ struct Cell {
 // \throw InputError naming `source` and the key.
 void validate(const Cell& cell, const std::string& source);
 
+// The table turned by `angle` (radians), world frame: identity without a table.
+Pose tableTurn(const Cell& cell, double angle);
+
 // Where the robot must put its flange (base frame) for the scanner to be at `view` with
 // the table turned by `table_angle`.
 Pose flangeFor(const Cell& cell, const View& view, double table_angle = 0);

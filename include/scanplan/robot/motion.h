@@ -28,6 +28,16 @@ bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const C
 // program.uncleared.
 void planMotion(RobotProgram& program, const CellCollisions& collisions, double lift);
 
+// How far above the scene's highest point via points go: the mount, the scanner's body
+// and its margin, and the cell's clearance, mm.
+double viaLift(const Cell& cell, const Scanner& scanner);
+
+// The program of `plan` in `cell` (robotProgram, the cell poses `poses`) with its safe
+// motion (planMotion, lifted by viaLift).
+RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
+                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
+                         const std::string& source);
+
 // The program's joint travel time, seconds: home, vias, approaches, views and back home.
 double programSeconds(const RobotProgram& program);
 

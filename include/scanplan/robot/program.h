@@ -28,16 +28,27 @@ struct RobotProgram {
   std::string name;    // a valid identifier in every language: letters, digits, _
   std::string source;  // what it was made from, for the header comment
   Cell cell;
-  std::vector<ProgramStep> steps;      // in sequence order
-  std::vector<int> unreached;          // views of the plan the cell cannot take (left out)
-  std::optional<CellPose> home;        // where the program starts and ends (planMotion)
-  std::vector<CellPose> via_home;      // on the way back home from the last step
-  std::vector<std::string> uncleared;  // moves that collide and could not be lifted clear
+  // The work object: the part's frame in the robot's base frame with the table at 0. The
+  // programs give each view's scanner pose in it (scannerInPart).
+  Pose work_object = Pose::Identity();
+  std::vector<ProgramStep> steps;    // in sequence order
+  std::vector<int> unreached;        // views of the plan the cell cannot take (left out)
+  std::optional<CellPose> home;      // where the program starts and ends (planMotion)
+  std::vector<CellPose> via_home;    // on the way back home from the last step
+  std::vector<RobotMove> uncleared;  // moves that collide and could not be lifted clear
 };
 
+// The scanner frame (the tool) at `step` in the part's frame as the table stands then, mm:
+// the same for every table angle, since the part turns with the table.
+Pose scannerInPart(const RobotProgram& program, const ProgramStep& step);
+
 // The program of `plan` in `cell`: its views in sequence order (then any outside the
-// sequence), each with the joints cellPoses chooses (clear of the part with
-// `collisions`). `name` is made a valid identifier.
+// sequence), each with its cell pose from `poses` (per view, in the order of the plan's
+// views; none: left out as unreached). `name` is made a valid identifier.
+RobotProgram robotProgram(const Plan& plan, const Cell& cell,
+                          const std::vector<std::optional<CellPose>>& poses,
+                          const std::string& name, const std::string& source);
+// The same with the joints cellPoses chooses (clear of the part with `collisions`).
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
                           const std::string& source, const CellCollisions* collisions = nullptr);
 

@@ -3,16 +3,17 @@ MODULE ctc01_plan
   ! from plan.json
   ! robot abb-irb2400-10, 3 views in sequence order, rotary table as external axis 1
   ! left out, the cell cannot reach them: views 9
-  ! joints in degrees as the controller counts them; flange poses in the robot's
-  ! base frame, mm; the tool is the scanner frame on its mount
+  ! joints in degrees as the controller counts them; the tool is the scanner frame on its mount
+  ! scanner poses in the part's frame (the work object: the part, table at 0), mm
   ! scan handshake: view number to output 9, trigger output 3, acknowledge input 4
   PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];
+  PERS wobjdata wPart := [FALSE,TRUE,"",[[1000.000,0.000,0.000],[0.965926,0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];
   CONST jointtarget jView4 := [[5.7296,11.4592,-17.1887,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget pView4 := [[1048.923,121.192,1485.747],[0.448432,0.291909,0.768551,0.350753],[0,0,0,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  CONST robtarget pView4 := [[239.907,49.467,1432.983],[0.523934,0.480878,0.666812,0.222738],[0,0,0,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jView2 := [[-11.4592,22.9183,5.7296,-57.2958,45.8366,114.5916],[90.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget pView2 := [[1105.135,-276.374,963.552],[0.375890,0.645885,0.648007,-0.147060],[-1,-1,1,0],[90.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  CONST robtarget pView2 := [[-402.039,59.243,862.428],[0.060587,0.884133,-0.235349,-0.399060],[-1,-1,1,0],[90.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jView7 := [[28.6479,-5.7296,17.1887,11.4592,-34.3775,-85.9437],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
-  CONST robtarget pView7 := [[772.007,410.884,1330.955],[0.745797,-0.412633,0.374887,-0.364665],[0,0,-1,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  CONST robtarget pView7 := [[145.383,449.759,1387.713],[0.626002,-0.301545,0.468911,-0.545266],[0,0,-1,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
 
   PROC main()
     ! home
