@@ -7,8 +7,6 @@
 #include <scanplan/raycast.h>
 
 #include <benchmark/benchmark.h>
-#include <Message.hxx>
-#include <Message_Messenger.hxx>
 
 #include <filesystem>
 
@@ -64,7 +62,6 @@ BENCHMARK(BM_RayCasterBuild)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 int main(int argc, char** argv) {
-  Message::DefaultMessenger()->ChangePrinters().Clear();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -1,3 +1,6 @@
+#include "assets.h"
+#include "sensor_yaml.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/io/input_file.h>
 #include <scanplan/sensor.h>
@@ -5,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
@@ -12,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
 
 namespace scanplan {
 
@@ -64,9 +69,10 @@ void validate(const Scanner& s, const std::string& source) {
   // A simulated cloud has a point per spacing² of the field of view.
   constexpr double kMostPoints = 1e8;
   if (s.fov_width / s.point_spacing * (s.fov_height / s.point_spacing) > kMostPoints)
-    fail(fmt::format("point_spacing gives more than 100 million points over the field of view: "
-                     "at least {:.3g} mm",
-                     std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
+    fail(
+        fmt::format("point_spacing gives more than 100 million points over the field of view: "
+                    "at least {:.3g} mm",
+                    std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
 }
 
 const std::array<ScannerParameter, 12>& scannerParameters() {
@@ -85,11 +91,6 @@ const std::array<ScannerParameter, 12>& scannerParameters() {
       {"body_depth", &Scanner::body_depth},
   }};
   return table;
-}
-
-std::string dataDirectory() {
-  if (const char* env = std::getenv("SCANPLAN_DATA"); env && *env) return env;
-  return SCANPLAN_SOURCE_DATA;
 }
 
 namespace {
@@ -132,37 +133,56 @@ YAML::Node loadYaml(const std::string& path) {
 
 }  // namespace
 
-Scanner scannerPreset(const std::string& name) {
-  namespace fs = std::filesystem;
-  const fs::path folder = fs::path(dataDirectory()) / "scanners";
-  // A preset is named by letters, digits, '.', '_' and '-' (no path, no file name too long).
-  const bool plain = !name.empty() && name.size() <= 100 &&
-                     std::all_of(name.begin(), name.end(), [](char c) {
-                       return std::isalnum(static_cast<unsigned char>(c)) || c == '.' ||
-                              c == '_' || c == '-';
-                     });
-  const fs::path file = folder / (name + ".yaml");
-  std::error_code missing;
-  if (!plain || !fs::exists(file, missing)) {
-    std::string known;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(folder, ec))
-      if (entry.path().extension() == ".yaml")
-        known += (known.empty() ? "" : ", ") + entry.path().stem().string();
-    throw InputError(name, "unknown scanner preset (known: " +
-                               (known.empty() ? "none found in " + folder.string() : known) + ")");
-  }
-  Scanner scanner;
-  scanner.name = name;
-  try {
-    return fromMapping(loadYaml(file.string()), scanner, file.string());
-  } catch (const YAML::Exception& e) {
-    throw InputError(file.string(), e.what());
-  }
+namespace {
+
+// $SCANPLAN_DATA/scanners, where presets may be added; empty when the variable is unset.
+std::filesystem::path addedPresets() {
+  const char* env = std::getenv("SCANPLAN_DATA");
+  return env && *env ? std::filesystem::path(env) / "scanners" : std::filesystem::path();
 }
 
-Scanner loadScanner(const std::string& path) {
-  YAML::Node root = loadYaml(path);
+}  // namespace
+
+std::vector<std::string> scannerPresetNames() {
+  std::set<std::string> names;
+  for (const assets::File& preset : assets::scanner_presets) names.emplace(preset.name);
+  std::error_code ec;
+  if (const std::filesystem::path folder = addedPresets(); !folder.empty())
+    for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+      if (entry.path().extension() == ".yaml") names.insert(entry.path().stem().string());
+  return {names.begin(), names.end()};
+}
+
+Scanner scannerPreset(const std::string& name) {
+  namespace fs = std::filesystem;
+  // A preset is named by letters, digits, '.', '_' and '-' (no path, no file name too long).
+  const bool plain =
+      !name.empty() && name.size() <= 100 && std::all_of(name.begin(), name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+      });
+  Scanner scanner;
+  scanner.name = name;
+  std::error_code missing;
+  if (const fs::path folder = addedPresets(); plain && !folder.empty()) {
+    const fs::path file = folder / (name + ".yaml");
+    if (fs::exists(file, missing)) {
+      try {
+        return fromMapping(loadYaml(file.string()), scanner, file.string());
+      } catch (const YAML::Exception& e) {
+        throw InputError(file.string(), e.what());
+      }
+    }
+  }
+  const auto& presets = assets::scanner_presets;
+  const auto own = std::find_if(presets.begin(), presets.end(),
+                                [&](const assets::File& preset) { return preset.name == name; });
+  if (!plain || own == presets.end())
+    throw InputError(name, fmt::format("unknown scanner preset (known: {})",
+                                       fmt::join(scannerPresetNames(), ", ")));
+  return fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)");
+}
+
+Scanner scannerFromYaml(const YAML::Node& root, const std::string& source) {
   try {
     if (root.IsMap() && root["scanner"]) {
       const YAML::Node& node = root["scanner"];
@@ -170,15 +190,17 @@ Scanner loadScanner(const std::string& path) {
         try {
           return scannerPreset(node.as<std::string>());
         } catch (const InputError& e) {  // named by the preset: name the spec too
-          throw InputError(path, "scanner '" + e.file() + "': " + e.reason());
+          throw InputError(source, "scanner '" + e.file() + "': " + e.reason());
         }
       }
-      return fromMapping(node, Scanner{}, path);
+      return fromMapping(node, Scanner{}, source);
     }
-    return fromMapping(root, Scanner{}, path);
+    return fromMapping(root, Scanner{}, source);
   } catch (const YAML::Exception& e) {
-    throw InputError(path, e.what());
+    throw InputError(source, e.what());
   }
 }
+
+Scanner loadScanner(const std::string& path) { return scannerFromYaml(loadYaml(path), path); }
 
 }  // namespace scanplan

@@ -3,6 +3,8 @@
 #include <scanplan/io/input_file.h>
 #include <scanplan/spec.h>
 
+#include "sensor_yaml.h"
+
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
@@ -531,16 +533,8 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
   }
 }
 
-}  // namespace
-
-Spec loadSpec(const std::string& path) {
-  requireInputFile(path);
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path, "not valid YAML: " + std::string(e.what()));
-  }
+// The spec of the YAML document `root`, read from `path`.
+Spec specFromYaml(const YAML::Node& root, const std::string& path) {
   Spec spec = defaultSpec();
   spec.source = path;
   if (root.IsNull()) return spec;
@@ -553,7 +547,7 @@ Spec loadSpec(const std::string& path) {
         root,
         {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},
         reader, "the spec");
-    if (root["scanner"]) spec.scanner = loadScanner(path);
+    if (root["scanner"]) spec.scanner = scannerFromYaml(root, path);
     if (const YAML::Node part = root["part"]) readPart(part, reader, spec);
     if (const YAML::Node roles = root["roles"]) {
       checkKeys(roles, {"priority", "fixture", "specular"}, reader, "roles");
@@ -583,6 +577,29 @@ Spec loadSpec(const std::string& path) {
     throw InputError(path, e.what());
   }
   return spec;
+}
+
+}  // namespace
+
+Spec loadSpec(const std::string& path) {
+  requireInputFile(path);
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "not valid YAML: " + std::string(e.what()));
+  }
+  return specFromYaml(root, path);
+}
+
+Spec specFromText(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, "not valid YAML: " + std::string(e.what()));
+  }
+  return specFromYaml(root, source);
 }
 
 std::vector<int> gdtFaces(const Part& part) {

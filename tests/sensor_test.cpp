@@ -49,6 +49,52 @@ TEST(Scanner, UnknownPresetListsTheKnownOnes) {
   EXPECT_TRUE(contains(reason, "generic-structured-light")) << reason;
 }
 
+// The presets are the library's own; $SCANPLAN_DATA/scanners adds presets and replaces one
+// by its name.
+TEST(Scanner, PresetsAreBuiltInAndScanplanDataAddsMore) {
+  const std::vector<std::string> own = scannerPresetNames();
+  EXPECT_EQ(own, (std::vector<std::string>{"generic-structured-light", "laser-line"}));
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.file("scanners"));
+  test::writeText(dir.file("scanners/laser-line.yaml"),
+                  "standoff: 123\ndepth_of_field: 80\nfov_width: 90\nfov_height: 50\n");
+  test::writeText(dir.file("scanners/bench-head.yaml"), "standoff: 250\n");
+  ::setenv("SCANPLAN_DATA", dir.file("").c_str(), 1);
+  const std::vector<std::string> names = scannerPresetNames();
+  const double replaced = scannerPreset("laser-line").standoff;
+  const double added = scannerPreset("bench-head").standoff;
+  ::unsetenv("SCANPLAN_DATA");
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"bench-head", "generic-structured-light", "laser-line"}));
+  EXPECT_EQ(replaced, 123);
+  EXPECT_EQ(added, 250);
+  EXPECT_EQ(scannerPreset("laser-line").standoff, 150);  // the library's own again
+}
+
+// A spec given as text (a Python dict as JSON, say) reads as the same spec from a file,
+// and its errors name the source given.
+TEST(Spec, TextReadsAsTheFile) {
+  test::TempDir dir;
+  const std::string yaml =
+      "scanner: laser-line\ntasks:\n  - {type: trim, faces: [2, 3]}\nplanner: {most_views: 50}\n";
+  test::writeText(dir.file("spec.yaml"), yaml);
+  const Spec file = loadSpec(dir.file("spec.yaml"));
+  const Spec json = specFromText(
+      R"({"scanner": "laser-line", "tasks": [{"type": "trim", "faces": [2, 3]}],
+          "planner": {"most_views": 50}})",
+      "<dict>");
+  EXPECT_EQ(json.scanner.name, file.scanner.name);
+  EXPECT_EQ(json.scanner.standoff, file.scanner.standoff);
+  ASSERT_EQ(json.tasks.size(), 1u);
+  EXPECT_EQ(json.tasks[0].type, TaskType::Trim);
+  EXPECT_EQ(json.tasks[0].faces.size(), file.tasks[0].faces.size());
+  EXPECT_EQ(json.planner.most_views, 50);
+  EXPECT_EQ(reasonOf([] { specFromText("{\"tasks\": []}", "<dict>"); }),
+            "<dict>: tasks must be a non-empty list");
+  EXPECT_TRUE(
+      contains(reasonOf([] { specFromText("{tasks: [", "<dict>"); }), "<dict>: not valid YAML"));
+}
+
 TEST(Scanner, ValidationNamesTheParameter) {
   auto check = [](auto mutate, const std::string& parameter) {
     Scanner s;

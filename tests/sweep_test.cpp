@@ -4,6 +4,7 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/io/plan_json.h>
 #include <scanplan/localization.h>
 #include <scanplan/planning.h>
 #include <scanplan/sweep.h>
@@ -160,6 +161,18 @@ TEST(Sweep, CurvedPanelUnderAnInterpolatedPatch) {
   const auto [can, measured] = coverableAndMeasured(part, plan);
   ASSERT_GT(can, 0u);
   EXPECT_GE(static_cast<double>(measured), 0.99 * static_cast<double>(can));
+
+  // The library writes the plan with its patch beside it, named in plan.json, and removes
+  // an earlier plan's patch files there.
+  std::filesystem::create_directories(dir.file("out"));
+  test::writeText(dir.file("out/patch-7.step"), "an earlier plan's patch");
+  Plan written = plan;
+  writePlanFiles(written, dir.file("out/plan.json"));
+  EXPECT_EQ(written.sweeps.front().patch_file, "patch-1.step");
+  EXPECT_EQ(readPlan(dir.file("out/plan.json")).part_faces, part.faces.size());
+  EXPECT_EQ(planJson(written)["sweeps"][0]["patch"]["file"], "patch-1.step");
+  EXPECT_GT(importPart(dir.file("out/patch-1.step")).area(), 0.8 * part.area());
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out/patch-7.step")));
 }
 
 }  // namespace

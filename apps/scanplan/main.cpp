@@ -7,9 +7,6 @@
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 
-#include <Message.hxx>
-#include <Message_Messenger.hxx>
-
 #include <tbb/global_control.h>
 
 #include <csignal>
@@ -32,8 +29,6 @@ int main(int argc, char** argv) {
   using namespace scanplan;
   std::signal(SIGINT, onInterrupt);
   std::signal(SIGTERM, onInterrupt);
-  // OCCT's readers print their statistics on stdout; the tool speaks for itself.
-  Message::DefaultMessenger()->ChangePrinters().Clear();
 
   CLI::App app{"scanplan: view planning for robotic 3D scanning inspection"};
   app.require_subcommand(1);

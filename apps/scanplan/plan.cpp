@@ -61,29 +61,13 @@ void printTaskRows(const Plan& plan, const Part& part) {
                100.0 * static_cast<double>(row[1]) / static_cast<double>(row[0]));
 }
 
-// Earlier runs' surface patches in `outdir` (patch-N.step), for `outputs` to drop.
-void dropPatches(const std::filesystem::path& outdir, FileSet& outputs) {
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(outdir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.starts_with("patch-") && name.ends_with(".step")) outputs.drop(entry.path().string());
-  }
-}
-
 // Into `outputs`: the surface task's interpolated patches, plan.json, and as asked
 // report.html and plan.png; the files of the set this run does not write are dropped.
 // Returns the report's seconds.
 double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Options& options,
                     FileSet& outputs, const Progress& progress) {
   const std::filesystem::path outdir(options.outdir);
-  dropPatches(outdir, outputs);
-  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
-    Sweep& sweep = plan.sweeps[k];
-    if (!sweep.patch) continue;
-    sweep.patch_file = fmt::format("patch-{}.step", k + 1);
-    writePatch(*sweep.patch, outputs.stage((outdir / sweep.patch_file).string()));
-  }
-  writePlan(plan, outputs.stage((outdir / "plan.json").string()));
+  writePlanFiles(plan, (outdir / "plan.json").string(), &outputs);
   const auto report_start = std::chrono::steady_clock::now();
   if (options.report)
     writeReport(plan, part, spec, outputs.stage((outdir / "report.html").string()), {}, progress);

@@ -50,11 +50,13 @@ const std::array<ScannerParameter, 12>& scannerParameters();
 //        within [0, 90)), and the depth of field shorter than twice the standoff.
 void validate(const Scanner& scanner, const std::string& source);
 
-// Folder of the shipped data (scanner presets): $SCANPLAN_DATA if set, else the source
-// tree's data/ folder.
-std::string dataDirectory();
+// The scanner presets' names, sorted: those compiled into the library (data/scanners/ of
+// the source) and those in $SCANPLAN_DATA/scanners/<name>.yaml, which may add presets or
+// replace one by name.
+std::vector<std::string> scannerPresetNames();
 
-// The preset `name` from <dataDirectory()>/scanners/<name>.yaml, validated.
+// The preset `name`, validated: $SCANPLAN_DATA/scanners/<name>.yaml if there is one, else
+// the library's own.
 // \throw InputError for an unknown preset (listing the known ones) or a bad preset file.
 Scanner scannerPreset(const std::string& name);
 

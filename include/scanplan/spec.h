@@ -80,6 +80,10 @@ Spec defaultSpec();
 // \throw InputError naming the file and the key that is wrong.
 Spec loadSpec(const std::string& path);
 
+// The same for a spec's text (YAML, or JSON, which is YAML too); errors name `source`, and
+// the files it names are relative to the folder of `source` (else the current one).
+Spec specFromText(const std::string& text, const std::string& source);
+
 // A spec resolved against its part, once: every face selector turned into face ids and
 // checked, the GD&T faces taken from the part. Every stage of planning reads this.
 struct ResolvedSpec {

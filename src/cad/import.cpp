@@ -5,6 +5,8 @@
 #include "cad/brep_import.h"
 
 #include <fmt/format.h>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
 #include <Standard_Failure.hxx>
 
 #include <algorithm>
@@ -12,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <unordered_set>
 #include <vector>
 
@@ -173,6 +176,10 @@ void checkIgesFraming(const std::string& path) {
 }  // namespace
 
 Part importPart(const std::string& path, const ImportOptions& options, const Progress& progress) {
+  // OCCT's readers print their statistics on stdout through its default messenger; the
+  // library speaks through its errors and `progress` only.
+  static std::once_flag silenced;
+  std::call_once(silenced, [] { Message::DefaultMessenger()->ChangePrinters().Clear(); });
   namespace fs = std::filesystem;
   std::error_code ec;
   requireInputFile(path);

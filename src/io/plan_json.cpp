@@ -332,6 +332,25 @@ void writePlan(const Plan& plan, const std::string& path) {
   writeFileAtomically(path, [&](std::ostream& out) { out << planJson(plan).dump(1) << '\n'; });
 }
 
+void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs) {
+  FileSet own;
+  FileSet& files = outputs ? *outputs : own;
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.empty() ? "." : folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("patch-") && name.ends_with(".step")) files.drop(entry.path().string());
+  }
+  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
+    Sweep& sweep = plan.sweeps[k];
+    if (!sweep.patch) continue;
+    sweep.patch_file = "patch-" + std::to_string(k + 1) + ".step";
+    writePatch(*sweep.patch, files.stage((folder / sweep.patch_file).string()));
+  }
+  writePlan(plan, files.stage(path));
+  if (!outputs) own.commit();
+}
+
 namespace {
 
 // True when `value` may be read as a T without a conversion that loses it: a whole number

@@ -3,6 +3,8 @@
 // Bulk arrays travel as base64 of little-endian typed arrays, which the page views as
 // Float32Array, Uint8Array, ... without parsing numbers.
 
+#include "assets.h"
+
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
@@ -21,11 +23,6 @@
 #include <string_view>
 
 namespace scanplan {
-namespace assets {
-extern const std::string_view viewer_js;
-extern const std::string_view report_html;
-}  // namespace assets
-
 namespace {
 
 using nlohmann::json;

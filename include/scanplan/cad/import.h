@@ -22,7 +22,8 @@ struct ImportOptions {
 // BREP (.brep), or a triangle mesh (.stl ASCII or binary, .obj, .ply, .off).
 // The result is in millimetres whatever unit the file declares. Several solids make one
 // part. B-Rep faces get outward orientation (repaired where a shell is inconsistent) and
-// a triangulation whose chordal tolerance follows the part size unless given.
+// a triangulation whose chordal tolerance follows the part size unless given. OCCT's
+// messages are silenced (its default messenger loses its printers on the first call).
 // \throw InputError for a missing or unreadable file, an unsupported extension, a
 //        truncated or corrupt file, or a file without geometry or triangles.
 Part importPart(const std::string& path, const ImportOptions& options = {},

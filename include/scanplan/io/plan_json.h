@@ -19,6 +19,15 @@ nlohmann::json planJson(const Plan& plan);
 // \throw OutputError when it cannot be written.
 void writePlan(const Plan& plan, const std::string& path);
 
+class FileSet;
+
+// Writes `plan` to `path` with the surface task's interpolated patches beside it
+// (patch-N.step, each named in its sweep's patch_file); an earlier plan's patch files
+// there are removed. The files go into `outputs`, for the caller to commit with its other
+// files, or else are written here as a set: all of them or none.
+// \throw OutputError naming the file that cannot be written.
+void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs = nullptr);
+
 // Reads a plan.json back: part file and faces, placement, scanner (every §4 parameter
 // the file gives, over the defaults), views with their bridge flags, markers, samples
 // with measured_by and not_coverable reasons, and the sequence. Registration results and times are
