@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Installs every Debian package scanplan needs to build, test and run (Debian 12), then
-# the report's web packages (three.js, esbuild, playwright-core) from the npm registry
-# into web/node_modules, pinned by web/package-lock.json.
+# Installs every Debian package scanplan needs to build, test and run (Debian 12), the
+# Python module's included (pybind11, numpy, pytest, matplotlib), then the report's web
+# packages (three.js, esbuild, playwright-core) from the npm registry into
+# web/node_modules, pinned by web/package-lock.json.
 # Idempotent: installs only what is missing. Runs as root, or through sudo.
 set -euo pipefail
 
@@ -13,6 +14,7 @@ packages=(
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev libqhull-dev
   libopen3d-dev libtinygltf-dev libstb-dev libfcl-dev
   chromium
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

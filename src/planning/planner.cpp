@@ -343,6 +343,18 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   return plan;
 }
 
+// Adds the robot program of a later orientation, its view ids shifted by `offset`, to
+// `merged`'s: one program per orientation, run one after the other.
+void appendMotion(Plan& merged, const CellMotion& motion, int offset) {
+  CellMotion& sum = merged.cell_motion ? *merged.cell_motion : merged.cell_motion.emplace();
+  sum.seconds += motion.seconds;
+  for (RobotMove move : motion.uncleared) {
+    if (move.from > 0) move.from += offset;
+    if (move.to > 0) move.to += offset;
+    sum.uncleared.push_back(move);
+  }
+}
+
 // Appends `part` (planned in a later rest orientation) to `merged`: its views, registration,
 // sequence and sweeps with ids shifted past merged's, and the samples it measures.
 void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
@@ -382,15 +394,7 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   }
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
-  if (part.cell_motion) {  // one program per orientation, one after the other
-    CellMotion& sum = merged.cell_motion ? *merged.cell_motion : merged.cell_motion.emplace();
-    sum.seconds += part.cell_motion->seconds;
-    for (RobotMove move : part.cell_motion->uncleared) {
-      shift(move.from);
-      shift(move.to);
-      sum.uncleared.push_back(move);
-    }
-  }
+  if (part.cell_motion) appendMotion(merged, *part.cell_motion, offset);
   for (Sweep& sweep : part.sweeps) {
     for (int& id : sweep.views) shift(id);
     merged.sweeps.push_back(std::move(sweep));

@@ -1,0 +1,164 @@
+"""The Python module against the library's own ground truth: the CLI's plan of the
+bundled example, a part whose size is known, errors from bad input, numpy round trips."""
+
+import json
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import scanplan
+
+EXAMPLES = os.environ["SCANPLAN_EXAMPLES"]
+TEST_DATA = os.environ["SCANPLAN_TEST_DATA"]
+EXAMPLE_PLAN = os.environ["SCANPLAN_EXAMPLE_PLAN"]
+PART = os.path.join(TEST_DATA, "nist_ftc_11_asme1_ap242-e1.stp")
+
+
+@pytest.fixture(scope="module")
+def part():
+    return scanplan.import_part(PART)
+
+
+@pytest.fixture(scope="module")
+def plan(part):
+    return scanplan.plan(part)
+
+
+def without_times(plan_json):
+    """plan.json but the seconds it records, which differ from run to run."""
+    summary = plan_json["summary"]
+    summary.pop("seconds")
+    summary.pop("stage_seconds")
+    return plan_json
+
+
+def test_the_bundled_example_plans_as_the_command_line_does():
+    """tests/plan_example.sh plans it with the scanplan CLI; the same from Python."""
+    part = scanplan.import_part(os.path.join(EXAMPLES, "parts", "nist_ctc_01_asme1_ap242-e1.stp"))
+    spec = scanplan.load_spec(os.path.join(EXAMPLES, "specs", "ctc01.yaml"))
+    plan = scanplan.plan(part, spec)
+    with open(os.path.join(EXAMPLE_PLAN, "plan.json")) as f:
+        cli = json.load(f)
+    assert len(plan.views) == len(cli["views"]) > 0
+    assert without_times(plan.to_json()) == without_times(cli)
+
+
+def test_a_part_reads_with_its_size_and_its_mesh_viewed_in_place(part):
+    # NIST FTC 11: a 63 mm disc, 3 mm thick, with eight faces (tests/data/README.md).
+    assert part.format == "STEP"
+    assert part.face_count == 8
+    size = part.bounds[1] - part.bounds[0]
+    np.testing.assert_allclose(size, [62.976, 62.988, 3.015], atol=1e-3)
+    vertices = part.vertices
+    assert vertices.shape[1] == 3 and vertices.dtype == np.float64
+    assert not vertices.flags.writeable and not vertices.flags.owndata  # a view, not a copy
+    assert part.triangles.max() < len(vertices)
+    assert set(np.unique(part.triangle_faces)) == set(range(1, 9))
+    # The mesh's area, summed in numpy, is the part's.
+    a, b, c = (vertices[part.triangles[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1).sum()
+    assert area == pytest.approx(part.area, rel=1e-3)
+
+
+def test_a_plan_and_its_arrays(plan, part):
+    assert len(plan.views) > 0
+    assert plan.views.shape == (len(plan.view_ids), 4, 4)
+    rotations = plan.views[:, :3, :3]
+    np.testing.assert_allclose(rotations @ rotations.transpose(0, 2, 1),
+                               np.broadcast_to(np.eye(3), rotations.shape), atol=1e-9)
+    assert plan.samples.shape == plan.normals.shape == (len(plan.measured), 3)
+    np.testing.assert_allclose(np.linalg.norm(plan.normals, axis=1), 1, atol=1e-9)
+    assert plan.measured_share == pytest.approx(plan.measured.mean())
+    doc = plan.to_json()
+    assert doc["summary"]["measured"] == int(plan.measured.sum())
+    assert [v["id"] for v in doc["views"]] == plan.view_ids
+
+
+def test_views_round_trip_through_numpy(plan, part):
+    """The plan's views as an (n, 4, 4) array simulate exactly as the plan's own."""
+    own = scanplan.simulate(part, plan)
+    given = scanplan.simulate(part, plan, views=plan.views.copy())
+    assert len(own) == len(given) == len(plan.views)
+    for a, b in zip(own, given):
+        assert len(a["points"]) > 0
+        np.testing.assert_array_equal(a["points"], b["points"])
+        np.testing.assert_array_equal(a["faces"], b["faces"])
+
+
+def test_write_read_and_verify(plan, part, tmp_path):
+    path = str(tmp_path / "plan.json")
+    scanplan.write_plan(plan, path)
+    back = scanplan.read_plan(path)
+    np.testing.assert_allclose(back.views, plan.views, atol=1e-12)
+    check = scanplan.verify(back, part)
+    assert check["coverage_differences"] == 0
+    scanplan.write_report(plan, part, str(tmp_path / "report.html"))
+    assert (tmp_path / "report.html").stat().st_size > 0
+
+
+def test_bad_input_raises_the_exit_codes_class(tmp_path):
+    with pytest.raises(scanplan.InputError) as error:
+        scanplan.import_part(str(tmp_path / "missing.stp"))
+    assert error.value.exit_code == 2
+    assert error.value.file.endswith("missing.stp")
+    assert isinstance(error.value, scanplan.Error)
+    with pytest.raises(scanplan.InputError, match="tasks must be a non-empty list"):
+        scanplan.spec_from_dict({"tasks": []})
+    with pytest.raises(scanplan.InputError, match="not a rigid motion"):
+        part = scanplan.import_part(PART)
+        scanplan.simulate(part, scanplan.plan(part, registration=False), views=np.zeros((1, 4, 4)))
+
+
+def test_a_spec_from_a_dict_and_progress(part):
+    spec = scanplan.spec_from_dict({"scanner": "laser-line", "tasks": [{"type": "global"}]})
+    assert spec.scanner == "laser-line"
+    stages = []
+    plan = scanplan.plan(part, spec, registration=False,
+                         progress=lambda stage, fraction: stages.append((stage, fraction)))
+    assert len(plan.views) > 0
+    assert stages and all(0 <= f <= 1 for _, f in stages)
+    assert "laser-line" in scanplan.scanner_presets()
+
+
+def test_planning_releases_the_gil(part):
+    """The main thread runs Python while another thread plans: were the GIL held for the
+    whole plan, its next turn would come only as the plan ends."""
+    started = threading.Event()
+    times = {}
+
+    def run():
+        started.set()
+        times["plan_start"] = time.perf_counter()
+        scanplan.plan(part, {"scanner": "laser-line"})  # about 0.3 s
+        times["plan_done"] = time.perf_counter()
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    started.wait()
+    times["main_turn"] = time.perf_counter()
+    thread.join()
+    planning = times["plan_done"] - times["plan_start"]
+    assert times["main_turn"] - times["plan_start"] < 0.5 * planning
+
+
+def test_a_raising_progress_callback_is_raised_after_planning(part):
+    def fail(stage, fraction):
+        raise RuntimeError("stop")
+
+    with pytest.raises(RuntimeError, match="stop"):
+        scanplan.plan(part, registration=False, progress=fail)
+
+
+def test_the_example_script_plots(tmp_path):
+    script = os.path.join(EXAMPLES, "python", "plan_and_plot.py")
+    figure = tmp_path / "coverage.png"
+    done = subprocess.run([sys.executable, script, PART, "-o", str(figure)],
+                          capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "figure" in done.stdout
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
