@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <type_traits>
 
@@ -583,13 +585,8 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
 
 Spec loadSpec(const std::string& path) {
   requireInputFile(path);
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path, "not valid YAML: " + std::string(e.what()));
-  }
-  return specFromYaml(root, path);
+  std::ifstream in(path, std::ios::binary);
+  return specFromText({std::istreambuf_iterator<char>(in), {}}, path);
 }
 
 Spec specFromText(const std::string& text, const std::string& source) {
