@@ -17,7 +17,6 @@
 #include <pybind11/stl.h>
 
 #include <exception>
-#include <mutex>
 
 namespace py = pybind11;
 using namespace py::literals;
@@ -25,8 +24,9 @@ using namespace py::literals;
 namespace scanplan::python {
 namespace {
 
-// A Python progress callback called from the library's threads: each call takes the GIL;
-// an exception it raises ends the calls and is raised again once the work is done.
+// A Python progress callback called from the library's threads: each call takes the GIL
+// (which also guards `error_`); an exception it raises ends the calls and is raised again
+// once the work is done.
 class Callback {
  public:
   explicit Callback(py::object function) : function_(std::move(function)) {}
@@ -35,7 +35,6 @@ class Callback {
     if (function_.is_none()) return {};
     return [this](std::string_view stage, double fraction) {
       py::gil_scoped_acquire gil;
-      const std::lock_guard lock(mutex_);
       if (error_) return;
       try {
         function_(std::string(stage), fraction);
@@ -51,7 +50,6 @@ class Callback {
 
  private:
   py::object function_;
-  std::mutex mutex_;
   std::exception_ptr error_;
 };
 
@@ -97,10 +95,12 @@ Plan plan(const Part& part, const py::object& spec, bool registration, const py:
 }
 
 // The clouds the views of `plan` record (or the views `views`, (n, 4, 4) camera-to-world
-// matrices, with the plan's placement of the part): per view a dict of numpy arrays.
+// matrices, with the plan's placement of the part) with the plan's scanner unless `spec`
+// is given: per view a dict of numpy arrays.
 py::list simulate(const Part& part, const Plan& plan, const py::object& spec,
                   const py::object& views, std::uint64_t seed) {
-  const Spec resolved = specOf(spec);
+  Spec resolved = specOf(spec);
+  if (spec.is_none()) resolved.scanner = plan.scanner;
   const std::vector<View> simulated =
       views.is_none() ? plan.views : viewsFrom(views, resolved.scanner.standoff);
   std::vector<PointCloud> clouds(simulated.size());

@@ -131,10 +131,6 @@ YAML::Node loadYaml(const std::string& path) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // $SCANPLAN_DATA/scanners, where presets may be added; empty when the variable is unset.
 std::filesystem::path addedPresets() {
   const char* env = std::getenv("SCANPLAN_DATA");
