@@ -12,6 +12,7 @@
 #include <scanplan/report.h>
 #include <scanplan/simulation.h>
 #include <scanplan/spec.h>
+#include <scanplan/version.h>
 
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
@@ -264,7 +265,7 @@ void bindFunctions(py::module_& m) {
 PYBIND11_MODULE(scanplan, m) {
   using namespace scanplan::python;
   m.doc() = "scanplan: view planning for robotic 3D scanning inspection";
-  m.attr("__version__") = SCANPLAN_VERSION;
+  m.attr("__version__") = std::string(scanplan::version());
   bindErrors(m);
   bindPart(m);
   bindSpec(m);

@@ -199,4 +199,12 @@ Scanner scannerFromYaml(const YAML::Node& root, const std::string& source) {
 
 Scanner loadScanner(const std::string& path) { return scannerFromYaml(loadYaml(path), path); }
 
+Scanner scannerNamed(const std::string& name) {
+  const std::string extension = std::filesystem::path(name).extension().string();
+  std::error_code ec;
+  if (extension == ".yaml" || extension == ".yml" || std::filesystem::is_regular_file(name, ec))
+    return loadScanner(name);
+  return scannerPreset(name);
+}
+
 }  // namespace scanplan

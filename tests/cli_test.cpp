@@ -7,6 +7,7 @@
 #include <scanplan/io/views_csv.h>
 #include <scanplan/registration.h>
 #include <scanplan/report.h>
+#include <scanplan/version.h>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <set>
 #include <tuple>
 
@@ -28,9 +30,11 @@ struct CommandResult {
   std::string out;  // stdout and stderr together
 };
 
-CommandResult run(const std::string& arguments) {
+// Runs scanplan with `arguments` in `folder` (default: the test's).
+CommandResult run(const std::string& arguments, const std::string& folder = "") {
   CommandResult result;
   std::string command = std::string(SCANPLAN_EXE) + " " + arguments + " 2>&1";
+  if (!folder.empty()) command = "cd '" + folder + "' && " + command;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer;
@@ -111,7 +115,7 @@ TEST(Cli, SimulateTwoViewsWithClouds) {
                   "scanner:\n  preset: generic-structured-light\n  point_spacing: 2\n");
   std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
   CommandResult r = run("simulate " + part + " --views " + dir.file("views.json") + " --spec " +
-                        dir.file("spec.yaml") + " --cloud " + dir.file("clouds"));
+                        dir.file("spec.yaml") + " -o " + dir.file("clouds"));
   ASSERT_EQ(r.code, 0) << r.out;
   // Face 98 is the top plate (z = 50 in the part frame): both views measure it.
   EXPECT_NE(r.out.find("view 1: "), std::string::npos) << r.out;
@@ -161,7 +165,7 @@ TEST(Cli, SampleGdtFromFileWritesPlyAndJson) {
   ASSERT_NE(samples.find("vertex"), nullptr);
   EXPECT_GT(samples.find("vertex")->count, 0u);
   EXPECT_NE(samples.find("vertex")->find("cluster"), nullptr);
-  r = run("sample -q " + part + " --out " + dir.file("s.json"));
+  r = run("sample -q " + part + " -o " + dir.file("s.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream in(dir.file("s.json"));
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -395,10 +399,73 @@ TEST(Cli, InfoListsRestOrientations) {
   EXPECT_NE(r.out.find("   1: down ("), std::string::npos) << r.out;
 }
 
-TEST(Cli, HelpIsExitCodeZero) {
+// Every command's help reads cleanly: no option shows a default like "{false}".
+TEST(Cli, HelpIsExitCodeZeroAndFreeOfArtefacts) {
   CommandResult r = run("--help");
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.out.find("info"), std::string::npos);
+  for (const char* command :
+       {"info", "plan", "sample", "simulate", "verify", "report", "export", "scanners"}) {
+    r = run(std::string(command) + " --help");
+    EXPECT_EQ(r.code, 0) << command;
+    EXPECT_EQ(r.out.find("{false}"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("{true}"), std::string::npos) << r.out;
+  }
+}
+
+TEST(Cli, VersionAndScannerPresets) {
+  CommandResult r = run("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out, "scanplan " + std::string(version()) + "\n");
+  EXPECT_EQ(version(), "0.1.0");  // as CMakeLists.txt declares it
+  r = run("scanners");
+  ASSERT_EQ(r.code, 0) << r.out;
+  // Each preset with its standoff, depth of field and field (data/scanners/).
+  EXPECT_TRUE(
+      std::regex_search(r.out, std::regex(R"(generic-structured-light +400 +200 +300 x 225)")))
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(laser-line +150 +100 +100 x 60)"))) << r.out;
+}
+
+// plan --scanner takes a preset or a scanner file, over the spec's scanner.
+TEST(Cli, PlanWithAScannerPresetOrFile) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  auto scannerOf = [&](const std::string& scanner) {
+    const CommandResult r = run("plan -q " + part + " --scanner " + scanner +
+                                " --no-report --no-registration -o " + dir.file("out"));
+    EXPECT_EQ(r.code, 0) << r.out;
+    return readPlan(dir.file("out/plan.json")).scanner;
+  };
+  EXPECT_EQ(scannerOf("laser-line").name, "laser-line");
+  test::writeText(dir.file("head.yaml"), "preset: laser-line\nstandoff: 170\n");
+  EXPECT_EQ(scannerOf(dir.file("head.yaml")).standoff, 170);
+  const CommandResult unknown =
+      run("plan -q " + part + " --scanner hyperscan-9000 -o " + dir.file("other"));
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.out.find("unknown scanner preset (known: generic-structured-light, "
+                             "laser-line)"),
+            std::string::npos)
+      << unknown.out;
+}
+
+// plan.json names its part relative to itself (and absolutely beside): a plan made with a
+// relative part path reports from any folder, and moves with its part.
+TEST(Cli, APlanFindsItsPartFromAnyFolder) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.file("job/parts"));
+  std::filesystem::copy_file(test::testData("nist_ftc_11_asme1_ap242-e1.stp"),
+                             dir.file("job/parts/disc.stp"));
+  CommandResult r = run("-q plan parts/disc.stp --no-report -o out", dir.file("job"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json plan = nlohmann::json::parse(std::ifstream(dir.file("job/out/plan.json")));
+  EXPECT_EQ(plan["part"]["file"], "../parts/disc.stp");
+  EXPECT_EQ(plan["part"]["absolute_file"], dir.file("job/parts/disc.stp"));
+  r = run("-q report job/out/plan.json -o report.html", dir.file(""));
+  EXPECT_EQ(r.code, 0) << r.out;
+  std::filesystem::rename(dir.file("job"), dir.file("moved"));
+  r = run("-q report " + dir.file("moved/out/plan.json") + " -o " + dir.file("moved.html"));
+  EXPECT_EQ(r.code, 0) << r.out;
 }
 
 }  // namespace

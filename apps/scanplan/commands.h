@@ -17,10 +17,10 @@ using Action = std::function<int()>;
 // scanplan info FILE [--json]
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
-// scanplan plan PART [--spec spec.yaml] [-o outdir]
+// scanplan plan PART [--spec spec.yaml] [--scanner PRESET|file.yaml] [-o outdir]
 void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
-// scanplan sample PART [--spec spec.yaml] [--out samples.ply|.json]
+// scanplan sample PART [--spec spec.yaml] [-o samples.ply|.json]
 void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
 // scanplan verify plan.json PART [--spec spec.yaml]
@@ -33,7 +33,10 @@ void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& select
 //                                          urscript|robot-json -o FILE
 void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
-// scanplan simulate PART --views views.json [--spec spec.yaml] [--cloud DIR] [--json]
+// scanplan scanners
+void addScannersCommand(CLI::App& app, Action& selected);
+
+// scanplan simulate PART --views views.json [--spec spec.yaml] [-o,--cloud DIR] [--json]
 void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
 }  // namespace scanplan::cli

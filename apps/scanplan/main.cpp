@@ -6,6 +6,7 @@
 
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
+#include <scanplan/version.h>
 
 #include <tbb/global_control.h>
 
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   cli::GlobalOptions global;
   app.fallthrough();
+  app.set_version_flag("--version", "scanplan " + std::string(version()));
   app.add_flag("-q,--quiet", global.quiet, "Show no progress");
   int threads = 0;
   app.add_option("-j,--threads", threads,
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
   cli::addVerifyCommand(app, global, action);
   cli::addReportCommand(app, global, action);
   cli::addExportCommand(app, global, action);
+  cli::addScannersCommand(app, action);
 
   try {
     app.parse(argc, argv);

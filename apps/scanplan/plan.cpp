@@ -24,9 +24,10 @@ namespace {
 struct Options {
   std::string part;
   std::string spec;
+  std::string scanner;
   std::string outdir = "scanplan-out";
-  bool registration = true;
-  bool report = true;
+  bool no_registration = false;
+  bool no_report = false;
   bool png = false;
   bool place_markers = false;
 };
@@ -69,7 +70,7 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
   const std::filesystem::path outdir(options.outdir);
   writePlanFiles(plan, (outdir / "plan.json").string(), &outputs);
   const auto report_start = std::chrono::steady_clock::now();
-  if (options.report)
+  if (!options.no_report)
     writeReport(plan, part, spec, outputs.stage((outdir / "report.html").string()), {}, progress);
   else
     outputs.drop((outdir / "report.html").string());
@@ -84,10 +85,11 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
 
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
-  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   const Part part = importPart(options.part, {}, progress);
   PlanningOptions planning;
-  planning.registration = options.registration;
+  planning.registration = !options.no_registration;
   Plan plan = planViews(part, spec, planning, progress);
   // The folder only once the inputs are read and planned: a failed run leaves none.
   std::error_code ec;
@@ -124,9 +126,9 @@ int run(const Options& options, const GlobalOptions& global) {
                b.greedy_views);
   }
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
-  if (options.report) fmt::print("  {:<16} {:.2f} s\n", "report", report_seconds);
+  if (!options.no_report) fmt::print("  {:<16} {:.2f} s\n", "report", report_seconds);
   fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);
-  if (options.report) fmt::print("report     {}\n", (outdir / "report.html").string());
+  if (!options.no_report) fmt::print("report     {}\n", (outdir / "report.html").string());
   if (options.png) fmt::print("picture    {}\n", (outdir / "plan.png").string());
   if (proposed)
     fmt::print("markers    {}{}\n", markers_csv,
@@ -150,9 +152,12 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
   command->add_option("-o,--out", options->outdir, "Output folder (default: scanplan-out)");
-  command->add_flag("!--no-registration", options->registration,
+  command->add_option("--scanner", options->scanner,
+                      "Scanner preset (scanplan scanners) or scanner file (YAML), overriding the "
+                      "spec's");
+  command->add_flag("--no-registration", options->no_registration,
                     "Skip the registration check, bridging and sequencing");
-  command->add_flag("!--no-report", options->report,
+  command->add_flag("--no-report", options->no_report,
                     "Do not write report.html (the 3D HTML report) beside plan.json");
   command->add_flag("--place-markers", options->place_markers,
                     "Where views register to nothing, plan again with the markers proposed for "

@@ -36,7 +36,7 @@ struct Options {
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  if (!options.scanner.empty()) spec.scanner = scannerPreset(options.scanner);
+  if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   ViewsFile views = readViews(options.views);
   Part part = importPart(options.part, {}, progress);
 
@@ -118,8 +118,9 @@ void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& sele
   command->add_option("--views", options->views, "Views as JSON: a plan.json or its views array")
       ->required();
   command->add_option("--spec", options->spec, "Inspection spec (YAML): scanner, specular faces");
-  command->add_option("--scanner", options->scanner, "Scanner preset, overriding the spec's");
-  command->add_option("--cloud", options->cloud_dir,
+  command->add_option("--scanner", options->scanner,
+                      "Scanner preset or scanner file (YAML), overriding the spec's");
+  command->add_option("-o,--cloud", options->cloud_dir,
                       "Write each view's simulated cloud as PLY into this folder");
   command->add_option("--seed", options->seed, "Seed of the simulated noise");
   command->add_flag("--no-working-plane", options->no_working_plane,

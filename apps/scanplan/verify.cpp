@@ -46,8 +46,7 @@ int run(const Options& options, const GlobalOptions& global) {
                verdict(check.registration_differences, "views registered otherwise than planned"));
     if (check.unregistered > 0)
       fmt::print("{:<22} {} views register to nothing{}\n", "unregistered", check.unregistered,
-                 check.registration_required ? ""
-                                             : " (the plan does not require registration)");
+                 check.registration_required ? "" : " (the plan does not require registration)");
   }
   if (!plan.sequence)
     fmt::print("{:<22} {}\n", "sequence check", "none: planned without a sequence");

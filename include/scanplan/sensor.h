@@ -60,6 +60,10 @@ std::vector<std::string> scannerPresetNames();
 // \throw InputError for an unknown preset (listing the known ones) or a bad preset file.
 Scanner scannerPreset(const std::string& name);
 
+// The scanner `name` names: a scanner file (YAML: a path ending in .yaml or .yml, or an
+// existing file) read by loadScanner, else a preset.
+Scanner scannerNamed(const std::string& name);
+
 // A scanner from a YAML file: either a scanner file (a mapping of the parameters above,
 // optionally `preset: NAME` to start from) or a spec with a `scanner:` key holding a
 // preset name or such a mapping. Unknown keys are errors.

@@ -17,6 +17,14 @@
 namespace scanplan {
 namespace {
 
+// `path` made absolute and normal, as a string ("" stays "").
+std::string absolutePath(const std::string& path) {
+  if (path.empty()) return path;
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+  return (ec ? std::filesystem::path(path) : absolute).lexically_normal().string();
+}
+
 using nlohmann::json;
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
@@ -312,6 +320,8 @@ json planJson(const Plan& plan) {
       {"units", "mm"},
       {"part",
        {{"file", plan.part_file},
+        {"absolute_file",
+         plan.part_file.empty() ? json(nullptr) : json(absolutePath(plan.part_file))},
         {"faces", plan.part_faces},
         {"part_to_world", matrix(plan.part_to_world)}}},
       {"scanner", scannerJson(plan.scanner)},
@@ -329,7 +339,14 @@ json planJson(const Plan& plan) {
 }
 
 void writePlan(const Plan& plan, const std::string& path) {
-  writeFileAtomically(path, [&](std::ostream& out) { out << planJson(plan).dump(1) << '\n'; });
+  json root = planJson(plan);
+  if (!plan.part_file.empty()) {  // relative to the plan, to move with it
+    const std::filesystem::path folder = std::filesystem::path(absolutePath(path)).parent_path();
+    const std::filesystem::path relative =
+        std::filesystem::path(absolutePath(plan.part_file)).lexically_relative(folder);
+    if (!relative.empty()) root["part"]["file"] = relative.generic_string();
+  }
+  writeFileAtomically(path, [&](std::ostream& out) { out << root.dump(1) << '\n'; });
 }
 
 void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs) {
@@ -698,6 +715,24 @@ void checkReferences(const Plan& plan, const std::string& path) {
     }
 }
 
+// The part file of a plan read from `path`: relative to the plan's folder, else the
+// absolute path beside it, else as written (relative to the current folder, as older plans
+// have it); the first that exists.
+std::string partFile(const json& part, const std::string& path) {
+  const std::string file = field<std::string>(part, "file", path, "part");
+  if (file.empty()) return file;
+  const std::filesystem::path near_plan =
+      (std::filesystem::path(path).parent_path() / file).lexically_normal();
+  std::vector<std::string> candidates = {near_plan.string()};
+  if (const json absolute = part.value("absolute_file", json()); absolute.is_string())
+    candidates.push_back(absolute.get<std::string>());
+  candidates.push_back(file);
+  std::error_code ec;
+  for (const std::string& candidate : candidates)
+    if (std::filesystem::exists(candidate, ec)) return candidate;
+  return candidates.front();
+}
+
 // readPlan without its net for values of the wrong type.
 Plan readPlanFields(const std::string& path) {
   ViewsFile views = readViews(path);  // checks the file, the JSON and every view
@@ -710,7 +745,7 @@ Plan readPlanFields(const std::string& path) {
   plan.part_to_world = views.part_to_world;
   plan.views = std::move(views.views);
   const json& part = root.contains("part") ? root["part"] : json();
-  plan.part_file = field<std::string>(part, "file", path, "part");
+  plan.part_file = partFile(part, path);
   plan.part_faces = field<std::size_t>(part, "faces", path, "part");
   plan.scanner = reader.scanner(root);
   plan.registration = reader.registration(root, plan.views);

@@ -15,7 +15,8 @@ namespace scanplan {
 // checked pairs and the markers, and the sequence.
 nlohmann::json planJson(const Plan& plan);
 
-// Writes planJson(plan) to `path` through a temporary file renamed into place.
+// Writes planJson(plan) to `path` through a temporary file renamed into place, the part's
+// file relative to the plan's folder (its absolute path beside it).
 // \throw OutputError when it cannot be written.
 void writePlan(const Plan& plan, const std::string& path);
 
@@ -28,11 +29,11 @@ class FileSet;
 // \throw OutputError naming the file that cannot be written.
 void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs = nullptr);
 
-// Reads a plan.json back: part file and faces, placement, scanner (every §4 parameter
-// the file gives, over the defaults), views with their bridge flags, markers, samples
-// with measured_by and not_coverable reasons, and the sequence. Registration results and times are
-// not read: they are what `scanplan verify` checks again. \throw InputError naming the file and the
-// field that is missing or wrong.
+// Reads a plan.json back: part file (resolved as docs/design.md §7 says) and faces, placement,
+// scanner (every §4 parameter the file gives, over the defaults), views with their bridge flags,
+// markers, samples with measured_by and not_coverable reasons, and the sequence. Registration
+// results and times are not read: they are what `scanplan verify` checks again. \throw InputError
+// naming the file and the field that is missing or wrong.
 Plan readPlan(const std::string& path);
 
 }  // namespace scanplan

@@ -1,0 +1,7 @@
+#include <scanplan/version.h>
+
+namespace scanplan {
+
+std::string_view version() { return SCANPLAN_VERSION; }
+
+}  // namespace scanplan
