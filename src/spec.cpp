@@ -309,7 +309,8 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
-             "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views"},
+             "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
+             "capable_ratio"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -322,6 +323,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   reader.read(node, "planner", "selection_nodes", p.selection_nodes);
   reader.read(node, "planner", "selection_seconds", p.selection_seconds);
   reader.read(node, "planner", "most_views", p.most_views);
+  reader.read(node, "planner", "capable_ratio", p.capable_ratio);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
       reader.fail("planner.tilt must be [min, max] in degrees");
@@ -351,6 +353,8 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   if (!(p.selection_seconds >= 0 && p.selection_seconds <= 3600))
     reader.fail("planner.selection_seconds must be within [0, 3600]");
   if (p.most_views < 1) reader.fail("planner.most_views must be at least 1");
+  if (!(p.capable_ratio >= 1 && p.capable_ratio <= 100))
+    reader.fail("planner.capable_ratio must be within [1, 100]");
   if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
     reader.fail("planner.rescue.step must be within [1, 45] degrees");
   return p;

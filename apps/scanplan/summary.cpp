@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <map>
+
 namespace scanplan::cli {
 
 namespace {
@@ -49,6 +51,29 @@ void printRegistration(const Plan& plan, const Registration& r) {
                plan.proposed_markers->views, plan.proposed_markers->lower_bound);
 }
 
+// Per verdict how many characteristics, then each that is not capable with its reason
+// and the rest orientation that would reach it.
+void printCharacteristics(const Plan& plan) {
+  if (plan.capabilities.empty()) return;
+  std::map<std::string, std::size_t> verdicts;
+  for (const Capability& k : plan.capabilities) ++verdicts[std::string(toString(k.verdict))];
+  std::string counts;
+  for (const auto& [verdict, n] : verdicts)
+    counts += fmt::format("{}{} {}", counts.empty() ? "" : ", ", n, verdict);
+  fmt::print("{:<22} {}: {}\n", "characteristics", plan.capabilities.size(), counts);
+  for (std::size_t i = 0; i < plan.capabilities.size(); ++i) {
+    const Capability& k = plan.capabilities[i];
+    if (k.verdict == Verdict::Capable || k.verdict == Verdict::Untoleranced) continue;
+    const Characteristic& c = plan.characteristics[i];
+    fmt::print(
+        "  {:>3} {:<22} {:>8.3f}  {:>5.1f}% covered, U {:.4f}, ratio {:.2f}: {} ({}){}\n", c.id,
+        c.kind, c.width(), 100 * k.covered, k.uncertainty, k.ratio, toString(k.verdict),
+        toString(k.reason),
+        k.rest ? fmt::format("; rest orientation {} reaches it (part: {{rest: all}})", *k.rest + 1)
+               : "");
+  }
+}
+
 }  // namespace
 
 void printPlanSummary(const Plan& plan, const Part& part) {
@@ -83,6 +108,7 @@ void printPlanSummary(const Plan& plan, const Part& part) {
   if (plan.sequence)
     fmt::print("{:<22} {:.0f} mm (nearest neighbour {:.0f} mm)\n", "path length",
                plan.sequence->length, plan.sequence->nearest_neighbour_length);
+  printCharacteristics(plan);
   if (plan.cell_motion) {
     fmt::print("{:<22} {:.1f} s of joint travel (home, approaches, via points)\n", "robot motion",
                plan.cell_motion->seconds);

@@ -46,6 +46,8 @@ struct PlannerSettings {
   double selection_seconds = 8;  // and its time cap, per placement (results depend on
                                  // the machine when it is reached)
   int most_views = 10000;        // a part larger than this many fields of view is refused
+  double capable_ratio = 4;      // a characteristic is capable from this tolerance width /
+                                 // (2 U) on (shops ask 10 for gauges)
 };
 
 struct Spec {

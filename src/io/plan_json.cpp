@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <type_traits>
@@ -92,6 +93,52 @@ json samplesJson(const Plan& plan) {
     samples.push_back(entry);
   }
   return samples;
+}
+
+json capabilityJson(const Capability& k) {
+  auto finite = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+  return {{"area", k.area},
+          {"covered", k.covered},
+          {"points", k.points},
+          {"density", k.density},
+          {"largest_gap", finite(k.largest_gap)},
+          {"uncertainty", k.uncertainty},
+          {"ratio", k.ratio},
+          {"verdict", toString(k.verdict)},
+          {"reason", toString(k.reason)},
+          {"rest_orientation", k.rest ? json(*k.rest + 1) : json(nullptr)}};
+}
+
+// The characteristics with their capability, and per verdict how many.
+void addCharacteristics(const Plan& plan, json& result) {
+  json list = json::array();
+  std::map<std::string, std::size_t> verdicts;
+  for (std::size_t i = 0; i < plan.characteristics.size(); ++i) {
+    const Characteristic& c = plan.characteristics[i];
+    json entry = {{"id", c.id},
+                  {"kind", c.kind},
+                  {"dimension", c.dimension},
+                  {"value", c.value},
+                  {"limits", {c.lower, c.upper}},
+                  {"datums", c.datums},
+                  {"faces", c.faces},
+                  {"capability", nullptr}};
+    if (i < plan.capabilities.size()) {
+      entry["capability"] = capabilityJson(plan.capabilities[i]);
+      ++verdicts[std::string(toString(plan.capabilities[i].verdict))];
+    }
+    list.push_back(entry);
+  }
+  result["characteristics"] = list;
+  result["summary"]["characteristics"] = verdicts;
+  // Each sample's characteristics: those on its face.
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    json ids = json::array();
+    for (const Characteristic& c : plan.characteristics)
+      if (std::binary_search(c.faces.begin(), c.faces.end(), plan.samples[i].sample.face))
+        ids.push_back(c.id);
+    if (!ids.empty()) result["samples"][i]["characteristics"] = ids;
+  }
 }
 
 json summaryJson(const Plan& plan) {
@@ -335,6 +382,7 @@ json planJson(const Plan& plan) {
   if (plan.cell) addCell(plan, result);
   if (!plan.sweeps.empty()) addSweeps(plan, result);
   if (plan.bound) result["summary"]["bound"] = boundJson(plan);
+  if (!plan.characteristics.empty()) addCharacteristics(plan, result);
   return result;
 }
 
@@ -621,6 +669,52 @@ struct PlanReader {
     return poses;
   }
 
+  Characteristic characteristic(const json& entry, std::size_t k) const {
+    const std::string where = "characteristic " + std::to_string(k + 1);
+    Characteristic c;
+    c.id = field<int>(entry, "id", path, where);
+    c.kind = field<std::string>(entry, "kind", path, where);
+    c.dimension = fieldOr(entry, "dimension", false, path, where);
+    c.value = field<double>(entry, "value", path, where);
+    const auto limits = field<std::vector<double>>(entry, "limits", path, where);
+    if (limits.size() != 2) throw InputError(path, where + ": limits are not [lower, upper]");
+    c.lower = limits[0];
+    c.upper = limits[1];
+    c.datums = fieldOr(entry, "datums", std::vector<std::string>{}, path, where);
+    c.faces = field<std::vector<int>>(entry, "faces", path, where);
+    return c;
+  }
+
+  // A characteristic's capability; none when the file gives none.
+  std::optional<Capability> capability(const json& entry, std::size_t k) const {
+    const json& section = entry.value("capability", json());
+    if (!section.is_object()) return std::nullopt;
+    const std::string where = "characteristic " + std::to_string(k + 1) + " capability";
+    Capability c;
+    c.characteristic = field<int>(entry, "id", path, where);
+    c.area = field<double>(section, "area", path, where);
+    c.covered = field<double>(section, "covered", path, where);
+    c.points = field<double>(section, "points", path, where);
+    c.density = field<double>(section, "density", path, where);
+    const json gap = section.value("largest_gap", json());
+    c.largest_gap = gap.is_number() ? gap.get<double>() : std::numeric_limits<double>::infinity();
+    c.uncertainty = field<double>(section, "uncertainty", path, where);
+    c.ratio = field<double>(section, "ratio", path, where);
+    c.verdict = named<Verdict>(field<std::string>(section, "verdict", path, where), 4, where);
+    c.reason = named<Shortfall>(field<std::string>(section, "reason", path, where), 4, where);
+    if (const json rest = section.value("rest_orientation", json()); rest.is_number_integer())
+      c.rest = rest.get<std::size_t>() - 1;
+    return c;
+  }
+
+  // The enum value whose name is `name`, among the first `count`.
+  template <class Enum>
+  Enum named(const std::string& name, int count, const std::string& where) const {
+    for (int k = 0; k < count; ++k)
+      if (toString(static_cast<Enum>(k)) == name) return static_cast<Enum>(k);
+    throw InputError(path, where + ": unknown value '" + name + "'");
+  }
+
   // The program's travel and the moves it could not clear (summary.robot), if recorded.
   std::optional<CellMotion> cellMotion(const json& root) const {
     const json robot = objectAt(objectAt(root, "summary"), "robot");
@@ -708,6 +802,11 @@ void checkReferences(const Plan& plan, const std::string& path) {
   }
   for (const PlannedOrientation& o : plan.orientations)
     for (int id : o.views) require(id, "an orientation", false);
+  for (const Characteristic& c : plan.characteristics)
+    for (int face : c.faces)
+      if (face < 1 || static_cast<std::size_t>(face) > plan.part_faces)
+        throw InputError(path, "characteristic " + std::to_string(c.id) + " refers to face " +
+                                   std::to_string(face) + ", which the part does not have");
   if (plan.cell_motion)
     for (const RobotMove& move : plan.cell_motion->uncleared) {
       require(move.from, "an uncleared move", true);
@@ -775,6 +874,13 @@ Plan readPlanFields(const std::string& path) {
     plan.sequence->length = summary.value("path_length", 0.0);
     plan.sequence->nearest_neighbour_length = summary.value("nearest_neighbour_path_length", 0.0);
   }
+  if (const json list = root.value("characteristics", json()); list.is_array())
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      plan.characteristics.push_back(reader.characteristic(list[k], k));
+      if (std::optional<Capability> c = reader.capability(list[k], k))
+        plan.capabilities.push_back(*c);
+    }
+  if (plan.capabilities.size() != plan.characteristics.size()) plan.capabilities.clear();
   plan.cell = reader.cell(root);
   if (plan.cell) {
     plan.cell_poses = reader.cellPoses(root, plan.views.size());

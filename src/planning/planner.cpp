@@ -6,6 +6,7 @@
 
 #include <scanplan/errors.h>
 #include <scanplan/localization.h>
+#include <scanplan/planning/capability.h>
 #include <scanplan/planning/cell_poses.h>
 #include <scanplan/robot/motion.h>
 
@@ -465,6 +466,14 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
                             : planPlacement(part, resolved, sampled, placementFor(part, spec), {},
                                             options, progress);
   plan.times.insert(plan.times.begin(), sampling);
+  const auto judged = Clock::now();
+  report(progress, "measurement capability", 0);
+  plan.characteristics = characteristics(part.gdt);
+  CapabilityOptions capability;
+  capability.capable_ratio = spec.planner.capable_ratio;
+  capability.seed = spec.planner.seed;
+  plan.capabilities = capabilities(part, resolved, plan, plan.characteristics, capability);
+  plan.times.push_back({"capability", secondsSince(judged)});
   plan.seconds = secondsSince(start);
   return plan;
 }

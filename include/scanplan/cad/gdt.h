@@ -40,4 +40,25 @@ struct Gdt {
   bool empty() const { return tolerances.empty() && dimensions.empty() && datums.empty(); }
 };
 
+// One thing the inspection must verify: a geometric tolerance or a dimension with a value,
+// on its faces (plan.json `characteristics`).
+struct Characteristic {
+  int id = 0;                       // 1-based: the tolerances in file order, then dimensions
+  std::string kind;                 // the tolerance's or the dimension's type
+  bool dimension = false;           // a dimension (a nominal value with limits)
+  double value = 0;                 // tolerance zone; a dimension's nominal value
+  double lower = 0, upper = 0;      // the limits: [0, zone] for a tolerance, the nominal
+                                    // value less and plus its deviations for a dimension
+  std::vector<std::string> datums;  // in order of precedence
+  std::vector<int> faces;           // sorted, unique
+
+  // The tolerance's width: the zone, or the span between a dimension's limits (0: a
+  // dimension given without deviations, which nothing verifies against).
+  double width() const { return upper - lower; }
+};
+
+// The characteristics of `gdt`: every geometric tolerance, then every dimension with a
+// value, each with its faces.
+std::vector<Characteristic> characteristics(const Gdt& gdt);
+
 }  // namespace scanplan

@@ -2,6 +2,7 @@
 // The plan (docs/design.md, plan.json): the views, what each sample is measured by, the
 // registration and the sequence of the views; io/plan_json.h writes and reads it.
 
+#include <scanplan/cad/gdt.h>
 #include <scanplan/localization.h>
 #include <scanplan/registration.h>
 #include <scanplan/robot/cell.h>
@@ -71,6 +72,30 @@ struct PlannedOrientation {
   std::vector<Marker> markers;  // world frame of this orientation
 };
 
+enum class Verdict { Capable, Marginal, NotCapable, Untoleranced };
+std::string_view toString(Verdict verdict);  // "capable", "marginal", "not_capable", ...
+
+// Why a characteristic is not capable: most of its faces unmeasured, too few points or too
+// much of the faces left out, or points too noisy for the tolerance.
+enum class Shortfall { None, Uncovered, TooSparse, TooNoisy };
+std::string_view toString(Shortfall reason);  // "none", "uncovered", "too_sparse", "too_noisy"
+
+struct Capability {
+  int characteristic = 0;  // its id
+  double area = 0;         // of its faces, mm²
+  double covered = 0;      // share of that area some view measures, 0..1
+  double points = 0;       // points the views measure on it (expected count)
+  double density = 0;      // points per mm² of the covered area
+  double largest_gap = 0;  // mm: the farthest a point of the faces lies from a measured one
+  double uncertainty = 0;  // U, mm: the noise's error on the value, not exceeded in 95% of draws
+  double ratio = 0;        // width / (2 U)
+  Verdict verdict = Verdict::NotCapable;
+  Shortfall reason = Shortfall::None;
+  // Where its faces lie unmeasured on the working plane: the index (into
+  // restOrientations(part)) of the rest orientation that turns most of them up.
+  std::optional<std::size_t> rest;
+};
+
 // A move of the robot program between two views, by id (0: home).
 struct RobotMove {
   int from = 0, to = 0;
@@ -110,6 +135,10 @@ struct Plan {
   std::optional<Cell> cell;
   std::vector<std::optional<CellPose>> cell_poses;
   std::optional<CellMotion> cell_motion;  // of the program along the sequence
+  // The part's characteristics (its GD&T) and whether the views can verify each
+  // (planning/capability.h), in the same order.
+  std::vector<Characteristic> characteristics;
+  std::vector<Capability> capabilities;
   std::vector<StageTime> times;
   double seconds = 0;
   std::optional<PlanBound> bound;  // of the selection; per orientation, summed

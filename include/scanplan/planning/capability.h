@@ -1,0 +1,31 @@
+#pragma once
+// Can the plan verify each characteristic? (docs/capability.md) What its views measure of
+// the characteristic's faces: the covered share of their area, the points and their
+// density, the largest gap, and the expanded uncertainty U of the characteristic's value
+// from the scanner's noise at each point's distance and incidence (Monte Carlo), against
+// the tolerance's width.
+
+#include <scanplan/cad/gdt.h>
+#include <scanplan/cad/part.h>
+#include <scanplan/planning/plan.h>
+#include <scanplan/spec.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace scanplan {
+
+struct CapabilityOptions {
+  double capable_ratio = 4;   // width / (2 U) from which a characteristic is capable
+  double marginal_ratio = 1;  // from which it is marginal
+  int draws = 200;            // Monte Carlo draws of the noise
+  std::uint64_t seed = 1;
+};
+
+// The capability of each of `characteristics` under the views of `plan` (each in its own
+// orientation's placement), with the simulation `spec` sets.
+std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                                     const std::vector<Characteristic>& characteristics,
+                                     const CapabilityOptions& options = {});
+
+}  // namespace scanplan

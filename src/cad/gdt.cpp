@@ -1,0 +1,45 @@
+// The characteristics of a part's GD&T: one list of what the inspection verifies.
+
+#include <scanplan/cad/gdt.h>
+
+#include <algorithm>
+
+namespace scanplan {
+namespace {
+
+std::vector<int> sortedUnique(std::vector<int> faces) {
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+}  // namespace
+
+std::vector<Characteristic> characteristics(const Gdt& gdt) {
+  std::vector<Characteristic> result;
+  for (const GeometricTolerance& t : gdt.tolerances) {
+    Characteristic c;
+    c.id = static_cast<int>(result.size()) + 1;
+    c.kind = t.type;
+    c.value = t.value;
+    c.upper = t.value;
+    c.datums = t.datums;
+    c.faces = sortedUnique(t.faces);
+    result.push_back(std::move(c));
+  }
+  for (const Dimension& d : gdt.dimensions) {
+    if (!(d.value > 0)) continue;  // a dimension without a value verifies nothing
+    Characteristic c;
+    c.id = static_cast<int>(result.size()) + 1;
+    c.kind = d.type;
+    c.dimension = true;
+    c.value = d.value;
+    c.lower = d.value - d.lower;
+    c.upper = d.value + d.upper;
+    c.faces = sortedUnique(d.faces);
+    result.push_back(std::move(c));
+  }
+  return result;
+}
+
+}  // namespace scanplan

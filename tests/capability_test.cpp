@@ -1,0 +1,206 @@
+// Characteristics against the STEP files' own PMI entities, and measurement capability
+// against analytic least-squares results on a plane.
+
+#include "support.h"
+
+#include <scanplan/cad/gdt.h>
+#include <scanplan/cad/import.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/localization.h>
+#include <scanplan/planning.h>
+#include <scanplan/planning/capability.h>
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepTools.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+
+namespace scanplan {
+namespace {
+
+// Entity instances in a STEP file's text of one of `types` (a complex entity once).
+std::size_t stepEntities(const std::string& path, const std::vector<std::string>& types) {
+  std::ifstream in(path);
+  const std::string text{std::istreambuf_iterator<char>(in), {}};
+  std::size_t count = 0, start = 0;
+  for (std::size_t end; (end = text.find(';', start)) != std::string::npos; start = end + 1) {
+    const std::string_view instance(text.data() + start, end - start);
+    count += std::any_of(types.begin(), types.end(), [&](const std::string& type) {
+      const std::size_t at = instance.find(type + "(");
+      return at != std::string_view::npos && at > 0 && !std::isalnum(instance[at - 1]) &&
+             instance[at - 1] != '_';
+    });
+  }
+  return count;
+}
+
+const std::vector<std::string> kTolerances = {
+    "FLATNESS_TOLERANCE",        "POSITION_TOLERANCE",      "PERPENDICULARITY_TOLERANCE",
+    "PARALLELISM_TOLERANCE",     "ANGULARITY_TOLERANCE",    "SURFACE_PROFILE_TOLERANCE",
+    "LINE_PROFILE_TOLERANCE",    "CYLINDRICITY_TOLERANCE",  "ROUNDNESS_TOLERANCE",
+    "STRAIGHTNESS_TOLERANCE",    "CONCENTRICITY_TOLERANCE", "SYMMETRY_TOLERANCE",
+    "CIRCULAR_RUNOUT_TOLERANCE", "TOTAL_RUNOUT_TOLERANCE",  "COAXIALITY_TOLERANCE"};
+
+// The union of the faces' bounds.
+Box boundsOf(const Part& part, const std::vector<int>& faces) {
+  Box box;
+  for (int f : faces) box.add(part.faces[f - 1].bounds);
+  return box;
+}
+
+// Tolerances as the file's tolerance entities, dimensions as its dimensional
+// characteristic representations (a dimension with a value); each diameter on cylinders
+// whose extent across is that diameter.
+void expectCharacteristicsOfTheFile(const std::string& path, std::size_t tolerances,
+                                    std::size_t dimensions) {
+  const Part part = importPart(path);
+  const std::vector<Characteristic> list = characteristics(part.gdt);
+  EXPECT_EQ(stepEntities(path, kTolerances), tolerances);
+  EXPECT_EQ(stepEntities(path, {"DIMENSIONAL_CHARACTERISTIC_REPRESENTATION"}), dimensions);
+  ASSERT_EQ(list.size(), tolerances + dimensions);
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const Characteristic& c = list[k];
+    EXPECT_EQ(c.id, static_cast<int>(k) + 1);
+    EXPECT_EQ(c.dimension, k >= tolerances) << c.kind;
+    EXPECT_FALSE(c.faces.empty()) << c.kind;
+    if (c.kind != "diameter") continue;
+    const Vec3 size = boundsOf(part, c.faces).size();
+    int across = 0;  // extents equal to the diameter
+    for (int a = 0; a < 3; ++a) across += std::abs(size[a] - c.value) < 0.01 * c.value;
+    EXPECT_GE(across, 2) << "diameter " << c.value << " on faces of extent " << size.transpose();
+    for (int f : c.faces) EXPECT_EQ(part.faces[f - 1].type, SurfaceType::Cylinder);
+  }
+}
+
+TEST(Characteristics, MatchTheStepFilesPmi) {
+  // CTC 01: 6 tolerances, 12 dimensions of which 8 carry a value; FTC 11: 4 and 6.
+  expectCharacteristicsOfTheFile(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"), 6, 8);
+  expectCharacteristicsOfTheFile(test::testData("nist_ftc_11_asme1_ap242-e1.stp"), 4, 6);
+}
+
+// P(|X| + |Y| <= r) for X, Y standard normal, by quadrature.
+double sumOfHalfNormalsCdf(double r) {
+  double p = 0;
+  const double dx = 1e-3;
+  for (double x = -r + dx / 2; x < r; x += dx) {
+    const double phi = std::exp(-x * x / 2) / std::sqrt(2 * M_PI);
+    p += phi * std::erf((r - std::abs(x)) / std::sqrt(2)) * dx;
+  }
+  return p;
+}
+
+// Its 95th percentile.
+double sumOfHalfNormals95() {
+  double lo = 0, hi = 10;
+  for (int k = 0; k < 50; ++k)
+    (sumOfHalfNormalsCdf((lo + hi) / 2) < 0.95 ? lo : hi) = (lo + hi) / 2;
+  return (lo + hi) / 2;
+}
+
+struct PlaneCase {
+  double u = 0;
+  Capability capability;
+};
+
+// The 100 x 100 mm top of a 10 mm plate with a flatness of 0.05, seen straight on at the
+// standoff by a scanner of noise 0.01 mm and the given point spacing.
+PlaneCase planeCase(const test::TempDir& dir, double spacing) {
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  Spec spec = defaultSpec();
+  spec.scanner.noise_sigma = 0.01;
+  spec.scanner.point_spacing = spacing;
+  Plan plan;
+  plan.scanner = spec.scanner;
+  View view;
+  view.id = 1;
+  view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
+  view.camera_to_world.translation() = Vec3(50, 50, 10 + spec.scanner.standoff);
+  view.target = Vec3(50, 50, 10);
+  plan.views = {view};
+  Characteristic flatness;
+  flatness.id = 1;
+  flatness.kind = "flatness";
+  flatness.value = flatness.upper = 0.05;
+  for (const Face& f : part.faces)
+    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  const std::vector<Capability> result =
+      capabilities(part, resolveSpec(part, spec), plan, {flatness});
+  return {result.front().uncertainty, result.front()};
+}
+
+// U of the flatness is the peak-to-valley, over the face, of the fitted plane's error:
+// L (|db| + |dc|) for slopes of variance 12 sigma² / (N L²), N points.
+TEST(Capability, APlanesUncertaintyIsTheFittedPlanesAnalyticError) {
+  test::TempDir dir;
+  const double sigma = 0.01, side = 100, q95 = sumOfHalfNormals95();
+  auto analytic = [&](double spacing) {
+    const double points = side * side / (spacing * spacing);
+    return side * (sigma * std::sqrt(12 / points) / side) * q95;
+  };
+  const PlaneCase full = planeCase(dir, 4);                   // 625 points
+  const PlaneCase half = planeCase(dir, 4 * std::sqrt(2.0));  // half as many
+  const PlaneCase sparse = planeCase(dir, 10);                // 100 points
+  RecordProperty("u_625_points", std::to_string(full.u));
+  RecordProperty("u_625_points_analytic", std::to_string(analytic(4)));
+  RecordProperty("u_312_points", std::to_string(half.u));
+  RecordProperty("ratio_100_points", std::to_string(sparse.capability.ratio));
+  EXPECT_NEAR(full.capability.covered, 1, 0.01);
+  EXPECT_NEAR(full.capability.points, 625, 0.03 * 625);  // less only by the incidence
+  EXPECT_NEAR(full.u, analytic(4), 0.2 * analytic(4));
+  EXPECT_NEAR(half.u, analytic(4 * std::sqrt(2.0)), 0.2 * analytic(4 * std::sqrt(2.0)));
+  EXPECT_GT(half.u, 1.2 * full.u);
+  // The verdict follows from the ratio 0.05 / (2 U): about 7 and 5 (capable from 4), about
+  // 2.9 with 100 points (marginal, noisy).
+  EXPECT_NEAR(full.capability.ratio, 0.05 / (2 * full.u), 1e-12);
+  EXPECT_EQ(full.capability.verdict, Verdict::Capable);
+  EXPECT_EQ(half.capability.verdict, Verdict::Capable);
+  ASSERT_LT(sparse.capability.ratio, 4);
+  ASSERT_GT(sparse.capability.ratio, 1);
+  EXPECT_EQ(sparse.capability.verdict, Verdict::Marginal);
+  EXPECT_EQ(sparse.capability.reason, Shortfall::TooNoisy);
+}
+
+// FTC 11 stands on its datum A face (flatness 0.3): no view measures it, and the plan says
+// which rest orientation turns it up; plan.json carries it.
+TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
+  const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  const Plan plan = planViews(part, defaultSpec(), PlanningOptions{false});
+  ASSERT_EQ(plan.characteristics.size(), plan.capabilities.size());
+  const auto flatness = std::find_if(plan.characteristics.begin(), plan.characteristics.end(),
+                                     [](const Characteristic& c) { return c.kind == "flatness"; });
+  ASSERT_NE(flatness, plan.characteristics.end());
+  const Capability& k = plan.capabilities[flatness - plan.characteristics.begin()];
+  EXPECT_EQ(k.covered, 0);
+  EXPECT_EQ(k.verdict, Verdict::NotCapable);
+  EXPECT_EQ(k.reason, Shortfall::Uncovered);
+  ASSERT_TRUE(k.rest);
+  // That rest turns the face (outward normal -z as planned) up.
+  const Face& face = part.faces[flatness->faces.front() - 1];
+  EXPECT_LT(face.bounds.max.z() - face.bounds.min.z(), 1e-6);
+  const RestOrientation rest = restOrientations(part)[*k.rest];
+  EXPECT_GT((rest.part_to_world.linear() * -Vec3::UnitZ()).z(), 0.9);
+  // plan.json: the characteristics with their capability, each sample with its own.
+  const nlohmann::json json = planJson(plan);
+  const nlohmann::json& entry = json["characteristics"][flatness - plan.characteristics.begin()];
+  EXPECT_EQ(entry["capability"]["reason"], "uncovered");
+  EXPECT_EQ(entry["capability"]["rest_orientation"], *k.rest + 1);
+  test::TempDir dir;
+  writePlan(plan, dir.file("plan.json"));
+  const Plan back = readPlan(dir.file("plan.json"));
+  ASSERT_EQ(back.capabilities.size(), plan.capabilities.size());
+  EXPECT_EQ(back.capabilities[flatness - plan.characteristics.begin()].rest, k.rest);
+  EXPECT_EQ(back.characteristics[0].faces, plan.characteristics[0].faces);
+  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
+    if (plan.samples[i].sample.face != flatness->faces.front()) continue;
+    const nlohmann::json& ids = json["samples"][i]["characteristics"];
+    EXPECT_NE(std::find(ids.begin(), ids.end(), flatness->id), ids.end());
+  }
+}
+
+}  // namespace
+}  // namespace scanplan
