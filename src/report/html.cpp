@@ -9,6 +9,7 @@
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/report.h>
+#include <scanplan/version.h>
 #include <scanplan/visibility.h>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +18,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -209,26 +211,14 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
   return list;
 }
 
-json gdtJson(const Part& part, const PlanScene& scene) {
-  json list = json::array();
-  for (const GeometricTolerance& t : part.gdt.tolerances) {
-    std::size_t samples = 0, measured = 0, faces_measured = 0;
-    for (int face : t.faces) {
-      if (face < 1 || face > static_cast<int>(scene.faces.size())) continue;
-      const FaceStatus& f = scene.faces[face - 1];
-      samples += f.samples;
-      measured += f.measured;
-      if (f.coverage == FaceCoverage::Measured) ++faces_measured;
-    }
-    list.push_back({{"type", t.type},
-                    {"value", t.value},
-                    {"datums", t.datums},
-                    {"faces", t.faces},
-                    {"faces_measured", faces_measured},
-                    {"samples", samples},
-                    {"measured", measured}});
-  }
-  return list;
+// What the report states at its top: the part, the spec, the version and the date.
+json headerJson(const Plan& plan, const Spec& spec) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
+  return {{"part", plan.part_file}, {"spec", spec.source}, {"version", version()}, {"date", date}};
 }
 
 }  // namespace
@@ -260,7 +250,8 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
                {"path", scene.path},
                {"markers", base64(floats(scene.markers))},
                {"proposed_markers", base64(floats(scene.proposed_markers))},
-               {"gdt", gdtJson(part, scene)},
+               {"header", headerJson(plan, spec)},
+               {"working_plane", spec.working_plane},
                {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
                {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},
                {"clusters", options.visibility_maps && !plan.samples.empty()

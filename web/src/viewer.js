@@ -65,6 +65,14 @@ $('headline').textContent =
   (summary.registrable_views !== undefined && summary.registrable_views !== null
     ? `, ${summary.registrable_views} views registered` : '') +
   (summary.path_length !== undefined ? `, path ${fmt(summary.path_length / 1000, 2)} m` : '');
+{
+  const h = data.header, sc = plan.scanner;
+  $('report-header').replaceChildren(
+    el('span', {}, `part ${h.part}`),
+    el('span', {}, `scanner ${sc.name}: standoff ${fmt(sc.standoff)} mm, field ${fmt(sc.fov_width)} × ${fmt(sc.fov_height)} mm, ` +
+      `spacing ${fmt(sc.point_spacing, 3)} mm, noise ${fmt(sc.noise_sigma, 3)} mm`),
+    el('span', {}, `spec ${h.spec || 'default'}`), el('span', {}, `scanplan ${h.version}`), el('span', {}, h.date));
+}
 $('view-count').textContent = `(${data.views.length})`;
 document.body.dataset.views = String(data.views.length);
 
@@ -120,17 +128,37 @@ const partGeometry = new THREE.BufferGeometry();
 partGeometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
 partGeometry.setIndex(new THREE.BufferAttribute(indices, 1));
 const vertexColours = new Float32Array(positions.length);
-for (let t = 0; t < triangleFaces.length; ++t) {
-  const face = data.faces[triangleFaces[t] - 1];
-  const c = data.palette[face ? face.coverage : 'not a target'];
-  for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
-}
 partGeometry.setAttribute('color', new THREE.BufferAttribute(vertexColours, 3));
+// Colours the faces by coverage, the `highlighted` ones (face ids) magenta.
+function paintFaces(highlighted = new Set()) {
+  for (let t = 0; t < triangleFaces.length; ++t) {
+    const face = data.faces[triangleFaces[t] - 1];
+    const c = highlighted.has(triangleFaces[t]) ? [255, 0, 170] : data.palette[face ? face.coverage : 'not a target'];
+    for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
+  }
+  partGeometry.attributes.color.needsUpdate = true;
+  document.body.dataset.highlighted = String(highlighted.size);
+}
+paintFaces();
 partGeometry.computeVertexNormals();
 const part = new THREE.Mesh(partGeometry, new THREE.MeshLambertMaterial({
   vertexColors: true, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
 }));
 scene.add(part);
+
+// The working plane the part stands on (z = 0), when the plan's spec has one.
+if (data.working_plane) {
+  const size = 3 * partBox.radius;
+  const plane = new THREE.Mesh(new THREE.PlaneGeometry(size, size), new THREE.MeshBasicMaterial({
+    color: 0x8a96a8, transparent: true, opacity: 0.25, side: THREE.DoubleSide, depthWrite: false,
+  }));
+  plane.position.set(partBox.centre.x, partBox.centre.y, 0);
+  scene.add(plane);
+  const grid = new THREE.GridHelper(size, 12, 0x8a96a8, 0xb4bcc8);
+  grid.rotation.x = Math.PI / 2;
+  grid.position.copy(plane.position);
+  scene.add(grid);
+}
 
 function lines(points, colour, opacity = 1) {
   const g = new THREE.BufferGeometry();
@@ -282,9 +310,11 @@ function selectView(index) {
 function selectFace(id) {
   const f = data.faces[id - 1];
   if (!f) return;
+  const on = characteristics.filter((c) => c.faces.includes(id)).map((c) => `${c.id} ${c.kind}`);
   const rows = [['face', `${f.id} (${f.type}${f.name ? `, ${f.name}` : ''})`], ['area', `${fmt(f.area)} mm²`],
     ['coverage', f.coverage], ['samples', `${f.measured} of ${f.samples} measured`],
-    ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no']];
+    ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no'],
+    ['characteristics', on.join(', ') || '–']];
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
 }
 
@@ -352,13 +382,74 @@ $('summary').append(table([{ title: 'quantity' }, { title: 'value' }], summaryRo
   [...groups.entries()].map(([k, g]) => [...k.split('|'), g[0], g[1], pct(g[1], g[0]), g[2]])));
 }
 
-if (data.gdt.length === 0) {
-  $('gdt').append(el('p', { class: 'muted' }, 'The part carries no GD&T the reader found.'));
+// ---- characteristics and what is missing -------------------------------------------------------
+// The box of the faces `ids`, from their triangles.
+function facesBox(ids) {
+  const min = new THREE.Vector3(Infinity, Infinity, Infinity), max = min.clone().negate(), p = new THREE.Vector3();
+  for (let t = 0; t < triangleFaces.length; ++t) {
+    if (!ids.has(triangleFaces[t])) continue;
+    for (let k = 0; k < 3; ++k) {
+      p.fromArray(positions, 3 * indices[3 * t + k]);
+      min.min(p); max.max(p);
+    }
+  }
+  return { centre: min.clone().add(max).multiplyScalar(0.5), radius: Math.max(min.distanceTo(max) / 2, partBox.radius / 10) };
+}
+
+const characteristics = plan.characteristics || [];
+const characteristicRows = [];
+function selectCharacteristic(index) {
+  const c = characteristics[index], k = c.capability || {};
+  characteristicRows.forEach((row, i) => row.classList.toggle('selected', i === index));
+  const faces = new Set(c.faces);
+  paintFaces(faces);
+  const measuring = data.views.filter((v) => v.faces.some((f) => faces.has(f)));
+  const rows = [['characteristic', `${c.id}: ${c.kind}`], ['value', limits(c)], ['datums', c.datums.join(' | ') || '–'],
+    ['faces', c.faces.join(', ')], ['views measuring it', measuring.map(viewName).join(', ') || 'none']];
+  if (c.capability) {
+    rows.push(['covered', pct(k.covered, 1)], ['points', `${fmt(k.points, 0)} (${fmt(k.density, 2)} per mm²)`],
+      ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (k = 2)', `${fmt(k.uncertainty, 4)} mm`],
+      ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)]);
+  }
+  $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
+}
+function limits(c) {
+  return c.dimension ? `${fmt(c.value, 3)} (${fmt(c.limits[0], 3)} to ${fmt(c.limits[1], 3)})` : fmt(c.value, 3);
+}
+function verdictText(k) {
+  return `${k.verdict.replace('_', ' ')}${k.reason !== 'none' ? ` (${k.reason.replace('_', ' ')})` : ''}` +
+    (k.rest_orientation ? `; rest orientation ${k.rest_orientation} reaches it` : '');
+}
+// A view as the report numbers it: its place in the sequence, its id beside.
+function viewName(v) { return v.order > 0 ? `${v.order} (id ${v.id})` : `id ${v.id}`; }
+
+if (characteristics.length === 0) {
+  $('characteristics').append(el('p', { class: 'muted' }, 'The part carries no GD&T the reader found.'));
 } else {
-  $('gdt').append(el('div', { class: 'scroll' }, table([{ title: 'tolerance' }, { title: 'value', num: true }, { title: 'datums' },
-    { title: 'faces' }, { title: 'faces measured', num: true }, { title: 'samples measured', num: true }],
-  data.gdt.map((t) => [t.type, fmt(t.value, 3), t.datums.join(' | ') || '–', t.faces.join(', '),
-    `${t.faces_measured} of ${t.faces.length}`, `${t.measured} of ${t.samples} (${pct(t.measured, t.samples)})`]))));
+  $('characteristics').append(el('div', { class: 'scroll' }, table([{ title: 'id', num: true }, { title: 'kind' },
+    { title: 'value', num: true }, { title: 'faces' }, { title: 'covered', num: true }, { title: 'points', num: true },
+    { title: 'U mm', num: true }, { title: 'ratio', num: true }, { title: 'verdict' }],
+  characteristics.map((c) => {
+    const k = c.capability;
+    return [c.id, c.kind, limits(c), c.faces.join(', '), k ? pct(k.covered, 1) : '–', k ? fmt(k.points, 0) : '–',
+      k ? fmt(k.uncertainty, 4) : '–', k ? fmt(k.ratio, 2) : '–', k ? verdictText(k) : '–'];
+  }), selectCharacteristic)));
+  characteristicRows.push(...$('characteristics').querySelectorAll('tbody tr'));
+}
+
+// Faces with samples left unmeasured, by reason; a click flies to the face.
+{
+  const missing = data.faces.filter((f) => f.samples > f.measured)
+    .sort((a, b) => a.reason.localeCompare(b.reason) || b.samples - b.measured - (a.samples - a.measured));
+  if (missing.length === 0) {
+    $('missing').append(el('p', { class: 'muted' }, 'Every target face is measured.'));
+  } else {
+    $('missing').append(el('div', { class: 'scroll' }, table([{ title: 'reason' }, { title: 'face', num: true }, { title: 'type' },
+      { title: 'samples unmeasured', num: true }, { title: 'area mm²', num: true }],
+    missing.map((f) => [f.reason ? f.reason.replaceAll('_', ' ') : 'not measured by the views chosen', f.id, f.type,
+      `${f.samples - f.measured} of ${f.samples}`, fmt(f.area)]),
+    (i) => { const f = missing[i]; paintFaces(new Set([f.id])); frameOn(facesBox(new Set([f.id]))); selectFace(f.id); })));
+  }
 }
 
 {

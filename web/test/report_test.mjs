@@ -86,7 +86,46 @@ try {
   const cvm = await page.evaluate(() => document.getElementById('cvm-canvas').width);
   check(cvm > 0, 'the Combined Visibility Map of a cluster is drawn');
 
+  // The characteristics table: a row per characteristic of the plan; a click paints its
+  // faces and names the views measuring them.
+  const plan = JSON.parse(readFileSync(planFile, 'utf8'));
+  const characteristics = plan.characteristics || [];
+  const rows = await page.evaluate(() => document.querySelectorAll('#characteristics tbody tr').length);
+  check(characteristics.length > 0 && rows === characteristics.length,
+        `characteristics table: ${rows} rows, plan has ${characteristics.length}`);
+  if (characteristics.length > 0) {
+    await page.click('#characteristics tbody tr');
+    const picked = await page.evaluate(() => ({
+      text: document.getElementById('selection').textContent, highlighted: Number(document.body.dataset.highlighted),
+    }));
+    check(/characteristic/.test(picked.text) && /views measuring it/.test(picked.text) &&
+          picked.highlighted === characteristics[0].faces.length,
+          `clicking characteristic 1 selects its ${picked.highlighted} faces (it has ${characteristics[0].faces.length})`);
+  }
+  // The missing panel lists the faces left unmeasured, and a click flies to one.
+  const unmeasured = plan.samples.filter((s) => s.measured_by.length === 0).length;
+  const missing = await page.evaluate(() => document.querySelectorAll('#missing tbody tr').length);
+  check(unmeasured === 0 ? missing === 0 : missing > 0, `missing panel: ${missing} faces, ${unmeasured} samples unmeasured`);
+  if (missing > 0) {
+    await page.click('#missing tbody tr');
+    check(/face/.test(await page.textContent('#selection')), 'clicking a missing face selects it');
+  }
+  const header = await page.textContent('#report-header');
+  check(header.includes(plan.scanner.name) && /scanplan \d+\.\d+\.\d+/.test(header) && /UTC/.test(header),
+        `the header names the scanner, the version and the date: ${header}`);
+
   if (screenshot) await page.screenshot({ path: screenshot });
+
+  // The print layout: A4 pages with the scene's picture and the tables.
+  await page.emulateMedia({ media: 'print' });
+  const printed = await page.evaluate(() => ({
+    aside: getComputedStyle(document.querySelector('aside')).display,
+    canvas: document.querySelector('#viewport canvas').getBoundingClientRect().height,
+  }));
+  check(printed.aside === 'none' && printed.canvas > 100, `print layout: panel hidden, picture ${printed.canvas} px high`);
+  const pdf = await page.pdf({ format: 'A4', printBackground: true });
+  check(pdf.length > 20000 && pdf.subarray(0, 5).toString() === '%PDF-', `prints to PDF (${pdf.length} bytes)`);
+  if (screenshot) await page.screenshot({ path: screenshot.replace(/\.png$/, '-print.png'), fullPage: true });
 } catch (e) {
   check(false, String(e));
 } finally {
