@@ -219,6 +219,21 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
   for (const char* row : {"model faces", "fixture faces", "target samples", "measured samples",
                           "views registered", "bridging views added", "path length"})
     EXPECT_NE(summary.find(row), std::string::npos) << row << "\n" << summary;
+  // Unregistrable views are numbered as the report and the programs number them: their
+  // place in the sequence, with their id beside.
+  const Plan planned = readPlan(plan);
+  const std::size_t line = summary.find("unregistrable views");
+  ASSERT_NE(line, std::string::npos) << summary;
+  const std::string listed = summary.substr(line, summary.find('\n', line) - line);
+  const std::regex entry(R"((\d+) \(id (\d+)\))");
+  std::size_t entries = 0;
+  for (auto it = std::sregex_iterator(listed.begin(), listed.end(), entry);
+       it != std::sregex_iterator(); ++it, ++entries) {
+    const std::size_t place = std::stoul((*it)[1]);
+    ASSERT_TRUE(planned.sequence && place >= 1 && place <= planned.sequence->views.size());
+    EXPECT_EQ(planned.sequence->views[place - 1], std::stoi((*it)[2])) << listed;
+  }
+  EXPECT_GT(entries, 0u) << listed;
 
   // Views of the example register to nothing: the plan holds as planned, but fails.
   CommandResult r = run("verify " + plan + " " + part + " --spec " + spec + " -q");

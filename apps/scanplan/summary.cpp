@@ -27,14 +27,22 @@ void printRegistration(const Plan& plan, const Registration& r) {
              percent(plan.registeredMeasuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "bridging views added", r.bridging_views);
   if (r.registered() < plan.views.size()) {
-    // Their ids, the first kListed of them (plan.json lists them all).
+    // The first kListed of them (plan.json lists them all), numbered as the report and
+    // the robot programs number them: their place in the sequence, their id beside.
     constexpr std::size_t kListed = 40;
+    std::map<int, std::size_t> place;
+    if (plan.sequence)
+      for (std::size_t k = 0; k < plan.sequence->views.size(); ++k)
+        place[plan.sequence->views[k]] = k + 1;
     std::string ids;
     std::size_t unconstrained = 0, unregistrable = 0;
     for (std::size_t v = 0; v < plan.views.size() && v < r.views.size(); ++v)
       if (r.views[v].method == RegistrationMethod::None) {
+        const int id = plan.views[v].id;
         if (unregistrable++ < kListed)
-          ids += fmt::format("{}{}", ids.empty() ? "" : " ", plan.views[v].id);
+          ids += fmt::format("{}{}", ids.empty() ? "" : ", ",
+                             place.count(id) ? fmt::format("{} (id {})", place[id], id)
+                                             : fmt::format("id {}", id));
         unconstrained += !r.views[v].constrained;
       }
     if (unregistrable > kListed) ids += fmt::format(" and {} more", unregistrable - kListed);

@@ -349,7 +349,8 @@ for (const s of summary.priority_faces_short || []) {
 if (summary.registrable_views !== null && summary.registrable_views !== undefined) {
   summaryRows.push(['views registered', `${summary.registrable_views} (${pct(summary.registrable_views, summary.views)})`],
     ['measured by registered views', summary.measured_by_registered_views], ['bridging views', summary.bridging_views],
-    ['unregistrable views', (summary.unregistrable_views || []).join(', ') || 'none'],
+    ['unregistrable views', (summary.unregistrable_views || [])
+      .map((id) => viewName(data.views.find((v) => v.id === id) || { id, order: 0 })).join(', ') || 'none'],
     ['registration components', summary.registration_components]);
 }
 if (summary.path_length !== undefined) {
