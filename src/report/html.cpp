@@ -218,7 +218,12 @@ json headerJson(const Plan& plan, const Spec& spec) {
   gmtime_r(&now, &utc);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
-  return {{"part", plan.part_file}, {"spec", spec.source}, {"version", version()}, {"date", date}};
+  std::error_code ec;
+  const std::filesystem::path part = std::filesystem::absolute(plan.part_file, ec);
+  return {{"part", (ec ? std::filesystem::path(plan.part_file) : part).lexically_normal().string()},
+          {"spec", spec.source},
+          {"version", version()},
+          {"date", date}};
 }
 
 }  // namespace

@@ -129,11 +129,21 @@ partGeometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
 partGeometry.setIndex(new THREE.BufferAttribute(indices, 1));
 const vertexColours = new Float32Array(positions.length);
 partGeometry.setAttribute('color', new THREE.BufferAttribute(vertexColours, 3));
-// Colours the faces by coverage, the `highlighted` ones (face ids) magenta.
-function paintFaces(highlighted = new Set()) {
+// Colours of the faces by the reason their samples are not measured (the commonest).
+const reasonColours = {
+  occluded_by_working_plane: [140, 90, 200], occluded_by_part: [240, 140, 40], no_valid_pose: [150, 100, 60],
+  lost_in_simulation: [215, 50, 50], unreachable_by_robot: [40, 60, 160], '': [205, 210, 216],
+};
+let colourBy = 'coverage';
+let highlightedFaces = new Set();
+// Colours the faces by coverage (or by reason), the `highlighted` ones (face ids) magenta.
+function paintFaces(highlighted = highlightedFaces) {
+  highlightedFaces = highlighted;
   for (let t = 0; t < triangleFaces.length; ++t) {
     const face = data.faces[triangleFaces[t] - 1];
-    const c = highlighted.has(triangleFaces[t]) ? [255, 0, 170] : data.palette[face ? face.coverage : 'not a target'];
+    const base = colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
+      : data.palette[face ? face.coverage : 'not a target'];
+    const c = highlighted.has(triangleFaces[t]) ? [255, 0, 170] : base;
     for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
   }
   partGeometry.attributes.color.needsUpdate = true;
@@ -237,9 +247,23 @@ scene.add(selectedMarker);
 const selectedFrustum = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xff00aa }));
 scene.add(selectedFrustum);
 
-// Framing buttons and toggles for each layer.
+// Framing buttons, the faces' colouring, and toggles for each layer.
 $('toggles').append(el('button', { onclick: () => frameOn(partBox) }, 'part'), ' ',
   el('button', { onclick: () => frameOn(all) }, 'all views'));
+{
+  const select = el('select', { id: 'colour-by' }, el('option', { value: 'coverage' }, 'coverage'),
+    el('option', { value: 'reason' }, 'reason not measured'));
+  select.addEventListener('change', () => {
+    colourBy = select.value;
+    paintFaces();
+    reasonLegend.style.display = colourBy === 'reason' ? '' : 'none';
+  });
+  $('toggles').append(el('label', {}, 'colour by ', select));
+}
+const reasonLegend = el('div', { style: 'display:none' });
+for (const [reason, c] of Object.entries(reasonColours))
+  reasonLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(c)}` }), reason ? reason.replaceAll('_', ' ') : 'measured or not a target'));
+legend.append(reasonLegend);
 for (const [name, object] of [['part', part], ['priority outlines', outlines], ['samples', samples],
   ['views', views], ['path', path], ['markers', markers], ['proposed markers', proposedMarkers]]) {
   const box = el('input', { type: 'checkbox' });

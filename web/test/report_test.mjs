@@ -110,6 +110,11 @@ try {
     await page.click('#missing tbody tr');
     check(/face/.test(await page.textContent('#selection')), 'clicking a missing face selects it');
   }
+  // Colouring the faces by the reason they are not measured.
+  await page.selectOption('#colour-by', 'reason');
+  await page.waitForTimeout(200);
+  check(errors.length === 0, `colouring by reason runs${errors.length ? `: ${errors.join(' | ')}` : ''}`);
+  await page.selectOption('#colour-by', 'coverage');
   const header = await page.textContent('#report-header');
   check(header.includes(plan.scanner.name) && /scanplan \d+\.\d+\.\d+/.test(header) && /UTC/.test(header),
         `the header names the scanner, the version and the date: ${header}`);
