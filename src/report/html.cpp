@@ -74,20 +74,49 @@ json meshJson(const PlanScene& scene) {
           {"outlines", base64(floats(priorityOutlines(scene)))}};
 }
 
-json facesJson(const PlanScene& scene, const Part& part) {
+// Per face, the mean density of the points its samples get (points per mm², all the views
+// measuring each sample together; an unmeasured sample counts 0): each view lays its pixel
+// grid, point_spacing at the standoff, on the surface at its distance and incidence.
+std::map<int, double> faceDensities(const Plan& plan, const PlanScene& scene) {
+  std::map<int, const View*> views;
+  for (const SceneView& v : scene.views) views[v.view.id] = &v.view;
+  std::map<int, std::pair<double, std::size_t>> sums;  // face: density sum, samples
+  const Scanner& scanner = plan.scanner;
+  for (const PlannedSample& s : plan.samples) {
+    double density = 0;
+    for (int id : s.measured_by) {
+      const auto at = views.find(id);
+      if (at == views.end()) continue;
+      const Vec3 ray = s.sample.position - at->second->camera();
+      const double pitch = scanner.point_spacing * ray.dot(at->second->axis()) / scanner.standoff;
+      density += std::max(-ray.normalized().dot(s.sample.normal), 0.0) / (pitch * pitch);
+    }
+    sums[s.sample.face].first += density;
+    ++sums[s.sample.face].second;
+  }
+  std::map<int, double> result;
+  for (const auto& [face, sum] : sums) result[face] = sum.first / static_cast<double>(sum.second);
+  return result;
+}
+
+json facesJson(const Plan& plan, const PlanScene& scene, const Part& part) {
+  const std::map<int, double> densities = faceDensities(plan, scene);
   json faces = json::array();
   for (const FaceStatus& f : scene.faces) {
     const Face& face = part.faces[f.id - 1];
-    faces.push_back({{"id", f.id},
-                     {"type", toString(face.type)},
-                     {"name", face.name},
-                     {"area", face.area},
-                     {"samples", f.samples},
-                     {"measured", f.measured},
-                     {"not_coverable", f.not_coverable},
-                     {"coverage", toString(f.coverage)},
-                     {"priority", f.priority},
-                     {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)}});
+    const auto density = densities.find(f.id);
+    faces.push_back(
+        {{"id", f.id},
+         {"type", toString(face.type)},
+         {"name", face.name},
+         {"area", face.area},
+         {"samples", f.samples},
+         {"measured", f.measured},
+         {"not_coverable", f.not_coverable},
+         {"coverage", toString(f.coverage)},
+         {"priority", f.priority},
+         {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)},
+         {"density", density == densities.end() ? json(nullptr) : json(density->second)}});
   }
   return faces;
 }
@@ -249,7 +278,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
   json data = {{"title", std::filesystem::path(plan.part_file).filename().string()},
                {"plan", plan_json},
                {"mesh", meshJson(scene)},
-               {"faces", facesJson(scene, part)},
+               {"faces", facesJson(plan, scene, part)},
                {"samples", samplesJson(plan)},
                {"views", viewsJson(scene, plan, clouds)},
                {"path", scene.path},

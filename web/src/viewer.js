@@ -134,6 +134,16 @@ const reasonColours = {
   occluded_by_working_plane: [140, 90, 200], occluded_by_part: [240, 140, 40], no_valid_pose: [150, 100, 60],
   lost_in_simulation: [215, 50, 50], unreachable_by_robot: [40, 60, 160], '': [205, 210, 216],
 };
+// Faces by the mean density of their samples' points: a blue to yellow ramp over the
+// decades between the sparsest and the densest face, grey without samples.
+const densities = data.faces.map((f) => f.density).filter((d) => d > 0);
+const densityRange = [Math.log10(Math.min(...densities, 1)), Math.log10(Math.max(...densities, 1))];
+function densityColour(d) {
+  if (d === null || d === undefined) return [205, 210, 216];
+  if (!(d > 0)) return [60, 20, 90];
+  const t = Math.min(Math.max((Math.log10(d) - densityRange[0]) / Math.max(densityRange[1] - densityRange[0], 1e-9), 0), 1);
+  return [Math.round(40 + 215 * t), Math.round(60 + 170 * t), Math.round(200 - 170 * t)];
+}
 let colourBy = 'coverage';
 let highlightedFaces = new Set();
 // Colours the faces by coverage (or by reason), the `highlighted` ones (face ids) magenta.
@@ -142,7 +152,8 @@ function paintFaces(highlighted = highlightedFaces) {
   for (let t = 0; t < triangleFaces.length; ++t) {
     const face = data.faces[triangleFaces[t] - 1];
     const base = colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
-      : data.palette[face ? face.coverage : 'not a target'];
+      : colourBy === 'density' ? densityColour(face ? face.density : null)
+        : data.palette[face ? face.coverage : 'not a target'];
     const c = highlighted.has(triangleFaces[t]) ? [255, 0, 170] : base;
     for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
   }
@@ -252,11 +263,12 @@ $('toggles').append(el('button', { onclick: () => frameOn(partBox) }, 'part'), '
   el('button', { onclick: () => frameOn(all) }, 'all views'));
 {
   const select = el('select', { id: 'colour-by' }, el('option', { value: 'coverage' }, 'coverage'),
-    el('option', { value: 'reason' }, 'reason not measured'));
+    el('option', { value: 'reason' }, 'reason not measured'), el('option', { value: 'density' }, 'point density'));
   select.addEventListener('change', () => {
     colourBy = select.value;
     paintFaces();
     reasonLegend.style.display = colourBy === 'reason' ? '' : 'none';
+    densityLegend.style.display = colourBy === 'density' ? '' : 'none';
   });
   $('toggles').append(el('label', {}, 'colour by ', select));
 }
@@ -264,6 +276,11 @@ const reasonLegend = el('div', { style: 'display:none' });
 for (const [reason, c] of Object.entries(reasonColours))
   reasonLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(c)}` }), reason ? reason.replaceAll('_', ' ') : 'measured or not a target'));
 legend.append(reasonLegend);
+const densityLegend = el('div', { style: 'display:none' });
+for (const d of [10 ** densityRange[0], 10 ** ((densityRange[0] + densityRange[1]) / 2), 10 ** densityRange[1]])
+  densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(d))}` }), `${fmt(d, 1)} points/mm²`));
+densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(0))}` }), 'no points'));
+legend.append(densityLegend);
 for (const [name, object] of [['part', part], ['priority outlines', outlines], ['samples', samples],
   ['views', views], ['path', path], ['markers', markers], ['proposed markers', proposedMarkers]]) {
   const box = el('input', { type: 'checkbox' });
@@ -338,6 +355,7 @@ function selectFace(id) {
   const rows = [['face', `${f.id} (${f.type}${f.name ? `, ${f.name}` : ''})`], ['area', `${fmt(f.area)} mm²`],
     ['coverage', f.coverage], ['samples', `${f.measured} of ${f.samples} measured`],
     ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no'],
+    ['point density', f.density === null ? '–' : `${fmt(f.density, 1)} points/mm² (mean over its samples)`],
     ['characteristics', on.join(', ') || '–']];
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
 }

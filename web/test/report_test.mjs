@@ -114,7 +114,21 @@ try {
   await page.selectOption('#colour-by', 'reason');
   await page.waitForTimeout(200);
   check(errors.length === 0, `colouring by reason runs${errors.length ? `: ${errors.join(' | ')}` : ''}`);
+  await page.selectOption('#colour-by', 'density');
+  await page.waitForTimeout(200);
+  check(errors.length === 0, `colouring by point density runs${errors.length ? `: ${errors.join(' | ')}` : ''}`);
   await page.selectOption('#colour-by', 'coverage');
+  // Each measured face's density is positive and below what every view at the near end of
+  // its depth of field would lay on it straight on: views / (spacing (1 - dof / 2 standoff))².
+  const density = await page.evaluate(() => {
+    const d = JSON.parse(document.getElementById('scanplan-data').textContent);
+    const sc = d.plan.scanner, pitch = sc.point_spacing * (1 - sc.depth_of_field / (2 * sc.standoff));
+    const bound = d.views.length / (pitch * pitch);
+    const measured = d.faces.filter((f) => f.coverage === 'measured');
+    return { bound, measured: measured.length, ok: measured.every((f) => f.density > 0 && f.density <= bound) };
+  });
+  check(density.measured > 0 && density.ok,
+        `point density of the ${density.measured} measured faces within (0, ${density.bound.toFixed(0)}] points/mm²`);
   const header = await page.textContent('#report-header');
   check(header.includes(plan.scanner.name) && /scanplan \d+\.\d+\.\d+/.test(header) && /UTC/.test(header),
         `the header names the scanner, the version and the date: ${header}`);
