@@ -8,7 +8,8 @@
 //   displacement over the faces;
 // - profile and position: twice its largest displacement (zones about the nominal);
 // - diameter and radius: the fitted offset (twice for a diameter); a distance between
-//   faces: the faces' own offsets together.
+//   faces: the faces' own offsets together; an angle between faces: the peak-to-valley
+//   over the faces' extent, in degrees.
 // U is the error that 95% of the draws stay under.
 
 #include <scanplan/localization.h>
@@ -57,14 +58,15 @@ struct Patch {
 };
 
 // How the noise shows in a characteristic's value; profile stands for every zone about
-// the nominal (profile, position, symmetry, concentricity).
-enum class Effect { Form, Profile, Size, Diameter, Radius };
+// the nominal (profile, position, symmetry, concentricity); an angle is in degrees.
+enum class Effect { Form, Profile, Size, Diameter, Radius, Angle };
 
 Effect effectOf(const Characteristic& c) {
   if (c.dimension)
-    return c.kind == "diameter" ? Effect::Diameter
-           : c.kind == "radius" ? Effect::Radius
-                                : Effect::Size;
+    return c.kind == "diameter"                    ? Effect::Diameter
+           : c.kind == "radius"                    ? Effect::Radius
+           : c.kind.find("angular") != c.kind.npos ? Effect::Angle
+                                                   : Effect::Size;
   if (c.kind == "profile_of_surface" || c.kind == "profile_of_line" || c.kind == "position" ||
       c.kind == "concentricity" || c.kind == "symmetry" || c.kind == "coaxiality")
     return Effect::Profile;
@@ -81,12 +83,16 @@ struct Fit {
   std::vector<Row> rows;
   std::vector<double> sigmas;  // of each patch's mean point
   Eigen::LDLT<Normal> normal;
+  double extent = 0;  // the patches' largest distance apart (their box's diagonal), mm
 };
 
 Fit fitOf(const std::vector<const Patch*>& patches) {
   Vec3 centre = Vec3::Zero();
   for (const Patch* p : patches) centre += p->point.position / static_cast<double>(patches.size());
   Fit fit;
+  Box box;
+  for (const Patch* p : patches) box.add(p->point.position);
+  fit.extent = std::max(box.diagonal(), 1e-9);
   Normal normal = Normal::Zero();
   for (const Patch* p : patches) {
     Row row;
@@ -133,6 +139,7 @@ double drawError(Effect effect, const std::vector<const Patch*>& patches, const 
     high = std::max(high, d);
     low = std::min(low, d);
   }
+  if (effect == Effect::Angle) return degrees(std::atan((high - low) / fit.extent));
   return effect == Effect::Form ? high - low : 2 * std::max(high, -low);
 }
 
