@@ -310,7 +310,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
              "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
-             "capable_ratio"},
+             "capable_ratio", "lift_capability"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -324,6 +324,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   reader.read(node, "planner", "selection_seconds", p.selection_seconds);
   reader.read(node, "planner", "most_views", p.most_views);
   reader.read(node, "planner", "capable_ratio", p.capable_ratio);
+  reader.read(node, "planner", "lift_capability", p.lift_capability);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
       reader.fail("planner.tilt must be [min, max] in degrees");

@@ -204,3 +204,31 @@ TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+std::size_t capable(const Plan& plan) {
+  return static_cast<std::size_t>(
+      std::count_if(plan.capabilities.begin(), plan.capabilities.end(),
+                    [](const Capability& k) { return k.verdict == Verdict::Capable; }));
+}
+
+// FTC 11 planned for its whole shape leaves its runout and a diameter partly covered
+// (marginal, too sparse); with planner.lift_capability the plan aims at every
+// characteristic's faces too, and more of them are capable.
+TEST(Capability, LiftingPlansAgainForTheCharacteristicsFaces) {
+  const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  Spec spec = defaultSpec();
+  const Plan plain = planViews(part, spec, PlanningOptions{false});
+  ASSERT_TRUE(std::any_of(plain.capabilities.begin(), plain.capabilities.end(),
+                          [](const Capability& k) { return k.reason == Shortfall::TooSparse; }));
+  spec.planner.lift_capability = true;
+  const Plan lifted = planViews(part, spec, PlanningOptions{false});
+  EXPECT_GT(capable(lifted), capable(plain));
+  for (const Capability& k : lifted.capabilities)
+    EXPECT_NE(k.reason, Shortfall::TooSparse) << "characteristic " << k.characteristic;
+}
+
+}  // namespace
+}  // namespace scanplan

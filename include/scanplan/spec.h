@@ -48,6 +48,8 @@ struct PlannerSettings {
   int most_views = 10000;        // a part larger than this many fields of view is refused
   double capable_ratio = 4;      // a characteristic is capable from this tolerance width /
                                  // (2 U) on (shops ask 10 for gauges)
+  bool lift_capability = false;  // plan again with the characteristics' faces as targets when
+                                 // one is covered but not capable; kept if more are capable
 };
 
 struct Spec {

@@ -452,8 +452,11 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
 
 }  // namespace
 
-Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
-               const Progress& progress) {
+namespace {
+
+// The plan for `spec`, then the capability of its views for the part's characteristics.
+Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& options,
+                  const Progress& progress) {
   const auto start = Clock::now();
   report(progress, "sampling", 0);
   const ResolvedSpec resolved = resolveSpec(part, spec);
@@ -476,6 +479,38 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   plan.times.push_back({"capability", secondsSince(judged)});
   plan.seconds = secondsSince(start);
   return plan;
+}
+
+std::size_t capableCount(const Plan& plan) {
+  return static_cast<std::size_t>(
+      std::count_if(plan.capabilities.begin(), plan.capabilities.end(),
+                    [](const Capability& k) { return k.verdict == Verdict::Capable; }));
+}
+
+// A characteristic mostly covered but not capable: more views on its faces may lift it.
+bool liftable(const Plan& plan) {
+  return std::any_of(plan.capabilities.begin(), plan.capabilities.end(), [](const Capability& k) {
+    return (k.verdict == Verdict::Marginal || k.verdict == Verdict::NotCapable) &&
+           k.reason != Shortfall::Uncovered;
+  });
+}
+
+}  // namespace
+
+Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
+               const Progress& progress) {
+  Plan plan = planAndJudge(part, spec, options, progress);
+  if (!spec.planner.lift_capability || !liftable(plan)) return plan;
+  // Again with every characteristic's faces as GD&T targets; kept when more are capable.
+  Spec lifting = spec;
+  Task targets{TaskType::Gdt, {}, {}};
+  for (const Characteristic& c : plan.characteristics)
+    for (int face : c.faces) targets.faces.push_back({face, {}, {}});
+  lifting.tasks.push_back(targets);
+  Plan lifted = planAndJudge(part, lifting, options, progress);
+  lifted.seconds += plan.seconds;
+  plan.seconds = lifted.seconds;
+  return capableCount(lifted) > capableCount(plan) ? lifted : plan;
 }
 
 }  // namespace scanplan
