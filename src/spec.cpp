@@ -564,9 +564,10 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
     }
     if (const YAML::Node gdt = root["gdt"]) {
       const std::string value = reader.scalar<std::string>(gdt, "gdt");
-      if (value != "from-file" && value != "none")
-        reader.fail("gdt: expected from-file or none, got '" + value + "'");
-      spec.gdt_from_file = value == "from-file";
+      if (value != "from-file" && value != "all" && value != "none")
+        reader.fail("gdt: expected from-file, all or none, got '" + value + "'");
+      spec.gdt_from_file = value != "none";
+      spec.gdt_dimensions = value == "all";
     }
     if (const YAML::Node markers = root["markers"]) readMarkers(markers, reader, spec);
     if (const YAML::Node node = root["registration"])
@@ -604,10 +605,10 @@ Spec specFromText(const std::string& text, const std::string& source) {
   return specFromYaml(root, source);
 }
 
-std::vector<int> gdtFaces(const Part& part) {
+std::vector<int> gdtFaces(const Part& part, bool dimensions) {
   std::set<int> faces;
-  for (const GeometricTolerance& t : part.gdt.tolerances)
-    faces.insert(t.faces.begin(), t.faces.end());
+  for (const Characteristic& c : characteristics(part.gdt))
+    if (dimensions || !c.dimension) faces.insert(c.faces.begin(), c.faces.end());
   for (const Datum& d : part.gdt.datums) faces.insert(d.faces.begin(), d.faces.end());
   return {faces.begin(), faces.end()};
 }
@@ -691,7 +692,7 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   resolved.source = spec.source.empty() ? part.file : spec.source;
   checkScale(part, spec, resolved.source);
   if (spec.gdt_from_file) {
-    resolved.gdt_faces = gdtFaces(part);
+    resolved.gdt_faces = gdtFaces(part, spec.gdt_dimensions);
     if (resolved.gdt_faces.empty())
       throw InputError(resolved.source,
                        "gdt: from-file, but " + part.file + " carries no GD&T attached to faces");

@@ -309,6 +309,26 @@ TEST(SpecSampling, GdtFromFileSelectsExactlyThePmiFaces) {
   EXPECT_EQ(sampled, expected);
 }
 
+// gdt: all targets the dimensioned faces too: every face of the file's tolerances,
+// dimensions with a value and datums.
+TEST(SpecSampling, GdtAllAddsTheDimensionedFaces) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"), "gdt: all\n");
+  std::set<int> expected;
+  for (const GeometricTolerance& t : part.gdt.tolerances)
+    expected.insert(t.faces.begin(), t.faces.end());
+  for (const Dimension& d : part.gdt.dimensions)
+    if (d.value > 0) expected.insert(d.faces.begin(), d.faces.end());
+  for (const Datum& d : part.gdt.datums) expected.insert(d.faces.begin(), d.faces.end());
+  std::set<int> sampled;
+  for (const Sample& s : sampleTargets(
+           part, resolveSpec(part, loadSpec(dir.file("spec.yaml"))).targets, SamplingOptions{}))
+    sampled.insert(s.face);
+  EXPECT_EQ(sampled, expected);
+  EXPECT_GT(expected.size(), gdtFaces(part).size());  // the dimensions add faces
+}
+
 TEST(SpecSampling, TasksMergeAndFixturesAreNeverSampled) {
   test::TempDir dir;
   Part part = boxWithHole(dir);

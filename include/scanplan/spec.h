@@ -64,7 +64,8 @@ struct Spec {
   std::vector<FaceSelector> priority;  // roles.priority
   std::vector<FaceSelector> fixture;   // roles.fixture: faces that only occlude
   std::vector<FaceSelector> specular;  // roles.specular
-  bool gdt_from_file = false;          // gdt: from-file
+  bool gdt_from_file = false;          // gdt: from-file (or all)
+  bool gdt_dimensions = false;         // gdt: all: the dimensioned faces are targets too
   std::string markers_file;            // markers: a CSV (world frame), resolved, or ""
   double marker_grid = 0;              // markers: {grid: step, margin: mm, on: ...}: a
   double marker_margin = 100;          // generated grid (0: none) on the working plane
@@ -103,8 +104,9 @@ struct ResolvedSpec {
 // faces.
 ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
 
-// Faces of the part's GD&T: every toleranced face and every datum face, sorted, unique.
-std::vector<int> gdtFaces(const Part& part);
+// Faces of the part's GD&T: the faces of its characteristics (cad/gdt.h) and of its
+// datums, sorted, unique; the dimensions' only with `dimensions`.
+std::vector<int> gdtFaces(const Part& part, bool dimensions = false);
 
 // The face ids that `selectors` name on `part`, sorted and unique.
 // \throw InputError naming `source` and the selector that matches no face.
