@@ -224,6 +224,9 @@ data.views.forEach((v, index) => {
   const ball = new THREE.Mesh(ballGeometry, new THREE.MeshBasicMaterial({ color: colour }));
   ball.position.copy(f[0]);
   ball.userData.index = index;
+  ball.userData.colour = colour;
+  frustum.userData.colour = colour;
+  ball.userData.frustum = frustum;
   cameraBalls.push(ball);
   views.add(ball);
   const label = new CSS2DObject(el('div', { class: 'label' }, v.order > 0 ? String(v.order) : `#${v.id}`));
@@ -447,6 +450,7 @@ function selectCharacteristic(index) {
   const faces = new Set(c.faces);
   paintFaces(faces);
   const measuring = data.views.filter((v) => v.faces.some((f) => faces.has(f)));
+  paintViews(new Set(measuring.map((v) => v.id)));
   const rows = [['characteristic', `${c.id}: ${c.kind}`], ['value', limits(c)], ['datums', c.datums.join(' | ') || '–'],
     ['faces', c.faces.join(', ')], ['views measuring it', measuring.map(viewName).join(', ') || 'none']];
   if (c.capability) {
@@ -463,6 +467,17 @@ function verdictText(k) {
   return `${k.verdict.replace('_', ' ')}${k.reason !== 'none' ? ` (${k.reason.replace('_', ' ')})` : ''}` +
     (k.rest_orientation ? `; rest orientation ${k.rest_orientation} reaches it` : '');
 }
+// Paints the cameras and frusta of the views `ids` magenta, the others by their state.
+function paintViews(ids = new Set()) {
+  for (const ball of cameraBalls) {
+    const on = ids.has(data.views[ball.userData.index].id);
+    ball.material.color.copy(on ? new THREE.Color(0xff00aa) : ball.userData.colour);
+    ball.userData.frustum.material.color.copy(on ? new THREE.Color(0xff00aa) : ball.userData.colour);
+    ball.scale.setScalar(on ? 1.8 : 1);
+  }
+  document.body.dataset.highlightedViews = String(ids.size);
+}
+
 // A view as the report numbers it: its place in the sequence, its id beside.
 function viewName(v) { return v.order > 0 ? `${v.order} (id ${v.id})` : `id ${v.id}`; }
 

@@ -97,10 +97,15 @@ try {
     await page.click('#characteristics tbody tr');
     const picked = await page.evaluate(() => ({
       text: document.getElementById('selection').textContent, highlighted: Number(document.body.dataset.highlighted),
+      views: Number(document.body.dataset.highlightedViews),
     }));
+    // The views measuring it, from plan.json: those measuring a sample on one of its faces.
+    const faces = new Set(characteristics[0].faces), measuring = new Set();
+    for (const s of plan.samples) if (faces.has(s.face)) s.measured_by.forEach((id) => measuring.add(id));
     check(/characteristic/.test(picked.text) && /views measuring it/.test(picked.text) &&
-          picked.highlighted === characteristics[0].faces.length,
-          `clicking characteristic 1 selects its ${picked.highlighted} faces (it has ${characteristics[0].faces.length})`);
+          picked.highlighted === characteristics[0].faces.length && picked.views === measuring.size,
+          `clicking characteristic 1 selects its ${picked.highlighted} faces (it has ${characteristics[0].faces.length}) ` +
+          `and ${picked.views} views (${measuring.size} measure its samples)`);
   }
   // The missing panel lists the faces left unmeasured, and a click flies to one.
   const unmeasured = plan.samples.filter((s) => s.measured_by.length === 0).length;
@@ -136,12 +141,31 @@ try {
   if (screenshot) await page.screenshot({ path: screenshot });
 
   // The print layout: A4 pages with the scene's picture and the tables.
+  await page.click('#toggles button');  // frame the part again
+  await page.waitForTimeout(300);
   await page.emulateMedia({ media: 'print' });
+  await page.waitForTimeout(300);
   const printed = await page.evaluate(() => ({
     aside: getComputedStyle(document.querySelector('aside')).display,
     canvas: document.querySelector('#viewport canvas').getBoundingClientRect().height,
   }));
   check(printed.aside === 'none' && printed.canvas > 100, `print layout: panel hidden, picture ${printed.canvas} px high`);
+  // The first A4 page as a picture: the scene is drawn in it.
+  const pageShot = await page.screenshot({ clip: { x: 0, y: 0, width: 1280, height: Math.round(1280 * 297 / 210) } });
+  const drawn = await page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${b64}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let green = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i + 1] > d[i] + 25 && d[i + 1] > d[i + 2] + 10) ++green;
+    return green / (d.length / 4);
+  }, pageShot.toString('base64'));
+  check(drawn > 0.005, `the first printed page shows the scene: ${(100 * drawn).toFixed(1)} % of it in the measured green`);
   const pdf = await page.pdf({ format: 'A4', printBackground: true });
   check(pdf.length > 20000 && pdf.subarray(0, 5).toString() === '%PDF-', `prints to PDF (${pdf.length} bytes)`);
   if (screenshot) await page.screenshot({ path: screenshot.replace(/\.png$/, '-print.png'), fullPage: true });
