@@ -166,7 +166,8 @@ TEST(Capability, APlanesUncertaintyIsTheFittedPlanesAnalyticError) {
 }
 
 // FTC 11 stands on its datum A face (flatness 0.3): no view measures it, and the plan says
-// which rest orientation turns it up; plan.json carries it.
+// which rest orientation turns it up; plan.json carries it; planning every rest
+// orientation measures it.
 TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
   const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   const Plan plan = planViews(part, defaultSpec(), PlanningOptions{false});
@@ -195,6 +196,14 @@ TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
   ASSERT_EQ(back.capabilities.size(), plan.capabilities.size());
   EXPECT_EQ(back.capabilities[flatness - plan.characteristics.begin()].rest, k.rest);
   EXPECT_EQ(back.characteristics[0].faces, plan.characteristics[0].faces);
+  // part: {rest: all} plans that orientation too, and the flatness is measured.
+  Spec every_rest = defaultSpec();
+  every_rest.rest_all = true;
+  const Plan all = planViews(part, every_rest, PlanningOptions{false});
+  const Capability& turned = all.capabilities[flatness - plan.characteristics.begin()];
+  EXPECT_GT(all.orientations.size(), 1u);
+  EXPECT_GT(turned.covered, 0.9);
+  EXPECT_NE(turned.reason, Shortfall::Uncovered);
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
     if (plan.samples[i].sample.face != flatness->faces.front()) continue;
     const nlohmann::json& ids = json["samples"][i]["characteristics"];
