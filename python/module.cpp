@@ -95,23 +95,28 @@ Plan plan(const Part& part, const py::object& spec, bool registration, const py:
   return result;
 }
 
-// The clouds the views of `plan` record (or the views `views`, (n, 4, 4) camera-to-world
-// matrices, with the plan's placement of the part) with the plan's scanner unless `spec`
-// is given: per view a dict of numpy arrays.
+// The clouds the views of `plan` record, each in its rest orientation's placement (or the
+// views `views`, (n, 4, 4) camera-to-world matrices, with the plan's first placement),
+// with the plan's scanner unless `spec` is given: per view a dict of numpy arrays.
 py::list simulate(const Part& part, const Plan& plan, const py::object& spec,
                   const py::object& views, std::uint64_t seed) {
   Spec resolved = specOf(spec);
   if (spec.is_none()) resolved.scanner = plan.scanner;
+  const bool own = views.is_none();
   const std::vector<View> simulated =
-      views.is_none() ? plan.views : viewsFrom(views, resolved.scanner.standoff);
+      own ? plan.views : viewsFrom(views, resolved.scanner.standoff);
+  const std::vector<std::size_t> orientation =
+      own ? viewOrientations(plan) : std::vector<std::size_t>(simulated.size(), 0);
   std::vector<PointCloud> clouds(simulated.size());
   {
     py::gil_scoped_release release;
-    const Simulator simulator(
-        part, resolved.scanner,
-        simulationOptionsFor(resolveSpec(part, resolved), plan.part_to_world));
-    for (std::size_t v = 0; v < simulated.size(); ++v)
-      clouds[v] = simulator.cloud(simulated[v], seed);
+    const ResolvedSpec placed = resolveSpec(part, resolved);
+    for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
+      const Simulator simulator(part, resolved.scanner,
+                                simulationOptionsFor(placed, orientationPlacement(plan, k)));
+      for (std::size_t v = 0; v < simulated.size(); ++v)
+        if (orientation[v] == k) clouds[v] = simulator.cloud(simulated[v], seed);
+    }
   }
   py::list result;
   for (std::size_t v = 0; v < simulated.size(); ++v)

@@ -57,11 +57,11 @@ struct SceneView {
 // The plan in one frame, the world of its first placement (Plan::part_to_world): views
 // of other rest orientations are carried into it with the part.
 struct PlanScene {
-  TriangleMesh mesh;              // the part's mesh placed in the scene, mm
-  std::vector<FaceStatus> faces;  // per face, faces[i].id == i + 1
-  std::vector<SceneView> views;   // in plan order
-  std::vector<int> path;          // indices into views, in sequence order
-  std::vector<Vec3> markers;      // in the scene frame
+  TriangleMesh mesh;                   // the part's mesh placed in the scene, mm
+  std::vector<FaceStatus> faces;       // per face, faces[i].id == i + 1
+  std::vector<SceneView> views;        // in plan order
+  std::vector<int> path;               // indices into views, in sequence order
+  std::vector<Vec3> markers;           // in the scene frame
   std::vector<Vec3> proposed_markers;  // the plan's proposal, one orientation only
   Scanner scanner;
   Box bounds;  // of the mesh, the cameras and the markers
@@ -69,12 +69,6 @@ struct PlanScene {
 
 // \throw InputError when the part does not match the plan (face count).
 PlanScene planScene(const Plan& plan, const Part& part);
-
-// Per view of `plan` (in its order), the index into Plan::orientations of the rest
-// orientation it was planned in; 0 for every view of a plan with one placement.
-std::vector<std::size_t> viewOrientations(const Plan& plan);
-// Where orientation `k` places the part (Plan::part_to_world for one placement).
-Pose orientationPlacement(const Plan& plan, std::size_t k);
 
 // A sample's state: 0 measured, 1 not measured, 2 not coverable.
 int sampleState(const PlannedSample& sample);

@@ -92,6 +92,19 @@ def test_views_round_trip_through_numpy(plan, part):
         np.testing.assert_array_equal(a["faces"], b["faces"])
 
 
+def test_every_rest_orientation_simulates_in_its_own_placement(part):
+    """Views planned in the part's other rest orientations record clouds of the part as it
+    stood for them."""
+    plan = scanplan.plan(part, {"part": {"rest": "all"}}, registration=False)
+    orientations = plan.to_json()["orientations"]
+    assert len(orientations) > 1
+    clouds = scanplan.simulate(part, plan)
+    assert all(len(c["points"]) > 0 for c in clouds)
+    # The face the part stands on at first (datum A, its flatness) is seen once turned up.
+    bottom = next(t["faces"][0] for t in part.tolerances if t["type"] == "flatness")
+    assert any(bottom in c["faces"] for c in clouds)
+
+
 def test_write_read_and_verify(plan, part, tmp_path):
     path = str(tmp_path / "plan.json")
     scanplan.write_plan(plan, path)

@@ -15,7 +15,6 @@
 #include <scanplan/localization.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/report.h>
 #include <scanplan/simulation.h>
 
 #include <Eigen/Dense>

@@ -75,4 +75,19 @@ std::size_t Plan::registeredMeasuredCount() const {
       }));
 }
 
+std::vector<std::size_t> viewOrientations(const Plan& plan) {
+  std::map<int, std::size_t> of_id;
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k)
+    for (int id : plan.orientations[k].views) of_id[id] = k;
+  std::vector<std::size_t> result(plan.views.size(), 0);
+  for (std::size_t i = 0; i < plan.views.size(); ++i)
+    if (auto it = of_id.find(plan.views[i].id); it != of_id.end()) result[i] = it->second;
+  return result;
+}
+
+Pose orientationPlacement(const Plan& plan, std::size_t k) {
+  return k < plan.orientations.size() ? plan.orientations[k].rest.part_to_world
+                                      : plan.part_to_world;
+}
+
 }  // namespace scanplan

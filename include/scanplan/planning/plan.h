@@ -166,4 +166,10 @@ std::string_view toString(Uncoverable reason);
 // outside it in plan order.
 std::vector<int> visitingOrder(const Plan& plan);
 
+// Per view of `plan` (in its order), the index into Plan::orientations of the rest
+// orientation it was planned in; 0 for every view of a plan with one placement.
+std::vector<std::size_t> viewOrientations(const Plan& plan);
+// Where orientation `k` places the part (Plan::part_to_world for one placement).
+Pose orientationPlacement(const Plan& plan, std::size_t k);
+
 }  // namespace scanplan
