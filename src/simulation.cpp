@@ -39,7 +39,6 @@ void forEach(std::size_t n, const F& f) {
   });
 }
 
-
 // The parts of the measurement test that need no ray, for one view.
 struct ViewGeometry {
   Pose world_to_camera;
@@ -477,6 +476,15 @@ std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
                                              std::span<const SurfacePoint> points) {
   if (points.empty()) return std::vector<std::vector<int>>(views.size());
   return IndexedPoints({points.begin(), points.end()}).measured(simulator, views);
+}
+
+PointQuality pointQuality(const Scanner& scanner, const View& view, const Vec3& position,
+                          const Vec3& normal) {
+  const Vec3 ray = position - view.camera();
+  const double z = ray.dot(view.axis()) / scanner.standoff;
+  const double cosine = std::max(-ray.normalized().dot(normal), 1e-3);
+  const double pitch = scanner.point_spacing * z;
+  return {scanner.noise_sigma * z * z / cosine, cosine / (pitch * pitch)};
 }
 
 }  // namespace scanplan

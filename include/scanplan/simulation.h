@@ -66,6 +66,15 @@ struct PointCloud {
   std::vector<float> incidence;  // angle between normal and camera ray, degrees
 };
 
+// What a view's camera records on the surface at a point it measures (docs/simulation.md):
+// the depth noise of its points and their density, points per mm², from the pixel grid
+// (point_spacing at the standoff) at the point's depth and incidence.
+struct PointQuality {
+  double sigma = 0, density = 0;
+};
+PointQuality pointQuality(const Scanner& scanner, const View& view, const Vec3& position,
+                          const Vec3& normal);
+
 // Owns the ray-casting scene of the part (in the world) and its fixtures, built once.
 // All queries are const and thread-safe.
 class Simulator {

@@ -12,6 +12,8 @@
 //   over the faces' extent, in degrees.
 // U is the error that 95% of the draws stay under.
 
+#include "kd_tree.h"
+
 #include <scanplan/localization.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/planner.h>
@@ -184,12 +186,9 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
     const std::vector<std::vector<int>> measured = measuredPoints(simulator, views, points);
     for (std::size_t v = 0; v < views.size(); ++v)
       for (int i : measured[v]) {
-        const Vec3 ray = points[i].position - views[v].camera();
-        const double z = ray.dot(views[v].axis()) / scanner.standoff;
-        const double cosine = std::max(-ray.normalized().dot(points[i].normal), 1e-3);
-        const double pitch = scanner.point_spacing * z;
-        patches[i].looks.push_back(
-            {scanner.noise_sigma * z * z / cosine, patches[i].area * cosine / (pitch * pitch)});
+        const PointQuality q =
+            pointQuality(scanner, views[v], points[i].position, points[i].normal);
+        patches[i].looks.push_back({q.sigma, patches[i].area * q.density});
       }
   }
 }
@@ -197,16 +196,23 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
 // The farthest a patch lies from a measured one, and the measured points' own pitch.
 double largestGap(const std::vector<const Patch*>& patches) {
   double gap = 0;
-  for (const Patch* p : patches) {
+  std::vector<Vec3> measured;
+  for (const Patch* p : patches)
     if (!p->looks.empty()) {
+      measured.push_back(p->point.position);
       gap = std::max(gap, std::sqrt(p->area / p->points()));
-      continue;
     }
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Patch* q : patches)
-      if (!q->looks.empty())
-        nearest = std::min(nearest, (q->point.position - p->point.position).norm());
-    gap = std::max(gap, nearest);
+  if (measured.size() == patches.size()) return gap;
+  if (measured.empty()) return std::numeric_limits<double>::infinity();
+  const detail::PointCloudAdaptor cloud{measured};
+  detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  for (const Patch* p : patches) {
+    if (!p->looks.empty()) continue;
+    unsigned nearest = 0;
+    double squared = 0;
+    tree.knnSearch(p->point.position.data(), 1, &nearest, &squared);
+    gap = std::max(gap, std::sqrt(squared));
   }
   return gap;
 }

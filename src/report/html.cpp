@@ -9,6 +9,7 @@
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/report.h>
+#include <scanplan/simulation.h>
 #include <scanplan/version.h>
 #include <scanplan/visibility.h>
 
@@ -75,8 +76,7 @@ json meshJson(const PlanScene& scene) {
 }
 
 // Per face, the mean density of the points its samples get (points per mm², all the views
-// measuring each sample together; an unmeasured sample counts 0): each view lays its pixel
-// grid, point_spacing at the standoff, on the surface at its distance and incidence.
+// measuring each sample together, pointQuality; an unmeasured sample counts 0).
 std::map<int, double> faceDensities(const Plan& plan, const PlanScene& scene) {
   std::map<int, const View*> views;
   for (const SceneView& v : scene.views) views[v.view.id] = &v.view;
@@ -87,9 +87,7 @@ std::map<int, double> faceDensities(const Plan& plan, const PlanScene& scene) {
     for (int id : s.measured_by) {
       const auto at = views.find(id);
       if (at == views.end()) continue;
-      const Vec3 ray = s.sample.position - at->second->camera();
-      const double pitch = scanner.point_spacing * ray.dot(at->second->axis()) / scanner.standoff;
-      density += std::max(-ray.normalized().dot(s.sample.normal), 0.0) / (pitch * pitch);
+      density += pointQuality(scanner, *at->second, s.sample.position, s.sample.normal).density;
     }
     sums[s.sample.face].first += density;
     ++sums[s.sample.face].second;
