@@ -1,6 +1,7 @@
 #pragma once
 // Files compiled into the library (cmake/Embed.cmake), so that nothing is read from the
-// source tree: the report's page and its bundled viewer, and the scanner presets.
+// source tree: the report's and the spec editor's pages with their bundled scripts, and the
+// scanner presets.
 
 #include <span>
 #include <string_view>
@@ -9,6 +10,8 @@ namespace scanplan::assets {
 
 extern const std::string_view viewer_js;
 extern const std::string_view report_html;
+extern const std::string_view editor_js;
+extern const std::string_view editor_html;
 
 struct File {
   std::string_view name, text;

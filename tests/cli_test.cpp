@@ -428,6 +428,27 @@ TEST(Cli, HelpIsExitCodeZeroAndFreeOfArtefacts) {
   }
 }
 
+// scanplan spec writes the editor; bad inputs get their exit codes and no page.
+TEST(Cli, SpecWritesTheEditorAndRefusesBadInput) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r = run("spec -q " + part + " -o " + dir.file("editor.html"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("editor.html"), std::string::npos) << r.out;
+  EXPECT_GT(std::filesystem::file_size(dir.file("editor.html")), 400000u);
+  r = run("spec -q /nonexistent/part.step -o " + dir.file("none.html"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  test::writeText(dir.file("bad.yaml"), "tasks:\n  - {type: trim, faces: [100000]}\n");
+  r = run("spec -q " + part + " --spec " + dir.file("bad.yaml") + " -o " + dir.file("none.html"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("bad.yaml"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("none.html")));
+  r = run("spec -q " + part + " --spec " + dir.file("bad.yaml") + " -o " + dir.file("bad.yaml"));
+  EXPECT_EQ(r.code, 4) << r.out;
+  r = run("spec -q " + part + " -o " + dir.file("no/such/folder/editor.html"));
+  EXPECT_EQ(r.code, 4) << r.out;
+}
+
 TEST(Cli, VersionAndScannerPresets) {
   CommandResult r = run("--version");
   EXPECT_EQ(r.code, 0);

@@ -275,6 +275,26 @@ TEST(PointSampling, PointsTakeTheirFaceAndNormal) {
   EXPECT_TRUE(bore[0].normal.isApprox(-Vec3::UnitY(), 1e-6)) << bore[0].normal.transpose();
 }
 
+// A point off the part within the tolerance becomes the point on the exact face: on the
+// bore (radius 10 about x = 50, y = 30), not on its facets, and on the top plane.
+TEST(PointSampling, PointsAreProjectedOntoTheExactFace) {
+  test::TempDir dir;
+  Part part = boxWithHole(dir);
+  test::writeText(dir.file("near.csv"), "50,39.6,20\n58.2,34.1,31\n10,10,40.3\n");
+  const std::vector<Sample> samples =
+      samplePoints(part, readPointsCsv(dir.file("near.csv")), dir.file("near.csv"));
+  ASSERT_EQ(samples.size(), 3u);
+  for (int i : {0, 1}) {
+    const Sample& s = samples[i];
+    EXPECT_EQ(part.face(s.face).type, SurfaceType::Cylinder);
+    EXPECT_NEAR(std::hypot(s.position.x() - 50, s.position.y() - 30), 10, 1e-7);
+    // Along the radius through the given point.
+    EXPECT_NEAR(std::atan2(s.position.y() - 30, s.position.x() - 50),
+                std::atan2(i == 0 ? 9.6 : 4.1, i == 0 ? 0.0 : 8.2), 1e-9);
+  }
+  EXPECT_TRUE(samples[2].position.isApprox(Vec3(10, 10, 40), 1e-12));
+}
+
 TEST(PointSampling, FarPointIsAnErrorNamingIt) {
   test::TempDir dir;
   Part part = boxWithHole(dir);

@@ -33,6 +33,9 @@ void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& select
 //                                          urscript|robot-json -o FILE
 void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
+// scanplan spec PART [--spec spec.yaml] [-o spec-editor.html]
+void addSpecCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan scanners
 void addScannersCommand(CLI::App& app, Action& selected);
 

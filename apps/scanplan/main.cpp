@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   cli::addVerifyCommand(app, global, action);
   cli::addReportCommand(app, global, action);
   cli::addExportCommand(app, global, action);
+  cli::addSpecCommand(app, global, action);
   cli::addScannersCommand(app, action);
 
   try {

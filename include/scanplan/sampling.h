@@ -61,8 +61,9 @@ std::vector<Sample> sampleBorders(const Part& part, const std::vector<int>& face
 std::vector<Sample> sampleGlobal(const Part& part, const std::vector<int>& excluded,
                                  const SamplingOptions& options = {});
 
-// User points projected onto the nearest face for their face id (and normal, when the
-// CSV gives none). \throw InputError naming `source` and the point (line) farther than
+// User points projected onto the nearest face: the sample is the point on it (on the exact
+// face of a B-Rep, else on its triangles), with its face id and, when the CSV gives none,
+// its normal there. \throw InputError naming `source` and the point (line) farther than
 // `point_tolerance` from the part.
 std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoint>& points,
                                  const std::string& source, const SamplingOptions& options = {});

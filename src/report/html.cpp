@@ -1,25 +1,19 @@
 // The HTML report: the page (web/src/report.html) with the viewer bundle (three.js and
-// web/src/viewer.js) and the plan's data inlined, so that the one file opens from disk.
-// Bulk arrays travel as base64 of little-endian typed arrays, which the page views as
-// Float32Array, Uint8Array, ... without parsing numbers.
+// web/src/viewer.js) and the plan's data inlined (report/page.h).
 
 #include "assets.h"
+#include "report/page.h"
 
 #include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/report.h>
 #include <scanplan/simulation.h>
-#include <scanplan/version.h>
 #include <scanplan/visibility.h>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstring>
-#include <ctime>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -30,50 +24,9 @@ namespace {
 
 using nlohmann::json;
 
-std::string base64(const void* data, std::size_t size) {
-  static constexpr char kDigits[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  std::string out;
-  out.reserve((size + 2) / 3 * 4);
-  for (std::size_t i = 0; i < size; i += 3) {
-    const unsigned v =
-        bytes[i] << 16 | (i + 1 < size ? bytes[i + 1] << 8 : 0) | (i + 2 < size ? bytes[i + 2] : 0);
-    out += kDigits[v >> 18 & 63];
-    out += kDigits[v >> 12 & 63];
-    out += i + 1 < size ? kDigits[v >> 6 & 63] : '=';
-    out += i + 2 < size ? kDigits[v & 63] : '=';
-  }
-  return out;
-}
-
-template <typename T>
-std::string base64(const std::vector<T>& values) {
-  static_assert(std::endian::native == std::endian::little, "typed arrays are little-endian");
-  return base64(values.data(), values.size() * sizeof(T));
-}
-
-std::vector<float> floats(const std::vector<Vec3>& points) {
-  std::vector<float> values;
-  values.reserve(points.size() * 3);
-  for (const Vec3& p : points)
-    for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>(p[k]));
-  return values;
-}
-
-json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-json meshJson(const PlanScene& scene) {
-  std::vector<std::uint32_t> indices;
-  for (const Vec3i& t : scene.mesh.triangles)
-    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<std::uint32_t>(t[k]));
-  std::vector<std::int32_t> faces(scene.mesh.triangle_faces.begin(),
-                                  scene.mesh.triangle_faces.end());
-  return {{"positions", base64(floats(scene.mesh.vertices))},
-          {"indices", base64(indices)},
-          {"faces", base64(faces)},
-          {"outlines", base64(floats(priorityOutlines(scene)))}};
-}
+using detail::base64;
+using detail::floats;
+using detail::vec;
 
 // Per face, the mean density of the points its samples get (points per mm², all the views
 // measuring each sample together, pointQuality; an unmeasured sample counts 0).
@@ -95,6 +48,12 @@ std::map<int, double> faceDensities(const Plan& plan, const PlanScene& scene) {
   std::map<int, double> result;
   for (const auto& [face, sum] : sums) result[face] = sum.first / static_cast<double>(sum.second);
   return result;
+}
+
+json meshJson(const PlanScene& scene) {
+  json mesh = detail::meshJson(scene.mesh);
+  mesh["outlines"] = base64(floats(priorityOutlines(scene)));
+  return mesh;
 }
 
 json facesJson(const Plan& plan, const PlanScene& scene, const Part& part) {
@@ -238,21 +197,6 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
   return list;
 }
 
-// What the report states at its top: the part, the spec, the version and the date.
-json headerJson(const Plan& plan, const Spec& spec) {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &utc);
-  std::error_code ec;
-  const std::filesystem::path part = std::filesystem::absolute(plan.part_file, ec);
-  return {{"part", (ec ? std::filesystem::path(plan.part_file) : part).lexically_normal().string()},
-          {"spec", spec.source},
-          {"version", version()},
-          {"date", date}};
-}
-
 }  // namespace
 
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
@@ -282,7 +226,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
                {"path", scene.path},
                {"markers", base64(floats(scene.markers))},
                {"proposed_markers", base64(floats(scene.proposed_markers))},
-               {"header", headerJson(plan, spec)},
+               {"header", detail::headerJson(plan.part_file, spec.source)},
                {"working_plane", spec.working_plane},
                {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
                {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},
@@ -298,25 +242,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
     palette[std::string(toString(s))] = colour(s);
   data["palette"] = palette;
 
-  // JSON inside <script>: "</" would end the element; "<\/" is the same JSON string.
-  std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
-    text.replace(at, 2, "<\\/");
-
-  std::string page(assets::report_html);
-  auto fill = [&](std::string_view slot, std::string_view content) {
-    const std::size_t at = page.find(slot);
-    if (at == std::string::npos) throw std::logic_error("report template without a slot");
-    page.replace(at, slot.size(), content);
-  };
-  // The same for the script: "<\/script" in its strings reads as "</script".
-  std::string viewer(assets::viewer_js);
-  for (std::size_t at = viewer.find("</script"); at != std::string::npos;
-       at = viewer.find("</script", at + 3))
-    viewer.replace(at, 2, "<\\/");
-  fill("/*@VIEWER@*/", viewer);
-  fill("/*@DATA@*/", text);
-  writeFileAtomically(path, [&](std::ostream& out) { out << page; });
+  detail::writePage(assets::report_html, assets::viewer_js, data, path);
 }
 
 }  // namespace scanplan

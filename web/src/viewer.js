@@ -2,50 +2,12 @@
 // and fills the tables. Bundled with three.js by esbuild into one script (src/CMakeLists.txt).
 
 import * as THREE from 'three';
-import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { CSS2DRenderer, CSS2DObject } from 'three/addons/renderers/CSS2DRenderer.js';
+import { $, bytes, box, createViewport, el, f32, fmt, partMesh, pct, rgb, table, u32, workingPlane } from './common.js';
 
 const data = JSON.parse(document.getElementById('scanplan-data').textContent);
 const plan = data.plan;
-
-// ---- typed arrays from base64 -------------------------------------------------------------
-function bytes(b64) {
-  const s = atob(b64 || '');
-  const out = new Uint8Array(s.length);
-  for (let i = 0; i < s.length; ++i) out[i] = s.charCodeAt(i);
-  return out;
-}
-const f32 = (b64) => new Float32Array(bytes(b64).buffer);
-const u32 = (b64) => new Uint32Array(bytes(b64).buffer);
-const i32 = (b64) => new Int32Array(bytes(b64).buffer);
-
-// ---- small DOM helpers ----------------------------------------------------------------------
-const $ = (id) => document.getElementById(id);
-function el(tag, attrs = {}, ...children) {
-  const e = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (k === 'class') e.className = v;
-    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
-    else e.setAttribute(k, v);
-  }
-  for (const c of children) e.append(c instanceof Node ? c : document.createTextNode(String(c)));
-  return e;
-}
-const fmt = (x, digits = 1) => (typeof x === 'number' ? x.toFixed(digits) : String(x ?? ''));
-const pct = (a, b) => (b > 0 ? `${((100 * a) / b).toFixed(1)} %` : '–');
-const rgb = (c) => `rgb(${c[0]},${c[1]},${c[2]})`;
 const colour3 = (c) => new THREE.Color(c[0] / 255, c[1] / 255, c[2] / 255);
-
-// A table: columns [{title, num}], rows of cells; onPick(rowIndex) makes rows clickable.
-function table(columns, rows, onPick) {
-  const head = el('tr', {}, ...columns.map((c) => el('th', c.num ? { class: 'num' } : {}, c.title)));
-  const body = rows.map((cells, i) => {
-    const tr = el('tr', onPick ? { class: 'pick', onclick: () => onPick(i) } : {},
-      ...cells.map((cell, k) => el('td', columns[k].num ? { class: 'num' } : {}, cell)));
-    return tr;
-  });
-  return el('table', {}, el('thead', {}, head), el('tbody', {}, ...body));
-}
 
 // Blue at normal incidence through green to red at 90°, as the PLY export colours it.
 function incidenceColour(degrees) {
@@ -88,47 +50,22 @@ legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#00b4f0
 
 // ---- 3D scene ---------------------------------------------------------------------------------
 const viewport = $('viewport');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio);
-renderer.setClearColor(0xeef1f4);
-viewport.append(renderer.domElement);
+const all = box(data.bounds), partBox = box(data.part_bounds);
+const radius = all.radius;
 const labels = new CSS2DRenderer();
+const { renderer, scene, camera, frameOn, resizers, start, ndc, onClick } =
+  createViewport(viewport, radius, () => labels.render(scene, camera));
 labels.domElement.style.position = 'absolute';
 labels.domElement.style.top = '0';
 labels.domElement.style.pointerEvents = 'none';
 labels.domElement.style.zIndex = '1';  // its labels stay under the legend and toggles
 viewport.append(labels.domElement);
-
-const scene = new THREE.Scene();
-// Frames a box: the part at first, the whole cell on request.
-function box(b) {
-  const min = new THREE.Vector3(...b.min), max = new THREE.Vector3(...b.max);
-  return { centre: min.clone().add(max).multiplyScalar(0.5), radius: Math.max(min.distanceTo(max) / 2, 1) };
-}
-const all = box(data.bounds), partBox = box(data.part_bounds);
-const radius = all.radius;
-const camera = new THREE.PerspectiveCamera(40, 1, radius / 1000, radius * 100);
-camera.up.set(0, 0, 1);
-const controls = new OrbitControls(camera, renderer.domElement);
-function frameOn({ centre, radius: r }) {
-  camera.position.copy(centre).add(new THREE.Vector3(0.9, -1.2, 0.9).normalize().multiplyScalar(r * 3));
-  controls.target.copy(centre);
-}
+resizers.push((w, h) => labels.setSize(w, h));
 frameOn(partBox);
-scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
-const headlight = new THREE.DirectionalLight(0xffffff, 1.4);
-camera.add(headlight);
-scene.add(camera);
 
 // The part, coloured per face by coverage.
-const positions = f32(data.mesh.positions);
-const indices = u32(data.mesh.indices);
-const triangleFaces = i32(data.mesh.faces);
-const partGeometry = new THREE.BufferGeometry();
-partGeometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-partGeometry.setIndex(new THREE.BufferAttribute(indices, 1));
-const vertexColours = new Float32Array(positions.length);
-partGeometry.setAttribute('color', new THREE.BufferAttribute(vertexColours, 3));
+const partMeshData = partMesh(data.mesh);
+const { triangleFaces, facesBox } = partMeshData;
 // Colours of the faces by the reason their samples are not measured (the commonest).
 const reasonColours = {
   occluded_by_working_plane: [140, 90, 200], occluded_by_part: [240, 140, 40], no_valid_pose: [150, 100, 60],
@@ -149,37 +86,21 @@ let highlightedFaces = new Set();
 // Colours the faces by coverage (or by reason), the `highlighted` ones (face ids) magenta.
 function paintFaces(highlighted = highlightedFaces) {
   highlightedFaces = highlighted;
-  for (let t = 0; t < triangleFaces.length; ++t) {
-    const face = data.faces[triangleFaces[t] - 1];
-    const base = colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
+  partMeshData.paint((id) => {
+    if (highlighted.has(id)) return [255, 0, 170];
+    const face = data.faces[id - 1];
+    return colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
       : colourBy === 'density' ? densityColour(face ? face.density : null)
         : data.palette[face ? face.coverage : 'not a target'];
-    const c = highlighted.has(triangleFaces[t]) ? [255, 0, 170] : base;
-    for (let k = 0; k < 3; ++k) vertexColours.set([c[0] / 255, c[1] / 255, c[2] / 255], 3 * indices[3 * t + k]);
-  }
-  partGeometry.attributes.color.needsUpdate = true;
+  });
   document.body.dataset.highlighted = String(highlighted.size);
 }
 paintFaces();
-partGeometry.computeVertexNormals();
-const part = new THREE.Mesh(partGeometry, new THREE.MeshLambertMaterial({
-  vertexColors: true, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
-}));
+const part = partMeshData.object;
 scene.add(part);
 
 // The working plane the part stands on (z = 0), when the plan's spec has one.
-if (data.working_plane) {
-  const size = 3 * partBox.radius;
-  const plane = new THREE.Mesh(new THREE.PlaneGeometry(size, size), new THREE.MeshBasicMaterial({
-    color: 0x8a96a8, transparent: true, opacity: 0.25, side: THREE.DoubleSide, depthWrite: false,
-  }));
-  plane.position.set(partBox.centre.x, partBox.centre.y, 0);
-  scene.add(plane);
-  const grid = new THREE.GridHelper(size, 12, 0x8a96a8, 0xb4bcc8);
-  grid.rotation.x = Math.PI / 2;
-  grid.position.copy(plane.position);
-  scene.add(grid);
-}
+if (data.working_plane) scene.add(workingPlane(partBox));
 
 function lines(points, colour, opacity = 1) {
   const g = new THREE.BufferGeometry();
@@ -292,22 +213,6 @@ for (const [name, object] of [['part', part], ['priority outlines', outlines], [
   $('toggles').append(el('label', {}, box, ` ${name}`));
 }
 
-function resize() {
-  const w = viewport.clientWidth, h = viewport.clientHeight;
-  renderer.setSize(w, h);
-  labels.setSize(w, h);
-  camera.aspect = w / Math.max(h, 1);
-  camera.updateProjectionMatrix();
-}
-window.addEventListener('resize', resize);
-resize();
-function frame() {
-  controls.update();
-  renderer.render(scene, camera);
-  labels.render(scene, camera);
-  requestAnimationFrame(frame);
-}
-
 // ---- selection ---------------------------------------------------------------------------------
 const viewRows = [];
 function selectView(index) {
@@ -364,12 +269,8 @@ function selectFace(id) {
 }
 
 const raycaster = new THREE.Raycaster();
-let down = null;
-renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
-renderer.domElement.addEventListener('pointerup', (e) => {
-  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
-  const r = renderer.domElement.getBoundingClientRect();
-  raycaster.setFromCamera(new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1), camera);
+onClick((e) => {
+  raycaster.setFromCamera(ndc(e), camera);
   const ball = views.visible ? raycaster.intersectObjects(cameraBalls)[0] : null;
   if (ball) return selectView(ball.object.userData.index);
   const hit = part.visible ? raycaster.intersectObject(part)[0] : null;
@@ -429,19 +330,6 @@ $('summary').append(table([{ title: 'quantity' }, { title: 'value' }], summaryRo
 }
 
 // ---- characteristics and what is missing -------------------------------------------------------
-// The box of the faces `ids`, from their triangles.
-function facesBox(ids) {
-  const min = new THREE.Vector3(Infinity, Infinity, Infinity), max = min.clone().negate(), p = new THREE.Vector3();
-  for (let t = 0; t < triangleFaces.length; ++t) {
-    if (!ids.has(triangleFaces[t])) continue;
-    for (let k = 0; k < 3; ++k) {
-      p.fromArray(positions, 3 * indices[3 * t + k]);
-      min.min(p); max.max(p);
-    }
-  }
-  return { centre: min.clone().add(max).multiplyScalar(0.5), radius: Math.max(min.distanceTo(max) / 2, partBox.radius / 10) };
-}
-
 const characteristics = plan.characteristics || [];
 const characteristicRows = [];
 function selectCharacteristic(index) {
@@ -506,7 +394,7 @@ if (characteristics.length === 0) {
       { title: 'samples unmeasured', num: true }, { title: 'area mm²', num: true }],
     missing.map((f) => [f.reason ? f.reason.replaceAll('_', ' ') : 'not measured by the views chosen', f.id, f.type,
       `${f.samples - f.measured} of ${f.samples}`, fmt(f.area)]),
-    (i) => { const f = missing[i]; paintFaces(new Set([f.id])); frameOn(facesBox(new Set([f.id]))); selectFace(f.id); })));
+    (i) => { const f = missing[i]; paintFaces(new Set([f.id])); frameOn(facesBox(new Set([f.id]), partBox.radius / 10)); selectFace(f.id); })));
   }
 }
 
@@ -576,5 +464,5 @@ if (data.clusters.length === 0) {
   showCluster(0);
 }
 
-frame();
+start();
 requestAnimationFrame(() => { document.body.dataset.ready = '1'; });

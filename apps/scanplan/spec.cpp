@@ -1,0 +1,52 @@
+// scanplan spec: the inspection-spec editor of a part, a page to open in a browser.
+
+#include "commands.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/report.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace scanplan::cli {
+namespace {
+
+struct SpecCommand {
+  std::string part;
+  std::string spec;
+  std::string out = "spec-editor.html";
+};
+
+int run(const SpecCommand& options, const GlobalOptions& global) {
+  std::error_code ec;
+  for (const std::string& in : {options.part, options.spec})
+    if (!in.empty() && std::filesystem::equivalent(in, options.out, ec))
+      throw OutputError(options.out,
+                        "is an input of this command (" + in + "): choose another output");
+  const Part part = importPart(options.part, {}, terminalProgress(global.quiet));
+  writeSpecEditor(part, options.spec, options.out);
+  clearProgress();
+  fmt::print("editor     {}\n", options.out);
+  return kExitOk;
+}
+
+}  // namespace
+
+void addSpecCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<SpecCommand>();
+  CLI::App* command = app.add_subcommand(
+      "spec",
+      "Write the inspection-spec editor of a part: pick faces, tasks and control points "
+      "in a browser, download spec.yaml and points.csv");
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--spec", options->spec, "Inspection spec (YAML) to start from");
+  command->add_option("-o,--out", options->out, "HTML file (default: spec-editor.html)");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

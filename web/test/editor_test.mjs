@@ -1,0 +1,174 @@
+// Drives the spec editor in headless Chromium (Debian's /usr/bin/chromium, driven by
+// playwright-core) as an engineer would, and checks that the command line takes what it
+// downloads.
+//
+//   node web/test/editor_test.mjs SCANPLAN PART OUTDIR [SCREENSHOT.png]
+//
+// 1. `scanplan spec PART` writes the editor; it opens without console errors or network.
+// 2. Two faces clicked go to a trim task, a characteristic picked goes to a gdt task, two
+//    control points are clicked onto the part (one on a cylinder, snapped onto it exactly).
+// 3. spec.yaml and points.csv are downloaded, and `scanplan plan` plans them: its trim and
+//    gdt samples lie on exactly those faces, and each point lies on the part within 0.01 mm
+//    (the distance to where the plan projects it onto the exact face).
+// 4. An existing spec loaded and downloaded unchanged is written to OUTDIR/roundtrip.yaml
+//    (tests/editor_browser_test.sh compares it with the original).
+// Exits 0 when every check passes, 1 otherwise, printing each check.
+
+import { chromium } from 'playwright-core';
+import { execFileSync } from 'node:child_process';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const [scanplan, part, out, screenshot] = process.argv.slice(2);
+if (!scanplan || !part || !out) {
+  console.error('usage: node editor_test.mjs SCANPLAN PART OUTDIR [SCREENSHOT.png]');
+  process.exit(2);
+}
+const failures = [];
+const check = (ok, what) => {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures.push(what);
+};
+const run = (...args) => execFileSync(scanplan, ['-q', ...args], { encoding: 'utf8' });
+
+// Opens `page` on `file` and waits until it is ready; returns the console errors seen.
+async function open(page, file) {
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:') && !r.url().startsWith('blob:')) errors.push(`request ${r.url()}`); });
+  await page.goto(pathToFileURL(file).href);
+  await page.waitForSelector('body[data-ready="1"]', { state: 'attached', timeout: 60000 });
+  await page.waitForTimeout(300);
+  return errors;
+}
+async function saveDownload(page, button, path) {
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click(button)]);
+  await download.saveAs(path);
+  return readFileSync(path, 'utf8');
+}
+// Clicks a visible point of face `id`; false when none is visible.
+async function clickFace(page, id, modifiers = []) {
+  const at = await page.evaluate((f) => window.scanplanEditor.pointOnFace(f), id);
+  if (!at) return false;
+  await page.mouse.move(at.x, at.y);
+  for (const m of modifiers) await page.keyboard.down(m);
+  await page.mouse.down();
+  await page.mouse.up();
+  for (const m of modifiers) await page.keyboard.up(m);
+  await page.waitForTimeout(50);
+  return true;
+}
+const dataOf = (page) => page.evaluate(() => JSON.parse(document.getElementById('scanplan-data').textContent));
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+});
+try {
+  const editor = join(out, 'spec-editor.html');
+  run('spec', part, '-o', editor);
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
+  const errors = await open(page, editor);
+  const data = await dataOf(page);
+
+  // Two faces, one clicked and one shift-clicked, to a new trim task: planes seen from the
+  // default camera.
+  const visible = [];
+  for (const f of data.faces) {
+    if (visible.length < 2 && f.type === 'Plane' && (await page.evaluate((id) => window.scanplanEditor.pointOnFace(id), f.id))) visible.push(f.id);
+  }
+  await clickFace(page, visible[0]);
+  await clickFace(page, visible[1], ['Shift']);
+  check(await page.evaluate(() => document.body.dataset.selected) === '2', `click and shift-click select faces ${visible.join(', ')}`);
+  await page.selectOption('#task-target', 'new-trim');
+  const hover = await page.textContent('#hover');
+  check(hover.startsWith(`face ${visible[1]} `), `hovering a face names it: ${hover}`);
+  await page.click('#assign-task');
+
+  // Shift-drag a box around the whole part: every face falls inside it.
+  await page.click('#frame');
+  await page.waitForTimeout(200);
+  const frame = await page.evaluate(() => { const r = document.querySelector('#viewport canvas').getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; });
+  await page.click('#clear-selection');
+  await page.keyboard.down('Shift');
+  await page.mouse.move(frame[0] + 5, frame[1] + 5);
+  await page.mouse.down();
+  await page.mouse.move(frame[2] - 5, frame[3] - 5, { steps: 5 });
+  await page.mouse.up();
+  await page.keyboard.up('Shift');
+  const boxed = await page.evaluate(() => document.body.dataset.selected);
+  check(boxed === String(data.faces.length), `a box around the part selects its ${boxed} faces (it has ${data.faces.length})`);
+  await page.click('#clear-selection');
+
+  // A characteristic's faces to a new gdt task.
+  const characteristic = data.characteristics.find((c) => c.faces.length > 0);
+  await page.click(`#characteristics tbody tr:nth-child(${data.characteristics.indexOf(characteristic) + 1})`);
+  check(await page.evaluate(() => document.body.dataset.selected) === String(characteristic.faces.length),
+    `picking characteristic ${characteristic.id} (${characteristic.kind}) selects its ${characteristic.faces.length} faces`);
+  await page.selectOption('#task-target', 'new-gdt');
+  await page.click('#assign-task');
+
+  // Two control points: one on a plane, one on a cylinder (its mesh is off by up to the
+  // chordal tolerance; the page snaps it onto the exact cylinder).
+  await page.click('#pick-points');
+  const onScreen = async (type, least) => {
+    for (const f of data.faces)
+      if (f.type === type && f.area > least && (await page.evaluate((id) => window.scanplanEditor.pointOnFace(id), f.id))) return f.id;
+    return 0;
+  };
+  const pointFaces = [await onScreen('Plane', 0), await onScreen('Cylinder', 500)];
+  for (const id of pointFaces) check(id > 0 && (await clickFace(page, id)), `a point clicked on face ${id}`);
+  await page.click('#pick-points');
+  check(await page.evaluate(() => document.body.dataset.points) === '2', `two control points added (faces ${pointFaces.join(' and ')})`);
+  const issues = await page.textContent('#issues');
+  check(await page.evaluate(() => document.body.dataset.issues) === '0', `the page finds the spec complete: ${issues}`);
+
+  const spec = await saveDownload(page, '#download-spec', join(out, 'spec.yaml'));
+  const csv = await saveDownload(page, '#download-points', join(out, 'points.csv'));
+  check(errors.length === 0, `no console errors or network requests${errors.length ? `: ${errors.join(' | ')}` : ''}`);
+  if (screenshot) {  // the whole part with its tasks and points, nothing selected
+    await page.click('#clear-selection');
+    await page.click('#frame');
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: screenshot });
+  }
+
+  // The command line plans the downloaded spec.
+  run('plan', part, '--spec', join(out, 'spec.yaml'), '-o', join(out, 'plan'), '--no-registration', '--no-report');
+  const plan = JSON.parse(readFileSync(join(out, 'plan', 'plan.json'), 'utf8'));
+  const facesOf = (task) => [...new Set(plan.samples.filter((s) => s.task === task).map((s) => s.face))].sort((a, b) => a - b).join(',');
+  check(facesOf('trim') === [...visible].sort((a, b) => a - b).join(','), `the plan's trim task is on faces ${facesOf('trim')}: ${visible.join(', ')} clicked`);
+  check(facesOf('gdt') === characteristic.faces.join(','), `the plan's gdt task is on faces ${facesOf('gdt')}: the characteristic's ${characteristic.faces.join(', ')}`);
+  const points = csv.trim().split('\n').slice(1).map((line) => line.split(',').map(Number));
+  const planned = plan.samples.filter((s) => s.task === 'points');
+  // The plan's samples are in the world, where part_to_world puts the part.
+  const m = plan.part.part_to_world;
+  const world = (p) => [0, 1, 2].map((r) => m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]);
+  const gaps = points.map((p, i) => Math.hypot(...planned[i].position.map((x, k) => x - world(p)[k])));
+  check(planned.length === 2 && gaps.every((d) => d <= 0.01) && planned.every((s, i) => s.face === pointFaces[i]),
+    `the control points lie on the part: ${gaps.map((d) => d.toExponential(1)).join(', ')} mm from the exact faces (at most 0.01), ` +
+    `on faces ${planned.map((s) => s.face).join(', ')}`);
+  check(/faces:/.test(spec) && /type: trim/.test(spec) && /type: gdt/.test(spec) && /file: points.csv/.test(spec), 'spec.yaml lists the tasks');
+
+  // An existing spec, loaded and downloaded unchanged.
+  const given = join(out, 'given.yaml');
+  if (existsGiven()) {
+    run('spec', part, '--spec', given, '-o', join(out, 'given-editor.html'));
+    const second = await browser.newPage({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
+    const secondErrors = await open(second, join(out, 'given-editor.html'));
+    await saveDownload(second, '#download-spec', join(out, 'roundtrip.yaml'));
+    await saveDownload(second, '#download-points', join(out, 'points.csv'));
+    check(secondErrors.length === 0, `the editor of an existing spec opens without errors${secondErrors.join(' | ')}`);
+  }
+  function existsGiven() {
+    try { readFileSync(given); return true; } catch { return false; }
+  }
+} catch (e) {
+  check(false, String(e.stack || e));
+} finally {
+  await browser.close();
+}
+writeFileSync(join(out, 'editor-test.log'), failures.join('\n'));
+process.exit(failures.length === 0 ? 0 : 1);
