@@ -60,6 +60,42 @@ async function clickFace(page, id, modifiers = []) {
   await page.waitForTimeout(50);
   return true;
 }
+// On an editor open on a spec: an empty task is flagged and blocks the download; a face
+// made a fixture, and the settings changed, reach the spec, which `scanplan sample` reads.
+async function editSettings(page, data) {
+  await page.click('#clear-selection');
+  await page.selectOption('#new-task-type', 'surface');
+  await page.click('#add-task');
+  const flagged = await page.evaluate(() => ({
+    issues: document.body.dataset.issues, text: document.getElementById('issues').textContent,
+    disabled: document.getElementById('download-spec').disabled,
+  }));
+  check(flagged.issues === '1' && flagged.disabled && /task \d+ \(surface\) has no target faces: list them/.test(flagged.text),
+    `an empty surface task is flagged and blocks the download: ${flagged.text}`);
+  await page.click('#tasks tbody tr:last-child button:has-text("remove")');
+  check(await page.evaluate(() => document.body.dataset.issues) === '0', 'removing it clears the flag');
+
+  let fixture = 0, at = null;
+  for (const f of data.faces) {
+    if (at || f.id <= 2) continue;
+    at = await page.evaluate((id) => window.scanplanEditor.pointOnFace(id), f.id);
+    fixture = f.id;
+  }
+  await page.mouse.click(at.x, at.y);
+  await page.click('#role-fixture');
+  await page.selectOption('#scanner', 'generic-structured-light');
+  await page.selectOption('#rest', 'rest-1');
+  await page.selectOption('#gdt', 'all');
+  await page.fill('#marker-grid', '30');
+  await page.dispatchEvent('#marker-grid', 'change');
+  const text = await saveDownload(page, '#download-spec', join(out, 'settings.yaml'));
+  const rest = data.rests[1];
+  const expected = ['scanner: generic-structured-light', 'gdt: all', 'grid: 30', rest.face ? `rest: ${rest.face}` : 'rest:'];
+  check(expected.every((line) => text.includes(line)) && new RegExp(`fixture: \\[[^\\]]*\\b${fixture}\\b`).test(text),
+    `the settings and fixture face ${fixture} reach the spec (${expected.join('; ')})`);
+  const sampled = run('sample', part, '--spec', join(out, 'settings.yaml'));
+  check(/samples/.test(sampled), 'scanplan sample reads the edited spec');
+}
 const dataOf = (page) => page.evaluate(() => JSON.parse(document.getElementById('scanplan-data').textContent));
 
 const browser = await chromium.launch({
@@ -152,6 +188,8 @@ try {
     `on faces ${planned.map((s) => s.face).join(', ')}`);
   check(/faces:/.test(spec) && /type: trim/.test(spec) && /type: gdt/.test(spec) && /file: points.csv/.test(spec), 'spec.yaml lists the tasks');
 
+  await page.close();  // its drawing would slow the next page's
+
   // An existing spec, loaded and downloaded unchanged.
   const given = join(out, 'given.yaml');
   if (existsGiven()) {
@@ -160,7 +198,8 @@ try {
     const secondErrors = await open(second, join(out, 'given-editor.html'));
     await saveDownload(second, '#download-spec', join(out, 'roundtrip.yaml'));
     await saveDownload(second, '#download-points', join(out, 'points.csv'));
-    check(secondErrors.length === 0, `the editor of an existing spec opens without errors${secondErrors.join(' | ')}`);
+    await editSettings(second, data);
+    check(secondErrors.length === 0, `the editor of an existing spec runs without errors${secondErrors.join(' | ')}`);
   }
   function existsGiven() {
     try { readFileSync(given); return true; } catch { return false; }
