@@ -2,7 +2,8 @@
 # The spec editor in headless Chromium on the bundled example (NIST CTC 01):
 # web/test/editor_test.mjs drives it as an engineer would and plans what it downloads; then
 # a spec loaded into the editor and downloaded unchanged reads as the same spec
-# (tests/spec_equivalent.py).
+# (tests/spec_equivalent.py). Last, the page's spec writer alone on a cube with named faces
+# (web/test/spec_yaml_test.mjs).
 #   tests/editor_browser_test.sh SCANPLAN_EXE PART [SCREENSHOT.png]
 set -euo pipefail
 scanplan=$1
@@ -39,3 +40,5 @@ printf 'x,y,z,nx,ny,nz\n-358.021981,166.590179,0,0,0,1\n-252.101466,189.343308,-
   > "$out/given-points.csv"
 node "$here/../web/test/editor_test.mjs" "$scanplan" "$part" "$out" $screenshot
 python3 "$here/spec_equivalent.py" "$out/given.yaml" "$out/roundtrip.yaml"
+mkdir "$out/writer"
+node "$here/../web/test/spec_yaml_test.mjs" "$scanplan" "$out/writer"
