@@ -1,17 +1,24 @@
 #!/usr/bin/env bash
-# The spec editor in headless Chromium on the bundled example (NIST CTC 01):
-# web/test/editor_test.mjs drives it as an engineer would and plans what it downloads; then
-# a spec loaded into the editor and downloaded unchanged reads as the same spec
-# (tests/spec_equivalent.py). Last, the page's spec writer alone on a cube with named faces
-# (web/test/spec_yaml_test.mjs).
-#   tests/editor_browser_test.sh SCANPLAN_EXE PART [SCREENSHOT.png]
+# The spec editor in headless Chromium on the bundled example (NIST CTC 01), driven by
+# web/test/editor_test.mjs as an engineer would.
+#   tests/editor_browser_test.sh new SCANPLAN_EXE PART [SCREENSHOT.png]
+#     a new spec: faces, a characteristic and points picked, and what is downloaded planned;
+#   tests/editor_browser_test.sh given SCANPLAN_EXE PART
+#     a spec loaded and downloaded unchanged reads as the same spec
+#     (tests/spec_equivalent.py), then edited; last, the page's spec writer alone on a cube
+#     with named faces (web/test/spec_yaml_test.mjs).
 set -euo pipefail
-scanplan=$1
-part=$2
-screenshot=${3:-}
+mode=$1
+scanplan=$2
+part=$3
+screenshot=${4:-}
 here=$(dirname "$0")
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+if [ "$mode" = new ]; then
+  node "$here/../web/test/editor_test.mjs" new "$scanplan" "$part" "$out" $screenshot
+  exit
+fi
 # Every section the editor shows, and some it only keeps; faces by id, sorted.
 cat > "$out/given.yaml" <<'YAML'
 scanner: laser-line
@@ -38,7 +45,7 @@ tasks:
 YAML
 printf 'x,y,z,nx,ny,nz\n-358.021981,166.590179,0,0,0,1\n-252.101466,189.343308,-33.333329\n' \
   > "$out/given-points.csv"
-node "$here/../web/test/editor_test.mjs" "$scanplan" "$part" "$out" $screenshot
+node "$here/../web/test/editor_test.mjs" given "$scanplan" "$part" "$out"
 python3 "$here/spec_equivalent.py" "$out/given.yaml" "$out/roundtrip.yaml"
 mkdir "$out/writer"
 node "$here/../web/test/spec_yaml_test.mjs" "$scanplan" "$out/writer"

@@ -46,7 +46,8 @@ export function box(b) {
 }
 
 // The 3D viewport in the element `viewport`: renderer, camera orbiting a scene of `radius`
-// (mm), lights, and frameOn({centre, radius}). `render()` is called each frame.
+// (mm), lights, and frameOn({centre, radius}). `render()` is called after each drawing;
+// redraw() asks for one where the scene changes without input.
 export function createViewport(viewport, radius, render = () => {}) {
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio);
@@ -60,10 +61,18 @@ export function createViewport(viewport, radius, render = () => {}) {
   const headlight = new THREE.DirectionalLight(0xffffff, 1.4);
   camera.add(headlight);
   scene.add(camera);
+  // Drawn on demand: when the camera moves, the viewport is resized, or after any input on
+  // the page (every change to the scene follows one), so that an idle page costs nothing.
+  let stale = true;
+  const redraw = () => { stale = true; };
   function frameOn({ centre, radius: r }) {
     camera.position.copy(centre).add(new THREE.Vector3(0.9, -1.2, 0.9).normalize().multiplyScalar(r * 3));
     controls.target.copy(centre);
+    stale = true;
   }
+  controls.addEventListener('change', redraw);
+  for (const type of ['pointerdown', 'pointerup', 'click', 'change', 'input', 'keydown', 'keyup', 'wheel'])
+    window.addEventListener(type, redraw, true);
   const resizers = [];
   function resize() {
     const w = viewport.clientWidth, h = viewport.clientHeight;
@@ -71,14 +80,18 @@ export function createViewport(viewport, radius, render = () => {}) {
     for (const r of resizers) r(w, h);
     camera.aspect = w / Math.max(h, 1);
     camera.updateProjectionMatrix();
+    redraw();
   }
   window.addEventListener('resize', resize);
   function start() {
     resize();
     const frame = () => {
-      controls.update();
-      renderer.render(scene, camera);
-      render();
+      if (stale) {
+        stale = false;
+        controls.update();
+        renderer.render(scene, camera);
+        render();
+      }
       requestAnimationFrame(frame);
     };
     frame();
@@ -96,7 +109,7 @@ export function createViewport(viewport, radius, render = () => {}) {
       if (down && Math.hypot(e.clientX - down[0], e.clientY - down[1]) <= 4) handler(e);
     });
   }
-  return { renderer, scene, camera, controls, frameOn, resizers, start, ndc, onClick };
+  return { renderer, scene, camera, controls, frameOn, resizers, start, ndc, onClick, redraw };
 }
 
 // The part's mesh as the page carries it ({positions, indices, faces} in base64): a mesh

@@ -2,27 +2,29 @@
 // playwright-core) as an engineer would, and checks that the command line takes what it
 // downloads.
 //
-//   node web/test/editor_test.mjs SCANPLAN PART OUTDIR [SCREENSHOT.png]
+//   node web/test/editor_test.mjs new|given SCANPLAN PART OUTDIR [SCREENSHOT.png]
 //
+// new:
 // 1. `scanplan spec PART` writes the editor; it opens without console errors or network.
 // 2. Two faces clicked go to a trim task, a characteristic picked goes to a gdt task, two
 //    control points are clicked onto the part (one on a cylinder, snapped onto it exactly).
 // 3. spec.yaml and points.csv are downloaded, and `scanplan plan` plans them: its trim and
 //    gdt samples lie on exactly those faces, and each point lies on the part within 0.01 mm
 //    (the distance to where the plan projects it onto the exact face).
-// 4. An existing spec loaded and downloaded unchanged is written to OUTDIR/roundtrip.yaml
-//    (tests/editor_browser_test.sh compares it with the original).
+// given: the editor of OUTDIR/given.yaml; the spec downloaded unchanged is written to
+// OUTDIR/roundtrip.yaml (tests/editor_browser_test.sh compares it with the original), then
+// the page is edited (editSettings).
 // Exits 0 when every check passes, 1 otherwise, printing each check.
 
 import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
-import { readFileSync, writeFileSync } from 'node:fs';
+import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { pathToFileURL } from 'node:url';
 
-const [scanplan, part, out, screenshot] = process.argv.slice(2);
-if (!scanplan || !part || !out) {
-  console.error('usage: node editor_test.mjs SCANPLAN PART OUTDIR [SCREENSHOT.png]');
+const [mode, scanplan, part, out, screenshot] = process.argv.slice(2);
+if (!['new', 'given'].includes(mode) || !scanplan || !part || !out) {
+  console.error('usage: node editor_test.mjs new|given SCANPLAN PART OUTDIR [SCREENSHOT.png]');
   process.exit(2);
 }
 const failures = [];
@@ -102,7 +104,7 @@ const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
 });
-try {
+async function newSpec() {
   const editor = join(out, 'spec-editor.html');
   run('spec', part, '-o', editor);
   const page = await browser.newPage({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
@@ -188,26 +190,25 @@ try {
     `on faces ${planned.map((s) => s.face).join(', ')}`);
   check(/faces:/.test(spec) && /type: trim/.test(spec) && /type: gdt/.test(spec) && /file: points.csv/.test(spec), 'spec.yaml lists the tasks');
 
-  await page.close();  // its drawing would slow the next page's
+}
 
-  // An existing spec, loaded and downloaded unchanged.
-  const given = join(out, 'given.yaml');
-  if (existsGiven()) {
-    run('spec', part, '--spec', given, '-o', join(out, 'given-editor.html'));
-    const second = await browser.newPage({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
-    const secondErrors = await open(second, join(out, 'given-editor.html'));
-    await saveDownload(second, '#download-spec', join(out, 'roundtrip.yaml'));
-    await saveDownload(second, '#download-points', join(out, 'points.csv'));
-    await editSettings(second, data);
-    check(secondErrors.length === 0, `the editor of an existing spec runs without errors${secondErrors.join(' | ')}`);
-  }
-  function existsGiven() {
-    try { readFileSync(given); return true; } catch { return false; }
-  }
+// An existing spec, loaded and downloaded unchanged, then edited.
+async function givenSpec() {
+  run('spec', part, '--spec', join(out, 'given.yaml'), '-o', join(out, 'given-editor.html'));
+  const page = await browser.newPage({ viewport: { width: 1400, height: 900 }, acceptDownloads: true });
+  const errors = await open(page, join(out, 'given-editor.html'));
+  await saveDownload(page, '#download-spec', join(out, 'roundtrip.yaml'));
+  await saveDownload(page, '#download-points', join(out, 'points.csv'));
+  await editSettings(page, await dataOf(page));
+  check(errors.length === 0, `the editor of an existing spec runs without errors${errors.length ? `: ${errors.join(' | ')}` : ''}`);
+}
+
+try {
+  if (mode === 'new') await newSpec();
+  else await givenSpec();
 } catch (e) {
   check(false, String(e.stack || e));
 } finally {
   await browser.close();
 }
-writeFileSync(join(out, 'editor-test.log'), failures.join('\n'));
 process.exit(failures.length === 0 ? 0 : 1);
