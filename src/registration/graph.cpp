@@ -1,6 +1,7 @@
 // The registration graph: pair checks, a spanning tree of verified pairs, bridging views.
 
 #include "kd_tree.h"
+#include "registration/icp.h"
 #include "registration/overlaps.h"
 
 #include <scanplan/errors.h>
@@ -87,7 +88,7 @@ using detail::Observation;
 // cloud is simulated twice, and no pair (a bridging candidate tried again) registered twice.
 struct IcpMemo {
   using Key = std::pair<int, std::array<double, 12>>;
-  std::map<Key, std::shared_ptr<const IcpCloud>> clouds;
+  std::map<Key, std::shared_ptr<const detail::IndexedCloud>> clouds;
   std::map<std::pair<Key, Key>, IcpCheck> checks;
 
   static Key key(const View& view) {
@@ -501,17 +502,18 @@ class Graph {
         if (!memo_->clouds.count(IcpMemo::key(views_[v])) &&
             std::find(views.begin(), views.end(), v) == views.end())
           views.push_back(v);
-    std::vector<std::shared_ptr<const IcpCloud>> clouds(views.size());
+    std::vector<std::shared_ptr<const detail::IndexedCloud>> clouds(views.size());
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t k) {
-      clouds[k] = std::make_shared<const IcpCloud>(icpCloud(simulator_, views_[views[k]], options_));
+      clouds[k] = std::make_shared<const detail::IndexedCloud>(
+          icpCloud(simulator_, views_[views[k]], options_));
     });
     for (std::size_t k = 0; k < views.size(); ++k)
       memo_->clouds[IcpMemo::key(views_[views[k]])] = clouds[k];
     report(progress_, "registration: ICP of " + std::to_string(fresh.size()) + " view pairs", 0);
     tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t k) {
       const auto [fixed, moved] = key(fresh[k]);
-      pairs_[fresh[k]].icp =
-          checkIcp(simulator_, *memo_->clouds.at(fixed), *memo_->clouds.at(moved), options_);
+      pairs_[fresh[k]].icp = detail::checkIcp(simulator_, *memo_->clouds.at(fixed),
+                                              memo_->clouds.at(moved)->cloud, options_);
     });
     for (std::size_t p : fresh) memo_->checks[key(p)] = *pairs_[p].icp;
   }

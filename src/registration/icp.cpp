@@ -1,11 +1,11 @@
 // Verification of a registration pair by real ICP (Open3D) between simulated clouds.
 
-#include <scanplan/registration.h>
+#include "registration/icp.h"
 
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/pipelines/registration/Registration.h>
-#include <open3d/pipelines/registration/TransformationEstimation.h>
 #include <open3d/pipelines/registration/RobustKernel.h>
+#include <open3d/pipelines/registration/TransformationEstimation.h>
 
 #include <omp.h>
 
@@ -25,6 +25,9 @@ constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not register
 // next to an edge is often matched to the face across it, and those pairs, left at full
 // weight, bias the result by more than the tolerance.
 constexpr double kTukey = 0.2;
+
+// The coarse stages, which only bring the moved cloud near, run on every fourth point of it.
+constexpr std::size_t kCoarseStride = 4;
 
 // A rigid motion of `distance` mm in a random direction and `angle` degrees about a random
 // axis through `centre`.
@@ -66,9 +69,83 @@ std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>&
 // each keeps its own sums on the thread that runs it, and gives the same result every run.
 void oneThread() { omp_set_num_threads(1); }
 
+// The nearest point within a distance: a nanoflann result set that prunes the search
+// by the best distance found so far, starting from the limit.
+struct NearestWithin {
+  double best;  // squared
+  unsigned index = 0;
+  bool found = false;
+  std::size_t size() const { return found ? 1 : 0; }
+  bool full() const { return true; }
+  bool addPoint(double squared, unsigned i) {
+    if (squared < best) {
+      best = squared;
+      index = i;
+      found = true;
+    }
+    return true;
+  }
+  double worstDist() const { return best; }
+};
+
+// Each source point's nearest fixed point within `distance`; the result's fitness and
+// inlier RMSE as Open3D computes them.
+registration::RegistrationResult match(const detail::IndexedCloud& fixed,
+                                       const open3d::geometry::PointCloud& source,
+                                       double distance) {
+  registration::RegistrationResult result;
+  double squares = 0;
+  for (std::size_t i = 0; i < source.points_.size(); ++i) {
+    NearestWithin nearest{distance * distance};
+    fixed.tree.findNeighbors(nearest, source.points_[i].data(), nanoflann::SearchParams());
+    if (!nearest.found) continue;
+    result.correspondence_set_.emplace_back(static_cast<int>(i), static_cast<int>(nearest.index));
+    squares += nearest.best;
+  }
+  const std::size_t n = result.correspondence_set_.size();
+  result.fitness_ = static_cast<double>(n) / static_cast<double>(source.points_.size());
+  result.inlier_rmse_ = n ? std::sqrt(squares / static_cast<double>(n)) : 0;
+  return result;
+}
+
+// Open3D's RegistrationICP, point to plane with Tukey's weights, at most 30 iterations,
+// stopping when fitness and RMSE change by less than 1e-6; but against the fixed cloud's
+// tree made once, instead of again at every call. `source` is moved along, and the motion
+// is added to `transformation`.
+registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
+                                     const open3d::geometry::PointCloud& target,
+                                     open3d::geometry::PointCloud& source, double distance,
+                                     Eigen::Matrix4d& transformation) {
+  const registration::TransformationEstimationPointToPlane estimation(
+      std::make_shared<registration::TukeyLoss>(kTukey * distance));
+  registration::RegistrationResult result = match(fixed, source, distance);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    const Eigen::Matrix4d update =
+        estimation.ComputeTransformation(source, target, result.correspondence_set_);
+    transformation = update * transformation;
+    source.Transform(update);
+    const registration::RegistrationResult before = std::move(result);
+    result = match(fixed, source, distance);
+    if (std::abs(before.fitness_ - result.fitness_) < 1e-6 &&
+        std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-6)
+      break;
+  }
+  return result;
+}
+
 }  // namespace
 
-IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options) {
+namespace detail {
+
+IndexedCloud::IndexedCloud(IcpCloud made)
+    : cloud(std::move(made)), tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+  tree.buildIndex();
+}
+
+}  // namespace detail
+
+IcpCloud icpCloud(const Simulator& simulator, const View& view,
+                  const RegistrationOptions& options) {
   const double spacing = cloudSpacing(simulator, options);
   IcpCloud cloud;
   cloud.id = view.id;
@@ -80,13 +157,19 @@ IcpCloud icpCloud(const Simulator& simulator, const View& view, const Registrati
 
 IcpCheck checkIcp(const Simulator& simulator, const View& fixed, const View& moved,
                   const RegistrationOptions& options) {
-  return checkIcp(simulator, icpCloud(simulator, fixed, options), icpCloud(simulator, moved, options),
-                  options);
+  return checkIcp(simulator, icpCloud(simulator, fixed, options),
+                  icpCloud(simulator, moved, options), options);
 }
 
 IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCloud& moved,
                   const RegistrationOptions& options) {
+  return detail::checkIcp(simulator, detail::IndexedCloud(fixed), moved, options);
+}
+
+IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexed,
+                          const IcpCloud& moved, const RegistrationOptions& options) {
   oneThread();
+  const IcpCloud& fixed = indexed.cloud;
   const Scanner& scanner = simulator.scanner();
   const double spacing = cloudSpacing(simulator, options);
   IcpCheck check;
@@ -119,14 +202,14 @@ IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCl
   const double fine = 1.5 * spacing + 3 * scanner.noise_sigma;
   Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
   registration::RegistrationResult result;
-  for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine, fine}) {
-    result = registration::RegistrationICP(source, target, distance, estimate,
-                                           registration::TransformationEstimationPointToPlane(
-                                               std::make_shared<registration::TukeyLoss>(
-                                                   kTukey * distance)),
-                                           registration::ICPConvergenceCriteria(1e-6, 1e-6, 30));
-    estimate = result.transformation_;
-  }
+  open3d::geometry::PointCloud coarse;
+  for (std::size_t i = 0; i < source.points_.size(); i += kCoarseStride)
+    coarse.points_.push_back(source.points_[i]);
+  for (const double distance : {2 * largest, std::max(largest, 2 * fine)})
+    icp(indexed, target, coarse, distance, estimate);
+  source.Transform(estimate);
+  for (const double distance : {2 * fine, fine})
+    result = icp(indexed, target, source, distance, estimate);
   // Where the registered cloud ends up against where it belongs.
   const Pose residual(estimate * start);
   double squares = 0, largest_error = 0;
