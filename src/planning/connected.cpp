@@ -5,8 +5,11 @@
 #include "planning/stages.h"
 #include "registration/overlaps.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <map>
+#include <mutex>
 #include <optional>
 
 namespace scanplan::detail {
@@ -35,29 +38,85 @@ using Gain = std::pair<int, int>;
 // share, and confirmed by the registration's own pair test (registration/overlaps.h)
 // before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
 // rule one out.
+// The condition number of the samples' ICP constraints, each by the area it stands for.
+double condition(const Placement& at, const std::vector<PlannedSample>& samples,
+                 const std::vector<int>& measured) {
+  std::vector<Vec3> p, n;
+  std::vector<double> w;
+  for (int i : measured) {
+    p.push_back(at.points[i].position);
+    n.push_back(at.points[i].normal);
+    w.push_back(samples[i].sample.weight);
+  }
+  return icpCondition(p, n, w);
+}
+
+// What every run of the cover reads: the pair test, the poses by sample and by marker, the
+// poses something could register to, and what poses measure as the pair test sees it,
+// observed once each, by whichever run asks first (runs go in parallel).
+class CoverContext {
+ public:
+  CoverContext(const Placement& placement, const MeasuredViews& poses,
+               const std::vector<PlannedSample>& planned, const std::vector<Marker>& markers)
+      : at(placement),
+        pool(poses),
+        samples(planned),
+        options(registrationOptions(placement.spec.spec)),
+        overlaps(at.simulator, options, markers) {
+    by_sample.resize(samples.size());
+    for (std::size_t v = 0; v < pool.size(); ++v)
+      for (int i : pool.samples[v]) by_sample[i].push_back(static_cast<int>(v));
+    if (overlaps.markers() > 0) markers_seen = overlaps.markersSeen(pool.views);
+    by_marker.resize(overlaps.markers());
+    for (std::size_t v = 0; v < markers_seen.size(); ++v)
+      for (int m : markers_seen[v]) by_marker[m].push_back(static_cast<int>(v));
+    const auto least_markers = static_cast<std::size_t>(options.min_markers);
+    constrained.resize(pool.size());
+    tbb::parallel_for(std::size_t{0}, pool.size(), [&](std::size_t v) {
+      constrained[v] = condition(at, samples, pool.samples[v]) <= options.max_condition ||
+                       (!markers_seen.empty() && markers_seen[v].size() >= least_markers);
+    });
+  }
+
+  const Observation& seen(std::size_t v) const {
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto found = seen_.find(v); found != seen_.end()) return found->second;
+    }
+    Observation made = overlaps.observe({&pool.views[v], 1}).front();
+    const std::lock_guard lock(mutex_);
+    return seen_.emplace(v, std::move(made)).first->second;  // the first made, if two were
+  }
+
+  const Placement& at;
+  const MeasuredViews& pool;
+  const std::vector<PlannedSample>& samples;
+  const RegistrationOptions options;  // as the registration stage's
+  const Overlaps overlaps;
+  std::vector<std::vector<int>> by_sample;     // the poses measuring each sample
+  std::vector<std::vector<int>> markers_seen;  // per pose, when there are markers
+  std::vector<std::vector<int>> by_marker;     // the poses measuring each marker
+  std::vector<char> constrained;               // per pose: something may register to it
+
+ private:
+  mutable std::mutex mutex_;
+  mutable std::map<std::size_t, Observation> seen_;  // by pool index
+};
+
 class ConnectedCover {
  public:
-  ConnectedCover(const Placement& at, const MeasuredViews& pool,
-                 const std::vector<PlannedSample>& samples, const std::vector<Marker>& markers)
-      : at_(at),
-        pool_(pool),
-        samples_(samples),
-        options_(registrationOptions(at.spec.spec)),
-        overlaps_(at.simulator, options_, markers) {
-    by_sample_.resize(samples.size());
-    for (std::size_t v = 0; v < pool.size(); ++v)
-      for (int i : pool.samples[v]) by_sample_[i].push_back(static_cast<int>(v));
-    shared_.resize(pool.size());
-    if (overlaps_.markers() > 0) markers_seen_ = overlaps_.markersSeen(pool.views);
-    by_marker_.resize(overlaps_.markers());
-    for (std::size_t v = 0; v < markers_seen_.size(); ++v)
-      for (int m : markers_seen_[v]) by_marker_[m].push_back(static_cast<int>(v));
-    const auto least_markers = static_cast<std::size_t>(options_.min_markers);
-    constrained_.resize(pool.size());
-    for (std::size_t v = 0; v < pool.size(); ++v)
-      constrained_[v] = condition(pool.samples[v]) <= options_.max_condition ||
-                        (!markers_seen_.empty() && markers_seen_[v].size() >= least_markers);
-  }
+  explicit ConnectedCover(const CoverContext& context)
+      : context_(context),
+        at_(context.at),
+        pool_(context.pool),
+        samples_(context.samples),
+        options_(context.options),
+        overlaps_(context.overlaps),
+        by_sample_(context.by_sample),
+        markers_seen_(context.markers_seen),
+        by_marker_(context.by_marker),
+        constrained_(context.constrained),
+        shared_(context.pool.size()) {}
 
   // One cover, with `creep` the share below which a new group starts (kCreeps), and the
   // share of its views in its largest group of views registering to each other.
@@ -110,7 +169,7 @@ class ConnectedCover {
   // parents.
   std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
     std::map<std::size_t, std::size_t> root_of, size_of_root;  // by pool index
-    for (std::size_t k = 0; k < chosen_.size(); ++k)  // parents come before their children
+    for (std::size_t k = 0; k < chosen_.size(); ++k)           // parents come before their children
       root_of[chosen_[k]] = parent_[k] ? root_of[*parent_[k]] : chosen_[k];
     std::size_t largest = 0;
     for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root_of[v]]);
@@ -149,18 +208,6 @@ class ConnectedCover {
     return samples_[sample].sample.role == Role::Priority ? gain.first : gain.second;
   }
 
-  // The condition number of the samples' ICP constraints, each by the area it stands for.
-  double condition(const std::vector<int>& measured) const {
-    std::vector<Vec3> p, n;
-    std::vector<double> w;
-    for (int i : measured) {
-      p.push_back(at_.points[i].position);
-      n.push_back(at_.points[i].normal);
-      w.push_back(samples_[i].sample.weight);
-    }
-    return icpCondition(p, n, w);
-  }
-
   // Foreseen to register by the `both` samples they share: enough of them, at least half
   // min_overlap of what each measures, constraining ICP within ten times the limit.
   bool mayRegister(const std::vector<int>& a, const std::vector<int>& b, std::size_t both) const {
@@ -170,15 +217,10 @@ class ConnectedCover {
       return false;
     std::vector<int> overlap;
     std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(overlap));
-    return condition(overlap) <= 10 * options_.max_condition;
+    return condition(at_, samples_, overlap) <= 10 * options_.max_condition;
   }
 
-  const Observation& seen(std::size_t v) {
-    auto found = seen_.find(v);
-    if (found == seen_.end())
-      found = seen_.emplace(v, overlaps_.observe({&pool_.views[v], 1}).front()).first;
-    return found->second;
-  }
+  const Observation& seen(std::size_t v) const { return context_.seen(v); }
 
   // The first of `v`'s foreseen partners with which it passes the registration's pair
   // test; none, and they are forgotten, when it passes with none.
@@ -215,7 +257,8 @@ class ConnectedCover {
     }
     std::vector<std::size_t> partnered;  // poses that may register to it
     for (const auto& [v, both] : sharing(pool_.samples[c], by_sample_))
-      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], both)) partnered.push_back(v);
+      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], both))
+        partnered.push_back(v);
     if (!markers_seen_.empty())
       for (const auto& [v, both] : sharing(markers_seen_[c], by_marker_))
         if (!used_[v] && both >= static_cast<std::size_t>(options_.min_markers))
@@ -241,20 +284,20 @@ class ConnectedCover {
     return result;
   }
 
+  const CoverContext& context_;
   const Placement& at_;
   const MeasuredViews& pool_;
   const std::vector<PlannedSample>& samples_;
-  const RegistrationOptions options_;  // as the registration stage's
-  const Overlaps overlaps_;
-  std::map<std::size_t, Observation> seen_;  // by pool index, as the pair test sees it
-  std::vector<std::vector<int>> by_sample_;  // the poses measuring each sample
-  std::vector<std::vector<int>> markers_seen_;  // per pose, when there are markers
-  std::vector<std::vector<int>> by_marker_;     // the poses measuring each marker
-  std::vector<Gain> gain_;                   // per pose: samples it measures not yet covered
+  const RegistrationOptions& options_;
+  const Overlaps& overlaps_;
+  const std::vector<std::vector<int>>& by_sample_;
+  const std::vector<std::vector<int>>& markers_seen_;
+  const std::vector<std::vector<int>>& by_marker_;
+  std::vector<char> constrained_;  // per pose: something may still register to it
+  std::vector<int> shared_;        // per pose: what it shares, while sharing() counts
+  std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
-  std::vector<char> constrained_;  // per pose: something may register to it
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
-  std::vector<int> shared_;  // per pose: what it shares, while sharing() counts
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
@@ -266,11 +309,15 @@ std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
                                         const std::vector<Marker>& markers) {
-  ConnectedCover cover(at, pool, samples, markers);
+  const CoverContext context(at, pool, samples, markers);
+  // The covers of every creep share, in parallel; kept in kCreeps' order.
+  std::vector<std::pair<std::vector<std::size_t>, double>> covers(std::size(kCreeps));
+  tbb::parallel_for(std::size_t{0}, covers.size(), [&](std::size_t k) {
+    covers[k] = ConnectedCover(context).run(pinned, kCreeps[k]);
+  });
   std::vector<std::size_t> best;
   double best_share = -1;
-  for (const double creep : kCreeps) {
-    auto [views, share] = cover.run(pinned, creep);
+  for (auto& [views, share] : covers) {
     if (!views.empty() && share >= best_share + kBetter) {
       best = std::move(views);
       best_share = share;

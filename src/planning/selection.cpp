@@ -5,6 +5,8 @@
 
 #include <scanplan/planning/set_cover.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <map>
 #include <numeric>
@@ -109,9 +111,9 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
   std::vector<int> start;
   for (std::size_t k = pinned; k < greedy.size(); ++k)
     start.push_back(static_cast<int>(greedy[k] - pinned));
-  const SetCoverResult cover = minimumSetCover(
-      unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples),
-      at.settings().selection_seconds, start, at.settings().selection_nodes);
+  const SetCoverResult cover =
+      minimumSetCover(unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples),
+                      at.settings().selection_seconds, start, at.settings().selection_nodes);
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -129,11 +131,15 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   Selection selection;
   PlanBound& bound = selection.bound;
   if (registering) {
-    selection.views = connectedCover(at, pool, pinned, samples, *registering);
-    bound.lower_bound = static_cast<double>(pinned) +
-                        setCoverLowerBound(unpinnedSets(pool, pinned),
-                                           requiredSamples(at, pool, pinned, samples.size()),
-                                           at.settings().selection_seconds);
+    // The cover and the bound of the pool's cover are independent: made side by side.
+    tbb::parallel_invoke(
+        [&] { selection.views = connectedCover(at, pool, pinned, samples, *registering); },
+        [&] {
+          bound.lower_bound = static_cast<double>(pinned) +
+                              setCoverLowerBound(unpinnedSets(pool, pinned),
+                                                 requiredSamples(at, pool, pinned, samples.size()),
+                                                 at.settings().selection_seconds);
+        });
   }
   if (selection.views.empty()) {
     const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
