@@ -182,13 +182,18 @@ class Graph {
     Sides sides;
     sides.in_main.resize(views_.size());
     sides.in_other.resize(views_.size());
+    std::vector<char> on_main(points_.size()), on_other(points_.size());  // per surface point
     for (std::size_t v = 0; v < views_.size(); ++v) {
       sides.in_main[v] = find(static_cast<int>(v)) == main;
       sides.in_other[v] = find(static_cast<int>(v)) == towards;
       for (int i : seen_[v].points) {
-        if (sides.in_main[v]) sides.main_points.push_back(points_[i].position);
-        if (sides.in_other[v]) sides.other_points.push_back(points_[i].position);
+        on_main[i] |= sides.in_main[v];
+        on_other[i] |= sides.in_other[v];
       }
+    }
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      if (on_main[i]) sides.main_points.push_back(points_[i].position);
+      if (on_other[i]) sides.other_points.push_back(points_[i].position);
     }
     if (sides.main_points.empty() || sides.other_points.empty()) return sides;
     sides.to_main = distances(sides.main_points);
