@@ -26,7 +26,8 @@ constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not register
 // weight, bias the result by more than the tolerance.
 constexpr double kTukey = 0.2;
 
-// The coarse stages, which only bring the moved cloud near, run on every fourth point of it.
+// The stages before the last, which only bring the moved cloud near, run on every fourth
+// point of it.
 constexpr std::size_t kCoarseStride = 4;
 
 // A rigid motion of `distance` mm in a random direction and `angle` degrees about a random
@@ -205,11 +206,10 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   open3d::geometry::PointCloud coarse;
   for (std::size_t i = 0; i < source.points_.size(); i += kCoarseStride)
     coarse.points_.push_back(source.points_[i]);
-  for (const double distance : {2 * largest, std::max(largest, 2 * fine)})
+  for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine})
     icp(indexed, target, coarse, distance, estimate);
   source.Transform(estimate);
-  for (const double distance : {2 * fine, fine})
-    result = icp(indexed, target, source, distance, estimate);
+  result = icp(indexed, target, source, fine, estimate);
   // Where the registered cloud ends up against where it belongs.
   const Pose residual(estimate * start);
   double squares = 0, largest_error = 0;
