@@ -13,8 +13,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <span>
 
 namespace {
 
@@ -67,6 +69,60 @@ DenseGreedy denseGreedy(const Simulator& simulator, const std::vector<SurfacePoi
     measured += best_gain;
     ++result.all_views;
   }
+  return result;
+}
+
+// The reference for registration by geometry: the plan's views and dense poses (as
+// denseGreedy's) aimed at its samples, each constrained when the registration's surface points it
+// measures (every fov_height / 40) lock all six directions, condition number within
+// `max_condition`. A view that is not constrained registers to nothing by geometry (every overlap
+// is part of what it measures). The samples the plan measures that only unconstrained dense poses
+// measure need such views: CBC's bound on the fewest of them is how many views any plan of
+// these poses leaves unregistered by geometry.
+struct GeometryReference {
+  std::size_t poses = 0, constrained = 0;
+  std::size_t forced_samples = 0;  // measured by the plan, by no constrained dense pose
+  double unregistrable = 0;        // the bound on the views they need
+};
+GeometryReference geometryReference(const Simulator& simulator, const Plan& plan,
+                                    double max_condition) {
+  const std::vector<SurfacePoint> samples = plan.samplePoints();
+  const std::vector<SurfacePoint> surface =
+      simulator.surfacePoints(simulator.scanner().fov_height / 40);
+  const std::size_t step = std::max<std::size_t>(1, (samples.size() + 1199) / 1200);
+  std::vector<View> poses = plan.views;  // the plan's own, and the dense ones
+  for (std::size_t a = 0; a < samples.size(); a += step)
+    for (const View& v : ringPoses(simulator.scanner(), samples[a], {20, 40}, 90, 4))
+      if (poseIsValid(simulator, v)) poses.push_back(v);
+  GeometryReference result;
+  result.poses = poses.size();
+  std::vector<char> by_constrained(samples.size(), 0);
+  std::vector<std::vector<int>> unconstrained;  // the samples of each unconstrained pose
+  constexpr std::size_t kChunk = 2000;          // poses measured at a time, to bound memory
+  for (std::size_t first = 0; first < poses.size(); first += kChunk) {
+    const std::span<const View> chunk(poses.data() + first, std::min(kChunk, poses.size() - first));
+    std::vector<std::vector<int>> on_samples = measuredPoints(simulator, chunk, samples);
+    const std::vector<std::vector<int>> on_surface = measuredPoints(simulator, chunk, surface);
+    for (std::size_t k = 0; k < chunk.size(); ++k) {
+      std::vector<Vec3> p, n;
+      for (int i : on_surface[k]) {
+        p.push_back(surface[i].position);
+        n.push_back(surface[i].normal);
+      }
+      if (icpCondition(p, n) <= max_condition) {
+        ++result.constrained;
+        for (int i : on_samples[k]) by_constrained[i] = 1;
+      } else if (!on_samples[k].empty()) {
+        unconstrained.push_back(std::move(on_samples[k]));
+      }
+    }
+  }
+  std::vector<char> required(samples.size(), 0);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    required[i] = !plan.samples[i].measured_by.empty() && !by_constrained[i];
+  result.forced_samples = static_cast<std::size_t>(std::count(required.begin(), required.end(), 1));
+  if (result.forced_samples > 0)
+    result.unregistrable = minimumSetCover(unconstrained, required, 20).lower_bound;
   return result;
 }
 
@@ -165,6 +221,23 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
   state.counters["views"] = static_cast<double>(plan.views.size());
   state.counters["registered"] = static_cast<double>(r.registered());
   state.counters["bridging"] = static_cast<double>(r.bridging_views);
+  {
+    PlanningOptions coverage_only;
+    coverage_only.registration = false;
+    const auto start = std::chrono::steady_clock::now();
+    const Plan plain = planViews(part, spec, coverage_only);
+    state.counters["seconds_without_registration"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.counters["views_without_registration"] = static_cast<double>(plain.views.size());
+  }
+  const Simulator simulator(part, plan.scanner,
+                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
+  const GeometryReference reference =
+      geometryReference(simulator, plan, spec.registration.max_condition);
+  state.counters["dense_poses"] = static_cast<double>(reference.poses);
+  state.counters["dense_constrained"] = static_cast<double>(reference.constrained);
+  state.counters["forced_samples"] = static_cast<double>(reference.forced_samples);
+  state.counters["unregistrable_bound"] = reference.unregistrable;
   if (!plan.proposed_markers || plan.proposed_markers->markers.empty()) return;
   state.counters["proposed_markers"] = static_cast<double>(plan.proposed_markers->markers.size());
   state.counters["proposed_bound"] = static_cast<double>(plan.proposed_markers->lower_bound);

@@ -128,7 +128,7 @@ class Graph {
       const auto pairs = insert(views[k], seen[k]);
       fresh.insert(fresh.end(), pairs.begin(), pairs.end());
     }
-    connect(fresh);
+    connect(fresh, true);
   }
 
   // A bridging view: aimed at the surface next to the main component, towards the
@@ -446,22 +446,34 @@ class Graph {
     return result;
   }
 
-  void connect(std::vector<std::size_t> candidates) {
+  // Joins components by the `candidates` pairs, in the manner of Kruskal's algorithm;
+  // `shown`: with progress (the share of the registrable pairs walked).
+  void connect(std::vector<std::size_t> candidates, bool shown = false) {
     std::stable_sort(candidates.begin(), candidates.end(), [&](std::size_t x, std::size_t y) {
       const PairCheck &a = pairs_[x], &b = pairs_[y];
       if (a.markers != b.markers) return a.markers;
       if (a.markers) return a.shared_markers > b.shared_markers;
       return a.condition < b.condition;
     });
+    const auto registrable = static_cast<std::size_t>(
+        std::count_if(candidates.begin(), candidates.end(),
+                      [&](std::size_t p) { return pairs_[p].markers || pairs_[p].stable; }));
     std::size_t verified_up_to = 0;  // candidates before this index were ICP-verified ahead
+    std::size_t walked = 0;          // registrable candidates passed
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::size_t p = candidates[k];
       const PairCheck& pair = pairs_[p];
       if (!pair.markers && !pair.stable) continue;
+      ++walked;
       const int a = find(static_cast<int>(ends_[p].first));
       const int b = find(static_cast<int>(ends_[p].second));
       if (a == b) continue;
-      if (k >= verified_up_to) verified_up_to = verifyAhead(candidates, k);
+      if (k >= verified_up_to) {
+        if (shown)
+          report(progress_, "registration: pairs by ICP",
+                 static_cast<double>(walked) / static_cast<double>(registrable));
+        verified_up_to = verifyAhead(candidates, k);
+      }
       if (!verify(p)) continue;
       parent_[std::max(a, b)] = std::min(a, b);
       used_.push_back(p);
@@ -514,7 +526,6 @@ class Graph {
     });
     for (std::size_t k = 0; k < views.size(); ++k)
       memo_->clouds[IcpMemo::key(views_[views[k]])] = clouds[k];
-    report(progress_, "registration: ICP of " + std::to_string(fresh.size()) + " view pairs", 0);
     tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t k) {
       const auto [fixed, moved] = key(fresh[k]);
       pairs_[fresh[k]].icp = detail::checkIcp(simulator_, *memo_->clouds.at(fixed),
@@ -555,8 +566,8 @@ Registration registerViews(const Simulator& simulator, std::vector<View>& views,
                            const CellCheck& cell, const Progress& progress) {
   validate(options, "registration");
   const RegistrationMode method = options.method != RegistrationMode::Default ? options.method
-                                  : markers.empty()                        ? RegistrationMode::Geometry
-                                                                           : RegistrationMode::Markers;
+                                  : markers.empty() ? RegistrationMode::Geometry
+                                                    : RegistrationMode::Markers;
   // With a robot accurate enough, every view registers: bridges would add nothing.
   const bool by_robot = robotRegistersAll(options);
   static const std::vector<Marker> no_markers;
