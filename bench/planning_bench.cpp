@@ -73,32 +73,31 @@ DenseGreedy denseGreedy(const Simulator& simulator, const std::vector<SurfacePoi
 }
 
 // The reference for registration by geometry: the plan's views and dense poses (as
-// denseGreedy's) aimed at its samples, each constrained when the registration's surface points it
-// measures (every fov_height / 40) lock all six directions, condition number within
-// `max_condition`. A view that is not constrained registers to nothing by geometry (every overlap
-// is part of what it measures). The samples the plan measures that only unconstrained dense poses
-// measure need such views: CBC's bound on the fewest of them is how many views any plan of
-// these poses leaves unregistered by geometry.
+// denseGreedy's) aimed at its samples, each with the condition number of the registration's
+// surface points it measures (every fov_height / 40; Gelfand's, as the pair test computes
+// it). A pose *locks* at a threshold when that condition is within it. The samples the plan
+// measures that only poses which do not lock measure need such views; CBC's bound on the
+// fewest of them is returned. At the registration's own limit (max_condition) these are the
+// views the planner calls unconstrained; since an overlap can be better conditioned than a
+// whole view, the bound is also taken at the largest condition of a view the plan
+// registered by ICP.
 struct GeometryReference {
-  std::size_t poses = 0, constrained = 0;
-  std::size_t forced_samples = 0;  // measured by the plan, by no constrained dense pose
-  double unregistrable = 0;        // the bound on the views they need
+  std::size_t poses = 0;
+  double worst_registered = 0;   // the largest own condition of a view registered by ICP
+  double strict = 0, loose = 0;  // the bounds at max_condition and at worst_registered
 };
-GeometryReference geometryReference(const Simulator& simulator, const Plan& plan,
-                                    double max_condition) {
-  const std::vector<SurfacePoint> samples = plan.samplePoints();
+
+// Per pose: its condition number and the samples it measures.
+struct PoseReach {
+  double condition = 0;
+  std::vector<int> samples;
+};
+std::vector<PoseReach> poseReach(const Simulator& simulator, const std::vector<View>& poses,
+                                 const std::vector<SurfacePoint>& samples) {
   const std::vector<SurfacePoint> surface =
       simulator.surfacePoints(simulator.scanner().fov_height / 40);
-  const std::size_t step = std::max<std::size_t>(1, (samples.size() + 1199) / 1200);
-  std::vector<View> poses = plan.views;  // the plan's own, and the dense ones
-  for (std::size_t a = 0; a < samples.size(); a += step)
-    for (const View& v : ringPoses(simulator.scanner(), samples[a], {20, 40}, 90, 4))
-      if (poseIsValid(simulator, v)) poses.push_back(v);
-  GeometryReference result;
-  result.poses = poses.size();
-  std::vector<char> by_constrained(samples.size(), 0);
-  std::vector<std::vector<int>> unconstrained;  // the samples of each unconstrained pose
-  constexpr std::size_t kChunk = 2000;          // poses measured at a time, to bound memory
+  std::vector<PoseReach> reach(poses.size());
+  constexpr std::size_t kChunk = 2000;  // poses measured at a time, to bound memory
   for (std::size_t first = 0; first < poses.size(); first += kChunk) {
     const std::span<const View> chunk(poses.data() + first, std::min(kChunk, poses.size() - first));
     std::vector<std::vector<int>> on_samples = measuredPoints(simulator, chunk, samples);
@@ -109,20 +108,45 @@ GeometryReference geometryReference(const Simulator& simulator, const Plan& plan
         p.push_back(surface[i].position);
         n.push_back(surface[i].normal);
       }
-      if (icpCondition(p, n) <= max_condition) {
-        ++result.constrained;
-        for (int i : on_samples[k]) by_constrained[i] = 1;
-      } else if (!on_samples[k].empty()) {
-        unconstrained.push_back(std::move(on_samples[k]));
-      }
+      reach[first + k] = {icpCondition(p, n), std::move(on_samples[k])};
     }
   }
-  std::vector<char> required(samples.size(), 0);
-  for (std::size_t i = 0; i < samples.size(); ++i)
-    required[i] = !plan.samples[i].measured_by.empty() && !by_constrained[i];
-  result.forced_samples = static_cast<std::size_t>(std::count(required.begin(), required.end(), 1));
-  if (result.forced_samples > 0)
-    result.unregistrable = minimumSetCover(unconstrained, required, 20).lower_bound;
+  return reach;
+}
+
+// CBC's bound on the views that do not lock at `threshold` which the plan's measured
+// samples need.
+double unlockedViews(const Plan& plan, const std::vector<PoseReach>& reach, double threshold) {
+  std::vector<char> required(plan.samples.size(), 0);
+  for (std::size_t i = 0; i < plan.samples.size(); ++i)
+    required[i] = !plan.samples[i].measured_by.empty();
+  std::vector<std::vector<int>> unlocked;
+  for (const PoseReach& r : reach)
+    if (r.condition <= threshold) {
+      for (int i : r.samples) required[i] = 0;
+    } else if (!r.samples.empty()) {
+      unlocked.push_back(r.samples);
+    }
+  if (std::find(required.begin(), required.end(), 1) == required.end()) return 0;
+  return minimumSetCover(unlocked, required, 20).lower_bound;
+}
+
+GeometryReference geometryReference(const Simulator& simulator, const Plan& plan,
+                                    double max_condition) {
+  const std::vector<SurfacePoint> samples = plan.samplePoints();
+  const std::size_t step = std::max<std::size_t>(1, (samples.size() + 1199) / 1200);
+  std::vector<View> poses = plan.views;  // the plan's own first, then the dense ones
+  for (std::size_t a = 0; a < samples.size(); a += step)
+    for (const View& v : ringPoses(simulator.scanner(), samples[a], {20, 40}, 90, 4))
+      if (poseIsValid(simulator, v)) poses.push_back(v);
+  const std::vector<PoseReach> reach = poseReach(simulator, poses, samples);
+  GeometryReference result;
+  result.poses = poses.size();
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    if (plan.registration && plan.registration->views[v].method == RegistrationMethod::Icp)
+      result.worst_registered = std::max(result.worst_registered, reach[v].condition);
+  result.strict = unlockedViews(plan, reach, max_condition);
+  result.loose = unlockedViews(plan, reach, std::max(max_condition, result.worst_registered));
   return result;
 }
 
@@ -221,6 +245,10 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
   state.counters["views"] = static_cast<double>(plan.views.size());
   state.counters["registered"] = static_cast<double>(r.registered());
   state.counters["bridging"] = static_cast<double>(r.bridging_views);
+  std::size_t loose = 0;  // registered by ICP though not constrained
+  for (const ViewRegistration& view : r.views)
+    loose += view.method == RegistrationMethod::Icp && !view.constrained;
+  state.counters["registered_unconstrained"] = static_cast<double>(loose);
   {
     PlanningOptions coverage_only;
     coverage_only.registration = false;
@@ -234,10 +262,10 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
                             simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
   const GeometryReference reference =
       geometryReference(simulator, plan, spec.registration.max_condition);
-  state.counters["dense_poses"] = static_cast<double>(reference.poses);
-  state.counters["dense_constrained"] = static_cast<double>(reference.constrained);
-  state.counters["forced_samples"] = static_cast<double>(reference.forced_samples);
-  state.counters["unregistrable_bound"] = reference.unregistrable;
+  state.counters["reference_poses"] = static_cast<double>(reference.poses);
+  state.counters["worst_registered_condition"] = reference.worst_registered;
+  state.counters["unregistrable_bound"] = reference.strict;
+  state.counters["unregistrable_bound_loose"] = reference.loose;
   if (!plan.proposed_markers || plan.proposed_markers->markers.empty()) return;
   state.counters["proposed_markers"] = static_cast<double>(plan.proposed_markers->markers.size());
   state.counters["proposed_bound"] = static_cast<double>(plan.proposed_markers->lower_bound);

@@ -49,8 +49,8 @@ void printRegistration(const Plan& plan, const Registration& r) {
     fmt::print("{:<22} {}\n", "unregistrable views", ids);
     if (unconstrained)
       fmt::print(
-          "{:<22} {} of them see too little to register to (a plane or a cylinder, "
-          "and too few markers): add markers\n",
+          "{:<22} {} of them see too little to register to (mostly a plane or a "
+          "cylinder: condition number above the limit, and too few markers): add markers\n",
           "", unconstrained);
   }
   if (plan.proposed_markers && !plan.proposed_markers->markers.empty())
