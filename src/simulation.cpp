@@ -1,5 +1,3 @@
-#include "kd_tree.h"
-
 #include <scanplan/errors.h>
 #include <scanplan/io/atomic_file.h>
 #include <scanplan/raycast.h>
@@ -9,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -432,15 +431,40 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
   return cloud;
 }
 
+// The points grouped in cubic cells with a bounding ball, a fortieth of the diagonal of
+// their box across, so that a view tests only the points of cells that reach its measuring
+// volume (as the simulator's facets).
 struct IndexedPoints::Impl {
+  struct Cell {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0;
+    std::vector<int> members;
+  };
+
   explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)) {
-    for (const SurfacePoint& p : points) positions.push_back(p.position);
-    tree.buildIndex();
+    Box box;
+    for (const SurfacePoint& p : points) box.add(p.position);
+    const double size = std::max(box.diagonal() / 40, 1e-6);
+    std::map<std::array<long, 3>, std::size_t> cell_of_key;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3 q = (points[i].position - box.min) / size;
+      const std::array<long, 3> key = {std::lround(std::floor(q.x())),
+                                       std::lround(std::floor(q.y())),
+                                       std::lround(std::floor(q.z()))};
+      auto [it, inserted] = cell_of_key.emplace(key, cells.size());
+      if (inserted) cells.emplace_back();
+      cells[it->second].members.push_back(static_cast<int>(i));
+    }
+    for (Cell& cell : cells) {
+      Box around;
+      for (int i : cell.members) around.add(points[i].position);
+      cell.centre = around.center();
+      for (int i : cell.members)
+        cell.radius = std::max(cell.radius, (points[i].position - cell.centre).norm());
+    }
   }
   std::vector<SurfacePoint> points;
-  std::vector<Vec3> positions;
-  detail::PointCloudAdaptor cloud{positions};
-  detail::PointTree tree{3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16)};
+  std::vector<Cell> cells;
 };
 
 IndexedPoints::IndexedPoints(std::vector<SurfacePoint> points)
@@ -454,19 +478,20 @@ std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator
                                                       std::span<const View> views) const {
   std::vector<std::vector<int>> result(views.size());
   if (impl_->points.empty()) return result;
-  // Only points within the bounding sphere of the measuring volume can be measured.
-  const double reach = simulator.scanner().reach();
-  nanoflann::SearchParams unsorted;
-  unsorted.sorted = false;  // the measured indices are sorted below
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
-    detail::Neighbours near;
-    impl_->tree.radiusSearch(views[v].target.data(), reach * reach, near, unsorted);
+    // Only the points of cells that reach the measuring volume can be measured.
+    const ViewGeometry geometry(views[v], simulator.scanner());
+    std::vector<int> near;
+    for (const Impl::Cell& cell : impl_->cells)
+      if (geometry.mayReachVolume(cell.centre, cell.radius))
+        near.insert(near.end(), cell.members.begin(), cell.members.end());
     std::vector<SurfacePoint> subset;
-    for (const auto& [i, distance2] : near) subset.push_back(impl_->points[i]);
+    subset.reserve(near.size());
+    for (int i : near) subset.push_back(impl_->points[i]);
     const std::vector<Loss> losses = simulator.measure(views[v], subset);
     for (std::size_t k = 0; k < losses.size(); ++k)
-      if (losses[k] == Loss::Measured) result[v].push_back(static_cast<int>(near[k].first));
-    std::sort(result[v].begin(), result[v].end());  // only the measured ones
+      if (losses[k] == Loss::Measured) result[v].push_back(near[k]);
+    std::sort(result[v].begin(), result[v].end());
   });
   return result;
 }
