@@ -26,8 +26,8 @@ void writeMarkers(const std::vector<Marker>& markers, const std::string& path) {
     out << "x,y,z,nx,ny,nz\n";
     out.precision(10);
     for (const Marker& m : markers)
-      out << m.position.x() << ',' << m.position.y() << ',' << m.position.z() << ','
-          << m.normal.x() << ',' << m.normal.y() << ',' << m.normal.z() << '\n';
+      out << m.position.x() << ',' << m.position.y() << ',' << m.position.z() << ',' << m.normal.x()
+          << ',' << m.normal.y() << ',' << m.normal.z() << '\n';
   });
 }
 
@@ -103,7 +103,8 @@ double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
     row << ((points[i] - centre) / scale).cross(normals[i]), normals[i];
     covariance += weight(i) * row * row.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(covariance);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(covariance,
+                                                                          Eigen::EigenvaluesOnly);
   const auto& eigenvalues = solver.eigenvalues();  // ascending
   const double largest = eigenvalues(5), smallest = eigenvalues(0);
   if (!(smallest > largest * 1e-12)) return std::numeric_limits<double>::infinity();
