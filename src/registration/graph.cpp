@@ -287,6 +287,7 @@ class Graph {
       PairCheck best;
       bool joins = false;
       for (std::size_t v = 0; v < views_.size(); ++v) {
+        if (!sides.in_main[v] && !sides.in_other[v]) continue;  // a third component's
         const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
         if (!pair.markers && !pair.stable) continue;
         if (sides.in_other[v]) {
@@ -437,12 +438,12 @@ class Graph {
     detail::PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree.buildIndex();
     std::vector<double> result(points_.size());
-    for (std::size_t i = 0; i < points_.size(); ++i) {
+    tbb::parallel_for(std::size_t{0}, points_.size(), [&](std::size_t i) {
       unsigned nearest = 0;
       double squared = 0;
       tree.knnSearch(points_[i].position.data(), 1, &nearest, &squared);
       result[i] = std::sqrt(squared);
-    }
+    });
     return result;
   }
 
