@@ -30,14 +30,6 @@ constexpr double kBetter = 0.05;
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
 
-// Grows the cover one view at a time, each the pose that measures most samples not yet
-// covered among those registering to a view already chosen; another group of views is
-// started only when none of those measures anything new.
-//
-// Which poses register to a chosen view is foreseen from the samples and markers they
-// share, and confirmed by the registration's own pair test (registration/overlaps.h)
-// before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
-// rule one out.
 // The condition number of the samples' ICP constraints, each by the area it stands for.
 double condition(const Placement& at, const std::vector<PlannedSample>& samples,
                  const std::vector<int>& measured) {
@@ -103,6 +95,14 @@ class CoverContext {
   mutable std::map<std::size_t, Observation> seen_;  // by pool index
 };
 
+// Grows the cover one view at a time, each the pose that measures most samples not yet
+// covered among those registering to a view already chosen; another group of views is
+// started only when none of those measures anything new.
+//
+// Which poses register to a chosen view is foreseen from the samples and markers they
+// share, and confirmed by the registration's own pair test (registration/overlaps.h)
+// before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
+// rule one out.
 class ConnectedCover {
  public:
   explicit ConnectedCover(const CoverContext& context)
@@ -169,7 +169,8 @@ class ConnectedCover {
   // parents.
   std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
     std::map<std::size_t, std::size_t> root_of, size_of_root;  // by pool index
-    for (std::size_t k = 0; k < chosen_.size(); ++k)           // parents come before their children
+    // Parents come before their children.
+    for (std::size_t k = 0; k < chosen_.size(); ++k)
       root_of[chosen_[k]] = parent_[k] ? root_of[*parent_[k]] : chosen_[k];
     std::size_t largest = 0;
     for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root_of[v]]);
