@@ -43,7 +43,7 @@ Vec3 vec(const json& v) { return Vec3(v[0].get<double>(), v[1].get<double>(), v[
 double offSurface(const json& s, const Vec3& p) {
   const Vec3 o = vec(s["origin"]), v = p - o;
   const std::string type = s["type"];
-  const double r = s["radius"].is_number() ? s["radius"].get<double>() : 0;
+  const double r = s.value("radius", 0.0);  // planes have none
   if (type == "plane") return std::abs(v.dot(vec(s["axis"])));
   if (type == "sphere") return std::abs(v.norm() - r);
   const Vec3 axis = vec(s["axis"]);
