@@ -101,6 +101,8 @@ TEST(SpecEditor, ABoxRestsOnEachOfItsFaces) {
     ASSERT_GT(face, 0);
     faces.insert(face);
     EXPECT_GT(part.mesh.normal(part.faces[face - 1].first_triangle).dot(vec(r["down"])), 0.999999);
+    // part.rest: <face> gives this orientation back.
+    EXPECT_GT(restOnFace(part, face, "spec").down.dot(vec(r["down"])), 1 - 1e-9);
   }
   EXPECT_EQ(faces.size(), 6u);
   // Steadiest first: standing on a 100 x 60 face.

@@ -17,6 +17,7 @@
 #include <BRepAdaptor_Surface.hxx>
 
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 
 namespace scanplan {
@@ -98,19 +99,24 @@ json matrixJson(const Pose& pose) {
   return rows;
 }
 
-// The flat face of the part that `rest` stands on, as part.rest takes it, or 0 when the
-// hull face it rests on is no single face of the part.
+// The flat face of the part that `rest` stands on, as part.rest takes it (the largest, when
+// several touch the plane), or 0 when the hull face it rests on holds no face of the part:
+// a plane facing down whose triangles all lie on the working plane.
 int restFace(const Part& part, const RestOrientation& rest) {
+  const double tolerance = 1e-6 * part.bounds().diagonal();
   int best = 0;
   for (const Face& f : part.faces) {
-    if (f.type != SurfaceType::Plane || (best && f.area <= part.faces[best - 1].area)) continue;
-    if (f.triangle_count == 0 || part.mesh.normal(f.first_triangle).dot(rest.down) < 1 - 1e-6)
+    if (f.type != SurfaceType::Plane || f.triangle_count == 0 ||
+        (best && f.area <= part.faces[best - 1].area) ||
+        part.mesh.normal(f.first_triangle).dot(rest.down) < 1 - 1e-6)
       continue;
-    try {
-      const RestOrientation on = restOnFace(part, f.id, part.file);
-      if (on.down.dot(rest.down) > 1 - 1e-9) best = f.id;
-    } catch (const InputError&) {  // curved, unstable or not on the hull: not this one
-    }
+    bool on_plane = true;
+    for (int t = f.first_triangle; on_plane && t < f.first_triangle + f.triangle_count; ++t)
+      for (int k = 0; k < 3; ++k)
+        on_plane &=
+            std::abs((rest.part_to_world * part.mesh.vertices[part.mesh.triangles[t][k]]).z()) <=
+            tolerance;
+    if (on_plane) best = f.id;
   }
   return best;
 }
