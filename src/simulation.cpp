@@ -10,7 +10,9 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <random>
+#include <span>
 
 namespace scanplan {
 
@@ -90,6 +92,48 @@ struct ViewGeometry {
   }
 };
 
+// Points grouped in cubic cells of a given size with a bounding ball, so that a view tests
+// only the points of cells that reach its measuring volume (view-frustum culling).
+class Cells {
+ public:
+  Cells(std::span<const SurfacePoint> points, double size) {
+    std::map<std::array<long, 3>, std::size_t> cell_of_key;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3& p = points[i].position;
+      const std::array<long, 3> key = {std::lround(std::floor(p.x() / size)),
+                                       std::lround(std::floor(p.y() / size)),
+                                       std::lround(std::floor(p.z() / size))};
+      auto [it, inserted] = cell_of_key.emplace(key, cells_.size());
+      if (inserted) cells_.emplace_back();
+      cells_[it->second].members.push_back(i);
+    }
+    for (Cell& cell : cells_) {
+      Box box;
+      for (std::size_t i : cell.members) box.add(points[i].position);
+      cell.centre = box.center();
+      for (std::size_t i : cell.members)
+        cell.radius = std::max(cell.radius, (points[i].position - cell.centre).norm());
+    }
+  }
+
+  // The points of the cells that may reach the view's measuring volume.
+  std::vector<std::size_t> reaching(const ViewGeometry& geometry) const {
+    std::vector<std::size_t> near;
+    for (const Cell& cell : cells_)
+      if (geometry.mayReachVolume(cell.centre, cell.radius))
+        near.insert(near.end(), cell.members.begin(), cell.members.end());
+    return near;
+  }
+
+ private:
+  struct Cell {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0;
+    std::vector<std::size_t> members;
+  };
+  std::vector<Cell> cells_;
+};
+
 }  // namespace
 
 struct Simulator::Impl {
@@ -100,14 +144,7 @@ struct Simulator::Impl {
   std::vector<char> specular;  // per face id (index 0: fixtures)
   std::vector<SurfacePoint> facets;
   std::vector<double> facet_area;
-  // Facets grouped in cubic cells with a bounding ball, so that a view tests only the
-  // facets of cells that reach its measuring volume (view-frustum culling).
-  struct Cell {
-    Vec3 centre;
-    double radius = 0;
-    std::vector<std::size_t> facets;
-  };
-  std::vector<Cell> cells;
+  std::optional<Cells> cells;  // of the part's facets
   std::size_t face_count = 0;
   double offset = 0;  // mm
   std::unique_ptr<RayCaster> caster;
@@ -220,24 +257,8 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
   });
 
   // Cells of a quarter of the depth of field: small enough to cull, large enough to be few.
-  const double cell_size = scanner.depth_of_field / 4;
-  std::map<std::array<long, 3>, std::size_t> cell_of_key;
-  for (std::size_t t = 0; t < d.part_triangles; ++t) {
-    const Vec3& p = d.facets[t].position;
-    const std::array<long, 3> key = {std::lround(std::floor(p.x() / cell_size)),
-                                     std::lround(std::floor(p.y() / cell_size)),
-                                     std::lround(std::floor(p.z() / cell_size))};
-    auto [it, inserted] = cell_of_key.emplace(key, d.cells.size());
-    if (inserted) d.cells.emplace_back();
-    d.cells[it->second].facets.push_back(t);
-  }
-  for (Impl::Cell& cell : d.cells) {
-    Box box;
-    for (std::size_t t : cell.facets) box.add(d.facets[t].position);
-    cell.centre = box.center();
-    for (std::size_t t : cell.facets)
-      cell.radius = std::max(cell.radius, (d.facets[t].position - cell.centre).norm());
-  }
+  d.cells.emplace(std::span<const SurfacePoint>(d.facets.data(), d.part_triangles),
+                  scanner.depth_of_field / 4);
 }
 
 Simulator::~Simulator() = default;
@@ -332,10 +353,7 @@ Acquisition Simulator::acquire(const View& view) const {
   Acquisition acquisition;
   acquisition.view_id = view.id;
   const ViewGeometry geometry(view, d.scanner);
-  std::vector<std::size_t> reachable;
-  for (const Impl::Cell& cell : d.cells)
-    if (geometry.mayReachVolume(cell.centre, cell.radius))
-      reachable.insert(reachable.end(), cell.facets.begin(), cell.facets.end());
+  const std::vector<std::size_t> reachable = d.cells->reaching(geometry);
   acquisition.facets = d.measure(view, d.facets, &reachable, &acquisition.rays);
   acquisition.face_area.assign(d.face_count, 0.0);
   for (std::size_t t = 0; t < acquisition.facets.size(); ++t) {
@@ -431,40 +449,16 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
   return cloud;
 }
 
-// The points grouped in cubic cells with a bounding ball, a fortieth of the diagonal of
-// their box across, so that a view tests only the points of cells that reach its measuring
-// volume (as the simulator's facets).
+// The points in cells a fortieth of the diagonal of their box across.
 struct IndexedPoints::Impl {
-  struct Cell {
-    Vec3 centre = Vec3::Zero();
-    double radius = 0;
-    std::vector<int> members;
-  };
-
-  explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)) {
+  explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)), cells(points, size()) {}
+  double size() const {
     Box box;
     for (const SurfacePoint& p : points) box.add(p.position);
-    const double size = std::max(box.diagonal() / 40, 1e-6);
-    std::map<std::array<long, 3>, std::size_t> cell_of_key;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const Vec3 q = (points[i].position - box.min) / size;
-      const std::array<long, 3> key = {std::lround(std::floor(q.x())),
-                                       std::lround(std::floor(q.y())),
-                                       std::lround(std::floor(q.z()))};
-      auto [it, inserted] = cell_of_key.emplace(key, cells.size());
-      if (inserted) cells.emplace_back();
-      cells[it->second].members.push_back(static_cast<int>(i));
-    }
-    for (Cell& cell : cells) {
-      Box around;
-      for (int i : cell.members) around.add(points[i].position);
-      cell.centre = around.center();
-      for (int i : cell.members)
-        cell.radius = std::max(cell.radius, (points[i].position - cell.centre).norm());
-    }
+    return std::max(box.diagonal() / 40, 1e-6);
   }
   std::vector<SurfacePoint> points;
-  std::vector<Cell> cells;
+  Cells cells;
 };
 
 IndexedPoints::IndexedPoints(std::vector<SurfacePoint> points)
@@ -480,17 +474,14 @@ std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator
   if (impl_->points.empty()) return result;
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
     // Only the points of cells that reach the measuring volume can be measured.
-    const ViewGeometry geometry(views[v], simulator.scanner());
-    std::vector<int> near;
-    for (const Impl::Cell& cell : impl_->cells)
-      if (geometry.mayReachVolume(cell.centre, cell.radius))
-        near.insert(near.end(), cell.members.begin(), cell.members.end());
+    const std::vector<std::size_t> near =
+        impl_->cells.reaching(ViewGeometry(views[v], simulator.scanner()));
     std::vector<SurfacePoint> subset;
     subset.reserve(near.size());
-    for (int i : near) subset.push_back(impl_->points[i]);
+    for (std::size_t i : near) subset.push_back(impl_->points[i]);
     const std::vector<Loss> losses = simulator.measure(views[v], subset);
     for (std::size_t k = 0; k < losses.size(); ++k)
-      if (losses[k] == Loss::Measured) result[v].push_back(near[k]);
+      if (losses[k] == Loss::Measured) result[v].push_back(static_cast<int>(near[k]));
     std::sort(result[v].begin(), result[v].end());
   });
   return result;

@@ -3,6 +3,7 @@
 // or files for other tools.
 
 #include "commands.h"
+#include "files.h"
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
@@ -30,11 +31,8 @@ struct Input {
 };
 
 // \throw OutputError when `out` is one of the command's own input files.
-void refuseInputAsOutput(const std::string& out, const Input& input) {
-  std::error_code ec;
-  for (const std::string& in : {input.plan, input.part, input.spec})
-    if (!in.empty() && std::filesystem::equivalent(in, out, ec))
-      throw OutputError(out, "is an input of this command (" + in + "): choose another output");
+void refuseOwnInput(const std::string& out, const Input& input) {
+  refuseInputAsOutput(out, {input.plan, input.part, input.spec});
 }
 
 struct Checked {
@@ -83,8 +81,8 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
       options.out.empty()
           ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
           : options.out;
-  refuseInputAsOutput(out, options.input);
-  if (!options.png.empty()) refuseInputAsOutput(options.png, options.input);
+  refuseOwnInput(out, options.input);
+  if (!options.png.empty()) refuseOwnInput(options.png, options.input);
   writeReport(c.plan, c.part, c.spec, out, {}, progress);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part)), options.png);
   clearProgress();
@@ -129,7 +127,7 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
 }
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
-  refuseInputAsOutput(options.out, options.input);
+  refuseOwnInput(options.out, options.input);
   if (options.format == "csv") {
     const Plan plan = readPlan(options.input.plan);
     std::map<int, const View*> by_id;

@@ -1,6 +1,7 @@
 // scanplan spec: the inspection-spec editor of a part, a page to open in a browser.
 
 #include "commands.h"
+#include "files.h"
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
@@ -8,8 +9,6 @@
 #include <scanplan/report.h>
 
 #include <fmt/format.h>
-
-#include <filesystem>
 
 namespace scanplan::cli {
 namespace {
@@ -21,11 +20,7 @@ struct SpecCommand {
 };
 
 int run(const SpecCommand& options, const GlobalOptions& global) {
-  std::error_code ec;
-  for (const std::string& in : {options.part, options.spec})
-    if (!in.empty() && std::filesystem::equivalent(in, options.out, ec))
-      throw OutputError(options.out,
-                        "is an input of this command (" + in + "): choose another output");
+  refuseInputAsOutput(options.out, {options.part, options.spec});
   const Part part = importPart(options.part, {}, terminalProgress(global.quiet));
   writeSpecEditor(part, options.spec, options.out);
   clearProgress();

@@ -115,14 +115,8 @@ void addCharacteristics(const Plan& plan, json& result) {
   std::map<std::string, std::size_t> verdicts;
   for (std::size_t i = 0; i < plan.characteristics.size(); ++i) {
     const Characteristic& c = plan.characteristics[i];
-    json entry = {{"id", c.id},
-                  {"kind", c.kind},
-                  {"dimension", c.dimension},
-                  {"value", c.value},
-                  {"limits", {c.lower, c.upper}},
-                  {"datums", c.datums},
-                  {"faces", c.faces},
-                  {"capability", nullptr}};
+    json entry = characteristicJson(c);
+    entry["capability"] = nullptr;
     if (i < plan.capabilities.size()) {
       entry["capability"] = capabilityJson(plan.capabilities[i]);
       ++verdicts[std::string(toString(plan.capabilities[i].verdict))];
@@ -353,6 +347,16 @@ json boundJson(const Plan& plan) {
 }
 
 }  // namespace
+
+json characteristicJson(const Characteristic& c) {
+  return {{"id", c.id},
+          {"kind", c.kind},
+          {"dimension", c.dimension},
+          {"value", c.value},
+          {"limits", {c.lower, c.upper}},
+          {"datums", c.datums},
+          {"faces", c.faces}};
+}
 
 json planJson(const Plan& plan) {
   json sequence = json::array();

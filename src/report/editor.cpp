@@ -8,6 +8,7 @@
 #include "report/page.h"
 
 #include <scanplan/errors.h>
+#include <scanplan/io/plan_json.h>
 #include <scanplan/localization.h>
 #include <scanplan/report.h>
 #include <scanplan/sampling.h>
@@ -83,13 +84,7 @@ json facesJson(const Part& part) {
 json characteristicsJson(const Part& part) {
   json list = json::array();
   for (const Characteristic& c : characteristics(part.gdt))
-    list.push_back({{"id", c.id},
-                    {"kind", c.kind},
-                    {"dimension", c.dimension},
-                    {"value", c.value},
-                    {"limits", {c.lower, c.upper}},
-                    {"datums", c.datums},
-                    {"faces", c.faces}});
+    list.push_back(json(characteristicJson(c)));
   return list;
 }
 

@@ -116,7 +116,8 @@ function assignments(id) {
 }
 
 function refresh() {
-  mesh.paint(colourOf);
+  const colours = data.faces.map((f) => colourOf(f.id));  // once a face, not a triangle
+  mesh.paint((id) => colours[id - 1]);
   const p = new Float32Array(state.points.flatMap((q) => q.position));
   pointGeometry.setAttribute('position', new THREE.BufferAttribute(p, 3));
   pointGeometry.computeBoundingSphere();

@@ -15,6 +15,10 @@ namespace scanplan {
 // checked pairs and the markers, and the sequence.
 nlohmann::json planJson(const Plan& plan);
 
+// One GD&T characteristic as plan.json gives it: id, kind, dimension, value, limits, datums
+// and faces (without its capability).
+nlohmann::json characteristicJson(const Characteristic& characteristic);
+
 // Writes planJson(plan) to `path` through a temporary file renamed into place, the part's
 // file relative to the plan's folder (its absolute path beside it).
 // \throw OutputError when it cannot be written.
