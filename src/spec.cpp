@@ -389,17 +389,58 @@ void readPart(const YAML::Node& part, const SpecReader& reader, Spec& spec) {
   }
 }
 
+// markers.on: plate, part, both (plate and part) or fixture, or a list of them.
+void readMarkersOn(const YAML::Node& on, const SpecReader& reader, Spec& spec) {
+  std::vector<std::string> places;
+  if (on.IsSequence()) {
+    for (const YAML::Node& item : on)
+      places.push_back(reader.scalar<std::string>(item, "markers.on"));
+  } else {
+    places.push_back(reader.scalar<std::string>(on, "markers.on"));
+  }
+  if (places.empty()) reader.fail("markers.on: expected plate, part, both or fixture");
+  spec.markers_on_plate = spec.markers_on_part = spec.markers_on_fixture = false;
+  for (const std::string& place : places) {
+    if (place != "plate" && place != "part" && place != "both" && place != "fixture")
+      reader.fail("markers.on: expected plate, part, both or fixture, got '" + place + "'");
+    spec.markers_on_plate |= place == "plate" || place == "both";
+    spec.markers_on_part |= place == "part" || place == "both";
+    spec.markers_on_fixture |= place == "fixture";
+  }
+}
+
+// fixtures: a list of {file, placement, frame: part or world, markers: CSV}.
+std::vector<FixtureModel> readFixtures(const YAML::Node& node, const SpecReader& reader) {
+  if (!node.IsSequence()) reader.fail("fixtures must be a list of {file, placement, frame}");
+  std::vector<FixtureModel> fixtures;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string key = "fixtures[" + std::to_string(i + 1) + "]";
+    const YAML::Node item = node[i];
+    if (!item.IsMap()) reader.fail(key + ": expected {file, placement, frame, markers}");
+    checkKeys(item, {"file", "placement", "frame", "markers"}, reader, key);
+    if (!item["file"]) reader.fail(key + ": needs a file (STEP, IGES, BREP or a mesh)");
+    FixtureModel fixture;
+    fixture.file = reader.resolvePath(reader.scalar<std::string>(item["file"], key + ".file"));
+    if (item["placement"]) fixture.placement = reader.frame(item["placement"], key + ".placement");
+    if (item["frame"]) {
+      const auto frame = reader.scalar<std::string>(item["frame"], key + ".frame");
+      if (frame != "part" && frame != "world")
+        reader.fail(key + ".frame: expected part or world, got '" + frame + "'");
+      fixture.in_world = frame == "world";
+    }
+    if (item["markers"])
+      fixture.markers_file =
+          reader.resolvePath(reader.scalar<std::string>(item["markers"], key + ".markers"));
+    fixtures.push_back(fixture);
+  }
+  return fixtures;
+}
+
 // markers: a CSV of markers, or a generated grid.
 void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec) {
   if (markers.IsMap()) {
     checkKeys(markers, {"grid", "margin", "on"}, reader, "markers");
-    if (markers["on"]) {
-      const std::string on = reader.scalar<std::string>(markers["on"], "markers.on");
-      if (on != "plate" && on != "part" && on != "both")
-        reader.fail("markers.on: expected plate, part or both, got '" + on + "'");
-      spec.markers_on_plate = on != "part";
-      spec.markers_on_part = on != "plate";
-    }
+    if (const YAML::Node on = markers["on"]) readMarkersOn(on, reader, spec);
     if (!markers["grid"]) reader.fail("markers: a generated grid needs grid: <step in mm>");
     spec.marker_grid = reader.scalar<double>(markers["grid"], "markers.grid");
     if (markers["margin"])
@@ -550,10 +591,10 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
     reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
   try {
     rejectDuplicateKeys(root, reader, "the spec");
-    checkKeys(
-        root,
-        {"scanner", "part", "roles", "gdt", "markers", "registration", "tasks", "planner", "cell"},
-        reader, "the spec");
+    checkKeys(root,
+              {"scanner", "part", "roles", "gdt", "markers", "fixtures", "registration", "tasks",
+               "planner", "cell"},
+              reader, "the spec");
     if (root["scanner"]) spec.scanner = scannerFromYaml(root, path);
     if (const YAML::Node part = root["part"]) readPart(part, reader, spec);
     if (const YAML::Node roles = root["roles"]) {
@@ -570,6 +611,8 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
       spec.gdt_dimensions = value == "all";
     }
     if (const YAML::Node markers = root["markers"]) readMarkers(markers, reader, spec);
+    if (const YAML::Node fixtures = root["fixtures"])
+      spec.fixtures = readFixtures(fixtures, reader);
     if (const YAML::Node node = root["registration"])
       spec.registration = readRegistration(node, reader, path);
     if (const YAML::Node tasks = root["tasks"]) {
@@ -703,7 +746,20 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   resolved.specular = resolveFaces(part, spec.specular, resolved.source);
   for (std::size_t k = 0; k < spec.tasks.size(); ++k)
     targets.tasks.push_back(taskTargets(part, resolved, k));
+  if (spec.markers_on_fixture && spec.fixtures.empty() && spec.marker_grid > 0)
+    throw InputError(resolved.source, "markers.on: fixture, but the spec has no fixtures");
+  for (const FixtureModel& fixture : spec.fixtures) {
+    ImportOptions options;
+    options.read_gdt = false;
+    Part model = importPart(fixture.file, options);
+    resolved.fixture_model_faces += model.faces.size();
+    resolved.fixture_meshes.push_back(std::move(model.mesh));
+  }
   return resolved;
+}
+
+Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world) {
+  return fixture.in_world ? fixture.placement : Pose(part_to_world * fixture.placement);
 }
 
 std::vector<int> resolveFaces(const Part& part, const std::vector<FaceSelector>& selectors,

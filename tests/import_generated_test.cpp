@@ -1,6 +1,7 @@
 // Import of parts with known geometry, made with OCCT in the test: exact counts, areas and
 // volumes; unit conversion; repair of inward and inconsistently oriented shells.
 
+#include "occt_support.h"
 #include "support.h"
 
 #include <scanplan/cad/import.h>
@@ -34,6 +35,9 @@
 namespace scanplan {
 namespace {
 
+using test::writeBrep;
+using test::writeStep;
+
 // A 100 x 60 x 40 mm box with a through hole of radius 10 mm along z.
 constexpr double kA = 100, kB = 60, kC = 40, kR = 10;
 const double kArea = 2 * (kA * kB + kB * kC + kA * kC) - 2 * M_PI * kR * kR + 2 * M_PI * kR * kC;
@@ -44,21 +48,6 @@ TopoDS_Shape boxWithHole() {
   TopoDS_Shape hole =
       BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(kA / 2, kB / 2, -1), gp::DZ()), kR, kC + 2).Shape();
   return BRepAlgoAPI_Cut(box, hole).Shape();
-}
-
-std::string writeBrep(const TopoDS_Shape& shape, const std::string& path) {
-  EXPECT_TRUE(BRepTools::Write(shape, path.c_str()));
-  return path;
-}
-
-std::string writeStep(const TopoDS_Shape& shape, const std::string& path, const char* unit) {
-  STEPControl_Controller::Init();  // declares the static parameters set below
-  Interface_Static::SetCVal("write.step.unit", unit);
-  STEPControl_Writer writer;
-  writer.Transfer(shape, STEPControl_AsIs);
-  EXPECT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
-  Interface_Static::SetCVal("write.step.unit", "MM");
-  return path;
 }
 
 void expectBoxWithHole(const Part& part) {

@@ -85,9 +85,10 @@ int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global.quiet);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const Part part = importPart(options.part, {}, progress);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
   report(progress, "sampling", 0);
   std::vector<Sample> samples =
-      sampleTargets(part, resolveSpec(part, spec).targets, samplingOptionsFor(spec.scanner));
+      sampleTargets(part, resolved.targets, samplingOptionsFor(spec.scanner));
   report(progress, "clustering", 0);
   const std::vector<Cluster> clusters =
       clusterSamples(samples, clusteringOptionsFor(spec.scanner, spec.planner.seed));
@@ -97,9 +98,7 @@ int run(const Options& options, const GlobalOptions& global) {
     std::error_code ec;
     std::filesystem::create_directories(options.cvm_dir, ec);
     if (ec) throw OutputError(options.cvm_dir, "cannot create the folder: " + ec.message());
-    SimulationOptions simulation;
-    simulation.part_to_world = restingPlacement(part);
-    simulation.working_plane = spec.working_plane;
+    const SimulationOptions simulation = simulationOptionsFor(resolved, restingPlacement(part));
     const Simulator simulator(part, spec.scanner, simulation);
     std::vector<Sample> world = samples;
     for (Sample& s : world) {

@@ -30,6 +30,16 @@ struct Task {
   std::string points_file;          // control points CSV (points), resolved to the spec's folder
 };
 
+// A fixture model from its own file (`fixtures:`): a clamp, a frame or a table. It hides
+// the part from camera and projector, the scanner and the robot stay clear of it, it is
+// never sampled, and markers may be placed on it.
+struct FixtureModel {
+  std::string file;                   // STEP, IGES, BREP or a mesh, resolved to the spec's folder
+  Pose placement = Pose::Identity();  // the fixture's frame in the part's (or the world's)
+  bool in_world = false;              // frame: world: fixed in the cell, whatever the rest
+  std::string markers_file;           // markers: a CSV in the fixture's frame, resolved, or ""
+};
+
 struct PlannerSettings {
   std::uint64_t seed = 1;  // k-means and any other randomness
   double vm_step = 5;      // visibility-map grid step, degrees
@@ -70,7 +80,9 @@ struct Spec {
   double marker_grid = 0;              // markers: {grid: step, margin: mm, on: ...}: a
   double marker_margin = 100;          // generated grid (0: none) on the working plane
   bool markers_on_plate = true;        // around the part, and/or on the part's upward
-  bool markers_on_part = false;        // faces
+  bool markers_on_part = false;        // faces, and/or on the fixture models' upward
+  bool markers_on_fixture = false;     // faces
+  std::vector<FixtureModel> fixtures;  // fixtures: models with their own files
   RegistrationOptions registration;    // registration: thresholds of the pair checks
   std::vector<Task> tasks;             // never empty: defaults to one global task
   PlannerSettings planner;
@@ -97,12 +109,21 @@ struct ResolvedSpec {
   Targets targets;             // what sampling targets
   std::vector<int> specular;   // roles.specular, sorted face ids
   std::vector<int> gdt_faces;  // with gdt: from-file, the part's GD&T faces, else empty
+  std::vector<TriangleMesh> fixture_meshes;  // per spec.fixtures: its mesh, its own frame
+  std::size_t fixture_model_faces = 0;       // faces of the fixture models' files
+
+  // The fixture faces: roles.fixture's and those of the fixture models.
+  std::size_t fixtureFaces() const { return targets.fixture.size() + fixture_model_faces; }
 };
 
+// Resolves `spec` against `part`, and reads its fixture models' files.
 // \throw InputError for faces or files the spec names wrongly, or gdt: from-file on a
 // part without GD&T; PlanningError for a gdt, trim or surface task left without target
 // faces.
 ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
+
+// Where a fixture model stands in the world, with the part placed by `part_to_world`.
+Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world);
 
 // Faces of the part's GD&T: the faces of its characteristics (cad/gdt.h) and of its
 // datums, sorted, unique; the dimensions' only with `dimensions`.

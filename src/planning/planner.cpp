@@ -23,15 +23,43 @@ SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& par
   simulation.part_to_world = part_to_world;
   simulation.working_plane = spec.spec.working_plane;
   simulation.specular_faces = spec.specular;
+  simulation.fixtures = fixturesInWorld(spec, part_to_world);
   return simulation;
+}
+
+std::vector<TriangleMesh> fixturesInWorld(const ResolvedSpec& spec, const Pose& part_to_world) {
+  std::vector<TriangleMesh> meshes = spec.fixture_meshes;
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const Pose placed = fixtureToWorld(spec.spec.fixtures[k], part_to_world);
+    for (Vec3& v : meshes[k].vertices) v = placed * v;
+  }
+  return meshes;
 }
 
 // The most markers a grid may give around a part.
 constexpr double kMostMarkers = 1e6;
 
-std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world) {
-  if (!spec.markers_file.empty()) return readMarkers(spec.markers_file);
-  if (!(spec.marker_grid > 0)) return {};
+namespace {
+
+// The markers of the fixture models' CSVs, each given in its fixture's frame.
+std::vector<Marker> fixtureMarkers(const Spec& spec, const Pose& part_to_world) {
+  std::vector<Marker> markers;
+  for (const FixtureModel& fixture : spec.fixtures) {
+    if (fixture.markers_file.empty()) continue;
+    const Pose placed = fixtureToWorld(fixture, part_to_world);
+    for (Marker m : readMarkers(fixture.markers_file)) {
+      m.position = placed * m.position;
+      m.normal = placed.linear() * m.normal;
+      markers.push_back(m);
+    }
+  }
+  return markers;
+}
+
+// The spec's grid of markers: on the plate around the part, on the part, on the fixtures.
+std::vector<Marker> gridMarkers(const ResolvedSpec& resolved, const Part& part,
+                                const Pose& part_to_world) {
+  const Spec& spec = resolved.spec;
   TriangleMesh world = part.mesh;
   for (Vec3& v : world.vertices) v = part_to_world * v;
   Box box;
@@ -48,11 +76,29 @@ std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& 
   std::vector<Marker> markers;
   if (spec.markers_on_part) markers = markersOnPart(world, spec.marker_grid);
   if (spec.markers_on_plate) {
-    Box footprint;
-    for (const Vec3& v : world.vertices) footprint.add(v);
-    const auto plate = markerGrid(footprint, spec.marker_grid, spec.marker_margin);
+    const auto plate = markerGrid(box, spec.marker_grid, spec.marker_margin);
     markers.insert(markers.end(), plate.begin(), plate.end());
   }
+  if (spec.markers_on_fixture)
+    for (const TriangleMesh& fixture : fixturesInWorld(resolved, part_to_world)) {
+      const auto on = markersOnPart(fixture, spec.marker_grid);
+      markers.insert(markers.end(), on.begin(), on.end());
+    }
+  return markers;
+}
+
+}  // namespace
+
+std::vector<Marker> specMarkers(const ResolvedSpec& resolved, const Part& part,
+                                const Pose& part_to_world) {
+  const Spec& spec = resolved.spec;
+  std::vector<Marker> markers;
+  if (!spec.markers_file.empty())
+    markers = readMarkers(spec.markers_file);
+  else if (spec.marker_grid > 0)
+    markers = gridMarkers(resolved, part, part_to_world);
+  const std::vector<Marker> on_fixtures = fixtureMarkers(spec, part_to_world);
+  markers.insert(markers.end(), on_fixtures.begin(), on_fixtures.end());
   return markers;
 }
 
@@ -206,7 +252,7 @@ Plan placedPlan(const Part& part, const ResolvedSpec& spec, const std::vector<Sa
   Plan plan;
   plan.part_file = part.file;
   plan.part_faces = part.faces.size();
-  plan.fixture_faces = spec.targets.fixture.size();
+  plan.fixture_faces = spec.fixtureFaces();
   plan.part_to_world = part_to_world;
   plan.scanner = spec.spec.scanner;
   for (const Sample& s : sampled) {
@@ -227,23 +273,26 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
   const RegistrationOptions& options = at.spec.spec.registration;
   if (!registration || robotRegistersAll(options)) return std::nullopt;
   if (options.method == RegistrationMode::Geometry) return std::vector<Marker>{};
-  return specMarkers(at.spec.spec, at.part, at.simulator.options().part_to_world);
+  return specMarkers(at.spec, at.part, at.simulator.options().part_to_world);
 }
 
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
-// the part's upward faces and on the plate around it, a fifteenth of the field of view
-// apart (or as far as a million candidates need); none when every view registers or the robot alone
-// registers them.
+// the upward faces of the part and of the fixture models and on the plate around the part,
+// a fifteenth of the field of view apart (or as far as a million candidates need); none
+// when every view registers or the robot alone registers them.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = detail::registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
-  Spec grid = at.spec.spec;  // a marker grid on part and plate, as markers: {on: both}
-  grid.markers_file.clear();
+  ResolvedSpec grid = at.spec;  // a marker grid on part, plate and fixtures
+  Spec& spec = grid.spec;
+  spec.markers_file.clear();
+  for (FixtureModel& fixture : spec.fixtures) fixture.markers_file.clear();
   // A fifteenth of the field of view, coarser on parts too large for that many candidates.
-  const double across = at.part.bounds().size().maxCoeff() + 2 * grid.marker_margin;
-  grid.marker_grid =
+  const double across = at.part.bounds().size().maxCoeff() + 2 * spec.marker_margin;
+  spec.marker_grid =
       std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
-  grid.markers_on_part = grid.markers_on_plate = true;
+  spec.markers_on_part = spec.markers_on_plate = true;
+  spec.markers_on_fixture = !spec.fixtures.empty();
   const std::vector<Marker> candidates = specMarkers(grid, at.part, plan.part_to_world);
   plan.proposed_markers =
       scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
@@ -254,7 +303,7 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
 // solutions for the views it returns, else by the scanner's path.
 CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
                                   const Progress& progress) {
-  plan.markers = specMarkers(at.spec.spec, at.part, plan.part_to_world);
+  plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
   plan.registration = registerViews(at.simulator, plan.views, plan.markers,
                                     detail::registrationOptions(at.spec.spec), at.cell, progress);

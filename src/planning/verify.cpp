@@ -61,7 +61,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   PlanCheck check;
   Plan& again = check.plan;
   again = plan;
-  again.fixture_faces = resolved.targets.fixture.size();
+  again.fixture_faces = resolved.fixtureFaces();
   const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
 
   report(progress, "simulating " + std::to_string(plan.views.size()) + " views", 0);
@@ -80,8 +80,8 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   if (!options.registration || !plan.registration) return check;
   std::vector<View> views = plan.views;
   const RegistrationOptions registration = checkOptions(spec, *plan.registration);
-  if (!spec.markers_file.empty() || spec.marker_grid > 0)
-    again.markers = specMarkers(spec, part, plan.part_to_world);
+  if (!spec.markers_file.empty() || spec.marker_grid > 0 || !spec.fixtures.empty())
+    again.markers = specMarkers(resolved, part, plan.part_to_world);
   again.registration =
       registerViews(simulator, views, again.markers, registration, CellCheck{}, progress);
   std::size_t bridges = 0;

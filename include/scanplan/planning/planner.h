@@ -21,13 +21,18 @@ struct PlanningOptions {
   bool registration = true;  // check registration, bridge, and sequence the views
 };
 
-// The simulation of the part placed by `part_to_world` as the spec sets it: working plane
-// and specular faces.
+// The simulation of the part placed by `part_to_world` as the spec sets it: working plane,
+// specular faces and fixture models.
 SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world);
 
-// The spec's markers: its CSV, or its grid around the footprint of the part placed by
-// `part_to_world` and/or on the part; none when it names neither.
-std::vector<Marker> specMarkers(const Spec& spec, const Part& part, const Pose& part_to_world);
+// The spec's fixture models in the world, with the part placed by `part_to_world`.
+std::vector<TriangleMesh> fixturesInWorld(const ResolvedSpec& spec, const Pose& part_to_world);
+
+// The spec's markers, world frame: its CSV, or its grid around the footprint of the part
+// placed by `part_to_world`, on the part and/or on the fixture models; and the markers of
+// the fixture models' own CSVs. None when it names none.
+std::vector<Marker> specMarkers(const ResolvedSpec& spec, const Part& part,
+                                const Pose& part_to_world);
 
 // The part standing on the working plane as it lies in its CAD frame: lifted so that its
 // lowest point is at z = 0 (rest orientations come with localization).

@@ -1,0 +1,170 @@
+// Fixture models (the spec's fixtures:): a box part inside a frame loaded from its own STEP
+// file, and a bar of a gantry above it in the world. They hide the part, the scanner
+// stays clear of them, they are never sampled, they count as fixture faces, and markers
+// on them register the views.
+
+#include "occt_support.h"
+#include "plan_support.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/errors.h>
+#include <scanplan/planning/poses.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <gp_Pnt.hxx>
+
+namespace scanplan {
+namespace {
+
+using test::TempDir;
+
+// The part: a 200 x 150 x 40 mm box on the plane.
+constexpr double kX = 200, kY = 150, kZ = 40;
+// The frame around it, in the part's frame: walls 20 mm thick, 10 mm from the part, 70 mm
+// high. Its 10 faces: 4 outside, 4 inside, top and bottom.
+constexpr double kGap = 10, kWall = 20, kFrameZ = 70;
+// The bar of a gantry, in the world, where the scanner stands to look down on the part.
+const Box kBar{Vec3(-50, 55, 420), Vec3(250, 95, 460)};
+
+TopoDS_Shape box(const Vec3& lo, const Vec3& hi) {
+  return BRepPrimAPI_MakeBox(gp_Pnt(lo.x(), lo.y(), lo.z()), gp_Pnt(hi.x(), hi.y(), hi.z()))
+      .Shape();
+}
+
+TopoDS_Shape frame() {
+  const double in = kGap, out = kGap + kWall;
+  return BRepAlgoAPI_Cut(box(Vec3(-out, -out, 0), Vec3(kX + out, kY + out, kFrameZ)),
+                         box(Vec3(-in, -in, -1), Vec3(kX + in, kY + in, kFrameZ + 1)))
+      .Shape();
+}
+
+// The part, the frame and the bar in `dir`, and the spec's fixtures.
+struct FramedBox {
+  TempDir dir;
+  Part part;
+  std::string fixtures;  // the spec's fixtures: section
+
+  explicit FramedBox(const std::string& spec_fixtures) : fixtures(spec_fixtures) {
+    part = importPart(test::writeStep(box(Vec3::Zero(), Vec3(kX, kY, kZ)), dir.file("part.step")));
+    test::writeStep(frame(), dir.file("frame.step"));
+    test::writeStep(box(kBar.min, kBar.max), dir.file("bar.step"));
+  }
+
+  Spec spec(const std::string& rest) const { return test::specWith(fixtures + rest, dir); }
+};
+
+const std::string kFrame = "fixtures:\n  - {file: frame.step}\n";
+const std::string kFrameAndBar = kFrame + "  - {file: bar.step, frame: world}\n";
+
+bool onSideFace(const PlannedSample& s) { return std::abs(s.sample.normal.z()) < 1e-6; }
+
+// The plan of every face of the part, without registration, shared by the tests.
+class FixturePlan : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    PlanningOptions options;
+    options.registration = false;
+    for (auto [plan, fixtures] :
+         {std::pair{&planned_, kFrameAndBar}, {&framed_, kFrame}, {&bare_, std::string()}}) {
+      const FramedBox scene(fixtures);
+      *plan = new Plan(planViews(scene.part, scene.spec("tasks: [{type: global}]\n"), options));
+    }
+  }
+  static void TearDownTestSuite() {
+    delete planned_;
+    delete framed_;
+    delete bare_;
+  }
+  static Plan *planned_, *framed_, *bare_;  // with the frame and the bar, the frame, neither
+};
+Plan *FixturePlan::planned_, *FixturePlan::framed_, *FixturePlan::bare_;
+
+TEST_F(FixturePlan, TheFrameHidesTheSideFaces) {
+  // Seen 10 mm from a wall 30 mm higher than the part, a side face would need a camera
+  // more than 60 degrees off its normal: nothing measures it inside the frame.
+  std::size_t side = 0, measured_bare = 0;
+  for (std::size_t i = 0; i < framed_->samples.size(); ++i) {
+    if (!onSideFace(framed_->samples[i])) continue;
+    ++side;
+    EXPECT_TRUE(framed_->samples[i].measured_by.empty()) << "sample " << i;
+  }
+  for (const PlannedSample& s : bare_->samples)
+    measured_bare += onSideFace(s) && !s.measured_by.empty();
+  EXPECT_GT(side, 20u);
+  EXPECT_GT(measured_bare, side / 2) << "without the frame, the side faces are measured";
+}
+
+TEST_F(FixturePlan, ViewsStayClearOfTheBar) {
+  // Where the scanner stands to look down on the part in the frame, the bar stands now.
+  Box grown = kBar;
+  const double margin = planned_->scanner.body_margin;
+  grown.min -= Vec3::Constant(margin);
+  grown.max += Vec3::Constant(margin);
+  auto inBar = [&](const View& v) {
+    const Vec3 c = v.camera_to_world.translation();
+    return (c.array() >= grown.min.array()).all() && (c.array() <= grown.max.array()).all();
+  };
+  EXPECT_TRUE(std::any_of(framed_->views.begin(), framed_->views.end(), inBar));
+  for (const View& v : planned_->views) EXPECT_FALSE(inBar(v)) << "view " << v.id;
+  // The planner's own check rejects those views once the bar is in the scene.
+  const FramedBox scene(kFrameAndBar);
+  const ResolvedSpec resolved = resolveSpec(scene.part, scene.spec(""));
+  const Simulator simulator(scene.part, planned_->scanner,
+                            simulationOptionsFor(resolved, planned_->part_to_world));
+  for (const View& v : framed_->views)
+    if (inBar(v)) {
+      EXPECT_FALSE(poseIsValid(simulator, v, {})) << "view " << v.id;
+    }
+  // The top face is measured all the same.
+  for (const PlannedSample& s : planned_->samples)
+    if (s.sample.normal.z() > 0.99) {
+      EXPECT_FALSE(s.measured_by.empty());
+    }
+}
+
+TEST_F(FixturePlan, FixturesAreNeverSampledAndCountAsFixtureFaces) {
+  for (const PlannedSample& s : planned_->samples) {
+    const Vec3 p = planned_->part_to_world.inverse() * s.sample.position;
+    EXPECT_TRUE((p.array() >= -1e-6).all() && (p.array() <= Vec3(kX, kY, kZ).array() + 1e-6).all())
+        << p.transpose();
+  }
+  EXPECT_EQ(planned_->samples.size(), bare_->samples.size());
+  EXPECT_EQ(planned_->part_faces, 6u);
+  EXPECT_EQ(planned_->fixture_faces, 10u + 6u);  // the frame's and the bar's
+  EXPECT_EQ(bare_->fixture_faces, 0u);
+}
+
+TEST(Fixtures, PlacedInThePartFrameTheyFollowThePart) {
+  const FramedBox cell(kFrameAndBar);
+  const Spec spec =
+      cell.spec("part: {rest: [[1, 0, 0, 500], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}\n");
+  const ResolvedSpec resolved = resolveSpec(cell.part, spec);
+  const auto meshes = fixturesInWorld(resolved, *spec.rest_pose);
+  ASSERT_EQ(meshes.size(), 2u);
+  Box frame, bar;
+  for (const Vec3& v : meshes[0].vertices) frame.add(v);
+  for (const Vec3& v : meshes[1].vertices) bar.add(v);
+  EXPECT_TRUE(frame.min.isApprox(Vec3(500 - kGap - kWall, -kGap - kWall, 0), 1e-9));
+  EXPECT_TRUE(bar.min.isApprox(kBar.min, 1e-9)) << "the bar stays in the world";
+}
+
+TEST(Fixtures, BadFixturesAreInputErrors) {
+  const FramedBox cell(kFrameAndBar);
+  EXPECT_THROW(resolveSpec(cell.part, test::specWith("fixtures: [{file: none.step}]\n", cell.dir)),
+               InputError);
+  EXPECT_THROW(test::specWith("fixtures: {file: frame.step}\n", cell.dir), InputError);
+  EXPECT_THROW(test::specWith("fixtures: [{placement: [1, 2]}]\n", cell.dir), InputError);
+  EXPECT_THROW(test::specWith("fixtures: [{file: frame.step, frame: cell}]\n", cell.dir),
+               InputError);
+  EXPECT_THROW(
+      resolveSpec(cell.part, test::specWith("markers: {grid: 20, on: fixture}\n", cell.dir)),
+      InputError);
+  test::writeText(cell.dir.file("broken.step"), "ISO-10303-21;\nHEADER;\n");
+  EXPECT_THROW(
+      resolveSpec(cell.part, test::specWith("fixtures: [{file: broken.step}]\n", cell.dir)),
+      InputError);
+}
+
+}  // namespace
+}  // namespace scanplan
