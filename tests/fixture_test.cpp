@@ -9,6 +9,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/errors.h>
 #include <scanplan/planning/poses.h>
+#include <scanplan/registration.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -158,12 +159,93 @@ TEST(Fixtures, BadFixturesAreInputErrors) {
   EXPECT_THROW(test::specWith("fixtures: [{file: frame.step, frame: cell}]\n", cell.dir),
                InputError);
   EXPECT_THROW(
-      resolveSpec(cell.part, test::specWith("markers: {grid: 20, on: fixture}\n", cell.dir)),
+      resolveSpec(cell.part, test::specWith("markers: {grid: 10, on: fixture}\n", cell.dir)),
       InputError);
   test::writeText(cell.dir.file("broken.step"), "ISO-10303-21;\nHEADER;\n");
   EXPECT_THROW(
       resolveSpec(cell.part, test::specWith("fixtures: [{file: broken.step}]\n", cell.dir)),
       InputError);
+}
+
+// A 700 x 520 x 5 mm panel flush in a frame 40 mm wide, 5 mm from it, with markers every
+// 10 mm on the frame; control points every 50 mm over the panel.
+class MarkerFrame : public ::testing::Test {
+ protected:
+  static constexpr double kW = 700, kH = 520, kT = 5, kIn = 5, kOut = 45;
+
+  static std::string points() {
+    std::string csv;
+    for (double x = 25; x < kW; x += 50)
+      for (double y = 25; y < kH; y += 50)
+        csv += std::to_string(x) + "," + std::to_string(y) + "," + std::to_string(kT) + ",0,0,1\n";
+    return csv;
+  }
+
+  // The plan of the control points, registered by the markers on the frame (or without
+  // them: by geometry).
+  static Plan plan(const TempDir& dir, const Part& part, bool markers) {
+    return planViews(part,
+                     test::specWith(std::string("fixtures: [{file: frame.step}]\n") +
+                                        (markers ? "markers: {grid: 10, on: fixture}\n" : "") +
+                                        "tasks: [{type: points, file: points.csv}]\n",
+                                    dir));
+  }
+
+  static void SetUpTestSuite() {
+    const TempDir dir;
+    panel_ = new Part(
+        importPart(test::writeStep(box(Vec3::Zero(), Vec3(kW, kH, kT)), dir.file("panel.step"))));
+    test::writeStep(BRepAlgoAPI_Cut(box(Vec3(-kOut, -kOut, 0), Vec3(kW + kOut, kH + kOut, kT)),
+                                    box(Vec3(-kIn, -kIn, -1), Vec3(kW + kIn, kH + kIn, kT + 1)))
+                        .Shape(),
+                    dir.file("frame.step"));
+    test::writeText(dir.file("points.csv"), points());
+    frame_ = new Part(importPart(dir.file("frame.step")));
+    with_ = new Plan(plan(dir, *panel_, true));
+    without_ = new Plan(plan(dir, *panel_, false));
+  }
+  static void TearDownTestSuite() {
+    delete with_;
+    delete without_;
+    delete panel_;
+  }
+  static Part* panel_;
+  static Part* frame_;
+  static Plan *with_, *without_;
+};
+Part* MarkerFrame::panel_;
+Part* MarkerFrame::frame_;
+Plan *MarkerFrame::with_, *MarkerFrame::without_;
+
+TEST_F(MarkerFrame, MarkersOnTheFrameRegisterViewsOfAPlane) {
+  ASSERT_TRUE(with_->registration && without_->registration);
+  for (const PlannedSample& s : with_->samples) EXPECT_FALSE(s.measured_by.empty());
+  EXPECT_GT(with_->views.size(), 1u);
+  EXPECT_EQ(with_->registration->registered(), with_->views.size());
+  for (const ViewRegistration& v : with_->registration->views)
+    EXPECT_NE(v.method, RegistrationMethod::Icp);
+  // By its geometry, a plane registers nothing to the reference view.
+  EXPECT_GT(without_->views.size(), 1u);
+  EXPECT_EQ(without_->registration->registered(), 1u);
+}
+
+TEST_F(MarkerFrame, EveryViewSeesThreeMarkers) {
+  // Every control point lies within 250 mm of the frame's markers, less than the width of
+  // the field of view (300 mm): a view can take in a point and markers beyond it.
+  ASSERT_FALSE(with_->markers.empty());
+  std::vector<SurfacePoint> markers;
+  for (const Marker& m : with_->markers) markers.push_back({m.position, m.normal, 0});
+  SimulationOptions placed;
+  placed.part_to_world = with_->part_to_world;
+  placed.fixtures.push_back(frame_->mesh);
+  const Simulator simulator(*panel_, with_->scanner, placed);
+  const auto seen = measuredPoints(simulator, with_->views, markers);
+  for (std::size_t v = 0; v < seen.size(); ++v) {
+    std::vector<Vec3> positions;
+    for (int m : seen[v]) positions.push_back(markers[m].position);
+    EXPECT_TRUE(markersRegister(positions, 3, 10))
+        << "view " << with_->views[v].id << " sees " << positions.size() << " markers";
+  }
 }
 
 }  // namespace

@@ -364,13 +364,14 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   clock.lap("rescue");
   const std::vector<View> dense = detail::densePool(at, progress);
   candidates.insert(candidates.end(), dense.begin(), dense.end());
-  const detail::MeasuredViews pool =
-      detail::candidatePool(at, std::move(added), candidates, progress);
+  detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
+  const auto registering = registeringMarkers(at, options.registration);
+  if (registering) detail::addMarkerShifts(at, pool, *registering, progress);
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
-  const detail::Selection selection = detail::selectViews(
-      at, pool, pinned, plan.samples, registeringMarkers(at, options.registration));
+  const detail::Selection selection =
+      detail::selectViews(at, pool, pinned, plan.samples, registering);
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");

@@ -88,6 +88,13 @@ std::vector<View> densePool(const Placement& at, const Progress& progress);
 MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
                             const std::vector<View>& candidates, const Progress& progress);
 
+// Target shift towards markers: each pose of the pool that measures samples but sees too
+// few `markers` to register by, moved across its axis (up to half the field of view) by
+// the least shift that takes in enough of them and keeps measuring its own samples (those
+// within a quarter of the field of view of its target), is added to the pool so moved.
+void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
+                     const Progress& progress);
+
 // The views chosen from the pool (indices into it), and how close they are to the fewest.
 struct Selection {
   std::vector<std::size_t> views;
