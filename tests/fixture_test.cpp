@@ -10,10 +10,16 @@
 #include <scanplan/errors.h>
 #include <scanplan/planning/poses.h>
 #include <scanplan/registration.h>
+#include <scanplan/report.h>
+
+#include <nlohmann/json.hpp>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <gp_Pnt.hxx>
+
+#include <fstream>
+#include <iterator>
 
 namespace scanplan {
 namespace {
@@ -134,6 +140,27 @@ TEST_F(FixturePlan, FixturesAreNeverSampledAndCountAsFixtureFaces) {
   EXPECT_EQ(planned_->part_faces, 6u);
   EXPECT_EQ(planned_->fixture_faces, 10u + 6u);  // the frame's and the bar's
   EXPECT_EQ(bare_->fixture_faces, 0u);
+}
+
+TEST_F(FixturePlan, TheReportDrawsTheFixtures) {
+  const FramedBox scene(kFrameAndBar);
+  const Spec spec = scene.spec("roles: {fixture: [1]}\n");
+  ReportOptions options;
+  options.clouds = options.visibility_maps = false;
+  writeReport(*planned_, scene.part, spec, scene.dir.file("report.html"), options);
+  std::ifstream in(scene.dir.file("report.html"));
+  const std::string page{std::istreambuf_iterator<char>(in), {}};
+  const std::string open = R"(<script type="application/json" id="scanplan-data">)";
+  const std::size_t begin = page.find(open) + open.size();
+  const auto data =
+      nlohmann::json::parse(page.substr(begin, page.find("</script>", begin) - begin));
+  // Base64 of 3 floats per vertex: the frame's and the bar's.
+  const ResolvedSpec resolved = resolveSpec(scene.part, spec);
+  const std::size_t vertices =
+      resolved.fixture_meshes[0].vertices.size() + resolved.fixture_meshes[1].vertices.size();
+  EXPECT_EQ(data["fixtures"]["positions"].get<std::string>().size(), (vertices * 12 + 2) / 3 * 4);
+  EXPECT_EQ(data["palette"]["fixture"], nlohmann::json(kFixtureColour));
+  for (const auto& face : data["faces"]) EXPECT_EQ(face["fixture"], face["id"] == 1);
 }
 
 TEST(Fixtures, PlacedInThePartFrameTheyFollowThePart) {

@@ -37,6 +37,7 @@ std::string_view toString(ViewState state);
 using Rgb = std::array<std::uint8_t, 3>;  // sRGB
 Rgb colour(FaceCoverage coverage);
 Rgb colour(ViewState state);
+inline constexpr Rgb kFixtureColour{96, 122, 168};  // fixture models and fixture faces
 
 struct FaceStatus {
   int id = 0;

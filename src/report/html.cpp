@@ -56,7 +56,20 @@ json meshJson(const PlanScene& scene) {
   return mesh;
 }
 
-json facesJson(const Plan& plan, const PlanScene& scene, const Part& part) {
+// The fixture models in the scene, one mesh.
+json fixturesJson(const Plan& plan, const ResolvedSpec& resolved) {
+  TriangleMesh all;
+  for (const TriangleMesh& mesh : fixturesInWorld(resolved, plan.part_to_world)) {
+    const int base = static_cast<int>(all.vertices.size());
+    all.vertices.insert(all.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+    for (const Vec3i& t : mesh.triangles) all.triangles.push_back(t + Vec3i::Constant(base));
+    all.triangle_faces.insert(all.triangle_faces.end(), mesh.triangles.size(), 0);
+  }
+  return detail::meshJson(all);
+}
+
+json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
+               const std::vector<int>& fixture) {
   const std::map<int, double> densities = faceDensities(plan, scene);
   json faces = json::array();
   for (const FaceStatus& f : scene.faces) {
@@ -72,6 +85,7 @@ json facesJson(const Plan& plan, const PlanScene& scene, const Part& part) {
          {"not_coverable", f.not_coverable},
          {"coverage", toString(f.coverage)},
          {"priority", f.priority},
+         {"fixture", std::binary_search(fixture.begin(), fixture.end(), f.id)},
          {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)},
          {"density", density == densities.end() ? json(nullptr) : json(density->second)}});
   }
@@ -154,7 +168,9 @@ json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<Point
 // The clusters of the planner's first round of iterative adding (Sample::cluster, as
 // plan.json records it) with their Combined Visibility Maps over all their members, the
 // part placed as the plan's first placement puts it, with the planner's map options.
-json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Progress& progress) {
+json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
+                  const Progress& progress) {
+  const Spec& spec = resolved.spec;
   std::vector<Sample> samples;
   std::map<int, std::vector<int>> members_of;
   for (std::size_t i = 0; i < plan.samples.size(); ++i) {
@@ -162,8 +178,7 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
     if (samples.back().cluster >= 0)
       members_of[samples.back().cluster].push_back(static_cast<int>(i));
   }
-  const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
+  const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
   const VisibilityOptions vo =
       plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
   json list = json::array();
@@ -201,6 +216,7 @@ json clustersJson(const Plan& plan, const Part& part, const Spec& spec, const Pr
 
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
                  const ReportOptions& options, const Progress& progress) {
+  const ResolvedSpec resolved = resolveSpec(part, spec);
   const PlanScene scene = planScene(plan, part);
   Box part_box;
   for (const Vec3& v : scene.mesh.vertices) part_box.add(v);
@@ -220,7 +236,8 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
   json data = {{"title", std::filesystem::path(plan.part_file).filename().string()},
                {"plan", plan_json},
                {"mesh", meshJson(scene)},
-               {"faces", facesJson(plan, scene, part)},
+               {"faces", facesJson(plan, scene, part, resolved.targets.fixture)},
+               {"fixtures", fixturesJson(plan, resolved)},
                {"samples", samplesJson(plan)},
                {"views", viewsJson(scene, plan, clouds)},
                {"path", scene.path},
@@ -231,7 +248,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
                {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
                {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},
                {"clusters", options.visibility_maps && !plan.samples.empty()
-                                ? clustersJson(plan, part, spec, progress)
+                                ? clustersJson(plan, part, resolved, progress)
                                 : json::array()}};
   json palette = json::object();
   for (FaceCoverage c : {FaceCoverage::NotTarget, FaceCoverage::Measured, FaceCoverage::Partly,
@@ -240,6 +257,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
   for (ViewState s :
        {ViewState::Registered, ViewState::Bridge, ViewState::Unregistrable, ViewState::Unchecked})
     palette[std::string(toString(s))] = colour(s);
+  palette["fixture"] = kFixtureColour;
   data["palette"] = palette;
 
   detail::writePage(assets::report_html, assets::viewer_js, data, path);

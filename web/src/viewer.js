@@ -40,7 +40,7 @@ document.body.dataset.views = String(data.views.length);
 
 const legend = $('legend');
 for (const [name, title] of [['measured', 'face measured'], ['partly measured', 'face partly measured'],
-  ['not measured', 'face not measured'], ['not a target', 'not a target'],
+  ['not measured', 'face not measured'], ['not a target', 'not a target'], ['fixture', 'fixture'],
   ['registered', 'view registered'], ['bridge', 'bridging view'], ['unregistrable', 'view unregistrable']]) {
   legend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
 }
@@ -91,13 +91,20 @@ function paintFaces(highlighted = highlightedFaces) {
     const face = data.faces[id - 1];
     return colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
       : colourBy === 'density' ? densityColour(face ? face.density : null)
-        : data.palette[face ? face.coverage : 'not a target'];
+        : data.palette[face ? (face.fixture ? 'fixture' : face.coverage) : 'not a target'];
   });
   document.body.dataset.highlighted = String(highlighted.size);
 }
 paintFaces();
 const part = partMeshData.object;
 scene.add(part);
+
+// The fixture models of the plan's spec, in their own colour.
+const fixtureData = partMesh(data.fixtures);
+fixtureData.paint(() => data.palette.fixture);
+const fixtures = fixtureData.object;
+document.body.dataset.fixtureTriangles = String(fixtureData.triangleFaces.length);
+scene.add(fixtures);
 
 // The working plane the part stands on (z = 0), when the plan's spec has one.
 if (data.working_plane) scene.add(workingPlane(partBox));
@@ -205,7 +212,7 @@ for (const d of [10 ** densityRange[0], 10 ** ((densityRange[0] + densityRange[1
   densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(d))}` }), `${fmt(d, 1)} points/mm²`));
 densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(0))}` }), 'no points'));
 legend.append(densityLegend);
-for (const [name, object] of [['part', part], ['priority outlines', outlines], ['samples', samples],
+for (const [name, object] of [['part', part], ['fixtures', fixtures], ['priority outlines', outlines], ['samples', samples],
   ['views', views], ['path', path], ['markers', markers], ['proposed markers', proposedMarkers]]) {
   const box = el('input', { type: 'checkbox' });
   box.checked = object.visible;
