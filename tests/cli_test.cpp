@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <sstream>
 #include <set>
 #include <tuple>
 
@@ -234,6 +235,21 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
     EXPECT_EQ(planned.sequence->views[place - 1], std::stoi((*it)[2])) << listed;
   }
   EXPECT_GT(entries, 0u) << listed;
+
+  // The results row as the method's authors table theirs, the plan's own figures.
+  const std::size_t header = summary.find("alignable views\n");
+  ASSERT_NE(header, std::string::npos) << summary;
+  std::istringstream row(summary.substr(header + 16));
+  std::size_t model = 0, fixture = 0, targets = 0, acquired = 0, views = 0, alignable = 0;
+  std::string share;
+  row >> model >> fixture >> targets >> acquired >> share >> views >> alignable;
+  EXPECT_EQ(model, 117u);
+  EXPECT_EQ(fixture, 0u);
+  EXPECT_EQ(targets, planned.samples.size());
+  EXPECT_EQ(acquired, planned.measuredCount());
+  EXPECT_EQ(views, planned.views.size());
+  ASSERT_TRUE(planned.registration);
+  EXPECT_EQ(alignable, planned.registration->registered());
 
   // Views of the example register to nothing: the plan holds as planned, but fails.
   CommandResult r = run("verify " + plan + " " + part + " --spec " + spec + " -q");

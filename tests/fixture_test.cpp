@@ -251,6 +251,14 @@ TEST_F(MarkerFrame, MarkersOnTheFrameRegisterViewsOfAPlane) {
   EXPECT_EQ(with_->registration->registered(), with_->views.size());
   for (const ViewRegistration& v : with_->registration->views)
     EXPECT_NE(v.method, RegistrationMethod::Icp);
+  // The results row: every control point acquired, every view alignable.
+  const Plan::ResultsRow row = with_->resultsRow();
+  EXPECT_EQ(row.model_faces, 6u);
+  EXPECT_EQ(row.fixture_faces, 10u);
+  EXPECT_TRUE(row.control_points);
+  EXPECT_EQ(row.points, 14u * 10u);
+  EXPECT_EQ(row.acquired, row.points);
+  EXPECT_EQ(row.alignable, with_->views.size());
   // By its geometry, a plane registers nothing to the reference view.
   EXPECT_GT(without_->views.size(), 1u);
   EXPECT_EQ(without_->registration->registered(), 1u);

@@ -125,6 +125,8 @@ int run(const Options& options, const GlobalOptions& global) {
                "selection", b.views, b.lower_bound, b.pool, b.proven_optimal ? ", the fewest" : "",
                b.greedy_views);
   }
+  printResultsRow(plan);
+  fmt::print("\n");
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
   if (!options.no_report) fmt::print("  {:<16} {:.2f} s\n", "report", report_seconds);
   fmt::print("total      {:.2f} s\nplan       {}\n", plan.seconds, path);

@@ -125,4 +125,17 @@ void printPlanSummary(const Plan& plan, const Part& part) {
   }
 }
 
+void printResultsRow(const Plan& plan) {
+  const Plan::ResultsRow row = plan.resultsRow();
+  fmt::print("\n{:>11} {:>13} {:>15} {:>15} {:>8} {:>15}\n", "model faces", "fixture faces",
+             row.control_points ? "control points" : "targets", "acquired", "views",
+             "alignable views");
+  fmt::print(
+      "{:>11} {:>13} {:>15} {:>15} {:>8} {:>15}\n", row.model_faces, row.fixture_faces, row.points,
+      fmt::format("{} ({:.1f}%)", row.acquired, percent(row.acquired, row.points)), row.views,
+      row.alignable
+          ? fmt::format("{} ({:.1f}%)", *row.alignable, percent(*row.alignable, row.views))
+          : "-");
+}
+
 }  // namespace scanplan::cli

@@ -9,4 +9,8 @@ namespace scanplan::cli {
 // bridging views added and path length, one per line.
 void printPlanSummary(const Plan& plan, const Part& part);
 
+// The plan as the method's authors table their results (their Table 2): model and
+// fixture faces, control points (or targets) and those acquired, views, alignable views.
+void printResultsRow(const Plan& plan);
+
 }  // namespace scanplan::cli

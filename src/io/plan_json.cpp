@@ -144,7 +144,19 @@ json summaryJson(const Plan& plan) {
   json short_faces = json::array();
   for (const Plan::FaceShortfall& f : plan.priorityShortfall())
     short_faces.push_back({{"face", f.face}, {"samples", f.samples}, {"measured", f.measured}});
+  const Plan::ResultsRow row = plan.resultsRow();
+  const json results = {
+      {"model_faces", row.model_faces},
+      {"fixture_faces", row.fixture_faces},
+      {"points", row.control_points ? "control points" : "targets"},
+      {"count", row.points},
+      {"acquired", row.acquired},
+      {"acquired_share", share(row.acquired, row.points)},
+      {"views", row.views},
+      {"alignable_views", row.alignable ? json(*row.alignable) : json(nullptr)},
+      {"alignable_share", row.alignable ? json(share(*row.alignable, row.views)) : json(nullptr)}};
   return {{"model_faces", plan.part_faces},
+          {"results", results},
           {"priority_faces_short", short_faces},
           {"fixture_faces", plan.fixture_faces},
           {"samples", plan.samples.size()},

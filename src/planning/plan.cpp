@@ -52,6 +52,23 @@ std::size_t Plan::measuredCount() const {
                     [](const PlannedSample& s) { return !s.measured_by.empty(); }));
 }
 
+Plan::ResultsRow Plan::resultsRow() const {
+  ResultsRow row;
+  row.model_faces = part_faces;
+  row.fixture_faces = fixture_faces;
+  row.control_points = std::any_of(samples.begin(), samples.end(), [](const PlannedSample& s) {
+    return s.sample.task == TaskType::Points;
+  });
+  for (const PlannedSample& s : samples)
+    if (!row.control_points || s.sample.task == TaskType::Points) {
+      ++row.points;
+      row.acquired += !s.measured_by.empty();
+    }
+  row.views = views.size();
+  if (registration) row.alignable = registration->registered();
+  return row;
+}
+
 std::size_t Plan::notCoverableCount() const {
   return static_cast<std::size_t>(
       std::count_if(samples.begin(), samples.end(),

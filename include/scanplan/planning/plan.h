@@ -158,6 +158,19 @@ struct Plan {
   std::size_t notCoverableCount() const;
   // Samples measured by a view that registers (all measured ones without registration).
   std::size_t registeredMeasuredCount() const;
+
+  // The plan as the method's authors table their results (their Table 2): the model's and
+  // the fixtures' faces, the control points (the points tasks' samples; the targets, all
+  // samples, when there are none) and those measured, the views, and the alignable ones
+  // (registered; none without registration).
+  struct ResultsRow {
+    std::size_t model_faces = 0, fixture_faces = 0;
+    bool control_points = false;  // points are control points, else targets
+    std::size_t points = 0, acquired = 0;
+    std::size_t views = 0;
+    std::optional<std::size_t> alignable;
+  };
+  ResultsRow resultsRow() const;
 };
 
 std::string_view toString(Uncoverable reason);
