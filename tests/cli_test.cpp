@@ -19,8 +19,8 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
-#include <sstream>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 namespace scanplan {
@@ -53,6 +53,21 @@ TEST(Cli, InfoOnTheExamplePart) {
   EXPECT_NE(r.out.find("faces        117"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("6 tolerances, 12 dimensions"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("flatness"), std::string::npos) << r.out;
+}
+
+TEST(Cli, VerboseWritesTheTimeOfEachImportStep) {
+  const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  CommandResult r = run("--verbose --quiet info " + part);
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* step : {"checking STEP references", "reading STEP", "transferring STEP entities",
+                           "orienting faces", "meshing", "measuring faces", "reading GD&T"})
+    EXPECT_TRUE(
+        std::regex_search(r.out, std::regex(std::string("(^|\\n)  ") + step + " +[0-9.]+ s\\n")))
+        << step << "\n"
+        << r.out;
+  // Without it, no times.
+  r = run("--quiet info " + part);
+  EXPECT_EQ(r.out.find("reading STEP"), std::string::npos) << r.out;
 }
 
 TEST(Cli, InfoJsonIsOneObject) {

@@ -9,10 +9,15 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <Interface_Static.hxx>
@@ -84,6 +89,26 @@ TEST(GeneratedPart, BoxWithHoleFromStep) {
   Part part = importPart(writeStep(boxWithHole(), dir.file("box.step"), "MM"));
   EXPECT_EQ(part.format, "STEP");
   expectBoxWithHole(part);
+}
+
+// A B-spline face's area comes from its triangulation: within the chordal tolerance's
+// share of the exact area. A quarter cylinder of radius 50 and height 80 as a B-spline.
+TEST(GeneratedPart, BSplineFaceAreaFromItsTriangulation) {
+  test::TempDir dir;
+  const Handle(Geom_Surface) quarter = new Geom_RectangularTrimmedSurface(
+      new Geom_CylindricalSurface(gp_Ax3(gp::XOY()), 50), 0.0, M_PI / 2, 0.0, 80.0);
+  const TopoDS_Face face =
+      BRepBuilderAPI_MakeFace(Handle(Geom_Surface)(GeomConvert::SurfaceToBSplineSurface(quarter)),
+                              1e-7)
+          .Face();
+  const Part part = importPart(writeBrep(face, dir.file("quarter.brep")));
+  ASSERT_EQ(part.faces.size(), 1u);
+  EXPECT_EQ(part.faces[0].type, SurfaceType::BSpline);
+  const double exact = 50 * M_PI / 2 * 80;
+  // A chord of sagitta d on radius R is short of its arc by about 2d / (3R).
+  const double bound = 2 * part.linear_deflection / (3 * 50);
+  EXPECT_NEAR(part.faces[0].area, exact, bound * exact);
+  EXPECT_LT(part.faces[0].area, exact);
 }
 
 TEST(GeneratedPart, InchStepIsConvertedToMillimetres) {

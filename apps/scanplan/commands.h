@@ -10,6 +10,7 @@ namespace scanplan::cli {
 
 struct GlobalOptions {
   bool quiet = false;
+  bool verbose = false;  // each stage's time on stderr
 };
 
 using Action = std::function<int()>;

@@ -140,7 +140,7 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected
       "Meshes without groups are split into faces at edges sharper than this (degrees)");
   command->callback([options, &global, &selected] {
     selected = [options, &global] {
-      Part part = importPart(options->file, options->import, terminalProgress(global.quiet));
+      Part part = importPart(options->file, options->import, terminalProgress(global));
       clearProgress();
       nlohmann::json info = infoJson(part);
       std::vector<RestOrientation> rests;

@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
   app.set_version_flag("--version", "scanplan " + std::string(version()));
   app.add_flag("-q,--quiet", global.quiet, "Show no progress");
+  app.add_flag("-v,--verbose", global.verbose, "Write the time of each stage (import included)");
   int threads = 0;
   app.add_option("-j,--threads", threads,
                  "Threads to use (default: all cores); plans do not depend on it")

@@ -84,7 +84,7 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
 }
 
 int run(const Options& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global.quiet);
+  Progress progress = terminalProgress(global);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   const Part part = importPart(options.part, {}, progress);

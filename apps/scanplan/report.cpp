@@ -75,7 +75,7 @@ struct ReportCommand {
 };
 
 int runReport(const ReportCommand& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global.quiet);
+  Progress progress = terminalProgress(global);
   const Checked c = check(options.input, progress);
   const std::string out =
       options.out.empty()
@@ -136,7 +136,7 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
     for (int id : visitingOrder(plan)) in_order.push_back(*by_id.at(id));
     writeViewsCsv(in_order, options.out);
   } else {
-    Progress progress = terminalProgress(global.quiet);
+    Progress progress = terminalProgress(global);
     const Checked c = check(options.input, progress);
     if (options.format == "glb") {
       writeGlb(planScene(c.plan, c.part), options.out);

@@ -82,7 +82,7 @@ void writeSamples(const std::string& path, const std::vector<Sample>& samples,
 }
 
 int run(const Options& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global.quiet);
+  Progress progress = terminalProgress(global);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const Part part = importPart(options.part, {}, progress);
   const ResolvedSpec resolved = resolveSpec(part, spec);

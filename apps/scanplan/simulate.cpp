@@ -34,7 +34,7 @@ struct Options {
 };
 
 int run(const Options& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global.quiet);
+  Progress progress = terminalProgress(global);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   ViewsFile views = readViews(options.views);

@@ -4,22 +4,53 @@
 #include <chrono>
 #include <cstdio>
 #include <mutex>
+#include <string>
 
 namespace scanplan::cli {
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
 std::mutex g_mutex;
 bool g_line_open = false;
+// With --verbose: the stage under way and when it began.
+std::string g_stage;
+Clock::time_point g_stage_start;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Ends the status line, if one is shown (g_mutex held).
+void endLine() {
+  if (g_line_open) std::fprintf(stderr, "\r\033[K");
+  g_line_open = false;
+}
+
+// With --verbose, the time of the stage under way once it ends (g_mutex held).
+void endStage() {
+  if (g_stage.empty()) return;
+  endLine();
+  std::fprintf(stderr, "  %-48s %8.2f s\n", g_stage.c_str(), secondsSince(g_stage_start));
+  g_stage.clear();
+}
+
 }  // namespace
 
-Progress terminalProgress(bool quiet) {
-  if (quiet || !isatty(fileno(stderr))) return {};
-  auto start = std::chrono::steady_clock::now();
-  return [start](std::string_view stage, double fraction) {
+Progress terminalProgress(const GlobalOptions& global) {
+  const bool line = !global.quiet && isatty(fileno(stderr));
+  if (!line && !global.verbose) return {};
+  const auto start = Clock::now();
+  return [start, line, verbose = global.verbose](std::string_view stage, double fraction) {
     std::lock_guard lock(g_mutex);
-    double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "\r\033[K[%6.1fs] %.*s", seconds, static_cast<int>(stage.size()),
-                 stage.data());
+    if (verbose && stage != g_stage) {
+      endStage();
+      g_stage = stage;
+      g_stage_start = Clock::now();
+    }
+    if (!line) return;
+    std::fprintf(stderr, "\r\033[K[%6.1fs] %.*s", secondsSince(start),
+                 static_cast<int>(stage.size()), stage.data());
     if (fraction > 0 && fraction < 1) std::fprintf(stderr, " %3.0f%%", 100 * fraction);
     std::fflush(stderr);
     g_line_open = true;
@@ -28,8 +59,8 @@ Progress terminalProgress(bool quiet) {
 
 void clearProgress() {
   std::lock_guard lock(g_mutex);
-  if (g_line_open) std::fprintf(stderr, "\r\033[K");
-  g_line_open = false;
+  endStage();
+  endLine();
 }
 
 }  // namespace scanplan::cli

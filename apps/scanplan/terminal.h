@@ -1,6 +1,8 @@
 #pragma once
 // Progress and messages on the user's terminal.
 
+#include "commands.h"
+
 #include <scanplan/progress.h>
 
 #include <string>
@@ -8,10 +10,11 @@
 namespace scanplan::cli {
 
 // A Progress that redraws one status line on stderr when stderr is a terminal, and
-// stays silent otherwise or when `quiet`.
-Progress terminalProgress(bool quiet);
+// stays silent otherwise or under --quiet. Under --verbose, it also writes each stage's
+// time on stderr when the stage ends (a stage ends when the next begins).
+Progress terminalProgress(const GlobalOptions& global);
 
-// Ends the status line, if one is shown.
+// Ends the status line, if one is shown, and under --verbose the stage under way.
 void clearProgress();
 
 }  // namespace scanplan::cli

@@ -24,7 +24,7 @@ struct Options {
 };
 
 int run(const Options& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global.quiet);
+  Progress progress = terminalProgress(global);
   const Plan plan = readPlan(options.plan);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const Part part = importPart(options.part, {}, progress);

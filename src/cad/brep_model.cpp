@@ -177,18 +177,20 @@ void buildFromShape(Part& part, const TopoDS_Shape& shape, double linear_deflect
     face.id = id;
     face.type = surfaceType(f);
     GProp_GProps props;
-    BRepGProp::SurfaceProperties(f, props);
+    BRepGProp::SurfaceProperties(f, props, false, face.type == SurfaceType::BSpline);
     face.area = props.Mass();
   });
   for (int id = 1; id <= face_count; ++id)
     appendFaceTriangles(*model, id, part.faces[id - 1], part.mesh);
 
   part.solids.resize(solids.Extent());
-  for (int s = 1; s <= solids.Extent(); ++s) {
-    Solid& solid = part.solids[s - 1];
+  tbb::parallel_for(1, solids.Extent() + 1, [&](int s) {
     GProp_GProps props;
     BRepGProp::VolumeProperties(solids(s), props);
-    solid.volume = std::abs(props.Mass());
+    part.solids[s - 1].volume = std::abs(props.Mass());
+  });
+  for (int s = 1; s <= solids.Extent(); ++s) {
+    Solid& solid = part.solids[s - 1];
     TopTools_IndexedMapOfShape solid_faces;
     TopExp::MapShapes(solids(s), TopAbs_FACE, solid_faces);
     for (int i = 1; i <= solid_faces.Extent(); ++i) {

@@ -194,6 +194,7 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
 
   std::string format = formatOf(path);
   if (format == "STEP") {
+    report(progress, "checking STEP references", 0);
     checkStepFraming(path);
     checkStepReferences(path);
   }

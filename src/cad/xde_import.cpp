@@ -316,6 +316,7 @@ Part importBRep(const std::string& path, const std::string& format, const Import
     throw InputError(path, "no geometry: the file holds no shape that could be read");
   buildFromShape(part, shape, chooseDeflection(shape, options, path), angle, progress);
 
+  report(progress, "reading names and colours", 0);
   XdeFaceLookup lookup;
   lookup.model = part.brep.get();
   XdeWalker walker(doc, part, *part.brep, lookup);
@@ -323,8 +324,11 @@ Part importBRep(const std::string& path, const std::string& format, const Import
   TDF_LabelSequence roots;
   shapes->GetFreeShapes(roots);
   for (const TDF_Label& root : roots) walker.walk(root, TopLoc_Location());
-  if (format == "STEP" && options.read_gdt)
+  if (format == "STEP" && options.read_gdt) {
+    report(progress, "reading GD&T", 0);
     part.gdt = readGdt(doc, lookup, scanStepPmiMeasures(path));
+  }
+  report(progress, "closing the document", 0);
   XCAFApp_Application::GetApplication()->Close(doc);
   return part;
 }
