@@ -30,6 +30,10 @@ roles:
   fixture: [1, 2]
   specular: [46]
 markers: {grid: 40, margin: 60, on: both}
+fixtures:
+  - file: clamp.obj
+    placement: {position: [0, 0, 5], rotation: [0, 0, 90]}
+    frame: world
 registration:
   method: geometry
   max_condition: 30
@@ -45,6 +49,14 @@ tasks:
 YAML
 printf 'x,y,z,nx,ny,nz\n-358.021981,166.590179,0,0,0,1\n-252.101466,189.343308,-33.333329\n' \
   > "$out/given-points.csv"
+# The clamp: a 20 mm cube.
+printf 'v 0 0 0\nv 20 0 0\nv 20 20 0\nv 0 20 0\nv 0 0 20\nv 20 0 20\nv 20 20 20\nv 0 20 20\n%s\n' \
+  'f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8' > "$out/clamp.obj"
 node "$here/../web/test/editor_test.mjs" given "$scanplan" "$part" "$out"
 python3 "$here/spec_equivalent.py" "$out/given.yaml" "$out/roundtrip.yaml"
 mkdir "$out/writer"

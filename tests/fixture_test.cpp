@@ -177,6 +177,37 @@ TEST(Fixtures, PlacedInThePartFrameTheyFollowThePart) {
   EXPECT_TRUE(bar.min.isApprox(kBar.min, 1e-9)) << "the bar stays in the world";
 }
 
+TEST(Fixtures, MarkersGivenInTheFixturesFrameAreCarriedIntoTheWorld) {
+  const FramedBox cell("");
+  test::writeText(cell.dir.file("bar-markers.csv"), "x,y,z,nx,ny,nz\n10,0,0,0,0,1\n0,20,0,1,0,0\n");
+  // The bar turned 90 degrees about z and raised, in the world; the part placed 500 mm along x.
+  const Spec spec = cell.spec(
+      "fixtures:\n"
+      "  - {file: bar.step, frame: world, markers: bar-markers.csv,\n"
+      "     placement: {position: [0, 0, 100], rotation: [0, 0, 90]}}\n"
+      "  - {file: frame.step, placement: {position: [0, 0, 5]}}\n"
+      "markers: {grid: 40, on: fixture}\n");
+  const ResolvedSpec resolved = resolveSpec(cell.part, spec);
+  Pose part_to_world = Pose::Identity();
+  part_to_world.translation() = Vec3(500, 0, 0);
+  const std::vector<Marker> markers = specMarkers(resolved, cell.part, part_to_world);
+  ASSERT_GE(markers.size(), 2u);
+  const Marker& first = markers[markers.size() - 2];
+  const Marker& second = markers.back();
+  EXPECT_TRUE(first.position.isApprox(Vec3(0, 10, 100), 1e-9)) << first.position.transpose();
+  EXPECT_TRUE(first.normal.isApprox(Vec3(0, 0, 1), 1e-9));
+  EXPECT_TRUE(second.position.isApprox(Vec3(-20, 0, 100), 1e-9)) << second.position.transpose();
+  EXPECT_TRUE(second.normal.isApprox(Vec3(0, 1, 0), 1e-9)) << second.normal.transpose();
+  // The grid lies on the tops of the fixtures: the bar's at z = 460 + 100, the frame's at
+  // 70 + 5, moved with the part.
+  for (std::size_t m = 0; m + 2 < markers.size(); ++m) {
+    const double z = markers[m].position.z();
+    EXPECT_TRUE(std::abs(z - 560) < 1e-6 || std::abs(z - 75) < 1e-6) << z;
+    const double x = markers[m].position.x(), out = kGap + kWall;
+    EXPECT_TRUE(std::abs(z - 75) > 1e-6 || (x > 500 - out && x < 500 + kX + out)) << x;
+  }
+}
+
 TEST(Fixtures, BadFixturesAreInputErrors) {
   const FramedBox cell(kFrameAndBar);
   EXPECT_THROW(resolveSpec(cell.part, test::specWith("fixtures: [{file: none.step}]\n", cell.dir)),

@@ -387,8 +387,13 @@ function options(select, entries, value) {
   const file = typeof m === 'string';
   $('marker-grid').value = m && !file ? m.grid : 0;
   $('marker-margin').value = m && !file && m.margin !== undefined ? m.margin : 100;
-  options($('marker-on'), [['plate', 'plate'], ['part', 'part'], ['both', 'both']], m && !file && m.on ? m.on : 'plate');
+  // Markers on the fixture models, when the spec has some; a list of places stays as given.
+  const places = [['plate', 'plate'], ['part', 'part'], ['both', 'both']];
+  if (Array.isArray(state.document.fixtures) && state.document.fixtures.length) places.push(['fixture', 'fixture models']);
+  const listed = Array.isArray(m?.on);
+  options($('marker-on'), places, m && !file && m.on && !listed ? m.on : 'plate');
   for (const id of ['marker-grid', 'marker-margin', 'marker-on']) $(id).disabled = file;
+  if (listed) $('marker-on').disabled = true;
   if (file) $('markers-file').textContent = `markers from ${m} (kept as the spec gives them)`;
   const update = () => {
     const grid = Number($('marker-grid').value);
@@ -396,7 +401,8 @@ function options(select, entries, value) {
     const markers = { grid };
     const margin = Number($('marker-margin').value), on = $('marker-on').value;
     if (margin !== 100 || state.document.markers?.margin !== undefined) markers.margin = margin;
-    if (on !== 'plate' || state.document.markers?.on !== undefined) markers.on = on;
+    if (listed) markers.on = state.document.markers.on;
+    else if (on !== 'plate' || state.document.markers?.on !== undefined) markers.on = on;
     setKey(['markers'], markers);
     refresh();
   };

@@ -2,7 +2,7 @@
 // face's name beside it as a comment) and points.csv (x, y, z, nx, ny, nz in mm, part frame).
 
 // The sections in the order a spec is written; a spec has no others (the reader refuses them).
-const ORDER = ['scanner', 'part', 'gdt', 'roles', 'markers', 'registration', 'cell', 'planner', 'tasks'];
+const ORDER = ['scanner', 'part', 'gdt', 'roles', 'markers', 'fixtures', 'registration', 'cell', 'planner', 'tasks'];
 
 // A list of face ids, written one per line with the face's name when it has one.
 class FaceList {
