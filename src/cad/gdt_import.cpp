@@ -107,13 +107,17 @@ bool isAngular(const std::string& dimension_type) {
 }  // namespace
 
 Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
-            const StepPmiMeasures& measures) {
+            const std::string& path) {
   Gdt gdt;
   Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());
   if (tool.IsNull()) return gdt;
 
-  TDF_LabelSequence labels;
+  TDF_LabelSequence labels, dimensions;
   tool->GetGeomToleranceLabels(labels);
+  tool->GetDimensionLabels(dimensions);
+  // The file is scanned again only when there is something to complete.
+  const StepPmiMeasures measures =
+      labels.IsEmpty() && dimensions.IsEmpty() ? StepPmiMeasures{} : scanStepPmiMeasures(path);
   for (const TDF_Label& label : labels) {
     GeometricTolerance tolerance;
     Handle(XCAFDoc_GeomTolerance) attribute;
@@ -136,9 +140,7 @@ Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
     gdt.tolerances.push_back(std::move(tolerance));
   }
 
-  labels.Clear();
-  tool->GetDimensionLabels(labels);
-  for (const TDF_Label& label : labels) {
+  for (const TDF_Label& label : dimensions) {
     Dimension dimension;
     Handle(XCAFDoc_Dimension) attribute;
     if (label.FindAttribute(XCAFDoc_Dimension::GetID(), attribute)) {

@@ -1,9 +1,9 @@
 #include "cad/step_pmi_units.h"
 
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <set>
-#include <sstream>
 #include <unordered_map>
 
 namespace scanplan::detail {
@@ -12,9 +12,7 @@ namespace {
 // Entity records of the DATA section: id → text after '=' (quotes respected).
 std::unordered_map<long, std::string> readRecords(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text{std::istreambuf_iterator<char>(in), {}};
   std::unordered_map<long, std::string> records;
   std::string record;
   bool quoted = false;

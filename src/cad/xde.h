@@ -29,8 +29,9 @@ std::string labelEntry(const TDF_Label& label);
 std::string labelName(const TDF_Label& label);  // TDataStd_Name, or ""
 
 // Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI, with
-// the values OCCT misses taken from `measures`.
+// the values OCCT misses taken from the measures of the STEP file at `path`
+// (scanStepPmiMeasures), scanned only when the document has tolerances or dimensions.
 Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
-            const StepPmiMeasures& measures);
+            const std::string& path);
 
 }  // namespace scanplan::detail

@@ -326,7 +326,7 @@ Part importBRep(const std::string& path, const std::string& format, const Import
   for (const TDF_Label& root : roots) walker.walk(root, TopLoc_Location());
   if (format == "STEP" && options.read_gdt) {
     report(progress, "reading GD&T", 0);
-    part.gdt = readGdt(doc, lookup, scanStepPmiMeasures(path));
+    part.gdt = readGdt(doc, lookup, path);
   }
   report(progress, "closing the document", 0);
   XCAFApp_Application::GetApplication()->Close(doc);
