@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -26,6 +27,9 @@ constexpr std::size_t kLeastShared = 6;
 // one's largest group holds kBetter more of its views.
 constexpr double kCreeps[] = {0.25, 0.1, 0};
 constexpr double kBetter = 0.05;
+
+// Poses tried as the connector of two groups (joinGroups).
+constexpr std::size_t kConnectorTries = 128;
 
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
@@ -146,6 +150,7 @@ class ConnectedCover {
     }
     if (std::none_of(parent_.begin(), parent_.end(), [](auto& p) { return p.has_value(); }))
       return {};
+    joinGroups();
     const std::vector<std::size_t> kept = withoutRedundantLeaves();
     return {kept, static_cast<double>(largestGroup(kept)) / static_cast<double>(kept.size())};
   }
@@ -163,18 +168,94 @@ class ConnectedCover {
     partners_.assign(pool_.size(), {});
     chosen_.clear();
     parent_.clear();
+    links_.clear();
   }
 
-  // The most views of `kept` (chosen views) that register to one another through their
-  // parents.
-  std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
-    std::map<std::size_t, std::size_t> root_of, size_of_root;  // by pool index
-    // Parents come before their children.
+  // Per chosen view (pool index), the root of its group: the views registering to one
+  // another through their parents and the links of joined groups.
+  std::map<std::size_t, std::size_t> groups() const {
+    std::map<std::size_t, std::size_t> root;
+    const std::function<std::size_t(std::size_t)> find = [&](std::size_t v) {
+      return root[v] == v ? v : root[v] = find(root[v]);
+    };
+    for (std::size_t v : chosen_) root[v] = v;
     for (std::size_t k = 0; k < chosen_.size(); ++k)
-      root_of[chosen_[k]] = parent_[k] ? root_of[*parent_[k]] : chosen_[k];
+      if (parent_[k]) root[find(chosen_[k])] = find(*parent_[k]);
+    for (const auto& [a, b] : links_) root[find(a)] = find(b);
+    for (std::size_t v : chosen_) find(v);
+    return root;
+  }
+
+  // The most views of `kept` (chosen views) in one group.
+  std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
+    const std::map<std::size_t, std::size_t> root = groups();
+    std::map<std::size_t, std::size_t> size_of_root;
     std::size_t largest = 0;
-    for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root_of[v]]);
+    for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root.at(v)]);
     return largest;
+  }
+
+  // Joins the other groups to the largest, the larger first, each through a connector: a
+  // pose of the pool that registers to a view of both, measuring nothing new. Of the
+  // poses that share samples with both groups, the kConnectorTries sharing most with the
+  // lesser side are tried.
+  void joinGroups() {
+    std::map<std::size_t, std::vector<std::size_t>> members;  // by root
+    for (const auto& [v, r] : groups()) members[r].push_back(v);
+    std::vector<std::vector<std::size_t>> others;
+    for (auto& [r, views] : members) others.push_back(std::move(views));
+    std::stable_sort(others.begin(), others.end(),
+                     [](auto& a, auto& b) { return a.size() > b.size(); });
+    std::vector<std::size_t> main = std::move(others.front());
+    std::vector<std::size_t> with_main(pool_.size(), 0);  // per pose: samples shared with main
+    const auto share = [&](std::size_t c) {
+      for (const auto& [v, n] : sharing(pool_.samples[c], by_sample_)) with_main[v] += n;
+    };
+    for (std::size_t c : main) share(c);
+    for (std::size_t k = 1; k < others.size(); ++k) {
+      const auto connector = joinGroup(main, others[k], with_main);
+      if (!connector) continue;
+      for (std::size_t c : others[k]) share(c);
+      share(*connector);
+      main.insert(main.end(), others[k].begin(), others[k].end());
+      main.push_back(*connector);
+    }
+  }
+
+  // Joins `group` to `main` (the pool's poses sharing `with_main` samples with it): the
+  // connector chosen, if any.
+  std::optional<std::size_t> joinGroup(const std::vector<std::size_t>& main,
+                                       const std::vector<std::size_t>& group,
+                                       const std::vector<std::size_t>& with_main) {
+    std::map<std::size_t, std::size_t> with_group;  // pose: samples shared with the group
+    for (std::size_t c : group)
+      for (const auto& [v, n] : sharing(pool_.samples[c], by_sample_)) with_group[v] += n;
+    std::vector<std::pair<std::size_t, std::size_t>> candidates;  // (least shared, pose)
+    for (const auto& [v, n] : with_group)
+      if (!used_[v] && with_main[v] > 0) candidates.push_back({std::min(n, with_main[v]), v});
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](auto& a, auto& b) { return a.first > b.first; });
+    candidates.resize(std::min(candidates.size(), kConnectorTries));
+    for (const auto& [n, v] : candidates) {
+      const auto to_group = registeredAmong(v, group);
+      if (!to_group) continue;
+      const auto to_main = registeredAmong(v, main);
+      if (!to_main) continue;
+      choose(v, to_main);
+      links_.push_back({v, *to_group});
+      return v;
+    }
+    return std::nullopt;
+  }
+
+  // The first of `views` (chosen) that shares samples with pose `v` and with which it
+  // passes the registration's pair test.
+  std::optional<std::size_t> registeredAmong(std::size_t v, const std::vector<std::size_t>& views) {
+    for (std::size_t c : views) {
+      if (!intersect(pool_.samples[c], pool_.samples[v])) continue;
+      if (registers(overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)))) return c;
+    }
+    return std::nullopt;
   }
 
   // The chosen views without those, last first, whose samples others measure too and
@@ -185,6 +266,10 @@ class ConnectedCover {
     for (std::size_t k = 0; k < chosen_.size(); ++k) {
       for (int i : pool_.samples[chosen_[k]]) ++times_measured[i];
       if (parent_[k]) ++children[*parent_[k]];
+    }
+    for (const auto& [a, b] : links_) {
+      ++children[a];
+      ++children[b];
     }
     std::vector<char> kept(chosen_.size(), 1);
     for (std::size_t k = chosen_.size(); k-- > pinned_;) {
@@ -233,6 +318,15 @@ class ConnectedCover {
   }
 
   static bool registers(const PairCheck& pair) { return pair.markers || pair.stable; }
+
+  // Whether the sorted `a` and `b` have an element in common.
+  static bool intersect(const std::vector<int>& a, const std::vector<int>& b) {
+    for (auto i = a.begin(), j = b.begin(); i != a.end() && j != b.end();) {
+      if (*i == *j) return true;
+      *i < *j ? ++i : ++j;
+    }
+    return false;
+  }
 
   // The pose passing `allowed` with the largest gain (the first on ties), none gaining.
   template <class Allowed>
@@ -302,6 +396,7 @@ class ConnectedCover {
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
+  std::vector<std::pair<std::size_t, std::size_t>> links_;  // connector, view of a joined group
 };
 
 }  // namespace
