@@ -110,9 +110,9 @@ registration::RegistrationResult match(const detail::IndexedCloud& fixed,
 }
 
 // Open3D's RegistrationICP, point to plane with Tukey's weights, at most 30 iterations,
-// stopping when fitness and RMSE change by less than 1e-6; but against the fixed cloud's
-// tree made once, instead of again at every call. `source` is moved along, and the motion
-// is added to `transformation`.
+// stopping when fitness and RMSE change by less than 1e-4 (0.1 µm of RMSE); but against
+// the fixed cloud's tree made once, instead of again at every call. `source` is moved along, and
+// the motion is added to `transformation`.
 registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
                                      const open3d::geometry::PointCloud& target,
                                      open3d::geometry::PointCloud& source, double distance,
@@ -127,8 +127,8 @@ registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
     source.Transform(update);
     const registration::RegistrationResult before = std::move(result);
     result = match(fixed, source, distance);
-    if (std::abs(before.fitness_ - result.fitness_) < 1e-6 &&
-        std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-6)
+    if (std::abs(before.fitness_ - result.fitness_) < 1e-4 &&
+        std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-4)
       break;
   }
   return result;
