@@ -116,9 +116,10 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
 // first, each the pose measuring most samples not yet covered (priority first) among the
 // poses that register to a view already chosen (the registration's pair test: `markers`
 // they share, or an overlap constraining ICP); when none of them measures anything new,
-// the best pose something could register to, then any pose. Chosen views whose
-// samples others measure too and that no other registers to are dropped. Pool indices in
-// the order chosen; none when no view registers to another.
+// the best pose something could register to, then any pose. Groups left apart are then
+// joined to the largest through connector poses, each registering to a view of both.
+// Chosen views whose samples others measure too and that no other registers to are
+// dropped. Pool indices in the order chosen; none when no view registers to another.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
