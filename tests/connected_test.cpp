@@ -1,0 +1,100 @@
+// The registration-aware cover joins groups it left apart through a connector pose: on a
+// plate studded with pyramids, two clusters of samples too far apart for one view, and a pose
+// between them that measures nothing new but overlaps a view of each stably.
+
+#include "planning/stages.h"
+#include "support.h"
+
+#include <scanplan/planning/poses.h>
+
+#include <algorithm>
+
+namespace scanplan {
+namespace {
+
+// Adds a square pyramid of 45° sides on the plate's top, its base from `lo` 30 mm wide.
+void addPyramid(TriangleMesh& mesh, const Vec3& lo, int face) {
+  const int base = static_cast<int>(mesh.vertices.size());
+  for (const Vec3& corner : {Vec3(0, 0, 0), Vec3(30, 0, 0), Vec3(30, 30, 0), Vec3(0, 30, 0)})
+    mesh.vertices.push_back(lo + corner);
+  mesh.vertices.push_back(lo + Vec3(15, 15, 15));
+  for (int k = 0; k < 4; ++k) {
+    mesh.triangles.emplace_back(base + k, base + (k + 1) % 4, base + 4);
+    mesh.triangle_faces.push_back(face);
+  }
+}
+
+// A 700 x 300 x 10 mm plate with pyramids on it every 50 mm: any overlap of views from
+// above is constrained in every direction.
+Part studdedPlate() {
+  TriangleMesh mesh;
+  int face = 1;
+  test::addRectangle(mesh, Vec3(350, 150, 10), Vec3(350, 0, 0), Vec3(0, 150, 0), face++);
+  for (double x = 10; x < 700; x += 50)
+    for (double y = 10; y < 300; y += 50) addPyramid(mesh, Vec3(x, y, 10), face++);
+  return test::meshPart(mesh);
+}
+
+// A view straight down on `(x, y)` of the plate's top, its width along x.
+View above(const Scanner& scanner, double x, double y) {
+  return aimedPoses(scanner, Vec3(x, y, 10), Vec3::UnitZ(), 1).front();
+}
+
+TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
+  const Part part = studdedPlate();
+  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
+  const Simulator simulator(part, spec.spec.scanner);
+  const Scanner& scanner = simulator.scanner();
+  ASSERT_EQ(scanner.fov_width, 300);
+
+  // Samples on the plate between the pyramids: cluster A about x = 150, cluster B about
+  // x = 550, one of each within the connector's reach; one sample only A reaches, one only
+  // a view of A shifted along y (A2) reaches. Markers that A and A2 both see, C none.
+  std::vector<PlannedSample> samples;
+  for (const Vec3& p :
+       {Vec3(50, 150, 10), Vec3(100, 150, 10), Vec3(150, 150, 10), Vec3(250, 150, 10),
+        Vec3(150, 280, 10), Vec3(450, 150, 10), Vec3(550, 150, 10), Vec3(600, 150, 10),
+        Vec3(650, 150, 10), Vec3(150, 50, 10)}) {
+    PlannedSample s;
+    s.sample.position = p;
+    s.sample.normal = Vec3::UnitZ();
+    s.sample.face = 1;
+    samples.push_back(s);
+  }
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : samples) points.push_back({s.sample.position, Vec3::UnitZ(), 1});
+  std::vector<Marker> markers;
+  for (const Vec3& p :
+       {Vec3(50, 100, 10), Vec3(100, 200, 10), Vec3(150, 100, 10), Vec3(50, 200, 10)})
+    markers.push_back({p, Vec3::UnitZ()});
+
+  // A, A2, B, and the connector C between A and B, which measures nothing the others miss.
+  detail::MeasuredViews pool;
+  const std::vector<View> views = {above(scanner, 150, 150), above(scanner, 150, 180),
+                                   above(scanner, 550, 150), above(scanner, 350, 150)};
+  const auto measured = measuredPoints(simulator, views, points);
+  for (std::size_t v = 0; v < views.size(); ++v) pool.add(views[v], measured[v]);
+  ASSERT_EQ(pool.samples[0], (std::vector<int>{0, 1, 2, 3, 9}));
+  ASSERT_EQ(pool.samples[1], (std::vector<int>{0, 1, 2, 3, 4}));
+  ASSERT_EQ(pool.samples[2], (std::vector<int>{5, 6, 7, 8}));
+  ASSERT_EQ(pool.samples[3], (std::vector<int>{3, 5}));
+
+  // A first, A2 registering to it by the markers, then B on its own: no pose with
+  // anything new registers to A or A2. C joins B to them.
+  const detail::Placement at{part, spec, simulator, CellCheck{}, points, {}};
+  std::vector<std::size_t> cover = detail::connectedCover(at, pool, 0, samples, markers);
+  std::sort(cover.begin(), cover.end());
+  EXPECT_EQ(cover, (std::vector<std::size_t>{0, 1, 2, 3})) << ::testing::PrintToString(cover);
+
+  // The registration stage registers all of them to one another.
+  std::vector<View> chosen;
+  for (std::size_t v : cover) chosen.push_back(pool.views[v]);
+  for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
+  RegistrationOptions options = detail::registrationOptions(spec.spec);
+  options.bridging = false;
+  const Registration registration = registerViews(simulator, chosen, markers, options, {}, {});
+  EXPECT_EQ(registration.registered(), chosen.size());
+}
+
+}  // namespace
+}  // namespace scanplan
