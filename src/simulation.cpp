@@ -234,15 +234,7 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
   d.world.triangles = part.mesh.triangles;
   d.world.triangle_faces = part.mesh.triangle_faces;
   d.part_triangles = d.world.triangles.size();
-  for (const TriangleMesh& fixture : d.options.fixtures) {
-    const int base = static_cast<int>(d.world.vertices.size());
-    d.world.vertices.insert(d.world.vertices.end(), fixture.vertices.begin(),
-                            fixture.vertices.end());
-    for (const Vec3i& t : fixture.triangles) {
-      d.world.triangles.push_back(t + Vec3i::Constant(base));
-      d.world.triangle_faces.push_back(0);
-    }
-  }
+  for (const TriangleMesh& fixture : d.options.fixtures) d.world.append(fixture, 0);
   d.caster = std::make_unique<RayCaster>(d.world);
 
   d.facets.resize(d.part_triangles);

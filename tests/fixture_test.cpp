@@ -18,6 +18,7 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <gp_Pnt.hxx>
 
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -161,6 +162,46 @@ TEST_F(FixturePlan, TheReportDrawsTheFixtures) {
   EXPECT_EQ(data["fixtures"]["positions"].get<std::string>().size(), (vertices * 12 + 2) / 3 * 4);
   EXPECT_EQ(data["palette"]["fixture"], nlohmann::json(kFixtureColour));
   for (const auto& face : data["faces"]) EXPECT_EQ(face["fixture"], face["id"] == 1);
+}
+
+TEST_F(FixturePlan, TheGlbAndThePictureShowTheFixtures) {
+  const FramedBox scene(kFrameAndBar);
+  const ResolvedSpec resolved = resolveSpec(scene.part, scene.spec(""));
+  const PlanScene placed = planScene(*planned_, scene.part, resolved);
+  const std::size_t triangles =
+      resolved.fixture_meshes[0].triangles.size() + resolved.fixture_meshes[1].triangles.size();
+  ASSERT_EQ(placed.fixtures.triangles.size(), triangles);
+  // The glTF scene: a mesh of the fixtures, three vertices a triangle, in their colour.
+  writeGlb(placed, scene.dir.file("plan.glb"));
+  std::ifstream in(scene.dir.file("plan.glb"), std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  std::uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  const auto gltf = nlohmann::json::parse(bytes.substr(20, length));
+  bool found = false;
+  for (const auto& mesh : gltf["meshes"]) {
+    if (mesh["name"] != "fixtures") continue;
+    found = true;
+    const auto& primitive = mesh["primitives"][0];
+    EXPECT_EQ(gltf["accessors"][primitive["attributes"]["POSITION"].get<int>()]["count"],
+              3 * triangles);
+    const auto& factor = gltf["materials"][primitive["material"].get<int>()]["pbrMetallicRoughness"]
+                             ["baseColorFactor"];
+    EXPECT_NEAR(factor[0].get<double>(), kFixtureColour[0] / 255.0, 0.01);
+    EXPECT_NEAR(factor[2].get<double>(), kFixtureColour[2] / 255.0, 0.01);
+  }
+  EXPECT_TRUE(found);
+  // The picture: pixels in the fixtures' colour (shaded), none without them.
+  auto fixturePixels = [](const Image& image) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+      const double r = image.rgb[i], g = image.rgb[i + 1], b = image.rgb[i + 2];
+      n += b > 40 && std::abs(r / b - 96.0 / 168) < 0.02 && std::abs(g / b - 122.0 / 168) < 0.02;
+    }
+    return n;
+  };
+  EXPECT_GT(fixturePixels(renderScene(placed, 320, 240)), 500u);
+  EXPECT_EQ(fixturePixels(renderScene(planScene(*planned_, scene.part), 320, 240)), 0u);
 }
 
 TEST(Fixtures, PlacedInThePartFrameTheyFollowThePart) {

@@ -77,7 +77,8 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
   const double report_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
   if (options.png)
-    writePng(renderScene(planScene(plan, part)), outputs.stage((outdir / "plan.png").string()));
+    writePng(renderScene(planScene(plan, part, resolveSpec(part, spec))),
+             outputs.stage((outdir / "plan.png").string()));
   else
     outputs.drop((outdir / "plan.png").string());
   return report_seconds;

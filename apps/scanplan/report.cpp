@@ -84,7 +84,8 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
   refuseOwnInput(out, options.input);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input);
   writeReport(c.plan, c.part, c.spec, out, {}, progress);
-  if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part)), options.png);
+  if (!options.png.empty())
+    writePng(renderScene(planScene(c.plan, c.part, resolveSpec(c.part, c.spec))), options.png);
   clearProgress();
   fmt::print("report     {}\n", out);
   if (!options.png.empty()) fmt::print("picture    {}\n", options.png);
@@ -139,13 +140,13 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
     Progress progress = terminalProgress(global);
     const Checked c = check(options.input, progress);
     if (options.format == "glb") {
-      writeGlb(planScene(c.plan, c.part), options.out);
+      writeGlb(planScene(c.plan, c.part, resolveSpec(c.part, c.spec)), options.out);
     } else if (options.format == "samples-ply") {
       writePly(samplesPly(c.plan), options.out);
     } else if (options.format == "clouds-ply") {
       writeCloudsPly(c.plan, c.part, c.spec, options.spacing, options.out, progress);
     } else if (options.format == "png") {
-      writePng(renderScene(planScene(c.plan, c.part)), options.out);
+      writePng(renderScene(planScene(c.plan, c.part, resolveSpec(c.part, c.spec))), options.out);
     } else {
       writeProgram(c, options);
     }

@@ -64,12 +64,15 @@ struct PlanScene {
   std::vector<int> path;               // indices into views, in sequence order
   std::vector<Vec3> markers;           // in the scene frame
   std::vector<Vec3> proposed_markers;  // the plan's proposal, one orientation only
+  TriangleMesh fixtures;               // the spec's fixture models (face id 0), or none
   Scanner scanner;
   Box bounds;  // of the mesh, the cameras and the markers
 };
 
 // \throw InputError when the part does not match the plan (face count).
 PlanScene planScene(const Plan& plan, const Part& part);
+// The same with the fixture models of `spec` (resolved against `part`) in the scene.
+PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec);
 
 // A sample's state: 0 measured, 1 not measured, 2 not coverable.
 int sampleState(const PlannedSample& sample);

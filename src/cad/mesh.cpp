@@ -46,6 +46,13 @@ static double tetraVolume(const TriangleMesh& mesh, std::size_t t) {
   return mesh.vertices[tri[0]].dot(mesh.vertices[tri[1]].cross(mesh.vertices[tri[2]])) / 6.0;
 }
 
+void TriangleMesh::append(const TriangleMesh& other, int face) {
+  const int base = static_cast<int>(vertices.size());
+  vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (const Vec3i& t : other.triangles) triangles.push_back(t + Vec3i::Constant(base));
+  triangle_faces.insert(triangle_faces.end(), other.triangles.size(), face);
+}
+
 double signedVolume(const TriangleMesh& mesh) {
   double volume = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) volume += tetraVolume(mesh, t);

@@ -149,6 +149,12 @@ void writeGlb(const PlanScene& scene, const std::string& path) {
   glb.addMesh("part, coloured by coverage", triangles, colours, TINYGLTF_MODE_TRIANGLES,
               {255, 255, 255}, true);
   glb.addMesh("priority faces", priorityOutlines(scene), {}, TINYGLTF_MODE_LINE, {0, 0, 0}, false);
+  if (!scene.fixtures.empty()) {
+    std::vector<Vec3> fixtures;
+    for (const Vec3i& t : scene.fixtures.triangles)
+      for (int k = 0; k < 3; ++k) fixtures.push_back(scene.fixtures.vertices[t[k]]);
+    glb.addMesh("fixtures", fixtures, {}, TINYGLTF_MODE_TRIANGLES, kFixtureColour, true);
+  }
 
   std::vector<Vec3> frusta;
   std::vector<Rgb> frusta_colours;

@@ -56,18 +56,6 @@ json meshJson(const PlanScene& scene) {
   return mesh;
 }
 
-// The fixture models in the scene, one mesh.
-json fixturesJson(const Plan& plan, const ResolvedSpec& resolved) {
-  TriangleMesh all;
-  for (const TriangleMesh& mesh : fixturesInWorld(resolved, plan.part_to_world)) {
-    const int base = static_cast<int>(all.vertices.size());
-    all.vertices.insert(all.vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
-    for (const Vec3i& t : mesh.triangles) all.triangles.push_back(t + Vec3i::Constant(base));
-    all.triangle_faces.insert(all.triangle_faces.end(), mesh.triangles.size(), 0);
-  }
-  return detail::meshJson(all);
-}
-
 json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
                const std::vector<int>& fixture) {
   const std::map<int, double> densities = faceDensities(plan, scene);
@@ -217,7 +205,7 @@ json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolv
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
                  const ReportOptions& options, const Progress& progress) {
   const ResolvedSpec resolved = resolveSpec(part, spec);
-  const PlanScene scene = planScene(plan, part);
+  const PlanScene scene = planScene(plan, part, resolved);
   Box part_box;
   for (const Vec3& v : scene.mesh.vertices) part_box.add(v);
   std::vector<PointCloud> clouds;
@@ -237,7 +225,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
                {"plan", plan_json},
                {"mesh", meshJson(scene)},
                {"faces", facesJson(plan, scene, part, resolved.targets.fixture)},
-               {"fixtures", fixturesJson(plan, resolved)},
+               {"fixtures", detail::meshJson(scene.fixtures)},
                {"samples", samplesJson(plan)},
                {"views", viewsJson(scene, plan, clouds)},
                {"path", scene.path},

@@ -60,14 +60,16 @@ class Canvas {
     return {eye_, d.normalized(), 0, std::numeric_limits<double>::infinity()};
   }
 
-  // The part, shaded; the background a light grey gradient.
+  // The part and the fixtures, shaded; the background a light grey gradient.
   void drawPart(const PlanScene& scene) {
     std::vector<Ray> rays;
     rays.reserve(depth_.size());
     for (int y = 0; y < image_.height; ++y)
       for (int x = 0; x < image_.width; ++x) rays.push_back(ray(x, y));
+    TriangleMesh mesh = scene.mesh;
+    mesh.append(scene.fixtures, 0);
     std::vector<std::optional<RayHit>> hits;
-    if (!scene.mesh.empty()) hits = RayCaster(scene.mesh).intersect(rays);
+    if (!mesh.empty()) hits = RayCaster(mesh).intersect(rays);
     for (std::size_t i = 0; i < rays.size(); ++i) {
       const int y = static_cast<int>(i) / image_.width;
       if (hits.empty() || !hits[i]) {
@@ -78,13 +80,14 @@ class Canvas {
       const RayHit& hit = *hits[i];
       depth_[i] = hit.t;
       const int face = hit.face;
-      const Rgb base = face >= 1 && face <= static_cast<int>(scene.faces.size())
-                           ? colour(scene.faces[face - 1].coverage)
-                           : colour(FaceCoverage::NotTarget);
+      const Rgb colour_of_face = face == 0 ? kFixtureColour
+                                 : face >= 1 && face <= static_cast<int>(scene.faces.size())
+                                     ? colour(scene.faces[face - 1].coverage)
+                                     : colour(FaceCoverage::NotTarget);
       const double light = 0.35 + 0.65 * std::abs(hit.normal.dot(rays[i].direction));
-      set(i,
-          {static_cast<std::uint8_t>(base[0] * light), static_cast<std::uint8_t>(base[1] * light),
-           static_cast<std::uint8_t>(base[2] * light)});
+      set(i, {static_cast<std::uint8_t>(colour_of_face[0] * light),
+              static_cast<std::uint8_t>(colour_of_face[1] * light),
+              static_cast<std::uint8_t>(colour_of_face[2] * light)});
     }
   }
 
@@ -198,6 +201,7 @@ Image renderScene(const PlanScene& scene, int width, int height) {
   for (FaceCoverage c : {FaceCoverage::Measured, FaceCoverage::Partly, FaceCoverage::NotMeasured,
                          FaceCoverage::NotTarget})
     legend(colour(c), "face " + std::string(toString(c)));
+  if (!scene.fixtures.empty()) legend(kFixtureColour, "fixture");
   for (ViewState s : {ViewState::Registered, ViewState::Bridge, ViewState::Unregistrable})
     legend(colour(s), "view " + std::string(toString(s)));
   legend({240, 120, 0}, "path");

@@ -2,6 +2,7 @@
 // state, all in the frame of the plan's first placement.
 
 #include <scanplan/errors.h>
+#include <scanplan/planning/planner.h>
 #include <scanplan/report.h>
 
 #include <fmt/format.h>
@@ -191,6 +192,14 @@ std::vector<Vec3> priorityOutlines(const PlanScene& scene) {
       lines.push_back(mesh.vertices[edge.second[1]]);
     }
   return lines;
+}
+
+PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec) {
+  PlanScene scene = planScene(plan, part);
+  for (const TriangleMesh& mesh : fixturesInWorld(spec, plan.part_to_world))
+    scene.fixtures.append(mesh, 0);
+  for (const Vec3& v : scene.fixtures.vertices) scene.bounds.add(v);
+  return scene;
 }
 
 }  // namespace scanplan

@@ -17,6 +17,8 @@ struct TriangleMesh {
   std::vector<int> triangle_faces;  // face id per triangle, 1-based
 
   bool empty() const { return triangles.empty(); }
+  // Adds `other`'s vertices and triangles, each triangle as face `face`.
+  void append(const TriangleMesh& other, int face);
   Vec3 normal(std::size_t t) const;  // unit outward normal; zero for a degenerate triangle
   double area(std::size_t t) const;  // mm²
 };
