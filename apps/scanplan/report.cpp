@@ -38,7 +38,7 @@ void refuseOwnInput(const std::string& out, const Input& input) {
 struct Checked {
   Plan plan;
   Part part;
-  Spec spec;
+  ResolvedSpec spec;  // with its fixture models read once
 };
 
 // The plan re-simulated and its registration re-checked on its part, as verify does.
@@ -57,7 +57,8 @@ Checked check(const Input& input, const Progress& progress) {
   Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
   Part part = importPart(part_file, {}, progress);
   PlanCheck checked = verifyPlan(plan, part, spec, {}, progress);
-  return {std::move(checked.plan), std::move(part), std::move(spec)};
+  ResolvedSpec resolved = resolveSpec(part, spec);
+  return {std::move(checked.plan), std::move(part), std::move(resolved)};
 }
 
 void addInput(CLI::App& command, Input& input) {
@@ -83,9 +84,8 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
           : options.out;
   refuseOwnInput(out, options.input);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input);
-  writeReport(c.plan, c.part, c.spec, out, {}, progress);
-  if (!options.png.empty())
-    writePng(renderScene(planScene(c.plan, c.part, resolveSpec(c.part, c.spec))), options.png);
+  writeReport(c.plan, c.part, c.spec.spec, out, {}, progress);
+  if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.png);
   clearProgress();
   fmt::print("report     {}\n", out);
   if (!options.png.empty()) fmt::print("picture    {}\n", options.png);
@@ -101,21 +101,20 @@ struct ExportCommand {
 
 // The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
 void writeProgram(const Checked& c, const ExportCommand& options) {
-  const std::optional<Cell>& cell = c.spec.cell ? c.spec.cell : c.plan.cell;
+  const std::optional<Cell>& cell = c.spec.spec.cell ? c.spec.spec.cell : c.plan.cell;
   if (!cell)
     throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
                      "robot programs need the cell: the plan carries none (made without one, "
                      "or with link meshes); give a spec with cell.robot (--spec)");
   // KRL wants the program named as its file.
   const std::string name = std::filesystem::path(options.out).stem().string();
-  const SimulationOptions placed =
-      simulationOptionsFor(resolveSpec(c.part, c.spec), c.plan.part_to_world);
+  const SimulationOptions placed = simulationOptionsFor(c.spec, c.plan.part_to_world);
   const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
                                   placed.working_plane, cell->clearance);
   // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.
   const std::vector<std::optional<CellPose>> poses =
-      c.spec.cell ? cellPoses(*cell, c.plan.views, visitingOrder(c.plan), &collisions)
-                  : c.plan.cell_poses;
+      c.spec.spec.cell ? cellPoses(*cell, c.plan.views, visitingOrder(c.plan), &collisions)
+                       : c.plan.cell_poses;
   const RobotProgram program =
       safeProgram(c.plan, *cell, collisions, poses, name, options.input.plan);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
@@ -140,13 +139,13 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
     Progress progress = terminalProgress(global);
     const Checked c = check(options.input, progress);
     if (options.format == "glb") {
-      writeGlb(planScene(c.plan, c.part, resolveSpec(c.part, c.spec)), options.out);
+      writeGlb(planScene(c.plan, c.part, c.spec), options.out);
     } else if (options.format == "samples-ply") {
       writePly(samplesPly(c.plan), options.out);
     } else if (options.format == "clouds-ply") {
-      writeCloudsPly(c.plan, c.part, c.spec, options.spacing, options.out, progress);
+      writeCloudsPly(c.plan, c.part, c.spec.spec, options.spacing, options.out, progress);
     } else if (options.format == "png") {
-      writePng(renderScene(planScene(c.plan, c.part, resolveSpec(c.part, c.spec))), options.out);
+      writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.out);
     } else {
       writeProgram(c, options);
     }

@@ -74,6 +74,10 @@ PlanScene planScene(const Plan& plan, const Part& part);
 // The same with the fixture models of `spec` (resolved against `part`) in the scene.
 PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec);
 
+// The colour of face `face` of the scene: its coverage, the fixtures' for face 0 (the
+// fixture models), not a target for an id the part does not have.
+Rgb faceColour(const PlanScene& scene, int face);
+
 // A sample's state: 0 measured, 1 not measured, 2 not coverable.
 int sampleState(const PlannedSample& sample);
 
@@ -94,6 +98,9 @@ PlyData samplesPly(const Plan& plan);
 // orientation places it; `spacing` mm between camera rays (0: the scanner's); view i is
 // seeded i + 1.
 std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
+                                    double spacing, const Progress& progress = {});
+// The same with the spec already resolved against `part` (its fixture models read).
+std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,
                                     double spacing, const Progress& progress = {});
 
 // Writes every view's simulated cloud (as sceneClouds makes them) into one binary PLY,

@@ -123,8 +123,8 @@ class Simulator {
 };
 
 // Per view, the indices of the `points` it measures, ascending: the same test as
-// Simulator::measure, applied only to the points within the bounding sphere of each
-// view's measuring volume (a k-d tree query); views in parallel.
+// Simulator::measure, applied only to the points of cells that reach each view's
+// measuring volume; views in parallel.
 std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
                                              std::span<const View> views,
                                              std::span<const SurfacePoint> points);

@@ -3,6 +3,7 @@
 // still measure every sample they measured.
 
 #include "planning/stages.h"
+#include "registration/overlaps.h"
 
 #include <tbb/parallel_for.h>
 
@@ -28,12 +29,6 @@ std::vector<Vec3> shiftGrid(const Scanner& scanner) {
   std::stable_sort(shifts.begin(), shifts.end(),
                    [](const Vec3& a, const Vec3& b) { return a.norm() < b.norm(); });
   return shifts;
-}
-
-std::vector<SurfacePoint> markerPoints(const std::vector<Marker>& markers) {
-  std::vector<SurfacePoint> points;
-  for (const Marker& m : markers) points.push_back({m.position, m.normal, 0});
-  return points;
 }
 
 class MarkerShift {

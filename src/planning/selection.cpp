@@ -19,11 +19,12 @@ MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
   // batches so that progress shows.
   constexpr std::size_t kBatch = 1000;
   const std::string stage = "simulating " + std::to_string(candidates.size()) + " candidate poses";
+  const IndexedPoints samples(at.points);
   for (std::size_t first = 0; first < candidates.size(); first += kBatch) {
     report(progress, stage, static_cast<double>(first) / static_cast<double>(candidates.size()));
     const auto batch = std::span<const View>(candidates)
                            .subspan(first, std::min(kBatch, candidates.size() - first));
-    std::vector<std::vector<int>> measured = measuredPoints(at.simulator, batch, at.points);
+    std::vector<std::vector<int>> measured = samples.measured(at.simulator, batch);
     for (std::size_t k = 0; k < batch.size(); ++k) added.add(batch[k], std::move(measured[k]));
   }
   report(progress, stage, 1);

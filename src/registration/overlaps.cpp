@@ -25,17 +25,22 @@ double pointSpacing(const Simulator& simulator, const RegistrationOptions& optio
 
 }  // namespace
 
+std::vector<SurfacePoint> markerPoints(const std::vector<Marker>& markers) {
+  std::vector<SurfacePoint> points;
+  for (const Marker& m : markers) points.push_back({m.position, m.normal, 0});
+  return points;
+}
+
 Overlaps::Overlaps(const Simulator& simulator, const RegistrationOptions& options,
                    const std::vector<Marker>& markers)
     : simulator_(simulator),
       options_(options),
       spacing_(pointSpacing(simulator, options)),
-      points_(simulator.surfacePoints(spacing_, options.seed)) {
-  for (const Marker& m : markers) markers_.push_back({m.position, m.normal, 0});
-}
+      points_(simulator.surfacePoints(spacing_, options.seed)),
+      markers_(markerPoints(markers)) {}
 
 std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views) const {
-  return measuredPoints(simulator_, views, markers_);
+  return markers_.measured(simulator_, views);
 }
 
 std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
@@ -47,7 +52,7 @@ std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
     seen.points = std::move(on_points[v]);
     seen.markers = std::move(on_markers[v]);
     for (int i : seen.points) seen.box.add(points()[i].position);
-    for (int i : seen.markers) seen.box.add(markers_[i].position);
+    for (int i : seen.markers) seen.box.add(markers_.points()[i].position);
   }
   return result;
 }
@@ -61,13 +66,15 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
   const std::vector<int> markers = shared(oa.markers, ob.markers);
   pair.shared_markers = markers.size();
   std::vector<Vec3> positions;
-  for (int m : markers) positions.push_back(markers_[m].position);
+  for (int m : markers) positions.push_back(markers_.points()[m].position);
   pair.markers = markersRegister(positions, options_.min_markers, options_.marker_spread);
   const std::vector<int> overlap = shared(oa.points, ob.points);
   if (overlap.empty()) return pair;
   pair.overlap_area = static_cast<double>(overlap.size()) * spacing_ * spacing_;
-  const double share_a = static_cast<double>(overlap.size()) / static_cast<double>(oa.points.size());
-  const double share_b = static_cast<double>(overlap.size()) / static_cast<double>(ob.points.size());
+  const double share_a =
+      static_cast<double>(overlap.size()) / static_cast<double>(oa.points.size());
+  const double share_b =
+      static_cast<double>(overlap.size()) / static_cast<double>(ob.points.size());
   pair.overlap_a = a.id < b.id ? share_a : share_b;
   pair.overlap_b = a.id < b.id ? share_b : share_a;
   if (!pair.markers && std::min(share_a, share_b) < options_.min_overlap) return pair;
@@ -77,8 +84,8 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
     n.push_back(points()[i].normal);
   }
   pair.condition = icpCondition(p, n);
-  pair.stable =
-      std::min(share_a, share_b) >= options_.min_overlap && pair.condition <= options_.max_condition;
+  pair.stable = std::min(share_a, share_b) >= options_.min_overlap &&
+                pair.condition <= options_.max_condition;
   return pair;
 }
 
@@ -88,7 +95,7 @@ bool Overlaps::constrained(const Observation& seen) const {
     p.push_back(points()[i].position);
     n.push_back(points()[i].normal);
   }
-  for (int i : seen.markers) m.push_back(markers_[i].position);
+  for (int i : seen.markers) m.push_back(markers_.points()[i].position);
   return icpCondition(p, n) <= options_.max_condition ||
          markersRegister(m, options_.min_markers, options_.marker_spread);
 }

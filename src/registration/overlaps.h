@@ -18,6 +18,9 @@ struct Observation {
   Box box;  // around both
 };
 
+// Markers as points on the surface, for the simulation to measure (face 0).
+std::vector<SurfacePoint> markerPoints(const std::vector<Marker>& markers);
+
 class Overlaps {
  public:
   // Surface points every options.point_spacing (0: fov_height / 40); `markers` as given.
@@ -27,12 +30,11 @@ class Overlaps {
   std::vector<Observation> observe(std::span<const View> views) const;
   // The markers each view measures, indices ascending (observe's, without the surface).
   std::vector<std::vector<int>> markersSeen(std::span<const View> views) const;
-  std::size_t markers() const { return markers_.size(); }
+  std::size_t markers() const { return markers_.points().size(); }
 
   // The pair test without ICP verification. The condition number is left out of pairs
   // that share neither markers nor enough overlap, which cannot be stable.
-  PairCheck check(const View& a, const Observation& oa, const View& b,
-                  const Observation& ob) const;
+  PairCheck check(const View& a, const Observation& oa, const View& b, const Observation& ob) const;
 
   // Something could register to the view: its own surface constrains ICP (condition within
   // the limit) or it sees enough markers.
@@ -46,7 +48,7 @@ class Overlaps {
   const RegistrationOptions& options_;
   double spacing_ = 0;
   IndexedPoints points_;
-  std::vector<SurfacePoint> markers_;
+  IndexedPoints markers_;  // indexed once: every observation measures them
 };
 
 }  // namespace scanplan::detail

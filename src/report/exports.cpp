@@ -41,10 +41,9 @@ Rgb incidenceColour(double degrees) {
 // Calls `take(index, cloud)` with each view's simulated cloud in the scene frame, one view
 // at a time, the part placed as the view's orientation places it; view i is seeded i + 1.
 template <typename Take>
-void forEachSceneCloud(const Plan& plan, const Part& part, const Spec& spec, double spacing,
-                       const Progress& progress, Take take) {
+void forEachSceneCloud(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
+                       double spacing, const Progress& progress, Take take) {
   const std::vector<std::size_t> orientation_of = viewOrientations(plan);
-  const ResolvedSpec resolved = resolveSpec(part, spec);
   std::size_t done = 0;
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
     const Pose placement = orientationPlacement(plan, k);
@@ -105,6 +104,11 @@ PlyData samplesPly(const Plan& plan) {
 
 std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
                                     double spacing, const Progress& progress) {
+  return sceneClouds(plan, part, resolveSpec(part, spec), spacing, progress);
+}
+
+std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,
+                                    double spacing, const Progress& progress) {
   std::vector<PointCloud> clouds(plan.views.size());
   forEachSceneCloud(plan, part, spec, spacing, progress,
                     [&](std::size_t i, PointCloud&& cloud) { clouds[i] = std::move(cloud); });
@@ -113,6 +117,7 @@ std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Sp
 
 void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
                     const std::string& path, const Progress& progress) {
+  const ResolvedSpec resolved = resolveSpec(part, spec);
   writeFileAtomically(path, [&](std::ostream& out) {
     // The point count is known at the end: written into a fixed-width field then.
     out << "ply\nformat binary_little_endian 1.0\n"
@@ -126,7 +131,7 @@ void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double
         << "property int face\nproperty float incidence\nproperty int view\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
     std::size_t count = 0;
-    forEachSceneCloud(plan, part, spec, spacing, progress, [&](std::size_t v, PointCloud&& c) {
+    forEachSceneCloud(plan, part, resolved, spacing, progress, [&](std::size_t v, PointCloud&& c) {
       const std::int32_t view = plan.views[v].id;
       std::string buffer;
       auto put = [&](const auto& value) {

@@ -137,10 +137,7 @@ void writeGlb(const PlanScene& scene, const std::string& path) {
   std::vector<Rgb> colours;
   const TriangleMesh& mesh = scene.mesh;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const int face = mesh.triangle_faces[t];
-    const Rgb c = face >= 1 && face <= static_cast<int>(scene.faces.size())
-                      ? colour(scene.faces[face - 1].coverage)
-                      : colour(FaceCoverage::NotTarget);
+    const Rgb c = faceColour(scene, mesh.triangle_faces[t]);
     for (int k = 0; k < 3; ++k) {
       triangles.push_back(mesh.vertices[mesh.triangles[t][k]]);
       colours.push_back(c);
@@ -149,12 +146,10 @@ void writeGlb(const PlanScene& scene, const std::string& path) {
   glb.addMesh("part, coloured by coverage", triangles, colours, TINYGLTF_MODE_TRIANGLES,
               {255, 255, 255}, true);
   glb.addMesh("priority faces", priorityOutlines(scene), {}, TINYGLTF_MODE_LINE, {0, 0, 0}, false);
-  if (!scene.fixtures.empty()) {
-    std::vector<Vec3> fixtures;
-    for (const Vec3i& t : scene.fixtures.triangles)
-      for (int k = 0; k < 3; ++k) fixtures.push_back(scene.fixtures.vertices[t[k]]);
-    glb.addMesh("fixtures", fixtures, {}, TINYGLTF_MODE_TRIANGLES, kFixtureColour, true);
-  }
+  std::vector<Vec3> fixtures;  // none: addMesh adds nothing
+  for (const Vec3i& t : scene.fixtures.triangles)
+    for (int k = 0; k < 3; ++k) fixtures.push_back(scene.fixtures.vertices[t[k]]);
+  glb.addMesh("fixtures", fixtures, {}, TINYGLTF_MODE_TRIANGLES, kFixtureColour, true);
 
   std::vector<Vec3> frusta;
   std::vector<Rgb> frusta_colours;

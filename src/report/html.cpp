@@ -217,7 +217,7 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
             : std::max(std::min(std::sqrt(plan.scanner.fov_width * plan.scanner.fov_height / 2500),
                                 part_box.diagonal() / 60),
                        plan.scanner.point_spacing);
-    clouds = sceneClouds(plan, part, spec, spacing, progress);
+    clouds = sceneClouds(plan, part, resolved, spacing, progress);
   }
   json plan_json = planJson(plan);
   plan_json.erase("samples");

@@ -79,11 +79,7 @@ class Canvas {
       }
       const RayHit& hit = *hits[i];
       depth_[i] = hit.t;
-      const int face = hit.face;
-      const Rgb colour_of_face = face == 0 ? kFixtureColour
-                                 : face >= 1 && face <= static_cast<int>(scene.faces.size())
-                                     ? colour(scene.faces[face - 1].coverage)
-                                     : colour(FaceCoverage::NotTarget);
+      const Rgb colour_of_face = faceColour(scene, hit.face);
       const double light = 0.35 + 0.65 * std::abs(hit.normal.dot(rays[i].direction));
       set(i, {static_cast<std::uint8_t>(colour_of_face[0] * light),
               static_cast<std::uint8_t>(colour_of_face[1] * light),

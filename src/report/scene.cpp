@@ -202,4 +202,11 @@ PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec
   return scene;
 }
 
+Rgb faceColour(const PlanScene& scene, int face) {
+  if (face == 0) return kFixtureColour;
+  return face >= 1 && face <= static_cast<int>(scene.faces.size())
+             ? colour(scene.faces[face - 1].coverage)
+             : colour(FaceCoverage::NotTarget);
+}
+
 }  // namespace scanplan
