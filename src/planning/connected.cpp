@@ -3,15 +3,20 @@
 // view to view.
 
 #include "planning/stages.h"
+#include "registration/icp.h"
 #include "registration/overlaps.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
+#include <queue>
+#include <tuple>
 
 namespace scanplan::detail {
 
@@ -30,6 +35,12 @@ constexpr double kBetter = 0.05;
 
 // Poses tried as the connector of two groups (joinGroups).
 constexpr std::size_t kConnectorTries = 128;
+
+// Chains of poses joining the groups the cover leaves apart (chainTo): at most this many
+// poses, found within this many pair tests.
+constexpr std::size_t kChainLinks = 6;
+constexpr std::size_t kChainTests = 800;
+constexpr std::size_t kChainFailures = 2;  // chains failing ICP before the search gives up
 
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
@@ -84,6 +95,26 @@ class CoverContext {
     return seen_.emplace(v, std::move(made)).first->second;  // the first made, if two were
   }
 
+  // Whether pool poses `fixed` and `moved` pass the registration's ICP verification
+  // (checkIcp), each pair verified once and each pose's cloud made once.
+  bool icpPasses(std::size_t fixed, std::size_t moved) const {
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto found = icp_.find({fixed, moved}); found != icp_.end()) return found->second;
+    }
+    const bool passed =
+        detail::checkIcp(at.simulator, *cloud(fixed), cloud(moved)->cloud, options).passed;
+    const std::lock_guard lock(mutex_);
+    return icp_.emplace(std::pair{fixed, moved}, passed).first->second;
+  }
+
+  // Whether the pair failed ICP verification before.
+  bool icpFailed(std::size_t fixed, std::size_t moved) const {
+    const std::lock_guard lock(mutex_);
+    const auto found = icp_.find({fixed, moved});
+    return found != icp_.end() && !found->second;
+  }
+
   const Placement& at;
   const MeasuredViews& pool;
   const std::vector<PlannedSample>& samples;
@@ -95,8 +126,21 @@ class CoverContext {
   std::vector<char> constrained;               // per pose: something may register to it
 
  private:
+  std::shared_ptr<const IndexedCloud> cloud(std::size_t v) const {
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto found = clouds_.find(v); found != clouds_.end()) return found->second;
+    }
+    auto made =
+        std::make_shared<const IndexedCloud>(icpCloud(at.simulator, pool.views[v], options));
+    const std::lock_guard lock(mutex_);
+    return clouds_.emplace(v, std::move(made)).first->second;
+  }
+
   mutable std::mutex mutex_;
-  mutable std::map<std::size_t, Observation> seen_;  // by pool index
+  mutable std::map<std::size_t, Observation> seen_;                            // by pool index
+  mutable std::map<std::size_t, std::shared_ptr<const IndexedCloud>> clouds_;  // by pool index
+  mutable std::map<std::pair<std::size_t, std::size_t>, bool> icp_;  // (fixed, moved): passed
 };
 
 // Grows the cover one view at a time, each the pose that measures most samples not yet
@@ -153,6 +197,24 @@ class ConnectedCover {
     joinGroups();
     const std::vector<std::size_t> kept = withoutRedundantLeaves();
     return {kept, static_cast<double>(largestGroup(kept)) / static_cast<double>(kept.size())};
+  }
+
+  // The cover run made, without its redundant leaves, and with the groups still apart
+  // joined through chains of poses where that can be done (chainTo).
+  std::vector<std::size_t> chained() {
+    const std::vector<std::size_t> kept = withoutRedundantLeaves();  // in chosen_'s order
+    std::vector<std::size_t> chosen;
+    std::vector<std::optional<std::size_t>> parent;
+    for (std::size_t k = 0; k < chosen_.size(); ++k)
+      if (chosen.size() < kept.size() && kept[chosen.size()] == chosen_[k]) {
+        chosen.push_back(chosen_[k]);
+        parent.push_back(parent_[k]);
+      }
+    chosen_ = std::move(chosen);
+    parent_ = std::move(parent);
+    chains_ = true;
+    joinGroups();
+    return withoutRedundantLeaves();
   }
 
  private:
@@ -213,20 +275,21 @@ class ConnectedCover {
     };
     for (std::size_t c : main) share(c);
     for (std::size_t k = 1; k < others.size(); ++k) {
-      const auto connector = joinGroup(main, others[k], with_main);
-      if (!connector) continue;
+      const std::vector<std::size_t> added =
+          chains_ ? chainTo(main, others[k], with_main) : joinGroup(main, others[k], with_main);
+      if (added.empty()) continue;
       for (std::size_t c : others[k]) share(c);
-      share(*connector);
+      for (std::size_t c : added) share(c);
       main.insert(main.end(), others[k].begin(), others[k].end());
-      main.push_back(*connector);
+      main.insert(main.end(), added.begin(), added.end());
     }
   }
 
   // Joins `group` to `main` (the pool's poses sharing `with_main` samples with it): the
-  // connector chosen, if any.
-  std::optional<std::size_t> joinGroup(const std::vector<std::size_t>& main,
-                                       const std::vector<std::size_t>& group,
-                                       const std::vector<std::size_t>& with_main) {
+  // connector chosen, or none.
+  std::vector<std::size_t> joinGroup(const std::vector<std::size_t>& main,
+                                     const std::vector<std::size_t>& group,
+                                     const std::vector<std::size_t>& with_main) {
     std::map<std::size_t, std::size_t> with_group;  // pose: samples shared with the group
     for (std::size_t c : group)
       for (const auto& [v, n] : sharing(pool_.samples[c], by_sample_)) with_group[v] += n;
@@ -243,9 +306,67 @@ class ConnectedCover {
       if (!to_main) continue;
       choose(v, to_main);
       links_.push_back({v, *to_group});
-      return v;
+      return {v};
     }
-    return std::nullopt;
+    return {};
+  }
+
+  // Joins `group` to `main` through a chain of up to kChainLinks poses of the pool, each
+  // registering to the one before, the first to a view of the group and the last to one
+  // of main: the registration's pair test, then its ICP verification once a chain is
+  // found. The chain grows from the group's views over the poses foreseen to register
+  // (mayRegister), those aimed nearest to main first, within kChainTests pair tests and
+  // kChainFailures chains that fail ICP. The chain's poses, or none.
+  std::vector<std::size_t> chainTo(const std::vector<std::size_t>& main,
+                                   const std::vector<std::size_t>& group,
+                                   const std::vector<std::size_t>& with_main) {
+    std::map<std::size_t, std::size_t> before;  // pose: the one it registers to
+    // The distance from a pose's target to the nearest of main's: the poses nearest main
+    // are looked at first.
+    const auto distance = [&](std::size_t v) {
+      double d = std::numeric_limits<double>::infinity();
+      for (std::size_t m : main)
+        d = std::min(d, (pool_.views[m].target - pool_.views[v].target).norm());
+      return d;
+    };
+    using Entry = std::tuple<double, std::size_t, std::size_t>;  // (distance, links, pose)
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    for (std::size_t c : group) queue.push({distance(c), 0, c});
+    std::size_t tests = 0, failures = 0;
+    while (!queue.empty()) {
+      const auto [d, links, u] = queue.top();
+      queue.pop();
+      if (links == kChainLinks) continue;
+      for (const auto& [v, both] : sharing(pool_.samples[u], by_sample_)) {
+        if (used_[v] || before.count(v) || !mayRegister(pool_.samples[u], pool_.samples[v], both))
+          continue;
+        if (++tests > kChainTests) return {};
+        if (context_.icpFailed(u, v) ||
+            !registers(overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v))))
+          continue;
+        before[v] = u;
+        queue.push({distance(v), links + 1, v});
+        if (with_main[v] == 0) continue;
+        const auto to_main = registeredAmong(v, main);
+        if (!to_main) continue;
+        bool verified = context_.icpPasses(*to_main, v);
+        for (std::size_t x = v; verified && before.count(x); x = before[x])
+          verified = context_.icpPasses(before[x], x);
+        if (!verified) {
+          if (++failures == kChainFailures) return {};
+          continue;
+        }
+        choose(v, to_main);
+        std::vector<std::size_t> chain{v};
+        for (std::size_t next = before[v]; before.count(next); next = before[next]) {
+          choose(next, chain.back());
+          chain.push_back(next);
+        }
+        links_.push_back({chain.back(), before[chain.back()]});
+        return chain;
+      }
+    }
+    return {};
   }
 
   // The first of `views` (chosen) that shares samples with pose `v` and with which it
@@ -394,6 +515,7 @@ class ConnectedCover {
   std::vector<char> covered_, used_;
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
   std::size_t pinned_ = 0;
+  bool chains_ = false;  // whether joinGroups looks for chains
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
   std::vector<std::pair<std::size_t, std::size_t>> links_;  // connector, view of a joined group
@@ -407,19 +529,21 @@ std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews
                                         const std::vector<Marker>& markers) {
   const CoverContext context(at, pool, samples, markers);
   // The covers of every creep share, in parallel; kept in kCreeps' order.
+  std::vector<std::optional<ConnectedCover>> runs(std::size(kCreeps));
   std::vector<std::pair<std::vector<std::size_t>, double>> covers(std::size(kCreeps));
   tbb::parallel_for(std::size_t{0}, covers.size(), [&](std::size_t k) {
-    covers[k] = ConnectedCover(context).run(pinned, kCreeps[k]);
+    covers[k] = runs[k].emplace(context).run(pinned, kCreeps[k]);
   });
-  std::vector<std::size_t> best;
+  std::optional<std::size_t> best;
   double best_share = -1;
-  for (auto& [views, share] : covers) {
-    if (!views.empty() && share >= best_share + kBetter) {
-      best = std::move(views);
-      best_share = share;
+  for (std::size_t k = 0; k < covers.size(); ++k) {
+    if (!covers[k].first.empty() && covers[k].second >= best_share + kBetter) {
+      best = k;
+      best_share = covers[k].second;
     }
   }
-  return best;
+  if (!best) return {};
+  return runs[*best]->chained();
 }
 
 }  // namespace scanplan::detail
