@@ -12,10 +12,18 @@
 #include <scanplan/planning.h>
 
 #include <benchmark/benchmark.h>
+#include <tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
+#include <map>
+#include <numeric>
 #include <span>
 
 namespace {
@@ -85,12 +93,16 @@ struct GeometryReference {
   std::size_t poses = 0;
   double worst_registered = 0;   // the largest own condition of a view registered by ICP
   double strict = 0, loose = 0;  // the bounds at max_condition and at worst_registered
+  double graph = 0;              // the bound by the poses' registration graph
+  double graph_seconds = 0;      // its time
 };
 
-// Per pose: its condition number and the samples it measures.
+// Per pose: its condition number, the samples it measures and the registration's surface
+// points it measures (indices ascending).
 struct PoseReach {
   double condition = 0;
   std::vector<int> samples;
+  std::vector<int> surface;
 };
 std::vector<PoseReach> poseReach(const Simulator& simulator, const std::vector<View>& poses,
                                  const std::vector<SurfacePoint>& samples) {
@@ -108,7 +120,7 @@ std::vector<PoseReach> poseReach(const Simulator& simulator, const std::vector<V
         p.push_back(surface[i].position);
         n.push_back(surface[i].normal);
       }
-      reach[first + k] = {icpCondition(p, n), std::move(on_samples[k])};
+      reach[first + k] = {icpCondition(p, n), std::move(on_samples[k]), std::move(on_surface[k])};
     }
   }
   return reach;
@@ -131,6 +143,209 @@ double unlockedViews(const Plan& plan, const std::vector<PoseReach>& reach, doub
   return minimumSetCover(unlocked, required, 20).lower_bound;
 }
 
+// The registration graph of poses: two poses are joined when their pair would pass the
+// registration's pair test (each measures at least min_overlap of its surface points in the
+// overlap, whose condition number is within max_condition). ICP verification is left out,
+// so that the graph joins at least what registration could.
+class PoseGraph {
+ public:
+  PoseGraph(const Simulator& simulator, const std::vector<View>& poses,
+            const std::vector<PoseReach>& reach, double max_condition)
+      : poses_(poses),
+        seen_(reach),
+        surface_(simulator.surfacePoints(simulator.scanner().fov_height / 40)),
+        max_condition_(max_condition),
+        diagonal_(std::hypot(simulator.scanner().fov_width, simulator.scanner().fov_height)),
+        words_((surface_.size() + 63) / 64),
+        bits_(poses.size() * words_, 0),
+        smallest_(poses.size(), 0),
+        range_(poses.size(), {0, 0}),
+        parent_(poses.size()) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+    placeBits();
+    tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t v) {
+      std::size_t first = words_, last = 0;
+      for (int i : reach[v].surface) {
+        const std::size_t bit = bit_of_[i];
+        bits_[v * words_ + bit / 64] |= std::uint64_t{1} << (bit % 64);
+        first = std::min(first, bit / 64);
+        last = std::max(last, bit / 64 + 1);
+      }
+      if (first < last) range_[v] = {first, last};
+      smallest_[v] = normalEigenvalues(reach[v].surface)(0);
+    });
+  }
+
+  // Joins every pair of poses whose targets are within the field's diagonal and whose
+  // pair passes; returns the poses' component roots.
+  std::vector<int> components() {
+    std::map<std::array<long, 3>, std::vector<int>> cells;  // poses by their target's cell
+    for (std::size_t v = 0; v < poses_.size(); ++v)
+      if (!seen_[v].surface.empty()) cells[cellOf(poses_[v].target)].push_back(static_cast<int>(v));
+    for (std::size_t a = 0; a < poses_.size(); ++a) {
+      if (seen_[a].surface.empty()) continue;
+      // Each component of the neighbours joins when one of its members does.
+      std::map<int, int> group_of;             // by root
+      std::vector<std::pair<int, int>> tests;  // (group, pose)
+      const int mine = find(static_cast<int>(a));
+      for (int b : neighbours(cells, static_cast<int>(a))) {
+        const int root = find(b);
+        if (root == mine) continue;
+        const auto found = group_of.emplace(root, static_cast<int>(group_of.size())).first;
+        tests.push_back({found->second, b});
+      }
+      std::vector<int> roots_of(group_of.size());
+      for (const auto& [root, g] : group_of) roots_of[g] = root;
+      std::vector<std::atomic<char>> joined(group_of.size());
+      tbb::parallel_for(std::size_t{0}, tests.size(), [&](std::size_t t) {
+        const auto [g, b] = tests[t];
+        if (!joined[g] && joins(static_cast<int>(a), b)) joined[g] = 1;
+      });
+      for (std::size_t g = 0; g < joined.size(); ++g)
+        if (joined[g]) parent_[find(roots_of[g])] = find(static_cast<int>(a));
+    }
+    std::vector<int> roots(poses_.size());
+    for (std::size_t v = 0; v < poses_.size(); ++v) roots[v] = find(static_cast<int>(v));
+    return roots;
+  }
+
+ private:
+  // The surface points' bits in the order of a Morton curve through them, so that what a
+  // pose measures, which lies together, takes few words.
+  void placeBits() {
+    Box box;
+    for (const SurfacePoint& p : surface_) box.add(p.position);
+    const Vec3 size = (box.max - box.min).cwiseMax(Vec3::Constant(1e-9));
+    auto spread = [](std::uint64_t x) {  // 21 bits to every third of 63
+      x &= 0x1fffff;
+      x = (x | x << 32) & 0x1f00000000ffff;
+      x = (x | x << 16) & 0x1f0000ff0000ff;
+      x = (x | x << 8) & 0x100f00f00f00f00f;
+      x = (x | x << 4) & 0x10c30c30c30c30c3;
+      return (x | x << 2) & 0x1249249249249249;
+    };
+    std::vector<std::pair<std::uint64_t, int>> keys(surface_.size());
+    for (std::size_t i = 0; i < surface_.size(); ++i) {
+      const Vec3 q = (surface_[i].position - box.min).cwiseQuotient(size) * 2097151.0;
+      keys[i] = {spread(static_cast<std::uint64_t>(q.x())) |
+                     spread(static_cast<std::uint64_t>(q.y())) << 1 |
+                     spread(static_cast<std::uint64_t>(q.z())) << 2,
+                 static_cast<int>(i)};
+    }
+    std::sort(keys.begin(), keys.end());
+    bit_of_.resize(surface_.size());
+    point_at_.resize(surface_.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      bit_of_[keys[k].second] = k;
+      point_at_[k] = keys[k].second;
+    }
+  }
+
+  // The eigenvalues (ascending) of the normals' part of ICP's matrix over `points`.
+  Eigen::Vector3d normalEigenvalues(const std::vector<int>& points) const {
+    Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
+    for (int i : points) normals += surface_[i].normal * surface_[i].normal.transpose();
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(normals, Eigen::EigenvaluesOnly)
+        .eigenvalues();
+  }
+
+  // The cell of a target: cells as wide as the field's diagonal, the farthest apart two
+  // targets of an overlapping pair are taken to be.
+  std::array<long, 3> cellOf(const Vec3& p) const {
+    return {std::lround(std::floor(p.x() / diagonal_)), std::lround(std::floor(p.y() / diagonal_)),
+            std::lround(std::floor(p.z() / diagonal_))};
+  }
+
+  std::vector<int> neighbours(const std::map<std::array<long, 3>, std::vector<int>>& cells,
+                              int a) const {
+    const auto c = cellOf(poses_[a].target);
+    std::vector<int> near;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz)
+          if (const auto found = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+              found != cells.end())
+            for (int b : found->second)
+              if (b > a && (poses_[b].target - poses_[a].target).norm() <= diagonal_)
+                near.push_back(b);
+    return near;
+  }
+
+  // The pair test without ICP. Before the condition number, two rejections that cannot
+  // reject a passing pair: too few points in common; and the overlap's normals, whose
+  // matrix is below each pose's (its smallest eigenvalue at most theirs) and whose largest
+  // eigenvalue is at least a third of its trace, the number of points.
+  bool joins(int a, int b) const {
+    const std::size_t na = seen_[a].surface.size(), nb = seen_[b].surface.size();
+    const double least = min_overlap_ * static_cast<double>(std::max(na, nb));
+    if (static_cast<double>(std::min(na, nb)) < least) return false;
+    const std::size_t first = std::max(range_[a].first, range_[b].first);
+    const std::size_t last = std::min(range_[a].second, range_[b].second);
+    std::size_t common = 0;
+    const std::uint64_t *x = &bits_[a * words_], *y = &bits_[b * words_];
+    for (std::size_t w = first; w < last; ++w) common += std::popcount(x[w] & y[w]);
+    if (static_cast<double>(common) < least) return false;
+    if (static_cast<double>(common) / 3 > max_condition_ * std::min(smallest_[a], smallest_[b]))
+      return false;
+    std::vector<int> both;
+    for (std::size_t w = first; w < last; ++w)
+      for (std::uint64_t m = x[w] & y[w]; m; m &= m - 1)
+        both.push_back(point_at_[w * 64 + static_cast<std::size_t>(std::countr_zero(m))]);
+    const Eigen::Vector3d e = normalEigenvalues(both);
+    if (!(e(0) * max_condition_ >= e(2))) return false;
+    std::vector<Vec3> p, n;
+    for (int i : both) {
+      p.push_back(surface_[i].position);
+      n.push_back(surface_[i].normal);
+    }
+    return icpCondition(p, n) <= max_condition_;
+  }
+
+  int find(int v) {
+    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+
+  const std::vector<View>& poses_;
+  const std::vector<PoseReach>& seen_;
+  const std::vector<SurfacePoint> surface_;
+  const double max_condition_;
+  const double min_overlap_ = RegistrationOptions{}.min_overlap;
+  const double diagonal_;  // the field's
+  std::size_t words_;
+  std::vector<std::uint64_t> bits_;  // per pose, the surface points it measures
+  std::vector<double> smallest_;     // per pose, the smallest eigenvalue of its normals' part
+  std::vector<std::pair<std::size_t, std::size_t>> range_;  // per pose, the words with its bits
+  std::vector<std::size_t> bit_of_;                         // per surface point
+  std::vector<int> point_at_;                               // per bit
+  std::vector<int> parent_;                                 // union-find
+};
+
+// The reference by the registration graph of the poses: a view registers only within the
+// component of the reference view. The plan's measured samples that no pose of the largest
+// component measures need views outside it, which register to nothing; CBC's bound on
+// their fewest is returned.
+double unjoinedViews(const Simulator& simulator, const Plan& plan, const std::vector<View>& poses,
+                     const std::vector<PoseReach>& reach, double max_condition) {
+  const std::vector<int> roots = PoseGraph(simulator, poses, reach, max_condition).components();
+  std::map<int, std::size_t> sizes;
+  int largest = -1;
+  for (int root : roots)
+    if (++sizes[root]; largest < 0 || sizes[root] > sizes[largest]) largest = root;
+  std::vector<char> required(plan.samples.size(), 0);
+  for (std::size_t i = 0; i < plan.samples.size(); ++i)
+    required[i] = !plan.samples[i].measured_by.empty();
+  std::vector<std::vector<int>> outside;
+  for (std::size_t v = 0; v < poses.size(); ++v)
+    if (roots[v] == largest) {
+      for (int i : reach[v].samples) required[i] = 0;
+    } else if (!reach[v].samples.empty()) {
+      outside.push_back(reach[v].samples);
+    }
+  if (std::find(required.begin(), required.end(), 1) == required.end()) return 0;
+  return minimumSetCover(outside, required, 20).lower_bound;
+}
+
 GeometryReference geometryReference(const Simulator& simulator, const Plan& plan,
                                     double max_condition) {
   const std::vector<SurfacePoint> samples = plan.samplePoints();
@@ -141,6 +356,10 @@ GeometryReference geometryReference(const Simulator& simulator, const Plan& plan
       if (poseIsValid(simulator, v)) poses.push_back(v);
   const std::vector<PoseReach> reach = poseReach(simulator, poses, samples);
   GeometryReference result;
+  const auto start = std::chrono::steady_clock::now();
+  result.graph = unjoinedViews(simulator, plan, poses, reach, max_condition);
+  result.graph_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.poses = poses.size();
   for (std::size_t v = 0; v < plan.views.size(); ++v)
     if (plan.registration && plan.registration->views[v].method == RegistrationMethod::Icp)
@@ -266,6 +485,8 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
   state.counters["worst_registered_condition"] = reference.worst_registered;
   state.counters["unregistrable_bound"] = reference.strict;
   state.counters["unregistrable_bound_loose"] = reference.loose;
+  state.counters["unregistrable_bound_graph"] = reference.graph;
+  state.counters["graph_seconds"] = reference.graph_seconds;
   if (!plan.proposed_markers || plan.proposed_markers->markers.empty()) return;
   state.counters["proposed_markers"] = static_cast<double>(plan.proposed_markers->markers.size());
   state.counters["proposed_bound"] = static_cast<double>(plan.proposed_markers->lower_bound);
