@@ -119,7 +119,9 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
 // the best pose something could register to, then any pose. Groups left apart are then
 // joined to the largest through connector poses, each registering to a view of both.
 // Chosen views whose samples others measure too and that no other registers to are
-// dropped. Pool indices in the order chosen; none when no view registers to another.
+// dropped. On the cover kept, the groups still apart are joined through chains of poses,
+// each registering to the one before (verified by ICP). Pool indices in the order chosen;
+// none when no view registers to another.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
