@@ -349,10 +349,7 @@ class ConnectedCover {
         if (with_main[v] == 0) continue;
         const auto to_main = registeredAmong(v, main);
         if (!to_main) continue;
-        bool verified = context_.icpPasses(*to_main, v);
-        for (std::size_t x = v; verified && before.count(x); x = before[x])
-          verified = context_.icpPasses(before[x], x);
-        if (!verified) {
+        if (!verified(*to_main, v, before)) {
           if (++failures == kChainFailures) return {};
           continue;
         }
@@ -367,6 +364,16 @@ class ConnectedCover {
       }
     }
     return {};
+  }
+
+  // Whether `v` registers to `fixed` by ICP, and so does every link of the chain `before`
+  // leads back from it.
+  bool verified(std::size_t fixed, std::size_t v,
+                const std::map<std::size_t, std::size_t>& before) const {
+    if (!context_.icpPasses(fixed, v)) return false;
+    for (auto link = before.find(v); link != before.end(); link = before.find(link->second))
+      if (!context_.icpPasses(link->second, link->first)) return false;
+    return true;
   }
 
   // The first of `views` (chosen) that shares samples with pose `v` and with which it
