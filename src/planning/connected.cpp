@@ -131,8 +131,11 @@ class CoverContext {
       const std::lock_guard lock(mutex_);
       if (const auto found = clouds_.find(v); found != clouds_.end()) return found->second;
     }
-    auto made =
-        std::make_shared<const IndexedCloud>(icpCloud(at.simulator, pool.views[v], options));
+    // The pool index as the view's id, which seeds the cloud's noise and the perturbation
+    // ICP starts from: poses of the pool have none of their own.
+    View view = pool.views[v];
+    view.id = static_cast<int>(v) + 1;
+    auto made = std::make_shared<const IndexedCloud>(icpCloud(at.simulator, view, options));
     const std::lock_guard lock(mutex_);
     return clouds_.emplace(v, std::move(made)).first->second;
   }
