@@ -197,27 +197,17 @@ class ConnectedCover {
     }
     if (std::none_of(parent_.begin(), parent_.end(), [](auto& p) { return p.has_value(); }))
       return {};
-    joinGroups();
-    const std::vector<std::size_t> kept = withoutRedundantLeaves();
-    return {kept, static_cast<double>(largestGroup(kept)) / static_cast<double>(kept.size())};
+    joinGroups(false);
+    dropRedundantLeaves();
+    return {chosen_, static_cast<double>(largestGroup()) / static_cast<double>(chosen_.size())};
   }
 
-  // The cover run made, without its redundant leaves, and with the groups still apart
-  // joined through chains of poses where that can be done (chainTo).
+  // The cover run made, with the groups still apart joined through chains of poses where
+  // that can be done (chainTo).
   std::vector<std::size_t> chained() {
-    const std::vector<std::size_t> kept = withoutRedundantLeaves();  // in chosen_'s order
-    std::vector<std::size_t> chosen;
-    std::vector<std::optional<std::size_t>> parent;
-    for (std::size_t k = 0; k < chosen_.size(); ++k)
-      if (chosen.size() < kept.size() && kept[chosen.size()] == chosen_[k]) {
-        chosen.push_back(chosen_[k]);
-        parent.push_back(parent_[k]);
-      }
-    chosen_ = std::move(chosen);
-    parent_ = std::move(parent);
-    chains_ = true;
-    joinGroups();
-    return withoutRedundantLeaves();
+    joinGroups(true);
+    dropRedundantLeaves();
+    return chosen_;
   }
 
  private:
@@ -251,20 +241,18 @@ class ConnectedCover {
     return root;
   }
 
-  // The most views of `kept` (chosen views) in one group.
-  std::size_t largestGroup(const std::vector<std::size_t>& kept) const {
-    const std::map<std::size_t, std::size_t> root = groups();
+  // The most chosen views in one group.
+  std::size_t largestGroup() const {
     std::map<std::size_t, std::size_t> size_of_root;
     std::size_t largest = 0;
-    for (std::size_t v : kept) largest = std::max(largest, ++size_of_root[root.at(v)]);
+    for (const auto& [v, root] : groups()) largest = std::max(largest, ++size_of_root[root]);
     return largest;
   }
 
   // Joins the other groups to the largest, the larger first, each through a connector: a
-  // pose of the pool that registers to a view of both, measuring nothing new. Of the
-  // poses that share samples with both groups, the kConnectorTries sharing most with the
-  // lesser side are tried.
-  void joinGroups() {
+  // pose of the pool that registers to a view of both, measuring nothing new (joinGroup);
+  // with `chains`, through a chain of such poses instead (chainTo).
+  void joinGroups(bool chains) {
     std::map<std::size_t, std::vector<std::size_t>> members;  // by root
     for (const auto& [v, r] : groups()) members[r].push_back(v);
     std::vector<std::vector<std::size_t>> others;
@@ -279,7 +267,7 @@ class ConnectedCover {
     for (std::size_t c : main) share(c);
     for (std::size_t k = 1; k < others.size(); ++k) {
       const std::vector<std::size_t> added =
-          chains_ ? chainTo(main, others[k], with_main) : joinGroup(main, others[k], with_main);
+          chains ? chainTo(main, others[k], with_main) : joinGroup(main, others[k], with_main);
       if (added.empty()) continue;
       for (std::size_t c : others[k]) share(c);
       for (std::size_t c : added) share(c);
@@ -288,8 +276,9 @@ class ConnectedCover {
     }
   }
 
-  // Joins `group` to `main` (the pool's poses sharing `with_main` samples with it): the
-  // connector chosen, or none.
+  // Joins `group` to `main` (the pool's poses sharing `with_main` samples with it): of the
+  // poses that share samples with both, the kConnectorTries sharing most with the lesser
+  // side are tried. The connector chosen, or none.
   std::vector<std::size_t> joinGroup(const std::vector<std::size_t>& main,
                                      const std::vector<std::size_t>& group,
                                      const std::vector<std::size_t>& with_main) {
@@ -389,9 +378,9 @@ class ConnectedCover {
     return std::nullopt;
   }
 
-  // The chosen views without those, last first, whose samples others measure too and
-  // to which no other view registers.
-  std::vector<std::size_t> withoutRedundantLeaves() const {
+  // Drops the chosen views, last first, whose samples others measure too and to which no
+  // other view registers.
+  void dropRedundantLeaves() {
     std::vector<int> times_measured(samples_.size(), 0);
     std::map<std::size_t, int> children;
     for (std::size_t k = 0; k < chosen_.size(); ++k) {
@@ -413,10 +402,15 @@ class ConnectedCover {
       for (int i : mine) --times_measured[i];
       if (parent_[k]) --children[*parent_[k]];
     }
-    std::vector<std::size_t> result;
+    std::vector<std::size_t> chosen;
+    std::vector<std::optional<std::size_t>> parent;
     for (std::size_t k = 0; k < chosen_.size(); ++k)
-      if (kept[k]) result.push_back(chosen_[k]);
-    return result;
+      if (kept[k]) {
+        chosen.push_back(chosen_[k]);
+        parent.push_back(parent_[k]);
+      }
+    chosen_ = std::move(chosen);
+    parent_ = std::move(parent);
   }
 
   static double total(const Gain& gain) { return gain.first + gain.second; }
@@ -525,7 +519,6 @@ class ConnectedCover {
   std::vector<char> covered_, used_;
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
   std::size_t pinned_ = 0;
-  bool chains_ = false;  // whether joinGroups looks for chains
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
   std::vector<std::pair<std::size_t, std::size_t>> links_;  // connector, view of a joined group
