@@ -17,6 +17,7 @@
 #include <chrono>
 #include <filesystem>
 #include <map>
+#include <optional>
 
 namespace scanplan::cli {
 namespace {
@@ -70,14 +71,18 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
   const std::filesystem::path outdir(options.outdir);
   writePlanFiles(plan, (outdir / "plan.json").string(), &outputs);
   const auto report_start = std::chrono::steady_clock::now();
+  // Resolved once for the report and the picture: it reads the fixture models.
+  std::optional<ResolvedSpec> resolved;
+  if (!options.no_report || options.png) resolved = resolveSpec(part, spec);
   if (!options.no_report)
-    writeReport(plan, part, spec, outputs.stage((outdir / "report.html").string()), {}, progress);
+    writeReport(plan, part, *resolved, outputs.stage((outdir / "report.html").string()), {},
+                progress);
   else
     outputs.drop((outdir / "report.html").string());
   const double report_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
   if (options.png)
-    writePng(renderScene(planScene(plan, part, resolveSpec(part, spec))),
+    writePng(renderScene(planScene(plan, part, *resolved)),
              outputs.stage((outdir / "plan.png").string()));
   else
     outputs.drop((outdir / "plan.png").string());

@@ -84,7 +84,7 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
           : options.out;
   refuseOwnInput(out, options.input);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input);
-  writeReport(c.plan, c.part, c.spec.spec, out, {}, progress);
+  writeReport(c.plan, c.part, c.spec, out, {}, progress);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.png);
   clearProgress();
   fmt::print("report     {}\n", out);

@@ -140,6 +140,10 @@ struct ReportOptions {
 // disk without network). \throw OutputError when it cannot be written.
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
                  const ReportOptions& options = {}, const Progress& progress = {});
+// The same with the spec already resolved against `part` (its fixture models read).
+void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& spec,
+                 const std::string& path, const ReportOptions& options = {},
+                 const Progress& progress = {});
 
 // Writes the inspection-spec editor of `part` (docs/spec-editor.md): a self-contained page,
 // in the report's style, where faces are picked for tasks and roles, control points are

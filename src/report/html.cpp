@@ -204,7 +204,12 @@ json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolv
 
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
                  const ReportOptions& options, const Progress& progress) {
-  const ResolvedSpec resolved = resolveSpec(part, spec);
+  writeReport(plan, part, resolveSpec(part, spec), path, options, progress);
+}
+
+void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
+                 const std::string& path, const ReportOptions& options, const Progress& progress) {
+  const Spec& spec = resolved.spec;
   const PlanScene scene = planScene(plan, part, resolved);
   Box part_box;
   for (const Vec3& v : scene.mesh.vertices) part_box.add(v);
