@@ -105,9 +105,8 @@ struct PoseReach {
   std::vector<int> surface;
 };
 std::vector<PoseReach> poseReach(const Simulator& simulator, const std::vector<View>& poses,
-                                 const std::vector<SurfacePoint>& samples) {
-  const std::vector<SurfacePoint> surface =
-      simulator.surfacePoints(simulator.scanner().fov_height / 40);
+                                 const std::vector<SurfacePoint>& samples,
+                                 const std::vector<SurfacePoint>& surface) {
   std::vector<PoseReach> reach(poses.size());
   constexpr std::size_t kChunk = 2000;  // poses measured at a time, to bound memory
   for (std::size_t first = 0; first < poses.size(); first += kChunk) {
@@ -126,21 +125,28 @@ std::vector<PoseReach> poseReach(const Simulator& simulator, const std::vector<V
   return reach;
 }
 
-// CBC's bound on the views that do not lock at `threshold` which the plan's measured
-// samples need.
-double unlockedViews(const Plan& plan, const std::vector<PoseReach>& reach, double threshold) {
+// CBC's bound on the views among the poses that are not `enough` (by index) which the
+// plan's measured samples need, when the poses that are enough measure theirs.
+template <class Enough>
+double neededViews(const Plan& plan, const std::vector<PoseReach>& reach, Enough enough) {
   std::vector<char> required(plan.samples.size(), 0);
   for (std::size_t i = 0; i < plan.samples.size(); ++i)
     required[i] = !plan.samples[i].measured_by.empty();
-  std::vector<std::vector<int>> unlocked;
-  for (const PoseReach& r : reach)
-    if (r.condition <= threshold) {
-      for (int i : r.samples) required[i] = 0;
-    } else if (!r.samples.empty()) {
-      unlocked.push_back(r.samples);
+  std::vector<std::vector<int>> others;
+  for (std::size_t v = 0; v < reach.size(); ++v)
+    if (enough(v)) {
+      for (int i : reach[v].samples) required[i] = 0;
+    } else if (!reach[v].samples.empty()) {
+      others.push_back(reach[v].samples);
     }
   if (std::find(required.begin(), required.end(), 1) == required.end()) return 0;
-  return minimumSetCover(unlocked, required, 20).lower_bound;
+  return minimumSetCover(others, required, 20).lower_bound;
+}
+
+// CBC's bound on the views that do not lock at `threshold` which the plan's measured
+// samples need.
+double unlockedViews(const Plan& plan, const std::vector<PoseReach>& reach, double threshold) {
+  return neededViews(plan, reach, [&](std::size_t v) { return reach[v].condition <= threshold; });
 }
 
 // The registration graph of poses: two poses are joined when their pair would pass the
@@ -149,11 +155,13 @@ double unlockedViews(const Plan& plan, const std::vector<PoseReach>& reach, doub
 // so that the graph joins at least what registration could.
 class PoseGraph {
  public:
+  // `reach` of the `poses` on the `surface` points (poseReach).
   PoseGraph(const Simulator& simulator, const std::vector<View>& poses,
-            const std::vector<PoseReach>& reach, double max_condition)
+            const std::vector<PoseReach>& reach, const std::vector<SurfacePoint>& surface,
+            double max_condition)
       : poses_(poses),
         seen_(reach),
-        surface_(simulator.surfacePoints(simulator.scanner().fov_height / 40)),
+        surface_(surface),
         max_condition_(max_condition),
         diagonal_(std::hypot(simulator.scanner().fov_width, simulator.scanner().fov_height)),
         words_((surface_.size() + 63) / 64),
@@ -308,7 +316,7 @@ class PoseGraph {
 
   const std::vector<View>& poses_;
   const std::vector<PoseReach>& seen_;
-  const std::vector<SurfacePoint> surface_;
+  const std::vector<SurfacePoint>& surface_;
   const double max_condition_;
   const double min_overlap_ = RegistrationOptions{}.min_overlap;
   const double diagonal_;  // the field's
@@ -326,24 +334,15 @@ class PoseGraph {
 // component measures need views outside it, which register to nothing; CBC's bound on
 // their fewest is returned.
 double unjoinedViews(const Simulator& simulator, const Plan& plan, const std::vector<View>& poses,
-                     const std::vector<PoseReach>& reach, double max_condition) {
-  const std::vector<int> roots = PoseGraph(simulator, poses, reach, max_condition).components();
+                     const std::vector<PoseReach>& reach, const std::vector<SurfacePoint>& surface,
+                     double max_condition) {
+  const std::vector<int> roots =
+      PoseGraph(simulator, poses, reach, surface, max_condition).components();
   std::map<int, std::size_t> sizes;
   int largest = -1;
   for (int root : roots)
     if (++sizes[root]; largest < 0 || sizes[root] > sizes[largest]) largest = root;
-  std::vector<char> required(plan.samples.size(), 0);
-  for (std::size_t i = 0; i < plan.samples.size(); ++i)
-    required[i] = !plan.samples[i].measured_by.empty();
-  std::vector<std::vector<int>> outside;
-  for (std::size_t v = 0; v < poses.size(); ++v)
-    if (roots[v] == largest) {
-      for (int i : reach[v].samples) required[i] = 0;
-    } else if (!reach[v].samples.empty()) {
-      outside.push_back(reach[v].samples);
-    }
-  if (std::find(required.begin(), required.end(), 1) == required.end()) return 0;
-  return minimumSetCover(outside, required, 20).lower_bound;
+  return neededViews(plan, reach, [&](std::size_t v) { return roots[v] == largest; });
 }
 
 GeometryReference geometryReference(const Simulator& simulator, const Plan& plan,
@@ -354,10 +353,13 @@ GeometryReference geometryReference(const Simulator& simulator, const Plan& plan
   for (std::size_t a = 0; a < samples.size(); a += step)
     for (const View& v : ringPoses(simulator.scanner(), samples[a], {20, 40}, 90, 4))
       if (poseIsValid(simulator, v)) poses.push_back(v);
-  const std::vector<PoseReach> reach = poseReach(simulator, poses, samples);
+  // The registration's surface points, as Overlaps spaces them by default.
+  const std::vector<SurfacePoint> surface =
+      simulator.surfacePoints(simulator.scanner().fov_height / 40);
+  const std::vector<PoseReach> reach = poseReach(simulator, poses, samples, surface);
   GeometryReference result;
   const auto start = std::chrono::steady_clock::now();
-  result.graph = unjoinedViews(simulator, plan, poses, reach, max_condition);
+  result.graph = unjoinedViews(simulator, plan, poses, reach, surface, max_condition);
   result.graph_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.poses = poses.size();
