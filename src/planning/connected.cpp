@@ -39,8 +39,8 @@ constexpr std::size_t kConnectorTries = 128;
 // Chains of poses joining the groups the cover leaves apart (chainTo): at most this many
 // poses, found within this many pair tests.
 constexpr std::size_t kChainLinks = 6;
-constexpr std::size_t kChainTests = 800;
-constexpr std::size_t kChainFailures = 2;  // chains failing ICP before the search gives up
+constexpr std::size_t kChainTests = 10000;
+constexpr std::size_t kChainFailures = 10;  // chains failing ICP before the search gives up
 
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
@@ -224,6 +224,7 @@ class ConnectedCover {
     chosen_.clear();
     parent_.clear();
     links_.clear();
+    tested_.clear();
   }
 
   // Per chosen view (pool index), the root of its group: the views registering to one
@@ -308,7 +309,8 @@ class ConnectedCover {
   // of main: the registration's pair test, then its ICP verification once a chain is
   // found. The chain grows from the group's views over the poses foreseen to register
   // (mayRegister), those aimed nearest to main first, within kChainTests pair tests and
-  // kChainFailures chains that fail ICP. The chain's poses, or none.
+  // kChainFailures chains that fail ICP. After a failure the poses reached through the
+  // failed link are reached again, if they can be, another way. The chain's poses, or none.
   std::vector<std::size_t> chainTo(const std::vector<std::size_t>& main,
                                    const std::vector<std::size_t>& group,
                                    const std::vector<std::size_t>& with_main) {
@@ -321,28 +323,34 @@ class ConnectedCover {
         d = std::min(d, (pool_.views[m].target - pool_.views[v].target).norm());
       return d;
     };
-    using Entry = std::tuple<double, std::size_t, std::size_t>;  // (distance, links, pose)
+    // (distance, links, pose, the pose it registers to: itself in the group)
+    using Entry = std::tuple<double, std::size_t, std::size_t, std::size_t>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-    for (std::size_t c : group) queue.push({distance(c), 0, c});
+    for (std::size_t c : group) queue.push({distance(c), 0, c, c});
+    // Whether the entry still stands: its pose is reached as it was when queued.
+    const auto stands = [&](std::size_t u, std::size_t parent) {
+      const auto link = before.find(u);
+      return parent == u || (link != before.end() && link->second == parent);
+    };
     std::size_t tests = 0, failures = 0;
     while (!queue.empty()) {
-      const auto [d, links, u] = queue.top();
+      const auto [d, links, u, parent] = queue.top();
       queue.pop();
-      if (links == kChainLinks) continue;
+      if (links == kChainLinks || !stands(u, parent)) continue;
       for (const auto& [v, both] : sharing(pool_.samples[u], by_sample_)) {
         if (used_[v] || before.count(v) || !mayRegister(pool_.samples[u], pool_.samples[v], both))
           continue;
         if (++tests > kChainTests) return {};
-        if (context_.icpFailed(u, v) ||
-            !registers(overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v))))
-          continue;
+        if (context_.icpFailed(u, v) || !pairRegisters(u, v)) continue;
         before[v] = u;
-        queue.push({distance(v), links + 1, v});
+        queue.push({distance(v), links + 1, v, u});
         if (with_main[v] == 0) continue;
         const auto to_main = registeredAmong(v, main);
         if (!to_main) continue;
         if (!verified(*to_main, v, before)) {
           if (++failures == kChainFailures) return {};
+          forgetBroken(before);
+          if (!stands(u, parent)) break;
           continue;
         }
         choose(v, to_main);
@@ -356,6 +364,28 @@ class ConnectedCover {
       }
     }
     return {};
+  }
+
+  // Whether poses `u` and `v` pass the registration's pair test, each pair tested once.
+  bool pairRegisters(std::size_t u, std::size_t v) {
+    const auto [found, fresh] = tested_.try_emplace({u, v}, false);
+    if (fresh)
+      found->second = registers(overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v)));
+    return found->second;
+  }
+
+  // Forgets the poses of `before` (pose: the one it registers to) whose chain holds a link
+  // that failed ICP: they may yet be reached another way.
+  void forgetBroken(std::map<std::size_t, std::size_t>& before) const {
+    const auto broken = [&](std::size_t v) {
+      for (auto link = before.find(v); link != before.end(); link = before.find(link->second))
+        if (context_.icpFailed(link->second, link->first)) return true;
+      return false;
+    };
+    std::vector<std::size_t> lost;  // all found first: erasing cuts the chains walked
+    for (const auto& link : before)
+      if (broken(link.first)) lost.push_back(link.first);
+    for (std::size_t v : lost) before.erase(v);
   }
 
   // Whether `v` registers to `fixed` by ICP, and so does every link of the chain `before`
@@ -521,7 +551,8 @@ class ConnectedCover {
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
-  std::vector<std::pair<std::size_t, std::size_t>> links_;  // connector, view of a joined group
+  std::vector<std::pair<std::size_t, std::size_t>> links_;      // connector, view of a joined group
+  std::map<std::pair<std::size_t, std::size_t>, bool> tested_;  // pair tests of chains: passed
 };
 
 }  // namespace
