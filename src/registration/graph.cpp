@@ -204,7 +204,8 @@ class Graph {
       if (on_other[i]) sides.other_points.push_back(points_[i].position);
     }
     if (sides.main_points.empty() || sides.other_points.empty()) return sides;
-    sides.to_main = distances(sides.main_points);
+    if (to_main_.first != sides.in_main) to_main_ = {sides.in_main, distances(sides.main_points)};
+    sides.to_main = to_main_.second;
     sides.to_other = distances(sides.other_points);
     sides.gap = std::numeric_limits<double>::infinity();
     for (std::size_t v = 0; v < views_.size(); ++v)
@@ -291,27 +292,30 @@ class Graph {
                                           const std::vector<Observation>& seen) const {
     std::vector<std::optional<Candidate>> found(poses.size());
     tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t k) {
-      std::optional<std::size_t> partner;
-      PairCheck best;
-      bool joins = false;
-      for (std::size_t v = 0; v < views_.size(); ++v) {
-        if (!sides.in_main[v] && !sides.in_other[v]) continue;  // a third component's
+      const auto registers = [&](std::size_t v) {
         const PairCheck pair = check(views_[v], seen_[v], poses[k], seen[k]);
-        if (!pair.markers && !pair.stable) continue;
-        if (sides.in_other[v]) {
-          joins = true;
-        } else if (sides.in_main[v] &&
-                   (!partner || (pair.markers && !best.markers) ||
-                    (pair.markers == best.markers && pair.condition < best.condition))) {
-          partner = v;
-          best = pair;
-        }
-      }
-      if (!partner) return;
+        return pair.markers || pair.stable ? std::optional(pair) : std::nullopt;
+      };
+      // A pose neither joining the other side nor coming nearer to it is no candidate:
+      // that is known before its pairs with the main component are checked.
       double nearest = std::numeric_limits<double>::infinity();
       for (int i : seen[k].points) nearest = std::min(nearest, sides.to_other[i]);
+      bool joins = false;
+      for (std::size_t v = 0; v < views_.size() && !joins; ++v)
+        joins = sides.in_other[v] && registers(v);
       if (!joins && !(nearest < sides.gap - spacing_)) return;
-      found[k] = Candidate{k, *partner, joins, joins ? 0.0 : nearest};
+      std::optional<std::size_t> partner;
+      PairCheck best;
+      for (std::size_t v = 0; v < views_.size(); ++v) {
+        if (!sides.in_main[v]) continue;
+        const std::optional<PairCheck> pair = registers(v);
+        if (pair && (!partner || (pair->markers && !best.markers) ||
+                     (pair->markers == best.markers && pair->condition < best.condition))) {
+          partner = v;
+          best = *pair;
+        }
+      }
+      if (partner) found[k] = Candidate{k, *partner, joins, joins ? 0.0 : nearest};
     });
     std::vector<Candidate> candidates;
     for (const auto& candidate : found)
@@ -564,6 +568,9 @@ class Graph {
   std::vector<char> constrained_;  // per view: something could register to it
   std::vector<std::size_t> used_;  // pairs of the spanning tree
   std::shared_ptr<IcpMemo> memo_ = std::make_shared<IcpMemo>();
+  // The last main component (per view: in it) and each surface point's distance from it,
+  // the same for every component bridged towards until a bridge joins one.
+  std::pair<std::vector<char>, std::vector<double>> to_main_;
 };
 
 // Every view registered to nothing registered by the robot, into the reference's frame.
