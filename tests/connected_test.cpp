@@ -97,69 +97,100 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   EXPECT_EQ(registration.registered(), chosen.size());
 }
 
-TEST(ConnectedCover, JoinsTwoGroupsThroughAChain) {
-  const Part part = studdedPlate(1000);
-  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
-  const Simulator simulator(part, spec.spec.scanner);
-  const Scanner& scanner = simulator.scanner();
+// The chain case: a 1000 mm studded plate, samples on the four sides of five rows of pyramids
+// and on the plate between them, pending about A (x < 170) and B (x > 830) and measured before
+// in between, so that the poses between A and B measure nothing new. The last row is beyond
+// the reach of views along y = 150. The pool: A, B, three poses 175 mm apart between them
+// (each overlaps the next, none both A and B, and so no single connector joins them), and
+// A2 beside A, which measures the last row there.
+struct ChainPlate {
+  explicit ChainPlate(double tolerance = 0)
+      : part(studdedPlate(1000)),
+        spec(withTolerance(resolveSpec(part, defaultSpec()), tolerance)),
+        simulator(part, spec.spec.scanner) {
+    for (double x = 10; x < 1000; x += 50)
+      for (double y : {60.0, 110.0, 160.0, 210.0, 260.0})
+        for (const auto& [at, normal] :
+             {std::pair{Vec3(15, 5, 5), Vec3(0, -1, 1)}, std::pair{Vec3(5, 15, 5), Vec3(-1, 0, 1)},
+              std::pair{Vec3(15, 25, 5), Vec3(0, 1, 1)}, std::pair{Vec3(25, 15, 5), Vec3(1, 0, 1)},
+              std::pair{Vec3(40, 40, 0), Vec3(0, 0, 1)}}) {
+          PlannedSample s;
+          s.sample.position = Vec3(x, y, 10) + at;
+          s.sample.normal = normal.normalized();
+          s.sample.face = 1;
+          s.sample.weight = 100;
+          samples.push_back(s);
+          points.push_back({s.sample.position, s.sample.normal, 1});
+          done.push_back(x + at.x() >= 170 && x + at.x() <= 830);
+        }
+    const Scanner& scanner = simulator.scanner();
+    const std::vector<View> views = {above(scanner, 150, 150), above(scanner, 850, 150),
+                                     above(scanner, 325, 150), above(scanner, 500, 150),
+                                     above(scanner, 675, 150), above(scanner, 150, 260)};
+    const auto measured = measuredPoints(simulator, views, points);
+    for (std::size_t v = 0; v < views.size(); ++v) pool.add(views[v], measured[v]);
+  }
 
-  // Samples on the four sides of five rows of pyramids, and on the plate between them: pending
-  // about A (x < 170) and B (x > 830), measured before in between, so that the poses between A and
-  // B measure nothing new. The last row is beyond the reach of views along y = 150.
-  std::vector<PlannedSample> samples;
-  std::vector<SurfacePoint> points;
-  std::vector<char> done;
-  for (double x = 10; x < 1000; x += 50)
-    for (double y : {60.0, 110.0, 160.0, 210.0, 260.0})
-      for (const auto& [at, normal] :
-           {std::pair{Vec3(15, 5, 5), Vec3(0, -1, 1)}, std::pair{Vec3(5, 15, 5), Vec3(-1, 0, 1)},
-            std::pair{Vec3(15, 25, 5), Vec3(0, 1, 1)}, std::pair{Vec3(25, 15, 5), Vec3(1, 0, 1)},
-            std::pair{Vec3(40, 40, 0), Vec3(0, 0, 1)}}) {
-        PlannedSample s;
-        s.sample.position = Vec3(x, y, 10) + at;
-        s.sample.normal = normal.normalized();
-        s.sample.face = 1;
-        s.sample.weight = 100;
-        samples.push_back(s);
-        points.push_back({s.sample.position, s.sample.normal, 1});
-        done.push_back(x + at.x() >= 170 && x + at.x() <= 830);
-      }
+  // `spec` with the registration's tolerance `tolerance` (0: as it is).
+  static ResolvedSpec withTolerance(ResolvedSpec spec, double tolerance) {
+    if (tolerance > 0) spec.spec.registration.tolerance = tolerance;
+    return spec;
+  }
 
-  // A, B, three poses 175 mm apart between them (each overlaps the next, none both A and
-  // B, and so no single connector joins them), and A2 beside A, which measures the last
-  // row there.
-  detail::MeasuredViews pool;
-  const std::vector<View> views = {above(scanner, 150, 150), above(scanner, 850, 150),
-                                   above(scanner, 325, 150), above(scanner, 500, 150),
-                                   above(scanner, 675, 150), above(scanner, 150, 260)};
-  const auto measured = measuredPoints(simulator, views, points);
-  for (std::size_t v = 0; v < views.size(); ++v) pool.add(views[v], measured[v]);
-  auto shares = [&](std::size_t a, std::size_t b) {
+  // How many samples pool poses `a` and `b` both measure.
+  std::size_t shares(std::size_t a, std::size_t b) const {
     std::vector<int> both;
     std::set_intersection(pool.samples[a].begin(), pool.samples[a].end(), pool.samples[b].begin(),
                           pool.samples[b].end(), std::back_inserter(both));
     return both.size();
-  };
-  for (std::size_t v = 2; v < 5; ++v) ASSERT_FALSE(shares(0, v) > 0 && shares(1, v) > 0);
-  ASSERT_GE(shares(0, 2), 6u);
-  ASSERT_GE(shares(2, 3), 6u);
-  ASSERT_GE(shares(3, 4), 6u);
-  ASSERT_GE(shares(4, 1), 6u);
+  }
 
-  const detail::Placement at{part, spec, simulator, CellCheck{}, points, done};
-  std::vector<std::size_t> cover = detail::connectedCover(at, pool, 0, samples, {});
-  std::sort(cover.begin(), cover.end());
+  // The connected cover, sorted.
+  std::vector<std::size_t> cover() const {
+    const detail::Placement at{part, spec, simulator, CellCheck{}, points, done};
+    std::vector<std::size_t> chosen = detail::connectedCover(at, pool, 0, samples, {});
+    std::sort(chosen.begin(), chosen.end());
+    return chosen;
+  }
+
+  Part part;
+  ResolvedSpec spec;
+  Simulator simulator;
+  std::vector<PlannedSample> samples;
+  std::vector<SurfacePoint> points;
+  std::vector<char> done;
+  detail::MeasuredViews pool;
+};
+
+TEST(ConnectedCover, JoinsTwoGroupsThroughAChain) {
+  const ChainPlate plate;
+  for (std::size_t v = 2; v < 5; ++v)
+    ASSERT_FALSE(plate.shares(0, v) > 0 && plate.shares(1, v) > 0);
+  ASSERT_GE(plate.shares(0, 2), 6u);
+  ASSERT_GE(plate.shares(2, 3), 6u);
+  ASSERT_GE(plate.shares(3, 4), 6u);
+  ASSERT_GE(plate.shares(4, 1), 6u);
+
   // A with A2 registering to it, and B on its own; the chain of the three joins them.
+  const std::vector<std::size_t> cover = plate.cover();
   EXPECT_EQ(cover, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5})) << ::testing::PrintToString(cover);
 
   // The registration stage registers all of them to one another by their geometry.
   std::vector<View> chosen;
-  for (std::size_t v : cover) chosen.push_back(pool.views[v]);
+  for (std::size_t v : cover) chosen.push_back(plate.pool.views[v]);
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
-  RegistrationOptions options = detail::registrationOptions(spec.spec);
+  RegistrationOptions options = detail::registrationOptions(plate.spec.spec);
   options.bridging = false;
-  const Registration registration = registerViews(simulator, chosen, {}, options, {}, {});
+  const Registration registration = registerViews(plate.simulator, chosen, {}, options, {}, {});
   EXPECT_EQ(registration.registered(), chosen.size());
+}
+
+// With a tolerance no ICP check can meet, every chain the search finds fails verification:
+// the search goes on around the failed links, ends, and adds no pose.
+TEST(ConnectedCover, AddsNoChainWhoseLinksFailIcp) {
+  const ChainPlate plate(1e-6);
+  EXPECT_EQ(plate.cover(), (std::vector<std::size_t>{0, 1, 5}))
+      << ::testing::PrintToString(plate.cover());
 }
 
 }  // namespace
