@@ -37,7 +37,7 @@ constexpr double kBetter = 0.05;
 constexpr std::size_t kConnectorTries = 128;
 
 // Chains of poses joining the groups the cover leaves apart (chainTo): at most this many
-// poses, found within this many pair tests.
+// poses, found within this many pairs looked at.
 constexpr std::size_t kChainLinks = 6;
 constexpr std::size_t kChainTests = 10000;
 constexpr std::size_t kChainFailures = 10;  // chains failing ICP before the search gives up
@@ -308,7 +308,7 @@ class ConnectedCover {
   // registering to the one before, the first to a view of the group and the last to one
   // of main: the registration's pair test, then its ICP verification once a chain is
   // found. The chain grows from the group's views over the poses foreseen to register
-  // (mayRegister), those aimed nearest to main first, within kChainTests pair tests and
+  // (mayRegister), those aimed nearest to main first, within kChainTests pairs and
   // kChainFailures chains that fail ICP. After a failure the poses reached through the
   // failed link are reached again, if they can be, another way. The chain's poses, or none.
   std::vector<std::size_t> chainTo(const std::vector<std::size_t>& main,
