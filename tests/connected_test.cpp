@@ -8,6 +8,9 @@
 #include <scanplan/planning/poses.h>
 
 #include <algorithm>
+#include <map>
+#include <mutex>
+#include <string>
 
 namespace scanplan {
 namespace {
@@ -83,7 +86,7 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   // A first, A2 registering to it by the markers, then B on its own: no pose with
   // anything new registers to A or A2. C joins B to them.
   const detail::Placement at{part, spec, simulator, CellCheck{}, points, {}};
-  std::vector<std::size_t> cover = detail::connectedCover(at, pool, 0, samples, markers);
+  std::vector<std::size_t> cover = detail::connectedCover(at, pool, 0, samples, markers, {});
   std::sort(cover.begin(), cover.end());
   EXPECT_EQ(cover, (std::vector<std::size_t>{0, 1, 2, 3})) << ::testing::PrintToString(cover);
 
@@ -146,9 +149,9 @@ struct ChainPlate {
   }
 
   // The connected cover, sorted.
-  std::vector<std::size_t> cover() const {
+  std::vector<std::size_t> cover(const Progress& progress = {}) const {
     const detail::Placement at{part, spec, simulator, CellCheck{}, points, done};
-    std::vector<std::size_t> chosen = detail::connectedCover(at, pool, 0, samples, {});
+    std::vector<std::size_t> chosen = detail::connectedCover(at, pool, 0, samples, {}, progress);
     std::sort(chosen.begin(), chosen.end());
     return chosen;
   }
@@ -183,6 +186,23 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAChain) {
   options.bridging = false;
   const Registration registration = registerViews(plate.simulator, chosen, {}, options, {}, {});
   EXPECT_EQ(registration.registered(), chosen.size());
+}
+
+// Progress shows the share of the samples covered, growing to the end, then the groups
+// apart joined.
+TEST(ConnectedCover, ShowsProgress) {
+  const ChainPlate plate;
+  std::map<std::string, std::vector<double>> shown;  // per stage
+  std::mutex mutex;
+  plate.cover([&](std::string_view stage, double fraction) {
+    const std::lock_guard lock(mutex);
+    shown[std::string(stage)].push_back(fraction);
+  });
+  const std::vector<double>& covering = shown["selection: covering the samples"];
+  ASSERT_FALSE(covering.empty());
+  EXPECT_TRUE(std::is_sorted(covering.begin(), covering.end()));
+  EXPECT_DOUBLE_EQ(covering.back(), 1);
+  EXPECT_EQ(shown["selection: joining 1 group apart"], (std::vector<double>{0, 1}));
 }
 
 // With a tolerance no ICP check can meet, every chain the search finds fails verification:

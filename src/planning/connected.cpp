@@ -64,15 +64,19 @@ double condition(const Placement& at, const std::vector<PlannedSample>& samples,
 class CoverContext {
  public:
   CoverContext(const Placement& placement, const MeasuredViews& poses,
-               const std::vector<PlannedSample>& planned, const std::vector<Marker>& markers)
+               const std::vector<PlannedSample>& planned, const std::vector<Marker>& markers,
+               const Progress& progress)
       : at(placement),
         pool(poses),
         samples(planned),
         options(registrationOptions(placement.spec.spec)),
-        overlaps(at.simulator, options, markers) {
+        overlaps(at.simulator, options, markers),
+        progress_(progress) {
     by_sample.resize(samples.size());
     for (std::size_t v = 0; v < pool.size(); ++v)
       for (int i : pool.samples[v]) by_sample[i].push_back(static_cast<int>(v));
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      coverable += !by_sample[i].empty() && !at.isDone(i);
     if (overlaps.markers() > 0) markers_seen = overlaps.markersSeen(pool.views);
     by_marker.resize(overlaps.markers());
     for (std::size_t v = 0; v < markers_seen.size(); ++v)
@@ -108,6 +112,27 @@ class CoverContext {
     return icp_.emplace(std::pair{fixed, moved}, passed).first->second;
   }
 
+  // Cover run `run` (of kCreeps) has covered `covered` samples: progress shows the share
+  // the slowest run has covered, by whole percents.
+  void covered(std::size_t run, std::size_t covered) const {
+    if (coverable == 0) return;
+    const double share = static_cast<double>(covered) / static_cast<double>(coverable);
+    const std::lock_guard lock(mutex_);
+    shares_[run] = share;
+    const double least = *std::min_element(std::begin(shares_), std::end(shares_));
+    if (least < shown_ + 0.01) return;
+    shown_ = least;
+    report(progress_, "selection: covering the samples", least);
+  }
+
+  // Progress of the chains: `done` of the `groups` left apart sought for.
+  void joined(std::size_t done, std::size_t groups) const {
+    report(progress_,
+           "selection: joining " + std::to_string(groups) + (groups == 1 ? " group" : " groups") +
+               " apart",
+           static_cast<double>(done) / static_cast<double>(groups));
+  }
+
   // Whether the pair failed ICP verification before.
   bool icpFailed(std::size_t fixed, std::size_t moved) const {
     const std::lock_guard lock(mutex_);
@@ -124,6 +149,7 @@ class CoverContext {
   std::vector<std::vector<int>> markers_seen;  // per pose, when there are markers
   std::vector<std::vector<int>> by_marker;     // the poses measuring each marker
   std::vector<char> constrained;               // per pose: something may register to it
+  std::size_t coverable = 0;                   // samples some pose measures, not done before
 
  private:
   std::shared_ptr<const IndexedCloud> cloud(std::size_t v) const {
@@ -140,8 +166,11 @@ class CoverContext {
     return clouds_.emplace(v, std::move(made)).first->second;
   }
 
+  const Progress& progress_;
   mutable std::mutex mutex_;
-  mutable std::map<std::size_t, Observation> seen_;                            // by pool index
+  mutable double shares_[std::size(kCreeps)] = {};   // per cover run: share covered
+  mutable double shown_ = 0;                         // the share progress showed last
+  mutable std::map<std::size_t, Observation> seen_;  // by pool index
   mutable std::map<std::size_t, std::shared_ptr<const IndexedCloud>> clouds_;  // by pool index
   mutable std::map<std::pair<std::size_t, std::size_t>, bool> icp_;  // (fixed, moved): passed
 };
@@ -156,8 +185,10 @@ class CoverContext {
 // rule one out.
 class ConnectedCover {
  public:
-  explicit ConnectedCover(const CoverContext& context)
+  // The cover run `run` of kCreeps.
+  ConnectedCover(const CoverContext& context, std::size_t run)
       : context_(context),
+        run_(run),
         at_(context.at),
         pool_(context.pool),
         samples_(context.samples),
@@ -169,9 +200,10 @@ class ConnectedCover {
         constrained_(context.constrained),
         shared_(context.pool.size()) {}
 
-  // One cover, with `creep` the share below which a new group starts (kCreeps), and the
+  // One cover, with its run's creep the share below which a new group starts, and the
   // share of its views in its largest group of views registering to each other.
-  std::pair<std::vector<std::size_t>, double> run(std::size_t pinned, double creep) {
+  std::pair<std::vector<std::size_t>, double> run(std::size_t pinned) {
+    const double creep = kCreeps[run_];
     reset(pinned);
     for (std::size_t v = 0; v < pinned; ++v) choose(v);
     for (;;) {
@@ -219,6 +251,7 @@ class ConnectedCover {
         if (!at_.isDone(i)) ++part(gain_[v], i);
     covered_.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) covered_[i] = at_.isDone(i);
+    newly_covered_ = 0;
     used_.assign(pool_.size(), 0);
     partners_.assign(pool_.size(), {});
     chosen_.clear();
@@ -267,6 +300,7 @@ class ConnectedCover {
     };
     for (std::size_t c : main) share(c);
     for (std::size_t k = 1; k < others.size(); ++k) {
+      if (chains) context_.joined(k - 1, others.size() - 1);
       const std::vector<std::size_t> added =
           chains ? chainTo(main, others[k], with_main) : joinGroup(main, others[k], with_main);
       if (added.empty()) continue;
@@ -275,6 +309,7 @@ class ConnectedCover {
       main.insert(main.end(), others[k].begin(), others[k].end());
       main.insert(main.end(), added.begin(), added.end());
     }
+    if (chains && others.size() > 1) context_.joined(others.size() - 1, others.size() - 1);
   }
 
   // Joins `group` to `main` (the pool's poses sharing `with_main` samples with it): of the
@@ -503,8 +538,10 @@ class ConnectedCover {
     for (int i : pool_.samples[c]) {
       if (covered_[i]) continue;
       covered_[i] = 1;
+      ++newly_covered_;
       for (int v : by_sample_[i]) --part(gain_[v], i);
     }
+    context_.covered(run_, newly_covered_);
     std::vector<std::size_t> partnered;  // poses that may register to it
     for (const auto& [v, both] : sharing(pool_.samples[c], by_sample_))
       if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], both))
@@ -535,6 +572,7 @@ class ConnectedCover {
   }
 
   const CoverContext& context_;
+  const std::size_t run_;
   const Placement& at_;
   const MeasuredViews& pool_;
   const std::vector<PlannedSample>& samples_;
@@ -547,6 +585,7 @@ class ConnectedCover {
   std::vector<int> shared_;        // per pose: what it shares, while sharing() counts
   std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
+  std::size_t newly_covered_ = 0;                   // samples covered not done before
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
@@ -560,14 +599,14 @@ class ConnectedCover {
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
-                                        const std::vector<Marker>& markers) {
-  const CoverContext context(at, pool, samples, markers);
+                                        const std::vector<Marker>& markers,
+                                        const Progress& progress) {
+  const CoverContext context(at, pool, samples, markers, progress);
   // The covers of every creep share, in parallel; kept in kCreeps' order.
   std::vector<std::optional<ConnectedCover>> runs(std::size(kCreeps));
   std::vector<std::pair<std::vector<std::size_t>, double>> covers(std::size(kCreeps));
-  tbb::parallel_for(std::size_t{0}, covers.size(), [&](std::size_t k) {
-    covers[k] = runs[k].emplace(context).run(pinned, kCreeps[k]);
-  });
+  tbb::parallel_for(std::size_t{0}, covers.size(),
+                    [&](std::size_t k) { covers[k] = runs[k].emplace(context, k).run(pinned); });
   std::optional<std::size_t> best;
   double best_share = -1;
   for (std::size_t k = 0; k < covers.size(); ++k) {

@@ -371,7 +371,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
   const detail::Selection selection =
-      detail::selectViews(at, pool, pinned, plan.samples, registering);
+      detail::selectViews(at, pool, pinned, plan.samples, registering, progress);
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");

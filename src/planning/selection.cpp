@@ -125,7 +125,8 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
 
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
-                      const std::optional<std::vector<Marker>>& registering) {
+                      const std::optional<std::vector<Marker>>& registering,
+                      const Progress& progress) {
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
@@ -134,7 +135,9 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   if (registering) {
     // The cover and the bound of the pool's cover are independent: made side by side.
     tbb::parallel_invoke(
-        [&] { selection.views = connectedCover(at, pool, pinned, samples, *registering); },
+        [&] {
+          selection.views = connectedCover(at, pool, pinned, samples, *registering, progress);
+        },
         [&] {
           bound.lower_bound = static_cast<double>(pinned) +
                               setCoverLowerBound(unpinnedSets(pool, pinned),

@@ -107,10 +107,12 @@ struct Selection {
 // greedy cover); views whose samples all others also measure dropped (last first); the
 // rest ordered by marginal coverage, priority samples first. With `registering` (the
 // markers views register by, none: by geometry alone), the connectedCover instead, unless
-// no view of it registers to another; its bound is then the LP relaxation's.
+// no view of it registers to another; its bound is then the LP relaxation's. Progress
+// shows the connectedCover's.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
-                      const std::optional<std::vector<Marker>>& registering);
+                      const std::optional<std::vector<Marker>>& registering,
+                      const Progress& progress);
 
 // The registration-aware cover: views chosen one at a time, the `pinned` first pool views
 // first, each the pose measuring most samples not yet covered (priority first) among the
@@ -121,11 +123,13 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
 // Chosen views whose samples others measure too and that no other registers to are
 // dropped. On the cover kept, the groups still apart are joined through chains of poses,
 // each registering to the one before (verified by ICP). Pool indices in the order chosen;
-// none when no view registers to another.
+// none when no view registers to another. Progress shows the share of the samples the
+// slowest cover has covered, then the groups the chains were sought for.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
-                                        const std::vector<Marker>& markers);
+                                        const std::vector<Marker>& markers,
+                                        const Progress& progress);
 
 // The selected views as the plan's, ids 1..n in selection order, the task of a candidate
 // taken from most of the samples it measures; the samples' measured_by set to them; each
