@@ -16,6 +16,7 @@
 #include <BRepTools.hxx>
 
 #include <algorithm>
+#include <mutex>
 #include <numeric>
 #include <random>
 #include <set>
@@ -486,6 +487,28 @@ TEST(SetCover, MatchesBruteForceOnRandomInstances) {
     EXPECT_GE(lp, 1) << "instance " << instance;
     EXPECT_LE(lp, minimum) << "instance " << instance;
   }
+}
+
+// On an instance CBC does not solve at once, progress shows the share of the time limit
+// gone by, every tenth of a second, growing, below 1, from another thread.
+TEST(SetCover, ShowsTheShareOfItsTimeLimitGoneBy) {
+  std::mt19937 random(5);
+  const int elements = 600;
+  const std::vector<std::vector<int>> sets = randomSets(random, elements, 400, 40);
+  constexpr double kLimit = 1;
+  std::vector<double> shown;
+  std::mutex mutex;
+  const SetCoverResult result =
+      minimumSetCover(sets, std::vector<char>(elements, 1), kLimit, {}, 1000000, [&](double share) {
+        const std::lock_guard lock(mutex);
+        shown.push_back(share);
+      });
+  EXPECT_TRUE(meets(sets, needs(sets, std::vector<int>(elements, 1)), result.chosen));
+  ASSERT_GT(result.seconds, 0.5);  // long enough for progress to show
+  ASSERT_GE(shown.size(), 3u);
+  EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
+  EXPECT_LT(shown.back(), 1);
+  EXPECT_LE(shown.back(), result.seconds / kLimit + 0.01);
 }
 
 // Multicover against brute force: each element in at least `demand` chosen sets (all that

@@ -108,13 +108,14 @@ std::vector<std::vector<int>> unpinnedSets(const MeasuredViews& pool, std::size_
 // pinned ones first.
 std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
     const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-    const std::vector<std::size_t>& greedy, std::size_t samples) {
+    const std::vector<std::size_t>& greedy, std::size_t samples, const Progress& progress) {
   std::vector<int> start;
   for (std::size_t k = pinned; k < greedy.size(); ++k)
     start.push_back(static_cast<int>(greedy[k] - pinned));
   const SetCoverResult cover =
       minimumSetCover(unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples),
-                      at.settings().selection_seconds, start, at.settings().selection_nodes);
+                      at.settings().selection_seconds, start, at.settings().selection_nodes,
+                      [&](double share) { report(progress, "selection: exact cover", share); });
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -146,7 +147,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
         });
   }
   if (selection.views.empty()) {
-    const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size());
+    const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size(), progress);
     const std::vector<std::size_t> chosen =
         withoutRedundant(at, pool, exact, pinned, samples.size());
     selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage

@@ -9,9 +9,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <string>
+#include <thread>
 
 namespace scanplan {
 
@@ -164,14 +167,38 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
                                 static_cast<CoinBigIndex>(indices.size()), ones.data(),
                                 indices.data(), starts.data(), lengths.data());
   const std::vector<double> column_lower(columns, 0.0), column_upper(columns, 1.0),
-      objective(columns, 1.0),
-      row_upper(reduced.rows, std::numeric_limits<double>::infinity());
-  const std::vector<double> row_lower = demand.empty() ? std::vector<double>(reduced.rows, 1.0) : demand;
+      objective(columns, 1.0), row_upper(reduced.rows, std::numeric_limits<double>::infinity());
+  const std::vector<double> row_lower =
+      demand.empty() ? std::vector<double>(reduced.rows, 1.0) : demand;
   solver.loadProblem(matrix, column_lower.data(), column_upper.data(), objective.data(),
                      row_lower.data(), row_upper.data());
   solver.messageHandler()->setLogLevel(0);
   solver.getModelPtr()->setLogLevel(0);
 }
+
+// Shows the share of `seconds` gone by, every tenth of a second, while it lives: CBC
+// reports too seldom (a few events at its root node) for its own progress to show.
+class TimeShown {
+ public:
+  TimeShown(const SetCoverProgress& shown, double seconds) {
+    if (!shown || seconds <= 0) return;
+    thread_ = std::jthread([shown, seconds, this](std::stop_token stop) {
+      const auto began = std::chrono::steady_clock::now();
+      std::unique_lock lock(mutex_);
+      for (;;) {
+        wake_.wait_for(lock, stop, std::chrono::milliseconds(100), [] { return false; });
+        if (stop.stop_requested()) return;
+        const std::chrono::duration<double> gone = std::chrono::steady_clock::now() - began;
+        shown(std::min(gone.count() / seconds, 0.99));
+      }
+    });
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable_any wake_;
+  std::jthread thread_;  // last: stopped and joined first
+};
 
 // CBC's own solver (cuts and primal heuristics, as its command line runs them) on the
 // integer program of `solver`, from the cover `start`: the best cover found, and whether
@@ -189,7 +216,7 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, const std::
   for (int c : start) x[c] = 1.0;
   model.setBestSolution(x.data(), columns, static_cast<double>(start.size()), true);
   const std::string time = std::to_string(seconds), nodes = std::to_string(max_nodes);
-  const char* argv[] = {"scanplan", "-log",    "0",          "-slog",  "0",     "-sec",
+  const char* argv[] = {"scanplan",   "-log",  "0",           "-slog",  "0",    "-sec",
                         time.c_str(), "-maxN", nodes.c_str(), "-solve", "-quit"};
   CbcMain1(static_cast<int>(std::size(argv)), argv, model, nullptr, data);
   std::vector<int> chosen;
@@ -206,7 +233,8 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, const std::
 
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
                                const std::vector<char>& required, double time_limit_seconds,
-                               const std::vector<int>& given_start, int max_nodes) {
+                               const std::vector<int>& given_start, int max_nodes,
+                               const SetCoverProgress& progress) {
   const auto began = std::chrono::steady_clock::now();
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
@@ -214,6 +242,7 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
   SetCoverResult result;
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return result;
+  const TimeShown shown(progress, time_limit_seconds);
   // The start in the reduced sets: each set replaced by a kept one that includes it.
   std::vector<int> start;
   for (int s : given_start)
@@ -242,8 +271,8 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
     solver.getModelPtr()->setMaximumSeconds(-1);
     solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
     for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    start = branchAndBound(solver, start, std::max(time_limit_seconds - elapsed(), 0.0),
-                           max_nodes, result);
+    start = branchAndBound(solver, start, std::max(time_limit_seconds - elapsed(), 0.0), max_nodes,
+                           result);
   }
   result.chosen = original(start);
   result.seconds = elapsed();
@@ -304,8 +333,9 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
   if (solver.isProvenOptimal()) {
     result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
     for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    const double left = time_limit_seconds -
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    const double left =
+        time_limit_seconds -
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     start = branchAndBound(solver, start, std::max(left, 0.0), 1000000, result);
   }
   std::sort(start.begin(), start.end());

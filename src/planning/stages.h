@@ -108,7 +108,7 @@ struct Selection {
 // rest ordered by marginal coverage, priority samples first. With `registering` (the
 // markers views register by, none: by geometry alone), the connectedCover instead, unless
 // no view of it registers to another; its bound is then the LP relaxation's. Progress
-// shows the connectedCover's.
+// shows the connectedCover's, or the share of its budget CBC has used.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
                       const std::optional<std::vector<Marker>>& registering,

@@ -2,6 +2,7 @@
 // Exact minimum set cover as an integer program, solved with COIN-OR CBC: the optimality
 // check of the view planner.
 
+#include <functional>
 #include <vector>
 
 namespace scanplan {
@@ -14,6 +15,9 @@ struct SetCoverResult {
   double seconds = 0;
 };
 
+// Called with the share of its time limit a solve has used, in [0, 1).
+using SetCoverProgress = std::function<void(double)>;
+
 // The fewest of `sets` (each a list of element indices in [0, elements)) that together
 // cover every element `required` marks; elements no set contains are ignored.
 // min sum x_s  s.t.  sum_{s contains e} x_s >= 1 for each required e,  x_s in {0, 1}.
@@ -23,9 +27,12 @@ struct SetCoverResult {
 // heuristics; the search stops after `max_nodes` branch-and-bound nodes (the LP after
 // 100,000 simplex iterations), so that the result is the same on every run, or at
 // `time_limit_seconds`, a cap that makes it depend on the machine when it is reached.
+// `progress`, when given, is called every tenth of a second with the share of the time
+// limit gone by (from another thread).
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
                                const std::vector<char>& required, double time_limit_seconds,
-                               const std::vector<int>& start = {}, int max_nodes = 1000000);
+                               const std::vector<int>& start = {}, int max_nodes = 1000000,
+                               const SetCoverProgress& progress = {});
 
 // The optimum of minimumSetCover's LP relaxation (after the same reduction), rounded up: a
 // lower bound on its minimum; 0 when the LP is not solved within `time_limit_seconds`.
