@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <queue>
 #include <tuple>
@@ -113,16 +114,18 @@ class CoverContext {
   }
 
   // Cover run `run` (of kCreeps) has covered `covered` samples: progress shows the share
-  // the slowest run has covered, by whole percents.
+  // the runs have covered on average, by whole percents (with fewer cores than runs, a
+  // run may not start before another ends).
   void covered(std::size_t run, std::size_t covered) const {
     if (coverable == 0) return;
     const double share = static_cast<double>(covered) / static_cast<double>(coverable);
     const std::lock_guard lock(mutex_);
     shares_[run] = share;
-    const double least = *std::min_element(std::begin(shares_), std::end(shares_));
-    if (least < shown_ + 0.01) return;
-    shown_ = least;
-    report(progress_, "selection: covering the samples", least);
+    const double mean = std::accumulate(std::begin(shares_), std::end(shares_), 0.0) /
+                        static_cast<double>(std::size(shares_));
+    if (mean <= shown_ || mean < std::min(shown_ + 0.01, 1.0)) return;  // the end always shows
+    shown_ = mean;
+    report(progress_, "selection: covering the samples", mean);
   }
 
   // Progress of the chains: `done` of the `groups` left apart sought for.

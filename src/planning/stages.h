@@ -124,7 +124,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
 // dropped. On the cover kept, the groups still apart are joined through chains of poses,
 // each registering to the one before (verified by ICP). Pool indices in the order chosen;
 // none when no view registers to another. Progress shows the share of the samples the
-// slowest cover has covered, then the groups the chains were sought for.
+// covers have covered on average, then the groups the chains were sought for.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
