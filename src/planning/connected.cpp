@@ -391,14 +391,11 @@ class ConnectedCover {
           if (!stands(u, parent)) break;
           continue;
         }
-        choose(v, to_main);
-        std::vector<std::size_t> chain{v};
-        for (std::size_t next = before[v]; before.count(next); next = before[next]) {
-          choose(next, chain.back());
-          chain.push_back(next);
-        }
-        links_.push_back({chain.back(), before[chain.back()]});
-        return chain;
+        const std::vector<std::size_t> chain = chainFrom(v, before);  // v first, the group's last
+        for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+          choose(chain[k], k == 0 ? *to_main : chain[k - 1]);
+        links_.push_back({chain[chain.size() - 2], chain.back()});
+        return {chain.begin(), chain.end() - 1};
       }
     }
     return {};
@@ -412,12 +409,23 @@ class ConnectedCover {
     return found->second;
   }
 
-  // Forgets the poses of `before` (pose: the one it registers to) whose chain holds a link
-  // that failed ICP: they may yet be reached another way.
+  // The chain `before` (pose: the one it registers to) leads back from `v`: `v` first, the
+  // group's view it starts from last.
+  static std::vector<std::size_t> chainFrom(std::size_t v,
+                                            const std::map<std::size_t, std::size_t>& before) {
+    std::vector<std::size_t> chain{v};
+    for (auto link = before.find(v); link != before.end(); link = before.find(link->second))
+      chain.push_back(link->second);
+    return chain;
+  }
+
+  // Forgets the poses of `before` whose chain holds a link that failed ICP: they may yet be
+  // reached another way.
   void forgetBroken(std::map<std::size_t, std::size_t>& before) const {
     const auto broken = [&](std::size_t v) {
-      for (auto link = before.find(v); link != before.end(); link = before.find(link->second))
-        if (context_.icpFailed(link->second, link->first)) return true;
+      const std::vector<std::size_t> chain = chainFrom(v, before);
+      for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+        if (context_.icpFailed(chain[k + 1], chain[k])) return true;
       return false;
     };
     std::vector<std::size_t> lost;  // all found first: erasing cuts the chains walked
@@ -431,8 +439,9 @@ class ConnectedCover {
   bool verified(std::size_t fixed, std::size_t v,
                 const std::map<std::size_t, std::size_t>& before) const {
     if (!context_.icpPasses(fixed, v)) return false;
-    for (auto link = before.find(v); link != before.end(); link = before.find(link->second))
-      if (!context_.icpPasses(link->second, link->first)) return false;
+    const std::vector<std::size_t> chain = chainFrom(v, before);
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      if (!context_.icpPasses(chain[k + 1], chain[k])) return false;
     return true;
   }
 

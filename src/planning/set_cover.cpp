@@ -177,7 +177,7 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
 }
 
 // Shows the share of `seconds` gone by, every tenth of a second, while it lives: CBC
-// reports too seldom (a few events at its root node) for its own progress to show.
+// raises too few events for its own progress to show (docs/planning.md).
 class TimeShown {
  public:
   TimeShown(const SetCoverProgress& shown, double seconds) {

@@ -496,8 +496,8 @@ class Graph {
   // Runs the ICP checks of the next few candidates from `first` that would join two
   // components as things stand, in parallel; returns the index after the last one looked
   // at. Some may turn out not to be needed once an earlier one joins their components;
-  // the tree is the same as with one check at a time. Six checks a core: fewer leave a
-  // core idle behind the longest check of a batch (on CTC 02, 2 a core took 0.2 s more).
+  // the tree is the same as with one check at a time. Six checks a core: with fewer, a
+  // core waits idle behind the longest check of a batch.
   std::size_t verifyAhead(const std::vector<std::size_t>& candidates, std::size_t first) {
     if (!options_.verify) return candidates.size();
     const std::size_t batch_size =
