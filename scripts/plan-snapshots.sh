@@ -5,8 +5,9 @@
 #   scripts/plan-snapshots.sh record  DIR [SCANPLAN]   plan every case into DIR
 #   scripts/plan-snapshots.sh compare DIR [SCANPLAN]   plan again and compare with DIR
 #
-# The cases: the bundled example with its spec, and the gdt and global tasks of every NIST
-# model found in $SCANPLAN_SHARED_DATA/nist (default ../shared/data/nist). Plans are
+# The cases: the bundled example with its spec, the gdt and global tasks of every NIST
+# model found in $SCANPLAN_SHARED_DATA/nist (default ../shared/data/nist), and on NIST FTC 11
+# a plan in a robot cell, one over every rest orientation and one of the surface task. Plans are
 # compared as JSON with every "seconds" and "stage_seconds" field removed: every field of
 # the recorded plan must be there and equal; fields the new plan adds are listed. The
 # numbers of ICP checks are compared to 1e-9 relative: Open3D's parallel reductions make
@@ -29,6 +30,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 printf 'tasks:\n  - {type: gdt}\ngdt: from-file\n' >"$work/gdt.yaml"
 printf 'tasks:\n  - {type: global}\n' >"$work/global.yaml"
+printf 'cell:\n  robot: {preset: abb-irb4600-60-205, base: {position: [-1000, 0, 0]}}\n  mount: {position: [0, 0, 150]}\n' >"$work/cell.yaml"
+printf 'part: {rest: all}\nregistration: {required: false}\ntasks:\n  - {type: gdt}\ngdt: from-file\n' >"$work/rest-all.yaml"
+printf 'registration: {required: false}\ntasks:\n  - {type: surface, faces: [1, 2, 3, 4, 5, 6, 7, 8]}\n' >"$work/surface.yaml"
 
 # One case per line: name, part, spec.
 {
@@ -39,6 +43,10 @@ printf 'tasks:\n  - {type: global}\n' >"$work/global.yaml"
     echo "$name-gdt $part $work/gdt.yaml"
     echo "$name-global $part $work/global.yaml"
   done
+  ftc11=$nist/nist_ftc_11_asme1_ap242-e1.stp
+  if [ -e "$ftc11" ]; then
+    for spec in cell rest-all surface; do echo "ftc11-$spec $ftc11 $work/$spec.yaml"; done
+  fi
 } >"$work/cases"
 
 out=$dir
