@@ -8,8 +8,9 @@
 #include "import_bench.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <benchmark/benchmark.h>
 

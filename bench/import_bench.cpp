@@ -7,7 +7,7 @@
 #include "import_bench.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/raycast.h>
+#include <scanplan/cad/raycast.h>
 
 #include <benchmark/benchmark.h>
 #include <STEPControl_Reader.hxx>

@@ -9,6 +9,7 @@
 //   build/release/bench/scanplan_bench --benchmark_filter=Plan
 
 #include <scanplan/cad/import.h>
+#include <scanplan/io/points_csv.h>
 #include <scanplan/planning.h>
 
 #include <benchmark/benchmark.h>
@@ -378,7 +379,7 @@ void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   Spec spec = defaultSpec();
   if (gdt) {
     spec.gdt_from_file = true;
-    spec.tasks = {Task{TaskType::Gdt, {}, {}}};
+    spec.tasks = {Task{TaskType::Gdt, {}, {}, {}}};
   }
   PlanningOptions options;
   options.registration = false;  // BM_Register measures it
@@ -414,7 +415,7 @@ void registerPart(benchmark::State& state, const std::string& name, bool markers
   const Part part = importPart(path);
   Spec spec = defaultSpec();
   spec.gdt_from_file = true;
-  spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+  spec.tasks = {Task{TaskType::Gdt, {}, {}, {}}, Task{TaskType::Global, {}, {}, {}}};
   if (markers) {
     spec.marker_grid = 50;
     spec.markers_on_part = true;

@@ -6,7 +6,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/planning.h>
-#include <scanplan/report.h>
+#include <scanplan/report/report.h>
 
 #include <benchmark/benchmark.h>
 
@@ -31,7 +31,7 @@ void reportPart(benchmark::State& state, const std::string& relative, bool gdt) 
   Spec spec = defaultSpec();
   if (gdt) {
     spec.gdt_from_file = true;
-    spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+    spec.tasks = {Task{TaskType::Gdt, {}, {}, {}}, Task{TaskType::Global, {}, {}, {}}};
   }
   const Plan plan = planViews(part, spec);
   const std::filesystem::path dir =

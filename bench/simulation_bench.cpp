@@ -4,9 +4,9 @@
 //   build/release/bench/scanplan_bench --benchmark_filter=Simulat
 
 #include <scanplan/cad/import.h>
+#include <scanplan/cad/raycast.h>
 #include <scanplan/planning/poses.h>
-#include <scanplan/raycast.h>
-#include <scanplan/simulation.h>
+#include <scanplan/scanner/simulation.h>
 
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>

@@ -3,7 +3,7 @@
 // reader, which must either read it or throw a scanplan::Error. Anything else (a crash, a
 // sanitizer report, another exception) is a finding.
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <unistd.h>
 
@@ -18,8 +18,8 @@ namespace scanplan::fuzz {
 inline std::string inputFile(const std::uint8_t* data, std::size_t size,
                              const std::string& extension) {
   const std::string path = "/tmp/scanplan-fuzz-" + std::to_string(::getpid()) + extension;
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data),
-                                              static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
 }
 

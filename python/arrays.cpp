@@ -1,6 +1,6 @@
 #include "arrays.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 #include "errors.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <exception>
 

@@ -7,12 +7,13 @@
 #include "errors.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/core/version.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/report.h>
-#include <scanplan/simulation.h>
-#include <scanplan/spec.h>
-#include <scanplan/version.h>
+#include <scanplan/report/report.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/spec/spec.h>
 
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>

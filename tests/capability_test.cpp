@@ -5,8 +5,8 @@
 
 #include <scanplan/cad/gdt.h>
 #include <scanplan/cad/import.h>
+#include <scanplan/cad/localization.h>
 #include <scanplan/io/plan_json.h>
-#include <scanplan/localization.h>
 #include <scanplan/planning.h>
 #include <scanplan/planning/capability.h>
 

@@ -5,13 +5,15 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
+#include <scanplan/planning/robot_steps.h>
+#include <scanplan/registration/sequencing.h>
 #include <scanplan/robot/cell.h>
 #include <scanplan/robot/motion.h>
 #include <scanplan/robot/program.h>
-#include <scanplan/sequencing.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
@@ -339,7 +341,7 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
   const Part part = importPart(test::testData("nist_ctc_03_asme1_ap242-e2.stp"));
   Spec spec = defaultSpec();
   spec.gdt_from_file = true;
-  spec.tasks = {Task{TaskType::Gdt, {}, {}}, Task{TaskType::Global, {}, {}}};
+  spec.tasks = {Task{TaskType::Gdt, {}, {}, {}}, Task{TaskType::Global, {}, {}, {}}};
   spec.planner.anchors = 60;          // a small pool and a short search: the joints are tested,
   spec.planner.selection_nodes = 20;  // not the views
   Cell cell;

@@ -2,12 +2,13 @@
 
 #include "support.h"
 
+#include <scanplan/cad/ply.h>
+#include <scanplan/core/version.h>
 #include <scanplan/io/plan_json.h>
-#include <scanplan/io/ply.h>
+#include <scanplan/io/points_csv.h>
 #include <scanplan/io/views_csv.h>
-#include <scanplan/registration.h>
-#include <scanplan/report.h>
-#include <scanplan/version.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/report/report.h>
 
 #include <nlohmann/json.hpp>
 

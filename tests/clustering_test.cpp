@@ -3,7 +3,7 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/clustering.h>
+#include <scanplan/sampling/clustering.h>
 
 #include <random>
 #include <set>

@@ -5,6 +5,7 @@
 #include "planning/stages.h"
 #include "support.h"
 
+#include <scanplan/planning/bridging.h>
 #include <scanplan/planning/poses.h>
 
 #include <algorithm>
@@ -96,7 +97,8 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
   RegistrationOptions options = detail::registrationOptions(spec.spec);
   options.bridging = false;
-  const Registration registration = registerViews(simulator, chosen, markers, options, {}, {});
+  const Registration registration =
+      registerWithBridging(simulator, chosen, markers, options, {}, {});
   EXPECT_EQ(registration.registered(), chosen.size());
 }
 
@@ -184,7 +186,8 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAChain) {
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
   RegistrationOptions options = detail::registrationOptions(plate.spec.spec);
   options.bridging = false;
-  const Registration registration = registerViews(plate.simulator, chosen, {}, options, {}, {});
+  const Registration registration =
+      registerWithBridging(plate.simulator, chosen, {}, options, {}, {});
   EXPECT_EQ(registration.registered(), chosen.size());
 }
 

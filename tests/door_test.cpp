@@ -6,6 +6,7 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/io/spec_yaml.h>
 
 namespace scanplan {
 namespace {

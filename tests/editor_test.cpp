@@ -5,9 +5,10 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/localization.h>
-#include <scanplan/report.h>
+#include <scanplan/cad/localization.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/editor/editor.h>
+#include <scanplan/report/report.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>

@@ -3,11 +3,12 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <nlohmann/json.hpp>
 

@@ -7,10 +7,10 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/planning/poses.h>
-#include <scanplan/registration.h>
-#include <scanplan/report.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/report/report.h>
 
 #include <nlohmann/json.hpp>
 

@@ -3,8 +3,8 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/localization.h>
+#include <scanplan/cad/localization.h>
+#include <scanplan/core/errors.h>
 
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>

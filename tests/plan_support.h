@@ -4,8 +4,9 @@
 
 #include "support.h"
 
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <string>
 #include <utility>

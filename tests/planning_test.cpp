@@ -4,11 +4,12 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/planning/set_cover.h>
-#include <scanplan/visibility.h>
+#include <scanplan/scanner/visibility.h>
+#include <scanplan/solve/set_cover.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -298,11 +299,9 @@ TEST(Planning, DeepSlotFloorSeenAlongTheSlot) {
   SimulationOptions options;
   options.part_to_world = plan.part_to_world;
   Simulator simulator(part, plan.scanner, options);
-  std::vector<int> all(floor_samples.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   VisibilityOptions vo;
   vo.reach = plan.scanner.standoff;
-  const VisibilityMap cvm = combinedVisibilityMap(simulator, floor_samples, all, vo);
+  const VisibilityMap cvm = combinedVisibilityMap(simulator, surfacePoints(floor_samples), vo);
   for (const View& view : plan.views) {
     const Vec3 towards_camera = -view.axis();
     EXPECT_GT(cvm.counts[cvm.cellOf(towards_camera)], 0u) << "view " << view.id;

@@ -2,7 +2,7 @@
 
 #include "support.h"
 
-#include <scanplan/raycast.h>
+#include <scanplan/cad/raycast.h>
 
 namespace scanplan {
 namespace {

@@ -4,11 +4,14 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/points_csv.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/registration.h>
-#include <scanplan/sequencing.h>
+#include <scanplan/planning/bridging.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/registration/sequencing.h>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -131,7 +134,7 @@ TEST(IcpTest, CornerPairIsStableAndIcpRecoversThePerturbation) {
   const Simulator simulator(scene.part, scene.scanner);
   RegistrationOptions options;
   std::vector<View> views = scene.views;
-  const Registration registration = registerViews(simulator, views, {}, options, {});
+  const Registration registration = registerWithBridging(simulator, views, {}, options, {});
   ASSERT_EQ(registration.pairs.size(), 1u);
   const PairCheck& pair = registration.pairs[0];
   EXPECT_GT(pair.overlap_a, 0.5);
@@ -170,7 +173,7 @@ TEST(RegistrationTest, PlaneOverlapIsNotRegistrableByIcp) {
   std::vector<View> views = scene.views;
   RegistrationOptions options;
   options.bridging = false;
-  const Registration registration = registerViews(simulator, views, {}, options, {});
+  const Registration registration = registerWithBridging(simulator, views, {}, options, {});
   ASSERT_EQ(registration.pairs.size(), 1u);
   const PairCheck& pair = registration.pairs[0];
   EXPECT_NEAR(pair.overlap_a, 0.6, 0.05);
@@ -192,7 +195,7 @@ TEST(RegistrationTest, PlaneOverlapWithThreeSharedMarkersRegisters) {
                                        {Vec3(40, -50, 10), Vec3::UnitZ()},
                                        {Vec3(0, 60, 10), Vec3::UnitZ()},
                                        {Vec3(-180, 0, 10), Vec3::UnitZ()}};
-  const Registration registration = registerViews(simulator, views, markers, {}, {});
+  const Registration registration = registerWithBridging(simulator, views, markers, {}, {});
   ASSERT_EQ(registration.pairs.size(), 1u);
   EXPECT_EQ(registration.pairs[0].shared_markers, 3u);
   EXPECT_TRUE(registration.pairs[0].markers);
@@ -204,12 +207,12 @@ TEST(RegistrationTest, PlaneOverlapWithThreeSharedMarkersRegisters) {
   // Two shared markers are not enough; nor are three on one line.
   std::vector<View> again = scene.views;
   const std::vector<Marker> two(markers.begin() + 1, markers.end());
-  EXPECT_EQ(registerViews(simulator, again, two, {}, {}).components, 2u);
+  EXPECT_EQ(registerWithBridging(simulator, again, two, {}, {}).components, 2u);
   const std::vector<Marker> line = {{Vec3(0, -80, 10), Vec3::UnitZ()},
                                     {Vec3(0, 0, 10), Vec3::UnitZ()},
                                     {Vec3(0, 80, 10), Vec3::UnitZ()}};
   again = scene.views;
-  EXPECT_EQ(registerViews(simulator, again, line, {}, {}).components, 2u);
+  EXPECT_EQ(registerWithBridging(simulator, again, line, {}, {}).components, 2u);
 }
 
 // A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at
@@ -235,12 +238,12 @@ TEST(RegistrationTest, BridgingJoinsTwoGroupsFarApart) {
   RegistrationOptions options;
   options.bridging = false;
   std::vector<View> views = scene.views;
-  const Registration apart = registerViews(simulator, views, {}, options, {});
+  const Registration apart = registerWithBridging(simulator, views, {}, options, {});
   EXPECT_EQ(apart.components, 2u);
   EXPECT_EQ(apart.registered(), 2u);
 
   options.bridging = true;
-  const Registration joined = registerViews(simulator, views, {}, options, {});
+  const Registration joined = registerWithBridging(simulator, views, {}, options, {});
   EXPECT_EQ(joined.components, 1u);
   EXPECT_GT(joined.bridging_views, 0u);
   EXPECT_EQ(views.size(), scene.views.size() + joined.bridging_views);
@@ -620,7 +623,7 @@ TEST(RegistrationTest, RegistrationAwareSelectionRegistersMoreViewsOfABlockRow) 
   const Simulator simulator(part, spec.scanner);
   RegistrationOptions options = spec.registration;
   options.seed = spec.planner.seed;
-  const Registration registered = registerViews(simulator, plain.views, {}, options, {});
+  const Registration registered = registerWithBridging(simulator, plain.views, {}, options, {});
   RecordProperty("views", std::to_string(plan.views.size()));
   RecordProperty("registered", std::to_string(plan.registration->registered()));
   RecordProperty("fewest_views", std::to_string(plain.views.size()));

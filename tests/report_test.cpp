@@ -5,12 +5,13 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/cloud_ply.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
-#include <scanplan/report.h>
+#include <scanplan/report/report.h>
 
 #include <tiny_gltf.h>
 #include <BRepPrimAPI_MakeBox.hxx>

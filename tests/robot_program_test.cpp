@@ -6,7 +6,7 @@
 
 #include "support.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/program.h>
 
 #include <nlohmann/json.hpp>

@@ -4,7 +4,7 @@
 
 #include "support.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/kinematics.h>
 
 #include <random>

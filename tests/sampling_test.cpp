@@ -6,10 +6,12 @@
 #include "cad/brep_model.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/points_csv.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/sampling.h>
-#include <scanplan/spec.h>
+#include <scanplan/sampling/sampling.h>
+#include <scanplan/spec/spec.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>

@@ -2,10 +2,11 @@
 
 #include "support.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_json.h>
-#include <scanplan/sensor.h>
-#include <scanplan/spec.h>
+#include <scanplan/scanner/sensor.h>
+#include <scanplan/spec/spec.h>
 
 namespace scanplan {
 namespace {
@@ -152,7 +153,8 @@ TEST(Scanner, BadSpecs) {
   EXPECT_TRUE(contains(reason("sanner: x\n"), "unknown key 'sanner'"));
   EXPECT_TRUE(contains(reason("scanner: [1, 2\n"), "not valid YAML"));
   EXPECT_TRUE(contains(reason("markers: {grid: 0}\n"), "markers.grid must be a positive"));
-  EXPECT_TRUE(contains(reason("markers: {grid: 50, on: floor}\n"), "expected plate, part, both or fixture"));
+  EXPECT_TRUE(contains(reason("markers: {grid: 50, on: floor}\n"),
+                       "expected plate, part, both or fixture"));
   EXPECT_TRUE(contains(reason("markers: {margin: 50}\n"), "needs grid"));
   EXPECT_TRUE(contains(reason("registration: {min_overlap: 2}\n"), "min_overlap must be in"));
   EXPECT_TRUE(contains(reason("registration: {min_markers: 2}\n"), "at least 3"));

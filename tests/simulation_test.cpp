@@ -4,9 +4,9 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/cloud_ply.h>
-#include <scanplan/simulation.h>
+#include <scanplan/scanner/simulation.h>
 
 #include <cmath>
 #include <cstring>

@@ -4,10 +4,12 @@
 #include "plan_support.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/cad/localization.h>
+#include <scanplan/cad/patch.h>
+#include <scanplan/io/patch_file.h>
 #include <scanplan/io/plan_json.h>
-#include <scanplan/localization.h>
 #include <scanplan/planning.h>
-#include <scanplan/sweep.h>
+#include <scanplan/planning/sweep_tiles.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
@@ -144,7 +146,7 @@ TEST(Sweep, CurvedPanelUnderAnInterpolatedPatch) {
 
   // Exported as STEP and BREP, it reads back as faces over most of the panel.
   for (const std::string name : {"patch.step", "patch.brep"}) {
-    writePatch(patch, dir.file(name));
+    writePatch(patchShape(patch), dir.file(name));
     const Part exported = importPart(dir.file(name));
     EXPECT_GT(exported.area(), 0.8 * part.area()) << name;
     EXPECT_LT(exported.area(), 1.01 * part.area()) << name;

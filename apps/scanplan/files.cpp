@@ -1,6 +1,6 @@
 #include "files.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <filesystem>
 

@@ -4,7 +4,7 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/localization.h>
+#include <scanplan/cad/localization.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -4,9 +4,9 @@
 #include "commands.h"
 #include "terminal.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/version.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/version.h>
 
 #include <tbb/global_control.h>
 

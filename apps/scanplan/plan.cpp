@@ -5,12 +5,14 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/points_csv.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/report.h>
-#include <scanplan/spec.h>
+#include <scanplan/report/report.h>
+#include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
 

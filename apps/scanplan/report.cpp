@@ -7,14 +7,15 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
-#include <scanplan/report.h>
+#include <scanplan/report/report.h>
 #include <scanplan/robot/motion.h>
 #include <scanplan/robot/program.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
 

@@ -4,14 +4,16 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/clustering.h>
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/io/ply.h>
+#include <scanplan/cad/ply.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/pgm.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/sampling.h>
-#include <scanplan/spec.h>
-#include <scanplan/visibility.h>
+#include <scanplan/sampling/clustering.h>
+#include <scanplan/sampling/sampling.h>
+#include <scanplan/scanner/visibility.h>
+#include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -111,7 +113,7 @@ int run(const Options& options, const GlobalOptions& global) {
       report(progress, fmt::format("visibility map of cluster {} of {}", c + 1, clusters.size()),
              static_cast<double>(c) / static_cast<double>(clusters.size()));
       writePgm(
-          combinedVisibilityMap(simulator, world, clusters[c].samples, vo),
+          combinedVisibilityMap(simulator, surfacePoints(world, clusters[c].samples), vo),
           (std::filesystem::path(options.cvm_dir) / fmt::format("cluster_{}.pgm", c)).string());
     }
   }

@@ -2,7 +2,7 @@
 
 #include "commands.h"
 
-#include <scanplan/sensor.h>
+#include <scanplan/scanner/sensor.h>
 
 #include <fmt/format.h>
 

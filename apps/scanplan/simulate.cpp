@@ -4,12 +4,13 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/cloud_ply.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_json.h>
 #include <scanplan/planning.h>
-#include <scanplan/simulation.h>
-#include <scanplan/spec.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

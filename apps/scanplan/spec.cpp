@@ -5,8 +5,8 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/report.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/editor/editor.h>
 
 #include <fmt/format.h>
 

@@ -3,7 +3,7 @@
 
 #include "commands.h"
 
-#include <scanplan/progress.h>
+#include <scanplan/core/progress.h>
 
 #include <string>
 

@@ -5,10 +5,11 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
 

@@ -1,9 +1,9 @@
 // Plans a part with its default spec and writes plan.json: plan_part PART OUT.json
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <iostream>
 

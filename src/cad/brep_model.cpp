@@ -1,6 +1,6 @@
 #include "cad/brep_model.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <tbb/parallel_for.h>
 #include <BRepAdaptor_Surface.hxx>

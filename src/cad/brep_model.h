@@ -3,7 +3,7 @@
 // NURBS, trims). OCCT types stay in src/: this header is private to the library.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/progress.h>
+#include <scanplan/core/progress.h>
 
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Face.hxx>

@@ -1,6 +1,6 @@
 #include <scanplan/cad/import.h>
-#include <scanplan/errors.h>
-#include <scanplan/io/input_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
 
 #include "cad/brep_import.h"
 

@@ -3,8 +3,9 @@
 
 #include "cad/brep_import.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/io/ply.h>
+#include <scanplan/cad/ply.h>
+#include <scanplan/core/disjoint_sets.h>
+#include <scanplan/core/errors.h>
 
 #include <OSD_Path.hxx>
 #include <Poly_Triangulation.hxx>
@@ -269,19 +270,40 @@ std::vector<int> regionOfTriangles(const TriangleMesh& mesh, const std::vector<i
     return normals[t].dot(normals[u]) >= min_cos;
   };
   // Union-find over triangles joined across their shared edges.
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(n);
   for (const auto& [edge, triangles] : edge_triangles)
     for (std::size_t i = 0; i < triangles.size(); ++i)
       for (std::size_t j = i + 1; j < triangles.size(); ++j)
-        if (joins(triangles[i], triangles[j])) parent[find(triangles[i])] = find(triangles[j]);
+        if (joins(triangles[i], triangles[j])) sets.join(triangles[i], triangles[j]);
   std::vector<int> region(n);
-  for (std::size_t t = 0; t < n; ++t) region[t] = find(static_cast<int>(t));
+  for (std::size_t t = 0; t < n; ++t) region[t] = sets.find(static_cast<int>(t));
   return region;
+}
+
+// A closed mesh is one solid; wound inward, it is turned outward. An open one is named in
+// the part's warnings.
+void closeSolid(Part& part) {
+  EdgeReport edges = edgeReport(part.mesh, 0);
+  if (edges.boundary == 0 && edges.non_manifold == 0 && edges.misoriented == 0) {
+    double volume = signedVolume(part.mesh);
+    if (volume < 0) {
+      for (Vec3i& tri : part.mesh.triangles) std::swap(tri[1], tri[2]);
+      for (Face& face : part.faces) face.reoriented = true;
+      part.warnings.push_back("the mesh was wound inward; its triangles were turned outward");
+    }
+    Solid solid;
+    solid.volume = std::abs(volume);
+    for (Face& face : part.faces) {
+      face.solid = 0;
+      solid.faces.push_back(face.id);
+    }
+    part.solids.push_back(std::move(solid));
+  } else {
+    part.warnings.push_back("the mesh is not closed (" + std::to_string(edges.boundary) +
+                            " boundary, " + std::to_string(edges.non_manifold) + " non-manifold, " +
+                            std::to_string(edges.misoriented) +
+                            " inconsistently wound edges): inside and outside are not checked");
+  }
 }
 
 }  // namespace
@@ -347,28 +369,7 @@ Part importMesh(const std::string& path, const std::string& format, const Import
     ++face.triangle_count;
   }
 
-  // A closed mesh is one solid; wound inward, it is turned outward.
-  EdgeReport edges = edgeReport(part.mesh, 0);
-  if (edges.boundary == 0 && edges.non_manifold == 0 && edges.misoriented == 0) {
-    double volume = signedVolume(part.mesh);
-    if (volume < 0) {
-      for (Vec3i& tri : part.mesh.triangles) std::swap(tri[1], tri[2]);
-      for (Face& face : part.faces) face.reoriented = true;
-      part.warnings.push_back("the mesh was wound inward; its triangles were turned outward");
-    }
-    Solid solid;
-    solid.volume = std::abs(volume);
-    for (Face& face : part.faces) {
-      face.solid = 0;
-      solid.faces.push_back(face.id);
-    }
-    part.solids.push_back(std::move(solid));
-  } else {
-    part.warnings.push_back("the mesh is not closed (" + std::to_string(edges.boundary) +
-                            " boundary, " + std::to_string(edges.non_manifold) + " non-manifold, " +
-                            std::to_string(edges.misoriented) +
-                            " inconsistently wound edges): inside and outside are not checked");
-  }
+  closeSolid(part);
   report(progress, "splitting mesh into faces", 1);
   return part;
 }

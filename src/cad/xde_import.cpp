@@ -4,7 +4,7 @@
 #include "cad/brep_import.h"
 #include "cad/xde.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 
 #include <BRepBndLib.hxx>
 #include <BRepTools.hxx>

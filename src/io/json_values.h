@@ -2,8 +2,8 @@
 // Values of the plan format read from JSON, with errors that name the file and the field
 // (private to the library).
 
-#include <scanplan/errors.h>
-#include <scanplan/view.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/view.h>
 
 #include <nlohmann/json.hpp>
 

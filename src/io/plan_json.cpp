@@ -1,7 +1,8 @@
 #include "io/json_values.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/patch_file.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/views_json.h>
 
@@ -338,7 +339,7 @@ void addSweeps(const Plan& plan, json& result) {
                   {"patch", nullptr}};
     if (sweep.patch)
       entry["patch"] = {
-          {"direction", vec(plan.part_to_world.linear() * sweep.patch->frame.linear().col(2))},
+          {"direction", vec(plan.part_to_world.linear() * sweep.patch->direction)},
           {"max_deviation", sweep.patch->max_deviation},
           {"tolerance", sweep.patch->tolerance},
           {"file", sweep.patch_file.empty() ? json(nullptr) : json(sweep.patch_file)}};
@@ -413,7 +414,7 @@ void writePlan(const Plan& plan, const std::string& path) {
   writeFileAtomically(path, [&](std::ostream& out) { out << root.dump(1) << '\n'; });
 }
 
-void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs) {
+void writePlanFiles(const Plan& plan, const std::string& path, FileSet* outputs) {
   FileSet own;
   FileSet& files = outputs ? *outputs : own;
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
@@ -422,12 +423,9 @@ void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs) {
     const std::string name = entry.path().filename().string();
     if (name.starts_with("patch-") && name.ends_with(".step")) files.drop(entry.path().string());
   }
-  for (std::size_t k = 0; k < plan.sweeps.size(); ++k) {
-    Sweep& sweep = plan.sweeps[k];
-    if (!sweep.patch) continue;
-    sweep.patch_file = "patch-" + std::to_string(k + 1) + ".step";
-    writePatch(*sweep.patch, files.stage((folder / sweep.patch_file).string()));
-  }
+  for (const Sweep& sweep : plan.sweeps)
+    if (sweep.patch && !sweep.patch_file.empty())
+      writePatch(sweep.patch->shape, files.stage((folder / sweep.patch_file).string()));
   writePlan(plan, files.stage(path));
   if (!outputs) own.commit();
 }

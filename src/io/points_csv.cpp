@@ -1,9 +1,11 @@
-#include <scanplan/errors.h>
-#include <scanplan/io/input_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
 #include <scanplan/io/points_csv.h>
 
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <sstream>
 
 namespace scanplan {
@@ -52,6 +54,23 @@ std::vector<ControlPoint> readPointsCsv(const std::string& path) {
   }
   if (points.empty()) throw InputError(path, "no points");
   return points;
+}
+
+std::vector<Marker> readMarkers(const std::string& path) {
+  std::vector<Marker> markers;
+  for (const ControlPoint& point : readPointsCsv(path))
+    markers.push_back({point.position, point.normal.value_or(Vec3::UnitZ())});
+  return markers;
+}
+
+void writeMarkers(const std::vector<Marker>& markers, const std::string& path) {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "x,y,z,nx,ny,nz\n";
+    out.precision(10);
+    for (const Marker& m : markers)
+      out << m.position.x() << ',' << m.position.y() << ',' << m.position.z() << ',' << m.normal.x()
+          << ',' << m.normal.y() << ',' << m.normal.z() << '\n';
+  });
 }
 
 }  // namespace scanplan

@@ -1,6 +1,6 @@
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/io/input_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
 #include <scanplan/io/views_csv.h>
 
 #include <fmt/format.h>

@@ -1,7 +1,7 @@
 #include "io/json_values.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/io/input_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
 #include <scanplan/io/views_json.h>
 
 #include <nlohmann/json.hpp>

@@ -3,7 +3,7 @@
 
 #include "planning/stages.h"
 
-#include <scanplan/clustering.h>
+#include <scanplan/sampling/clustering.h>
 
 #include <algorithm>
 #include <numeric>

@@ -12,12 +12,12 @@
 //   over the faces' extent, in degrees.
 // U is the error that 95% of the draws stay under.
 
-#include "kd_tree.h"
+#include "core/kd_tree.h"
 
-#include <scanplan/localization.h>
+#include <scanplan/cad/localization.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/simulation.h>
+#include <scanplan/scanner/simulation.h>
 
 #include <Eigen/Dense>
 

@@ -3,6 +3,7 @@
 // time: a shortest path over layers of solutions, one layer per view in visiting order.
 
 #include <scanplan/planning/cell_poses.h>
+#include <scanplan/robot/motion.h>
 
 #include <algorithm>
 #include <limits>
@@ -12,12 +13,6 @@ namespace scanplan {
 namespace {
 
 constexpr double kTableSpeed = M_PI / 2;  // radians per second
-
-// Seconds from one cell pose to the next: the slowest joint, or the table.
-double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
-  return std::max(travelTime(cell.robot, a.joints, b.joints),
-                  std::abs(a.table_angle - b.table_angle) / table_speed);
-}
 
 // `poses` with, for joints whose range exceeds a turn, each other turn the limits allow:
 // the same flange pose reached with a joint 360° further, which may travel less.
@@ -115,37 +110,6 @@ Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solution
       times(i, j) = times(j, i) = best;
     }
   return times;
-}
-
-JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
-                        const std::vector<View>& views, const std::vector<int>& order,
-                        double table_speed) {
-  std::map<int, std::size_t> index;
-  for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
-  JointMotion motion;
-  const CellPose* previous = nullptr;
-  for (int id : order) {
-    auto it = index.find(id);
-    if (it == index.end() || it->second >= poses.size()) continue;
-    const std::optional<CellPose>& pose = poses[it->second];
-    if (!pose) {
-      ++motion.unreached;
-      continue;
-    }
-    if (previous) {
-      for (int j = 0; j < 6; ++j) {
-        const double step = std::abs(pose->joints[j] - previous->joints[j]);
-        if (step > motion.max_step) {
-          motion.max_step = step;
-          motion.max_step_joint = j + 1;
-        }
-      }
-      motion.seconds += moveTime(cell, *previous, *pose, table_speed);
-      motion.table_moves += std::abs(pose->table_angle - previous->table_angle) > 1e-9;
-    }
-    previous = &*pose;
-  }
-  return motion;
 }
 
 }  // namespace scanplan

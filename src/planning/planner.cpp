@@ -1,13 +1,16 @@
 // The planner's pipeline (docs/planning.md): one placement of the part through the
 // stages of stages.h, and the rest orientations of part.rest: all, merged.
 
-#include "kd_tree.h"
+#include "core/kd_tree.h"
 #include "planning/stages.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/localization.h>
+#include <scanplan/cad/localization.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/points_csv.h>
+#include <scanplan/planning/bridging.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/cell_poses.h>
+#include <scanplan/planning/robot_steps.h>
 #include <scanplan/robot/motion.h>
 
 #include <fmt/format.h>
@@ -305,8 +308,9 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
                                   const Progress& progress) {
   plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
-  plan.registration = registerViews(at.simulator, plan.views, plan.markers,
-                                    detail::registrationOptions(at.spec.spec), at.cell, progress);
+  plan.registration =
+      registerWithBridging(at.simulator, plan.views, plan.markers,
+                           detail::registrationOptions(at.spec.spec), at.cell, progress);
   proposeMarkers(at, plan);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
   const auto measured = measuredPoints(at.simulator, bridges, at.points);
@@ -504,6 +508,13 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
 
 namespace {
 
+// Names the file of each sweep's patch, beside plan.json: patch-K.step for the K-th sweep.
+void namePatchFiles(Plan& plan) {
+  for (std::size_t k = 0; k < plan.sweeps.size(); ++k)
+    if (plan.sweeps[k].patch)
+      plan.sweeps[k].patch_file = "patch-" + std::to_string(k + 1) + ".step";
+}
+
 // The plan for `spec`, then the capability of its views for the part's characteristics.
 Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& options,
                   const Progress& progress) {
@@ -519,6 +530,7 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
                             : planPlacement(part, resolved, sampled, placementFor(part, spec), {},
                                             options, progress);
   plan.times.insert(plan.times.begin(), sampling);
+  namePatchFiles(plan);
   const auto judged = Clock::now();
   report(progress, "measurement capability", 0);
   plan.characteristics = characteristics(part.gdt);
@@ -553,7 +565,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   if (!spec.planner.lift_capability || !liftable(plan)) return plan;
   // Again with every characteristic's faces as GD&T targets; kept when more are capable.
   Spec lifting = spec;
-  Task targets{TaskType::Gdt, {}, {}};
+  Task targets{TaskType::Gdt, {}, {}, {}};
   for (const Characteristic& c : plan.characteristics)
     for (int face : c.faces) targets.faces.push_back({face, {}, {}});
   lifting.tasks.push_back(targets);

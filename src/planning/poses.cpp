@@ -96,10 +96,8 @@ std::vector<Vec3> clusterDirections(const Simulator& simulator, const std::vecto
                                     std::vector<Visibility>& status) {
   std::vector<Vec3> directions = {mean_normal};
   if (normal_only) return directions;
-  std::vector<int> all(members.size());
-  std::iota(all.begin(), all.end(), 0);
   const VisibilityMap cvm =
-      combinedVisibilityMap(simulator, members, all, options.visibility, &status);
+      combinedVisibilityMap(simulator, surfacePoints(members), options.visibility, &status);
   const std::uint32_t top = cvm.max();
   if (top == 0) return {};
   // The cells with the most visible samples, in the preferred tilt band first, then

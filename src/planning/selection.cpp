@@ -3,7 +3,7 @@
 
 #include "planning/stages.h"
 
-#include <scanplan/planning/set_cover.h>
+#include <scanplan/solve/set_cover.h>
 
 #include <tbb/parallel_invoke.h>
 

@@ -3,7 +3,7 @@
 // Each takes what it only reads as const and extends or returns what it makes.
 
 #include <scanplan/planning/planner.h>
-#include <scanplan/visibility.h>
+#include <scanplan/scanner/visibility.h>
 
 #include <optional>
 #include <span>

@@ -1,7 +1,7 @@
 // Sweep positioning (docs/sweep.md): surfaces much wider than the field of view, tile by
 // tile.
 
-#include "kd_tree.h"
+#include "core/kd_tree.h"
 #include "planning/stages.h"
 
 #include <map>
@@ -46,8 +46,10 @@ std::vector<SweepTarget> sweepTargets(const Part& part, const std::vector<Planne
       target.sweep.task = TaskType::Surface;
       target.sweep.faces = set;
       if (normalSpread(part, set) <= kMaxSpread) {
-        target.sweep.patch = interpolatedPatch(part, set, fit_spacing, grid_spacing);
-        target.grid = toWorld(target.sweep.patch->grid, part_to_world);
+        const InterpolatedPatch patch = interpolatedPatch(part, set, fit_spacing, grid_spacing);
+        target.sweep.patch = SweepPatch{patch.frame.linear().col(2), patch.tolerance,
+                                        patch.max_deviation, patchShape(patch)};
+        target.grid = toWorld(patch.grid, part_to_world);
       } else if (part.brep) {
         // One face turning too far to be seen along one direction (a cylinder): swept
         // over its own parameters.

@@ -1,6 +1,7 @@
 // Checking a plan again: coverage, registration and sequence.
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/planning/bridging.h>
 #include <scanplan/planning/verify.h>
 
 #include <algorithm>
@@ -83,7 +84,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   if (!spec.markers_file.empty() || spec.marker_grid > 0 || !spec.fixtures.empty())
     again.markers = specMarkers(resolved, part, plan.part_to_world);
   again.registration =
-      registerViews(simulator, views, again.markers, registration, CellCheck{}, progress);
+      registerWithBridging(simulator, views, again.markers, registration, CellCheck{}, progress);
   std::size_t bridges = 0;
   for (std::size_t v = 0; v < views.size(); ++v) {
     // What the file says of the view (nothing: not registered).

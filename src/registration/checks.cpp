@@ -1,35 +1,15 @@
 // Reference markers and the two pair tests: shared markers, ICP stability.
 
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/io/points_csv.h>
-#include <scanplan/raycast.h>
-#include <scanplan/registration.h>
+#include <scanplan/cad/raycast.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/registration/registration.h>
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
-#include <ostream>
 
 namespace scanplan {
-
-std::vector<Marker> readMarkers(const std::string& path) {
-  std::vector<Marker> markers;
-  for (const ControlPoint& point : readPointsCsv(path))
-    markers.push_back({point.position, point.normal.value_or(Vec3::UnitZ())});
-  return markers;
-}
-
-void writeMarkers(const std::vector<Marker>& markers, const std::string& path) {
-  writeFileAtomically(path, [&](std::ostream& out) {
-    out << "x,y,z,nx,ny,nz\n";
-    out.precision(10);
-    for (const Marker& m : markers)
-      out << m.position.x() << ',' << m.position.y() << ',' << m.position.z() << ',' << m.normal.x()
-          << ',' << m.normal.y() << ',' << m.normal.z() << '\n';
-  });
-}
 
 std::vector<Marker> markerGrid(const Box& footprint, double step, double margin) {
   if (!(step > 0)) throw InputError("markers", "the marker grid step must be positive");

@@ -2,9 +2,9 @@
 // A view's ICP cloud with a k-d tree over its points, made once and used by every pair the
 // view is in as the fixed cloud (private to the library; checkIcp in registration.h).
 
-#include "kd_tree.h"
+#include "core/kd_tree.h"
 
-#include <scanplan/registration.h>
+#include <scanplan/registration/registration.h>
 
 namespace scanplan::detail {
 

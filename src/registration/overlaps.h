@@ -4,7 +4,7 @@
 // by the markers they share or the overlap of their surfaces. Used by the registration
 // graph and by the registration-aware selection.
 
-#include <scanplan/registration.h>
+#include <scanplan/registration/registration.h>
 
 #include <span>
 #include <vector>

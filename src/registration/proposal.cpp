@@ -1,7 +1,8 @@
 // Markers proposed where views register to nothing (docs/registration.md).
 
-#include <scanplan/planning/set_cover.h>
-#include <scanplan/registration.h>
+#include <scanplan/core/disjoint_sets.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/solve/set_cover.h>
 
 #include <algorithm>
 #include <map>
@@ -11,11 +12,6 @@ namespace scanplan {
 namespace {
 
 constexpr double kSeconds = 2;  // CBC's time for the proposal and for its bound
-
-int find(std::vector<int>& parent, int v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];
-  return v;
-}
 
 // The pairs of views markers must join: a spanning forest over the pairs that see at least
 // `least` candidates in common, the pairs that register already taken first and free, then
@@ -35,13 +31,12 @@ Joins pairsToJoin(std::span<const View> views, const Registration& registration,
     for (std::size_t i = 0; i < by.size(); ++i)
       for (std::size_t j = i + 1; j < by.size(); ++j) common[{by[i], by[j]}].push_back(c);
 
-  std::vector<int> parent(views.size());
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets sets(views.size());
   std::map<int, int> index;  // view id -> index
   for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = static_cast<int>(v);
   for (const PairCheck& pair : registration.pairs)
     if (registration.links(pair) && index.count(pair.a) && index.count(pair.b))
-      parent[find(parent, index[pair.a])] = find(parent, index[pair.b]);
+      sets.join(index[pair.a], index[pair.b]);
   std::vector<std::pair<std::pair<int, int>, std::vector<int>>> ranked(common.begin(),
                                                                        common.end());
   std::stable_sort(ranked.begin(), ranked.end(),
@@ -50,9 +45,7 @@ Joins pairsToJoin(std::span<const View> views, const Registration& registration,
   joins.joined.resize(views.size(), 0);
   for (auto& [ends, candidates] : ranked) {
     if (candidates.size() < least) break;
-    const int a = find(parent, ends.first), b = find(parent, ends.second);
-    if (a == b) continue;
-    parent[a] = b;
+    if (!sets.join(ends.first, ends.second)) continue;
     joins.pairs.push_back(std::move(candidates));
     joins.joined[ends.first] = joins.joined[ends.second] = 1;
   }
@@ -105,9 +98,9 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
   for (std::size_t p = 0; p < pairs.size(); ++p)
     for (int c : pairs[p]) pairs_of[c].push_back(static_cast<int>(p));
   std::vector<char> taken(candidates.size(), 0);
-  for (int c : minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers),
-                                 kSeconds)
-                   .chosen)
+  for (int c :
+       minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers), kSeconds)
+           .chosen)
     taken[c] = 1;
   for (const std::vector<int>& pair : pairs) {
     std::vector<Vec3> shared;
@@ -131,8 +124,8 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
     for (int c : seen[v]) views_of[c].push_back(static_cast<int>(proposal.views));
     ++proposal.views;
   }
-  const SetCoverResult bound = minimumMulticover(
-      views_of, std::vector<int>(proposal.views, options.min_markers), kSeconds);
+  const SetCoverResult bound =
+      minimumMulticover(views_of, std::vector<int>(proposal.views, options.min_markers), kSeconds);
   proposal.lower_bound = static_cast<std::size_t>(bound.lower_bound);
   return proposal;
 }

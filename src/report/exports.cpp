@@ -1,9 +1,9 @@
 // Point exports of a plan: its samples with their coverage, and the simulated clouds of
 // its views, as PLY that MeshLab and CloudCompare colour by the red, green, blue columns.
 
-#include <scanplan/io/atomic_file.h>
+#include <scanplan/core/atomic_file.h>
 #include <scanplan/io/cloud_ply.h>
-#include <scanplan/report.h>
+#include <scanplan/report/report.h>
 
 #include <fmt/format.h>
 

@@ -2,8 +2,8 @@
 // glTF is metres and Y up; the scene is written in mm, Z up, under a root node that
 // scales by 0.001 and turns Z up into Y up, so that viewers show it upright and to size.
 
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/report.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/report/report.h>
 
 #include <tiny_gltf.h>
 

@@ -1,14 +1,14 @@
 // The HTML report: the page (web/src/report.html) with the viewer bundle (three.js and
 // web/src/viewer.js) and the plan's data inlined (report/page.h).
 
-#include "assets.h"
-#include "report/page.h"
+#include "core/assets.h"
+#include "io/page.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
-#include <scanplan/report.h>
-#include <scanplan/simulation.h>
-#include <scanplan/visibility.h>
+#include <scanplan/report/report.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/scanner/visibility.h>
 
 #include <nlohmann/json.hpp>
 
@@ -174,7 +174,7 @@ json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolv
   for (const auto& [id, members] : members_of) {
     report(progress, "visibility maps",
            static_cast<double>(done++) / static_cast<double>(members_of.size()));
-    const VisibilityMap map = combinedVisibilityMap(simulator, samples, members, vo);
+    const VisibilityMap map = combinedVisibilityMap(simulator, surfacePoints(samples, members), vo);
     std::vector<std::uint8_t> cells(map.counts.size());
     const double top = std::max<std::uint32_t>(map.max(), 1);
     for (std::size_t i = 0; i < cells.size(); ++i)

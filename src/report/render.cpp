@@ -2,11 +2,11 @@
 // shading under a head light, then the frusta, the path and the markers drawn over it with
 // a depth test against the part, and the views' sequence numbers (stb_easy_font).
 
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
-#include <scanplan/io/input_file.h>
-#include <scanplan/raycast.h>
-#include <scanplan/report.h>
+#include <scanplan/cad/raycast.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
+#include <scanplan/report/report.h>
 
 #include <stb_easy_font.h>
 #include <stb_image.h>

@@ -1,9 +1,9 @@
 // The scene of a plan: coverage per face, views with their sequence and registration
 // state, all in the frame of the plan's first placement.
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/report.h>
+#include <scanplan/report/report.h>
 
 #include <fmt/format.h>
 
@@ -70,18 +70,11 @@ int sampleState(const PlannedSample& sample) {
   return !sample.measured_by.empty() ? 0 : sample.uncoverable == Uncoverable::None ? 1 : 2;
 }
 
-PlanScene planScene(const Plan& plan, const Part& part) {
-  if (plan.part_faces != 0 && plan.part_faces != part.faces.size())
-    throw InputError(part.file, fmt::format("the part has {} faces where the plan has {}",
-                                            part.faces.size(), plan.part_faces));
-  PlanScene scene;
-  scene.scanner = plan.scanner;
-  scene.mesh = part.mesh;
-  for (Vec3& v : scene.mesh.vertices) {
-    v = plan.part_to_world * v;
-    scene.bounds.add(v);
-  }
+namespace {
 
+// Per face of the part: its samples, measured and not coverable, its coverage, whether it
+// bears GD&T, and the commonest reason of its not coverable samples.
+void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
   std::vector<std::map<Uncoverable, std::size_t>> reasons(part.faces.size());
   scene.faces.resize(part.faces.size());
   for (std::size_t f = 0; f < part.faces.size(); ++f) scene.faces[f].id = static_cast<int>(f + 1);
@@ -93,9 +86,7 @@ PlanScene planScene(const Plan& plan, const Part& part) {
     for (int face : d.faces)
       if (face >= 1 && face <= static_cast<int>(part.faces.size()))
         scene.faces[face - 1].priority = true;
-  std::map<int, std::size_t> measured_by_view;
   for (const PlannedSample& s : plan.samples) {
-    for (int id : s.measured_by) ++measured_by_view[id];
     const int face = s.sample.face;
     if (face < 1 || face > static_cast<int>(part.faces.size())) continue;
     FaceStatus& status = scene.faces[face - 1];
@@ -117,12 +108,19 @@ PlanScene planScene(const Plan& plan, const Part& part) {
                         return a.second < b.second;
                       })->first;
   }
+}
 
+// The plan's views carried into the scene, with their order in the sequence, their
+// registration state and the samples each measures; the path through them.
+void sceneViews(PlanScene& scene, const Plan& plan) {
   const std::vector<std::size_t> orientation_of = viewOrientations(plan);
   std::map<int, int> order;
   if (plan.sequence)
     for (std::size_t i = 0; i < plan.sequence->views.size(); ++i)
       order.emplace(plan.sequence->views[i], static_cast<int>(i + 1));
+  std::map<int, std::size_t> measured_by_view;
+  for (const PlannedSample& s : plan.samples)
+    for (int id : s.measured_by) ++measured_by_view[id];
   std::map<int, int> index_of;
   for (std::size_t i = 0; i < plan.views.size(); ++i) {
     SceneView v;
@@ -151,9 +149,11 @@ PlanScene planScene(const Plan& plan, const Part& part) {
   if (plan.sequence)
     for (int id : plan.sequence->views)
       if (auto it = index_of.find(id); it != index_of.end()) scene.path.push_back(it->second);
+}
 
-  // Markers: the plan's are in the first placement's world; an orientation's own markers
-  // are carried into the scene like its views.
+// Markers: the plan's are in the first placement's world; an orientation's own markers
+// are carried into the scene like its views.
+void sceneMarkers(PlanScene& scene, const Plan& plan) {
   for (const Marker& m : plan.markers) scene.markers.push_back(m.position);
   for (std::size_t k = 1; k < plan.orientations.size(); ++k) {
     const Pose to_scene = plan.part_to_world * orientationPlacement(plan, k).inverse();
@@ -165,6 +165,24 @@ PlanScene planScene(const Plan& plan, const Part& part) {
       scene.proposed_markers.push_back(m.position);
   for (const Vec3& m : scene.markers) scene.bounds.add(m);
   for (const Vec3& m : scene.proposed_markers) scene.bounds.add(m);
+}
+
+}  // namespace
+
+PlanScene planScene(const Plan& plan, const Part& part) {
+  if (plan.part_faces != 0 && plan.part_faces != part.faces.size())
+    throw InputError(part.file, fmt::format("the part has {} faces where the plan has {}",
+                                            part.faces.size(), plan.part_faces));
+  PlanScene scene;
+  scene.scanner = plan.scanner;
+  scene.mesh = part.mesh;
+  for (Vec3& v : scene.mesh.vertices) {
+    v = plan.part_to_world * v;
+    scene.bounds.add(v);
+  }
+  sceneFaces(scene, plan, part);
+  sceneViews(scene, plan);
+  sceneMarkers(scene, plan);
   return scene;
 }
 

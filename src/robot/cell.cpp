@@ -1,7 +1,7 @@
 // Reaching a view in the cell: the view turned with the table, carried into the robot's
 // base frame and from the scanner frame to the flange, then the inverse kinematics.
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/cell.h>
 
 #include <cmath>

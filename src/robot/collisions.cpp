@@ -2,7 +2,7 @@
 // tested with FCL against one bounding-volume hierarchy (OBB/RSS) of the part's and the
 // fixtures' triangles, and against the working plane.
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/cell.h>
 
 #include <fcl/fcl.h>

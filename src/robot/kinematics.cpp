@@ -6,7 +6,7 @@
 
 #include "robot/offset_wrist.h"
 
-#include <scanplan/errors.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/kinematics.h>
 
 #include <Eigen/SVD>

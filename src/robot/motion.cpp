@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace scanplan {
 namespace {
@@ -132,20 +133,48 @@ double viaLift(const Cell& cell, const Scanner& scanner) {
          cell.clearance;
 }
 
-RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
-                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
-                         const std::string& source) {
-  RobotProgram program = robotProgram(plan, cell, poses, name, source);
-  planMotion(program, collisions, viaLift(cell, plan.scanner));
-  return program;
-}
-
 double programSeconds(const RobotProgram& program) {
   const std::vector<Waypoint> path = waypoints(program);
   double seconds = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
     seconds += travelTime(program.cell.robot, path[k - 1].pose.joints, path[k].pose.joints);
   return seconds;
+}
+
+double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
+  return std::max(travelTime(cell.robot, a.joints, b.joints),
+                  std::abs(a.table_angle - b.table_angle) / table_speed);
+}
+
+JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
+                        const std::vector<View>& views, const std::vector<int>& order,
+                        double table_speed) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
+  JointMotion motion;
+  const CellPose* previous = nullptr;
+  for (int id : order) {
+    auto it = index.find(id);
+    if (it == index.end() || it->second >= poses.size()) continue;
+    const std::optional<CellPose>& pose = poses[it->second];
+    if (!pose) {
+      ++motion.unreached;
+      continue;
+    }
+    if (previous) {
+      for (int j = 0; j < 6; ++j) {
+        const double step = std::abs(pose->joints[j] - previous->joints[j]);
+        if (step > motion.max_step) {
+          motion.max_step = step;
+          motion.max_step_joint = j + 1;
+        }
+      }
+      motion.seconds += moveTime(cell, *previous, *pose, table_speed);
+      motion.table_moves += std::abs(pose->table_angle - previous->table_angle) > 1e-9;
+    }
+    previous = &*pose;
+  }
+  return motion;
 }
 
 }  // namespace scanplan

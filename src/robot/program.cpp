@@ -1,10 +1,10 @@
-// Robot programs from a plan. Each moves in joint space to every view (the joints the plan
+// Robot programs from a list of steps. Each moves in joint space to every view (the joints the plan
 // chose, so the robot takes the configuration the plan checked), waits there and triggers
 // the scanner, in sequence order. The scanner poses are given too, in the part's frame (the
 // work object), for the integrator.
 
-#include <scanplan/errors.h>
-#include <scanplan/io/atomic_file.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/robot/program.h>
 
 #include <fmt/format.h>
@@ -93,36 +93,22 @@ Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.
 
 }  // namespace
 
-RobotProgram robotProgram(const Plan& plan, const Cell& cell,
-                          const std::vector<std::optional<CellPose>>& poses,
-                          const std::string& name, const std::string& source) {
+RobotProgram robotProgram(const Cell& cell, const Pose& work_object, std::vector<ProgramStep> steps,
+                          std::vector<int> unreached, const std::string& name,
+                          const std::string& source) {
   RobotProgram program;
   program.name = identifier(name, 24);
   program.source = source;
   program.cell = cell;
-  program.work_object = cell.base.inverse() * plan.part_to_world;
-  std::map<int, std::size_t> index;
-  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
-  for (int id : visitingOrder(plan)) {
-    const std::size_t i = index.at(id);
-    if (i >= poses.size() || !poses[i]) {
-      program.unreached.push_back(id);
-      continue;
-    }
-    program.steps.push_back({id,
-                             plan.views[i].task,
-                             *poses[i],
-                             forwardKinematics(cell.robot, poses[i]->joints),
-                             {},
-                             {}});
-  }
+  program.work_object = work_object;
+  program.steps = std::move(steps);
+  program.unreached = std::move(unreached);
   return program;
 }
 
-RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
-                          const std::string& source, const CellCollisions* collisions) {
-  return robotProgram(plan, cell, cellPoses(cell, plan.views, visitingOrder(plan), collisions),
-                      name, source);
+std::string toString(const RobotMove& move) {
+  auto name = [](int id) { return id > 0 ? "view " + std::to_string(id) : std::string("home"); };
+  return name(move.from) + " -> " + name(move.to);
 }
 
 Pose scannerInPart(const RobotProgram& p, const ProgramStep& step) {

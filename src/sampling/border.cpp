@@ -2,7 +2,7 @@
 
 #include "cad/brep_model.h"
 
-#include <scanplan/sampling.h>
+#include <scanplan/sampling/sampling.h>
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>

@@ -1,16 +1,16 @@
 // Global sampling: all faces, decimated by distance and normal angle (nanoflann).
 
-#include <scanplan/sampling.h>
+#include <scanplan/sampling/sampling.h>
 
-#include "kd_tree.h"
+#include "core/kd_tree.h"
 
 #include <cmath>
 
 namespace scanplan {
 std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle) {
   if (samples.empty()) return {};
-  detail::SampleCloud cloud{samples};
-  detail::SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  detail::PositionCloud<Sample> cloud{samples};
+  detail::PositionTree<Sample> tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const double min_dot = std::cos(radians(angle));
   std::vector<char> removed(samples.size(), 0);

@@ -2,8 +2,8 @@
 
 #include "cad/brep_model.h"
 
-#include <scanplan/errors.h>
-#include <scanplan/sampling.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/sampling/sampling.h>
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>

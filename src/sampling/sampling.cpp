@@ -1,7 +1,7 @@
 // The spec's tasks to samples.
 
-#include <scanplan/errors.h>
-#include <scanplan/sampling.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/sampling/sampling.h>
 
 #include <algorithm>
 
@@ -34,12 +34,22 @@ std::vector<Sample> sampleTargets(const Part& part, const Targets& targets,
             s.role = Role::Priority;
         break;
       case TaskType::Points:
-        more = samplePoints(part, readPointsCsv(task.points_file), task.points_file, options);
+        more = samplePoints(part, task.points, task.points_file, options);
         break;
     }
     samples.insert(samples.end(), more.begin(), more.end());
   }
   return samples;
+}
+
+std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples,
+                                        const std::vector<int>& members) {
+  std::vector<SurfacePoint> points;
+  auto add = [&](const Sample& s) { points.push_back({s.position, s.normal, s.face}); };
+  if (members.empty())
+    for (const Sample& s : samples) add(s);
+  for (int i : members) add(samples[static_cast<std::size_t>(i)]);
+  return points;
 }
 
 }  // namespace scanplan

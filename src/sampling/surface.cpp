@@ -3,7 +3,7 @@
 
 #include "cad/brep_model.h"
 
-#include <scanplan/sampling.h>
+#include <scanplan/sampling/sampling.h>
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepClass_FaceClassifier.hxx>

@@ -2,7 +2,7 @@
 // Reading a part from a CAD or mesh file.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/progress.h>
+#include <scanplan/core/progress.h>
 
 #include <string>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The part's triangle mesh: the geometry that ray casting, simulation and export work on.
 
-#include <scanplan/geometry.h>
+#include <scanplan/core/geometry.h>
 
 #include <vector>
 

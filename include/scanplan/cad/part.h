@@ -4,7 +4,7 @@
 
 #include <scanplan/cad/gdt.h>
 #include <scanplan/cad/mesh.h>
-#include <scanplan/geometry.h>
+#include <scanplan/core/geometry.h>
 
 #include <memory>
 #include <optional>

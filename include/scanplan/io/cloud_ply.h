@@ -1,8 +1,8 @@
 #pragma once
 // Simulated point clouds as PLY files.
 
-#include <scanplan/io/ply.h>
-#include <scanplan/simulation.h>
+#include <scanplan/cad/ply.h>
+#include <scanplan/scanner/simulation.h>
 
 #include <string>
 

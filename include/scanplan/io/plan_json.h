@@ -1,7 +1,7 @@
 #pragma once
 // plan.json (docs/design.md §7): the contract with everything downstream.
 
-#include <scanplan/planning.h>
+#include <scanplan/plan/plan.h>
 
 #include <nlohmann/json.hpp>
 
@@ -26,12 +26,12 @@ void writePlan(const Plan& plan, const std::string& path);
 
 class FileSet;
 
-// Writes `plan` to `path` with the surface task's interpolated patches beside it
-// (patch-N.step, each named in its sweep's patch_file); an earlier plan's patch files
-// there are removed. The files go into `outputs`, for the caller to commit with its other
+// Writes `plan` to `path` with the surface task's interpolated patches beside it (each
+// sweep's patch as its patch_file names it); an earlier plan's patch files there are
+// removed. The files go into `outputs`, for the caller to commit with its other
 // files, or else are written here as a set: all of them or none.
 // \throw OutputError naming the file that cannot be written.
-void writePlanFiles(Plan& plan, const std::string& path, FileSet* outputs = nullptr);
+void writePlanFiles(const Plan& plan, const std::string& path, FileSet* outputs = nullptr);
 
 // Reads a plan.json back: part file (resolved as docs/design.md §7 says) and faces, placement,
 // scanner (every §4 parameter the file gives, over the defaults), views with their bridge flags,

@@ -4,7 +4,7 @@
 // under a header line; sequence counts from 1; m is camera_to_world (scanner frame S to
 // world, docs/design.md §3), row-major, mm.
 
-#include <scanplan/view.h>
+#include <scanplan/core/view.h>
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #pragma once
 // Reading views from JSON in the plan format (docs/design.md §7).
 
-#include <scanplan/view.h>
+#include <scanplan/core/view.h>
 
 #include <string>
 #include <vector>

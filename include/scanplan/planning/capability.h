@@ -7,8 +7,8 @@
 
 #include <scanplan/cad/gdt.h>
 #include <scanplan/cad/part.h>
-#include <scanplan/planning/plan.h>
-#include <scanplan/spec.h>
+#include <scanplan/plan/plan.h>
+#include <scanplan/spec/spec.h>
 
 #include <cstdint>
 #include <vector>

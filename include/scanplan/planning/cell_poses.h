@@ -3,7 +3,7 @@
 // solution of each view, and the joints chosen along the visiting order for the least
 // joint travel.
 
-#include <scanplan/planning/plan.h>
+#include <scanplan/plan/plan.h>
 #include <scanplan/robot/cell.h>
 
 #include <Eigen/Core>
@@ -35,19 +35,5 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
 // `solutions` (seconds; the cell's joint speeds, the table at a quarter turn per second),
 // 1000 s to or from a view the cell cannot take.
 Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solutions);
-
-// The joint motion of a sequence of cell poses: the largest change of any joint between
-// consecutive reached views (radians), the travel time (seconds, joints at their largest
-// speeds, the table at `table_speed` rad/s) and how often the table turns.
-struct JointMotion {
-  double max_step = 0;
-  int max_step_joint = 0;  // 1-based
-  double seconds = 0;
-  std::size_t table_moves = 0;
-  std::size_t unreached = 0;  // views the cell cannot reach
-};
-JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
-                        const std::vector<View>& views, const std::vector<int>& order,
-                        double table_speed = M_PI / 2);
 
 }  // namespace scanplan

@@ -5,11 +5,11 @@
 // marginal coverage; then the registration check with bridging views, and the sequence.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/planning/plan.h>
+#include <scanplan/core/progress.h>
+#include <scanplan/plan/plan.h>
 #include <scanplan/planning/poses.h>
-#include <scanplan/progress.h>
-#include <scanplan/simulation.h>
-#include <scanplan/spec.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/spec/spec.h>
 
 #include <vector>
 

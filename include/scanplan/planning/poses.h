@@ -1,12 +1,13 @@
 #pragma once
-// Every scanner pose the planner and the registration try, and the test a pose must pass
+// Every scanner pose the planner and its bridging try, and the test a pose must pass
 // to be used (docs/design.md, Poses). World frame, mm; a pose is the scanner frame S in the
 // world (sensor.h).
 
-#include <scanplan/simulation.h>
-#include <scanplan/sweep.h>
-#include <scanplan/view.h>
-#include <scanplan/visibility.h>
+#include <scanplan/core/view.h>
+#include <scanplan/planning/sweep_tiles.h>
+#include <scanplan/sampling/sampling.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/scanner/visibility.h>
 
 #include <vector>
 

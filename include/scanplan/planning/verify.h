@@ -2,9 +2,9 @@
 // Checking a plan again on its part: coverage, registration and sequence (scanplan verify).
 
 #include <scanplan/cad/part.h>
+#include <scanplan/core/progress.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/progress.h>
-#include <scanplan/spec.h>
+#include <scanplan/spec/spec.h>
 
 #include <cstddef>
 
@@ -22,8 +22,8 @@ struct PlanCheck {
   // `registration.required`); then an unregistered view fails it.
   bool registration_required = false;
   bool holds() const {
-    return coverage_differences == 0 && registration_differences == 0 &&
-           sequence_missing == 0 && (!registration_required || unregistered == 0);
+    return coverage_differences == 0 && registration_differences == 0 && sequence_missing == 0 &&
+           (!registration_required || unregistered == 0);
   }
 };
 

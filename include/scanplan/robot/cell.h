@@ -5,8 +5,8 @@
 // solution within the joint limits).
 
 #include <scanplan/cad/mesh.h>
+#include <scanplan/core/view.h>
 #include <scanplan/robot/kinematics.h>
-#include <scanplan/view.h>
 
 #include <memory>
 #include <optional>

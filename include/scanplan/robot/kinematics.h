@@ -9,7 +9,7 @@
 //   with the closed form of Hawkins, "Analytic Inverse Kinematics for the Universal Robots
 //   UR-5/UR-10 Arms" (2013).
 
-#include <scanplan/view.h>
+#include <scanplan/core/view.h>
 
 #include <array>
 #include <optional>

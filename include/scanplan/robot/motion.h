@@ -7,7 +7,10 @@
 
 #include <scanplan/robot/cell.h>
 #include <scanplan/robot/program.h>
+#include <scanplan/scanner/sensor.h>
 
+#include <cmath>
+#include <optional>
 #include <vector>
 
 namespace scanplan {
@@ -32,13 +35,33 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
 // and its margin, and the cell's clearance, mm.
 double viaLift(const Cell& cell, const Scanner& scanner);
 
-// The program of `plan` in `cell` (robotProgram, the cell poses `poses`) with its safe
-// motion (planMotion, lifted by viaLift).
-RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
-                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
-                         const std::string& source);
-
 // The program's joint travel time, seconds: home, vias, approaches, views and back home.
 double programSeconds(const RobotProgram& program);
+
+// The robot program's motion with a cell: the joint travel of the whole program, seconds
+// (home, approaches, views, retracts, via points, back home), and the moves that collide
+// and could not be lifted clear.
+struct CellMotion {
+  double seconds = 0;
+  std::vector<RobotMove> uncleared;
+};
+
+// Seconds from one cell pose to the next: the slowest joint at its largest speed, or the
+// table at `table_speed` rad/s.
+double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed);
+
+// The joint motion of a sequence of cell poses: the largest change of any joint between
+// consecutive reached views (radians), the travel time (seconds, joints at their largest
+// speeds, the table at `table_speed` rad/s) and how often the table turns.
+struct JointMotion {
+  double max_step = 0;
+  int max_step_joint = 0;  // 1-based
+  double seconds = 0;
+  std::size_t table_moves = 0;
+  std::size_t unreached = 0;  // views the cell cannot reach
+};
+JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
+                        const std::vector<View>& views, const std::vector<int>& order,
+                        double table_speed = M_PI / 2);
 
 }  // namespace scanplan

@@ -1,9 +1,8 @@
 #pragma once
-// What the cell runs: the plan's views in sequence order as a robot program that moves to
-// each view and triggers a scan there (docs/cell.md). KUKA KRL (.src), ABB RAPID (.mod),
-// Universal Robots URScript (.script), and a neutral JSON of joints and flange poses.
+// What the cell runs: a list of steps, the plan's views in sequence order, as a robot
+// program that moves to each view and triggers a scan there (docs/cell.md). KUKA KRL (.src), ABB
+// RAPID (.mod), Universal Robots URScript (.script), and a neutral JSON of joints and flange poses.
 
-#include <scanplan/planning.h>
 #include <scanplan/robot/cell.h>
 
 #include <string>
@@ -11,6 +10,12 @@
 #include <vector>
 
 namespace scanplan {
+
+// A move of the robot program between two views, by id (0: home).
+struct RobotMove {
+  int from = 0, to = 0;
+};
+std::string toString(const RobotMove& move);  // "view 3 -> home"
 
 struct ProgramStep {
   int view = 0;      // view id in the plan
@@ -42,15 +47,11 @@ struct RobotProgram {
 // the same for every table angle, since the part turns with the table.
 Pose scannerInPart(const RobotProgram& program, const ProgramStep& step);
 
-// The program of `plan` in `cell`: its views in sequence order (then any outside the
-// sequence), each with its cell pose from `poses` (per view, in the order of the plan's
-// views; none: left out as unreached). `name` is made a valid identifier.
-RobotProgram robotProgram(const Plan& plan, const Cell& cell,
-                          const std::vector<std::optional<CellPose>>& poses,
-                          const std::string& name, const std::string& source);
-// The same with the joints cellPoses chooses (clear of the part with `collisions`).
-RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
-                          const std::string& source, const CellCollisions* collisions = nullptr);
+// The program of `steps` (in the order they are taken; `unreached`: views left out) with the
+// part's frame at `work_object`. `name` is made a valid identifier.
+RobotProgram robotProgram(const Cell& cell, const Pose& work_object, std::vector<ProgramStep> steps,
+                          std::vector<int> unreached, const std::string& name,
+                          const std::string& source);
 
 // One move of a program, in order: home, the via points, each view's approach, the view
 // (where the scan is taken), its retract (the approach again), the way home.

@@ -1,0 +1,181 @@
+#pragma once
+// The plan (docs/design.md, plan.json): the views, what each sample is measured by, the
+// registration and the sequence of the views; io/plan_json.h writes and reads it.
+
+#include <scanplan/cad/gdt.h>
+#include <scanplan/cad/localization.h>
+#include <scanplan/cad/patch.h>
+#include <scanplan/core/view.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/registration/sequencing.h>
+#include <scanplan/robot/cell.h>
+#include <scanplan/robot/motion.h>
+#include <scanplan/sampling/sampling.h>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+// How close the selection came to the fewest views of its pool (docs/planning.md): the
+// views kept against the lower bound of the pool's set cover (its LP relaxation, raised by
+// CBC's search).
+struct PlanBound {
+  std::size_t views = 0;         // views the selection kept (bridging views not counted)
+  std::size_t greedy_views = 0;  // views of the greedy cover the selection started from
+  double lower_bound = 0;        // no cover of the pool's reachable samples has fewer views
+  std::size_t pool = 0;          // candidate poses, each simulated on the samples
+  bool proven_optimal = false;   // views is the minimum over the pool (lower_bound >= views)
+};
+
+// Why a sample is not coverable.
+enum class Uncoverable {
+  None,
+  BelowWorkingPlane,
+  OccludedByPart,
+  NoValidPose,
+  Lost,
+  Unreachable  // poses clear of the part measure it, but the cell's robot reaches none
+};
+
+struct PlannedSample {
+  Sample sample;                 // world frame
+  std::vector<int> measured_by;  // view ids
+  Uncoverable uncoverable = Uncoverable::None;
+  Loss last_loss = Loss::Measured;  // why the last view aimed at it missed it
+};
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0;
+};
+
+// A surface wider than the field of view covered tile by tile (docs/sweep.md): the gdt
+// task's wide faces over their own parameters, the surface task's faces over an
+// interpolated patch per set of like-facing faces.
+struct SweepPatch {
+  Vec3 direction = Vec3::UnitZ();  // the faces' mean direction it is seen along, part frame
+  double tolerance = 0;            // approximation tolerance asked of the fit, mm
+  double max_deviation = 0;        // largest |patch - face| height over the fitted nodes, mm
+  PatchShape shape;                // to be written beside plan.json
+};
+struct Sweep {
+  TaskType task = TaskType::Surface;
+  std::vector<int> faces;
+  std::size_t tiles = 0;            // tiles holding part of the surface
+  std::vector<int> views;           // ids of the tiles' views, boustrophedon order
+  std::optional<SweepPatch> patch;  // surface task: the patch swept along
+  std::string patch_file;           // its file beside plan.json (patch-K.step); "" if none
+};
+
+// One rest orientation of a plan over several (part.rest: all): the views planned with
+// the part standing that way, registered and sequenced among themselves.
+struct PlannedOrientation {
+  RestOrientation rest;
+  std::vector<int> views;       // ids
+  int reference = 0;            // its registration's reference view id
+  std::vector<Marker> markers;  // world frame of this orientation
+};
+
+enum class Verdict { Capable, Marginal, NotCapable, Untoleranced };
+std::string_view toString(Verdict verdict);  // "capable", "marginal", "not_capable", ...
+
+// Why a characteristic is not capable: most of its faces unmeasured, too few points or too
+// much of the faces left out, or points too noisy for the tolerance.
+enum class Shortfall { None, Uncovered, TooSparse, TooNoisy };
+std::string_view toString(Shortfall reason);  // "none", "uncovered", "too_sparse", "too_noisy"
+
+struct Capability {
+  int characteristic = 0;  // its id
+  double area = 0;         // of its faces, mm²
+  double covered = 0;      // share of that area some view measures, 0..1
+  double points = 0;       // points the views measure on it (expected count)
+  double density = 0;      // points per mm² of the covered area
+  double largest_gap = 0;  // mm: the farthest a point of the faces lies from a measured one
+  double uncertainty = 0;  // U, mm: the noise's error on the value, not exceeded in 95% of draws
+  double ratio = 0;        // width / (2 U)
+  Verdict verdict = Verdict::NotCapable;
+  Shortfall reason = Shortfall::None;
+  // Where its faces lie unmeasured on the working plane: the index (into
+  // restOrientations(part)) of the rest orientation that turns most of them up.
+  std::optional<std::size_t> rest;
+};
+
+struct Plan {
+  std::string part_file;
+  std::size_t part_faces = 0;
+  std::size_t fixture_faces = 0;
+  Pose part_to_world = Pose::Identity();
+  Scanner scanner;
+  std::vector<View> views;  // ids 1..n in order of marginal coverage, then bridging views
+  std::vector<Marker> markers;
+  std::optional<Registration> registration;  // per view, with PlanningOptions::registration
+  // Where views register to nothing, markers that would register them (world frame).
+  std::optional<MarkerProposal> proposed_markers;
+  std::optional<Sequence> sequence;  // of the registered views
+  std::vector<Sweep> sweeps;         // their views come first, in sweep order
+  // part.rest: all: the orientations planned, steadiest first. part_to_world and the
+  // samples' frame are the first one's; each view is planned in the world of the
+  // orientation that lists it; registration and sequence are per orientation, one after
+  // the other. Empty for a plan with one placement.
+  std::vector<PlannedOrientation> orientations;
+  std::vector<PlannedSample> samples;
+  // With a cell (spec cell.robot): the cell, and how it takes each view (per view, in the
+  // order of the views; none where it cannot), the joints chosen along the sequence for
+  // the least joint travel.
+  std::optional<Cell> cell;
+  std::vector<std::optional<CellPose>> cell_poses;
+  std::optional<CellMotion> cell_motion;  // of the program along the sequence
+  // The part's characteristics (its GD&T) and whether the views can verify each
+  // (planning/capability.h), in the same order.
+  std::vector<Characteristic> characteristics;
+  std::vector<Capability> capabilities;
+  std::vector<StageTime> times;
+  double seconds = 0;
+  std::optional<PlanBound> bound;  // of the selection; per orientation, summed
+
+  // A face with priority samples the plan leaves unmeasured (none of its views, nor any
+  // pose of the planner's pool, measures them).
+  struct FaceShortfall {
+    int face = 0;
+    std::size_t samples = 0, measured = 0;  // its priority samples
+  };
+  std::vector<FaceShortfall> priorityShortfall() const;
+
+  // The samples as the simulation measures them: position, normal, face (world frame).
+  std::vector<SurfacePoint> samplePoints() const;
+
+  std::size_t measuredCount() const;
+  std::size_t notCoverableCount() const;
+  // Samples measured by a view that registers (all measured ones without registration).
+  std::size_t registeredMeasuredCount() const;
+
+  // The plan as the method's authors table their results (their Table 2): the model's and
+  // the fixtures' faces, the control points (the points tasks' samples; the targets, all
+  // samples, when there are none) and those measured, the views, and the alignable ones
+  // (registered; none without registration).
+  struct ResultsRow {
+    std::size_t model_faces = 0, fixture_faces = 0;
+    bool control_points = false;  // points are control points, else targets
+    std::size_t points = 0, acquired = 0;
+    std::size_t views = 0;
+    std::optional<std::size_t> alignable;
+  };
+  ResultsRow resultsRow() const;
+};
+
+std::string_view toString(Uncoverable reason);
+
+// The ids of the plan's views in the order they are visited: its sequence, then any view
+// outside it in plan order.
+std::vector<int> visitingOrder(const Plan& plan);
+
+// Per view of `plan` (in its order), the index into Plan::orientations of the rest
+// orientation it was planned in; 0 for every view of a plan with one placement.
+std::vector<std::size_t> viewOrientations(const Plan& plan);
+// Where orientation `k` places the part (Plan::part_to_world for one placement).
+Pose orientationPlacement(const Plan& plan, std::size_t k);
+
+}  // namespace scanplan

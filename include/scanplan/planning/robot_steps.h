@@ -1,0 +1,31 @@
+#pragma once
+// A plan turned into the robot's steps (docs/cell.md): its views in visiting order, each with
+// the joints the cell takes it with, and the program made of them.
+
+#include <scanplan/plan/plan.h>
+#include <scanplan/robot/cell.h>
+#include <scanplan/robot/program.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace scanplan {
+
+// The program of `plan` in `cell`: its views in sequence order (then any outside the
+// sequence), each with its cell pose from `poses` (per view, in the order of the plan's
+// views; none: left out as unreached).
+RobotProgram robotProgram(const Plan& plan, const Cell& cell,
+                          const std::vector<std::optional<CellPose>>& poses,
+                          const std::string& name, const std::string& source);
+// The same with the joints cellPoses chooses (clear of the part with `collisions`).
+RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
+                          const std::string& source, const CellCollisions* collisions = nullptr);
+
+// The program of `plan` in `cell` (robotProgram, the cell poses `poses`) with its safe
+// motion (planMotion, lifted by viaLift).
+RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
+                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
+                         const std::string& source);
+
+}  // namespace scanplan

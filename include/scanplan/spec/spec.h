@@ -1,0 +1,130 @@
+#pragma once
+// The inspection spec (docs/design.md §6), YAML in millimetres and degrees. Every field has a
+// default: an empty spec (or none) means one `global` task with the default scanner.
+
+#include <scanplan/cad/part.h>
+#include <scanplan/core/tasks.h>
+#include <scanplan/core/view.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/robot/cell.h>
+#include <scanplan/scanner/sensor.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan {
+
+// One way to name faces in a spec: by id, by the name the file gives them, or by colour.
+struct FaceSelector {
+  int id = 0;                  // 1-based face id, or 0
+  std::string name;            // face (or solid) name from the CAD file, or ""
+  std::optional<Color> color;  // surface colour, matched within 1/255 per channel
+};
+
+struct Task {
+  TaskType type = TaskType::Global;
+  std::vector<FaceSelector> faces;   // target faces (gdt, trim, surface)
+  std::string points_file;           // control points CSV (points), resolved to the spec's folder
+  std::vector<ControlPoint> points;  // read from it
+};
+
+// A fixture model from its own file (`fixtures:`): a clamp, a frame or a table. It hides
+// the part from camera and projector, the scanner and the robot stay clear of it, it is
+// never sampled, and markers may be placed on it.
+struct FixtureModel {
+  std::string file;                   // STEP, IGES, BREP or a mesh, resolved to the spec's folder
+  Pose placement = Pose::Identity();  // the fixture's frame in the part's (or the world's)
+  bool in_world = false;              // frame: world: fixed in the cell, whatever the rest
+  std::string markers_file;           // markers: a CSV in the fixture's frame, resolved, or ""
+};
+
+struct PlannerSettings {
+  std::uint64_t seed = 1;  // k-means and any other randomness
+  double vm_step = 5;      // visibility-map grid step, degrees
+  double tilt_min = 30;    // preferred tilt of tilted positioning, degrees
+  double tilt_max = 50;
+  int max_failures = 3;          // attempts before a sample is declared not coverable
+  double sweep_overlap = 0.3;    // share of the field of view neighbouring sweep tiles share
+  int rotations = 8;             // rotations about the view axis tried per cluster direction
+  double rescue_step = 10;       // rescue: directions on a grid of this step, degrees, ...
+  int rescue_rotations = 8;      // ... each with this many rotations about the view axis
+  int anchors = 1200;            // pool: dense poses around at most this many anchor samples,
+  int pool_rotations = 4;        // ... each with this many rotations about the view axis
+  int selection_nodes = 200;     // the exact selection's branch-and-bound nodes (CBC)
+  double selection_seconds = 8;  // and its time cap, per placement (results depend on
+                                 // the machine when it is reached)
+  int most_views = 10000;        // a part larger than this many fields of view is refused
+  double capable_ratio = 4;      // a characteristic is capable from this tolerance width /
+                                 // (2 U) on (shops ask 10 for gauges)
+  bool lift_capability = false;  // plan again with the characteristics' faces as targets when
+                                 // one is covered but not capable; kept if more are capable
+};
+
+struct Spec {
+  std::string source;                  // the file it was read from, "" for defaults
+  Scanner scanner;                     // `scanner:` preset name or mapping
+  std::string part_file;               // part.file, resolved to the spec's folder, or ""
+  bool rest_auto = false;              // part.rest: auto (the steadiest rest orientation)
+  bool rest_all = false;               // part.rest: all (plan every rest orientation, merged)
+  int rest_face = 0;                   // part.rest: a face id to rest on (0: none)
+  std::optional<Pose> rest_pose;       // part.rest: a 4x4 part-to-world matrix
+                                       // (neither: the CAD orientation, lifted onto the plane)
+  std::vector<FaceSelector> priority;  // roles.priority
+  std::vector<FaceSelector> fixture;   // roles.fixture: faces that only occlude
+  std::vector<FaceSelector> specular;  // roles.specular
+  bool gdt_from_file = false;          // gdt: from-file (or all)
+  bool gdt_dimensions = false;         // gdt: all: the dimensioned faces are targets too
+  std::string markers_file;            // markers: a CSV (world frame), resolved, or ""
+  double marker_grid = 0;              // markers: {grid: step, margin: mm, on: ...}: a
+  double marker_margin = 100;          // generated grid (0: none) on the working plane
+  bool markers_on_plate = true;        // around the part, and/or on the part's upward
+  bool markers_on_part = false;        // faces, and/or on the fixture models' upward
+  bool markers_on_fixture = false;     // faces
+  std::vector<FixtureModel> fixtures;  // fixtures: models with their own files
+  RegistrationOptions registration;    // registration: thresholds of the pair checks
+  std::vector<Task> tasks;             // never empty: defaults to one global task
+  PlannerSettings planner;
+  bool working_plane = true;  // cell.working_plane: the plane z = 0 occludes
+  std::optional<Cell> cell;   // cell.robot, cell.mount, cell.table: views must be reachable
+};
+
+// The default spec: the generic structured-light scanner, one global task.
+Spec defaultSpec();
+
+// A spec resolved against its part, once: every face selector turned into face ids and
+// checked, the GD&T faces taken from the part. Every stage of planning reads this.
+struct ResolvedSpec {
+  Spec spec;
+  std::string source;          // the spec's file, else the part's: where errors point
+  Targets targets;             // what sampling targets
+  std::vector<int> specular;   // roles.specular, sorted face ids
+  std::vector<int> gdt_faces;  // with gdt: from-file, the part's GD&T faces, else empty
+  std::vector<TriangleMesh> fixture_meshes;  // per spec.fixtures: its mesh, its own frame
+  std::size_t fixture_model_faces = 0;       // faces of the fixture models' files
+
+  // The fixture faces: roles.fixture's and those of the fixture models.
+  std::size_t fixtureFaces() const { return targets.fixture.size() + fixture_model_faces; }
+};
+
+// Resolves `spec` against `part`, and reads its fixture models' files.
+// \throw InputError for faces or files the spec names wrongly, or gdt: from-file on a
+// part without GD&T; PlanningError for a gdt, trim or surface task left without target
+// faces.
+ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
+
+// Where a fixture model stands in the world, with the part placed by `part_to_world`.
+Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world);
+
+// Faces of the part's GD&T: the faces of its characteristics (cad/gdt.h) and of its
+// datums, sorted, unique; the dimensions' only with `dimensions`.
+std::vector<int> gdtFaces(const Part& part, bool dimensions = false);
+
+// The face ids that `selectors` name on `part`, sorted and unique.
+// \throw InputError naming `source` and the selector that matches no face.
+std::vector<int> resolveFaces(const Part& part, const std::vector<FaceSelector>& selectors,
+                              const std::string& source);
+
+}  // namespace scanplan

@@ -1,0 +1,50 @@
+// A plan's views as the robot's steps, in visiting order.
+
+#include <scanplan/planning/cell_poses.h>
+#include <scanplan/planning/robot_steps.h>
+#include <scanplan/robot/kinematics.h>
+#include <scanplan/robot/motion.h>
+
+#include <map>
+
+namespace scanplan {
+
+RobotProgram robotProgram(const Plan& plan, const Cell& cell,
+                          const std::vector<std::optional<CellPose>>& poses,
+                          const std::string& name, const std::string& source) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
+  std::vector<ProgramStep> steps;
+  std::vector<int> unreached;
+  for (int id : visitingOrder(plan)) {
+    const std::size_t i = index.at(id);
+    if (i >= poses.size() || !poses[i]) {
+      unreached.push_back(id);
+      continue;
+    }
+    steps.push_back({id,
+                     plan.views[i].task,
+                     *poses[i],
+                     forwardKinematics(cell.robot, poses[i]->joints),
+                     {},
+                     {}});
+  }
+  return robotProgram(cell, cell.base.inverse() * plan.part_to_world, std::move(steps),
+                      std::move(unreached), name, source);
+}
+
+RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
+                          const std::string& source, const CellCollisions* collisions) {
+  return robotProgram(plan, cell, cellPoses(cell, plan.views, visitingOrder(plan), collisions),
+                      name, source);
+}
+
+RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
+                         const std::vector<std::optional<CellPose>>& poses, const std::string& name,
+                         const std::string& source) {
+  RobotProgram program = robotProgram(plan, cell, poses, name, source);
+  planMotion(program, collisions, viaLift(cell, plan.scanner));
+  return program;
+}
+
+}  // namespace scanplan

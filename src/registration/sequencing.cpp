@@ -1,0 +1,177 @@
+// Motion costs between views and the tour through them.
+
+#include <scanplan/registration/sequencing.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace scanplan {
+
+Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> views,
+                            const SequenceOptions& options) {
+  const auto n = static_cast<Eigen::Index>(views.size());
+  double top = 0;
+  for (const SurfacePoint& p : simulator.facetPoints()) top = std::max(top, p.position.z());
+  const double safe = top + options.clearance;
+  std::vector<Ray> segments;
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j)
+      segments.push_back(Ray{views[i].camera(), views[j].camera() - views[i].camera(), 0, 1});
+  const std::vector<bool> blocked = simulator.occluded(segments);
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Zero(n, n);
+  std::size_t k = 0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j, ++k) {
+      const Vec3 a = views[i].camera(), b = views[j].camera();
+      const bool below = simulator.options().working_plane && (a.z() < 0 || b.z() < 0);
+      double travel = (b - a).norm();
+      if (blocked[k] || below) {
+        const double height = std::max({safe, a.z(), b.z()});
+        travel = (height - a.z()) + (b - a).head<2>().norm() + (height - b.z());
+      }
+      const Eigen::AngleAxisd turn(views[i].camera_to_world.linear().transpose() *
+                                   views[j].camera_to_world.linear());
+      cost(i, j) = cost(j, i) = travel + options.rotation_arm * std::abs(turn.angle());
+    }
+  return cost;
+}
+
+Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct) {
+  // Floyd-Warshall, a column at a time: through view k, column j (the moves into j) becomes
+  // the shorter of itself and column k plus the move k -> j. Columns are independent within
+  // a step; column k itself does not change (no cost is negative).
+  Eigen::MatrixXd d = direct;
+  const Eigen::Index n = d.rows();
+  for (Eigen::Index k = 0; k < n; ++k)
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 64), [&](const auto& columns) {
+      for (Eigen::Index j = columns.begin(); j < columns.end(); ++j)
+        if (j != k) d.col(j) = d.col(j).cwiseMin((d.col(k).array() + d(k, j)).matrix());
+    });
+  return d;
+}
+
+std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
+                                                 const Registration& registration) {
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = v;
+  std::vector<std::vector<char>> links(views.size(), std::vector<char>(views.size(), 0));
+  for (const PairCheck& pair : registration.pairs) {
+    const auto a = index.find(pair.a), b = index.find(pair.b);
+    if (a != index.end() && b != index.end() && registration.links(pair))
+      links[a->second][b->second] = links[b->second][a->second] = 1;
+  }
+  // A view the robot registers is in the cell's frame: any order suits it.
+  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v)
+    if (registration.views[v].method == RegistrationMethod::Robot)
+      for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = links[w][v] = v != w;
+  return links;
+}
+
+double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order) {
+  double length = 0;
+  for (std::size_t k = 1; k < order.size(); ++k) length += cost(order[k - 1], order[k]);
+  return length;
+}
+
+namespace {
+
+// Nodes of `order` (after the first) with no linked node before them.
+std::size_t violations(const std::vector<std::vector<char>>& linked,
+                       const std::vector<int>& order) {
+  std::size_t count = 0;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    bool follows = false;
+    for (std::size_t j = 0; j < k && !follows; ++j) follows = linked[order[k]][order[j]];
+    count += !follows;
+  }
+  return count;
+}
+
+}  // namespace
+
+std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
+                                       const std::vector<std::vector<char>>& linked, int start) {
+  const auto n = static_cast<int>(cost.rows());
+  std::vector<int> order{start};
+  std::vector<char> visited(static_cast<std::size_t>(n), 0), reachable(visited);
+  visited[start] = 1;
+  auto reach = [&](int u) {
+    for (int v = 0; v < n; ++v)
+      if (!linked.empty() && linked[u][v]) reachable[v] = 1;
+  };
+  reach(start);
+  while (static_cast<int>(order.size()) < n) {
+    int best = -1;
+    for (int pass = 0; pass < 2 && best < 0; ++pass)  // linked nodes first, then any
+      for (int v = 0; v < n; ++v)
+        if (!visited[v] && (pass == 1 || reachable[v]) &&
+            (best < 0 || cost(order.back(), v) < cost(order.back(), best)))
+          best = v;
+    order.push_back(best);
+    visited[best] = 1;
+    reach(best);
+  }
+  return order;
+}
+
+std::vector<int> twoOpt(const Eigen::MatrixXd& cost, const std::vector<std::vector<char>>& linked,
+                        std::vector<int> order) {
+  const std::size_t n = order.size();
+  std::size_t broken = linked.empty() ? 0 : violations(linked, order);
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (std::size_t i = 1; i + 1 < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j) {
+        // Reversing order[i..j] replaces the edges (i-1, i) and (j, j+1).
+        double delta = cost(order[i - 1], order[j]) - cost(order[i - 1], order[i]);
+        if (j + 1 < n) delta += cost(order[i], order[j + 1]) - cost(order[j], order[j + 1]);
+        if (delta > -1e-9) continue;
+        std::reverse(order.begin() + static_cast<std::ptrdiff_t>(i),
+                     order.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+        const std::size_t now = linked.empty() ? 0 : violations(linked, order);
+        if (now > broken) {  // undo: the move breaks the registration rule
+          std::reverse(order.begin() + static_cast<std::ptrdiff_t>(i),
+                       order.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+          continue;
+        }
+        broken = now;
+        improved = true;
+      }
+  }
+  return order;
+}
+
+Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
+                       const Registration& registration, const SequenceOptions& options) {
+  const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views, options));
+  return sequenceViews(cost, cost, views, registration);
+}
+
+Sequence sequenceViews(const Eigen::MatrixXd& order_cost, const Eigen::MatrixXd& length_cost,
+                       std::span<const View> views, const Registration& registration) {
+  Sequence sequence;
+  const std::size_t n = views.size();
+  if (n == 0) return sequence;
+  int start = 0;
+  for (std::size_t v = 0; v < n; ++v)
+    if (views[v].id == registration.reference) start = static_cast<int>(v);
+  const std::vector<std::vector<char>> linked = registrationLinks(views, registration);
+
+  const std::vector<int> nearest = nearestNeighbourOrder(order_cost, linked, start);
+  std::vector<int> best = twoOpt(order_cost, linked, nearest);
+  const std::vector<int> plain =
+      twoOpt(order_cost, linked, nearestNeighbourOrder(order_cost, {}, start));
+  if (violations(linked, plain) <= violations(linked, best) &&
+      pathLength(order_cost, plain) < pathLength(order_cost, best))
+    best = plain;
+  for (int k : best) sequence.views.push_back(views[k].id);
+  sequence.length = pathLength(length_cost, best);
+  sequence.nearest_neighbour_length = pathLength(length_cost, nearest);
+  return sequence;
+}
+
+}  // namespace scanplan

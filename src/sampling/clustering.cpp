@@ -1,0 +1,145 @@
+#include <scanplan/sampling/clustering.h>
+
+#include "core/kd_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace scanplan {
+
+ClusteringOptions clusteringOptionsFor(const Scanner& scanner, std::uint64_t seed) {
+  ClusteringOptions options;
+  options.max_distance = std::min(scanner.fov_width, scanner.fov_height);
+  options.seed = seed;
+  return options;
+}
+
+namespace {
+
+class Compatibility {
+ public:
+  Compatibility(const std::vector<Sample>& samples, const ClusteringOptions& options)
+      : samples_(samples),
+        max_distance2_(options.max_distance * options.max_distance),
+        min_dot_(std::cos(radians(options.max_normal_angle))) {}
+
+  bool pair(int a, int b) const {
+    return (samples_[a].position - samples_[b].position).squaredNorm() < max_distance2_ &&
+           samples_[a].normal.dot(samples_[b].normal) > min_dot_;
+  }
+  // `candidate` keeps both conditions with every member (but `except`).
+  bool withAll(int candidate, const std::vector<int>& members, int except = -1) const {
+    for (int m : members)
+      if (m != except && !pair(candidate, m)) return false;
+    return true;
+  }
+
+ private:
+  const std::vector<Sample>& samples_;
+  double max_distance2_, min_dot_;
+};
+
+void updateMeans(const std::vector<Sample>& samples, Cluster& cluster) {
+  Vec3 position = Vec3::Zero(), normal = Vec3::Zero();
+  for (int i : cluster.samples) {
+    position += samples[i].position;
+    normal += samples[i].normal;
+  }
+  cluster.mean_position =
+      position / static_cast<double>(std::max<std::size_t>(cluster.samples.size(), 1));
+  cluster.mean_normal = normal.norm() > 1e-12 ? Vec3(normal.normalized()) : Vec3::UnitZ();
+}
+
+}  // namespace
+
+bool keepsConditions(const std::vector<Sample>& samples, const Cluster& cluster,
+                     const ClusteringOptions& options) {
+  const Compatibility compatible(samples, options);
+  for (std::size_t a = 0; a < cluster.samples.size(); ++a)
+    for (std::size_t b = a + 1; b < cluster.samples.size(); ++b)
+      if (!compatible.pair(cluster.samples[a], cluster.samples[b])) return false;
+  return true;
+}
+
+std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
+                                    const ClusteringOptions& options) {
+  std::vector<Cluster> clusters;
+  if (samples.empty()) return clusters;
+  const Compatibility compatible(samples, options);
+  detail::PositionCloud<Sample> cloud{samples};
+  detail::PositionTree<Sample> tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+
+  // Greedy growth from seeds in a seeded random order.
+  std::vector<int> order(samples.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::mt19937_64 random(options.seed);
+  std::shuffle(order.begin(), order.end(), random);
+  std::vector<int> owner(samples.size(), -1);
+  detail::Neighbours near;
+  nanoflann::SearchParams sorted;
+  sorted.sorted = true;
+  for (int seed : order) {
+    if (owner[seed] >= 0) continue;
+    Cluster cluster;
+    cluster.samples.push_back(seed);
+    owner[seed] = static_cast<int>(clusters.size());
+    tree.radiusSearch(samples[seed].position.data(), options.max_distance * options.max_distance,
+                      near, sorted);
+    for (const auto& [j, distance2] : near) {
+      const int candidate = static_cast<int>(j);
+      if (owner[candidate] >= 0 || !compatible.withAll(candidate, cluster.samples)) continue;
+      cluster.samples.push_back(candidate);
+      owner[candidate] = static_cast<int>(clusters.size());
+    }
+    updateMeans(samples, cluster);
+    clusters.push_back(std::move(cluster));
+  }
+
+  // k-means refinement: each sample goes to the nearest centroid (position, normal) whose
+  // cluster it is compatible with; a move never breaks a condition.
+  const double w = options.normal_weight * options.max_distance;
+  auto cost = [&](int i, const Cluster& c) {
+    return (samples[i].position - c.mean_position).squaredNorm() +
+           w * w * (samples[i].normal - c.mean_normal).squaredNorm();
+  };
+  std::vector<std::pair<double, int>> candidates;
+  for (int pass = 0; pass < options.iterations; ++pass) {
+    bool moved = false;
+    for (int i = 0; i < static_cast<int>(samples.size()); ++i) {
+      const int from = owner[i];
+      if (clusters[from].samples.size() == 1) continue;  // keep every cluster alive
+      // Every other cluster, cheapest first (clusters are far fewer than samples).
+      candidates.clear();
+      for (int to = 0; to < static_cast<int>(clusters.size()); ++to)
+        if (to != from && !clusters[to].samples.empty())
+          candidates.push_back({cost(i, clusters[to]), to});
+      std::sort(candidates.begin(), candidates.end());
+      int best = from;
+      const double current = cost(i, clusters[from]);
+      for (const auto& [c, to] : candidates) {
+        if (c >= current) break;
+        if (compatible.withAll(i, clusters[to].samples)) {
+          best = to;
+          break;
+        }
+      }
+      if (best == from) continue;
+      auto& members = clusters[from].samples;
+      members.erase(std::find(members.begin(), members.end(), i));
+      clusters[best].samples.push_back(i);
+      owner[i] = best;
+      moved = true;
+    }
+    for (Cluster& c : clusters) updateMeans(samples, c);
+    if (!moved) break;
+  }
+  for (Cluster& c : clusters) std::sort(c.samples.begin(), c.samples.end());
+  for (std::size_t c = 0; c < clusters.size(); ++c)
+    for (int i : clusters[c].samples) samples[i].cluster = static_cast<int>(c);
+  return clusters;
+}
+
+}  // namespace scanplan

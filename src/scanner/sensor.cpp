@@ -1,0 +1,210 @@
+#include "core/assets.h"
+#include "scanner/sensor_yaml.h"
+
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
+#include <scanplan/scanner/sensor.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+
+namespace scanplan {
+
+double Scanner::baseline() const { return standoff * std::tan(radians(triangulation_angle)); }
+
+double Scanner::reach() const {
+  // The far end of the volume is its widest: the field of view grows with the distance.
+  const double half_depth = depth_of_field / 2;
+  const double far = (standoff + half_depth) / standoff;
+  return std::sqrt(half_depth * half_depth + std::pow(fov_width / 2 * far, 2) +
+                   std::pow(fov_height / 2 * far, 2));
+}
+
+Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
+
+void validate(const Scanner& s, const std::string& source) {
+  auto fail = [&](const std::string& what) {
+    throw InputError(source, "scanner '" + s.name + "': " + what);
+  };
+  auto positive = [&](double v, const char* name) {
+    if (!(v > 0) || !(v <= kLongestLength))
+      fail(std::string(name) + " must be a positive number of mm, at most 100,000 (100 m)");
+  };
+  auto angle = [&](double v, const char* name, double lo_inclusive) {
+    bool ok = std::isfinite(v) && v < 90 && (lo_inclusive == 0 ? v >= 0 : v > 0);
+    if (!ok)
+      fail(std::string(name) + " must be within " + (lo_inclusive == 0 ? "[0, 90)" : "(0, 90)") +
+           " degrees");
+  };
+  positive(s.standoff, "standoff");
+  positive(s.depth_of_field, "depth_of_field");
+  positive(s.fov_width, "fov_width");
+  positive(s.fov_height, "fov_height");
+  positive(s.point_spacing, "point_spacing");
+  if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
+    fail("noise_sigma must be zero or positive");
+  if (!(s.body_margin >= 0) || !(s.body_margin <= kLongestLength))
+    fail("body_margin must be zero or a positive number of mm, at most 100,000 (100 m)");
+  positive(s.body_depth, "body_depth");
+  angle(s.triangulation_angle, "triangulation_angle", 1);
+  angle(s.max_camera_angle, "max_camera_angle", 1);
+  angle(s.max_projector_angle, "max_projector_angle", 1);
+  angle(s.reflection_cone, "reflection_cone", 0);
+  if (!(s.depth_of_field < 2 * s.standoff))
+    fail(
+        "depth_of_field must be shorter than twice the standoff (the volume would reach the "
+        "camera)");
+  if (s.point_spacing > std::min(s.fov_width, s.fov_height))
+    fail("point_spacing must be smaller than the field of view");
+  // A simulated cloud has a point per spacing² of the field of view.
+  constexpr double kMostPoints = 1e8;
+  if (s.fov_width / s.point_spacing * (s.fov_height / s.point_spacing) > kMostPoints)
+    fail(
+        fmt::format("point_spacing gives more than 100 million points over the field of view: "
+                    "at least {:.3g} mm",
+                    std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
+}
+
+const std::array<ScannerParameter, 12>& scannerParameters() {
+  static const std::array<ScannerParameter, 12> table = {{
+      {"standoff", &Scanner::standoff},
+      {"depth_of_field", &Scanner::depth_of_field},
+      {"fov_width", &Scanner::fov_width},
+      {"fov_height", &Scanner::fov_height},
+      {"triangulation_angle", &Scanner::triangulation_angle},
+      {"max_camera_angle", &Scanner::max_camera_angle},
+      {"max_projector_angle", &Scanner::max_projector_angle},
+      {"reflection_cone", &Scanner::reflection_cone},
+      {"point_spacing", &Scanner::point_spacing},
+      {"noise_sigma", &Scanner::noise_sigma},
+      {"body_margin", &Scanner::body_margin},
+      {"body_depth", &Scanner::body_depth},
+  }};
+  return table;
+}
+
+namespace {
+
+// Applies a YAML mapping of scanner parameters on top of `scanner`.
+Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& source) {
+  if (!node.IsMap())
+    throw InputError(source, "the scanner must be a preset name or a mapping of parameters");
+  if (node["preset"]) scanner = scannerPreset(node["preset"].as<std::string>());
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    if (key == "preset") continue;
+    if (key == "name") {
+      scanner.name = item.second.as<std::string>();
+      continue;
+    }
+    const auto& table = scannerParameters();
+    const auto parameter = std::find_if(table.begin(), table.end(),
+                                        [&](const ScannerParameter& p) { return key == p.name; });
+    if (parameter == table.end())
+      throw InputError(source, "unknown scanner parameter '" + key + "'");
+    try {
+      scanner.*parameter->value = item.second.as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source, "scanner parameter '" + key + "' must be a number");
+    }
+  }
+  validate(scanner, source);
+  return scanner;
+}
+
+YAML::Node loadYaml(const std::string& path) {
+  requireInputFile(path);
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "not valid YAML: " + std::string(e.what()));
+  }
+}
+
+// $SCANPLAN_DATA/scanners, where presets may be added; empty when the variable is unset.
+std::filesystem::path addedPresets() {
+  const char* env = std::getenv("SCANPLAN_DATA");
+  return env && *env ? std::filesystem::path(env) / "scanners" : std::filesystem::path();
+}
+
+}  // namespace
+
+std::vector<std::string> scannerPresetNames() {
+  std::set<std::string> names;
+  for (const assets::File& preset : assets::scanner_presets) names.emplace(preset.name);
+  std::error_code ec;
+  if (const std::filesystem::path folder = addedPresets(); !folder.empty())
+    for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+      if (entry.path().extension() == ".yaml") names.insert(entry.path().stem().string());
+  return {names.begin(), names.end()};
+}
+
+Scanner scannerPreset(const std::string& name) {
+  namespace fs = std::filesystem;
+  // A preset is named by letters, digits, '.', '_' and '-' (no path, no file name too long).
+  const bool plain =
+      !name.empty() && name.size() <= 100 && std::all_of(name.begin(), name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+      });
+  Scanner scanner;
+  scanner.name = name;
+  std::error_code missing;
+  if (const fs::path folder = addedPresets(); plain && !folder.empty()) {
+    const fs::path file = folder / (name + ".yaml");
+    if (fs::exists(file, missing)) {
+      try {
+        return fromMapping(loadYaml(file.string()), scanner, file.string());
+      } catch (const YAML::Exception& e) {
+        throw InputError(file.string(), e.what());
+      }
+    }
+  }
+  const auto& presets = assets::scanner_presets;
+  const auto own = std::find_if(presets.begin(), presets.end(),
+                                [&](const assets::File& preset) { return preset.name == name; });
+  if (!plain || own == presets.end())
+    throw InputError(name, fmt::format("unknown scanner preset (known: {})",
+                                       fmt::join(scannerPresetNames(), ", ")));
+  return fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)");
+}
+
+Scanner scannerFromYaml(const YAML::Node& root, const std::string& source) {
+  try {
+    if (root.IsMap() && root["scanner"]) {
+      const YAML::Node& node = root["scanner"];
+      if (node.IsScalar()) {
+        try {
+          return scannerPreset(node.as<std::string>());
+        } catch (const InputError& e) {  // named by the preset: name the spec too
+          throw InputError(source, "scanner '" + e.file() + "': " + e.reason());
+        }
+      }
+      return fromMapping(node, Scanner{}, source);
+    }
+    return fromMapping(root, Scanner{}, source);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, e.what());
+  }
+}
+
+Scanner loadScanner(const std::string& path) { return scannerFromYaml(loadYaml(path), path); }
+
+Scanner scannerNamed(const std::string& name) {
+  const std::string extension = std::filesystem::path(name).extension().string();
+  std::error_code ec;
+  if (extension == ".yaml" || extension == ".yml" || std::filesystem::is_regular_file(name, ec))
+    return loadScanner(name);
+  return scannerPreset(name);
+}
+
+}  // namespace scanplan

@@ -1,0 +1,498 @@
+#include <scanplan/cad/raycast.h>
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/scanner/simulation.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <random>
+#include <span>
+
+namespace scanplan {
+
+std::string_view toString(Loss loss) {
+  switch (loss) {
+    case Loss::Measured: return "measured";
+    case Loss::OutsideVolume: return "outside_volume";
+    case Loss::CameraAngle: return "camera_angle";
+    case Loss::ProjectorAngle: return "projector_angle";
+    case Loss::Reflection: return "reflection";
+    case Loss::CameraOccluded: return "camera_occluded";
+    case Loss::ProjectorOccluded: return "projector_occluded";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// f(i) for i in [0, n), in parallel in blocks: each test is light, and views are often
+// measured in parallel already.
+template <typename F>
+void forEach(std::size_t n, const F& f) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 512), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) f(i);
+  });
+}
+
+// The parts of the measurement test that need no ray, for one view.
+struct ViewGeometry {
+  Pose world_to_camera;
+  Vec3 camera, projector;
+  double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
+  double cos_camera, cos_projector, cos_reflection;
+
+  ViewGeometry(const View& view, const Scanner& s)
+      : world_to_camera(view.camera_to_world.inverse()),
+        camera(view.camera()),
+        projector(projectorPosition(view, s)),
+        z_min(s.standoff - s.depth_of_field / 2),
+        z_max(s.standoff + s.depth_of_field / 2),
+        half_width(s.fov_width / 2),
+        half_height(s.fov_height / 2),
+        standoff(s.standoff),
+        cos_camera(std::cos(radians(s.max_camera_angle))),
+        cos_projector(std::cos(radians(s.max_projector_angle))),
+        cos_reflection(std::cos(radians(s.reflection_cone))) {}
+
+  bool inVolume(const Vec3& p) const {
+    Vec3 q = world_to_camera * p;
+    double scale = q.z() / standoff;  // the field grows linearly with depth
+    return q.z() >= z_min && q.z() <= z_max && std::abs(q.x()) <= half_width * scale &&
+           std::abs(q.y()) <= half_height * scale;
+  }
+
+  // False when no point of the ball (centre, radius) can lie in the measuring volume.
+  bool mayReachVolume(const Vec3& centre, double radius) const {
+    const Vec3 q = world_to_camera * centre;
+    if (q.z() + radius < z_min || q.z() - radius > z_max) return false;
+    const double scale = std::min(q.z() + radius, z_max) / standoff;  // widest depth in reach
+    return std::abs(q.x()) - radius <= half_width * scale &&
+           std::abs(q.y()) - radius <= half_height * scale;
+  }
+
+  // Volume, glancing angles and specular reflection, in the order of Loss.
+  Loss test(const Vec3& p, const Vec3& n, bool specular) const {
+    if (!inVolume(p)) return Loss::OutsideVolume;
+    const Vec3 to_camera = (camera - p).normalized();
+    if (n.dot(to_camera) < cos_camera) return Loss::CameraAngle;
+    const Vec3 to_projector = (projector - p).normalized();
+    if (n.dot(to_projector) < cos_projector) return Loss::ProjectorAngle;
+    if (specular) {
+      // Mirror direction of the projector's light leaving p.
+      const Vec3 reflected = 2 * n.dot(to_projector) * n - to_projector;
+      if (reflected.dot(to_camera) > cos_reflection) return Loss::Reflection;
+    }
+    return Loss::Measured;
+  }
+};
+
+// Points grouped in cubic cells of a given size with a bounding ball, so that a view tests
+// only the points of cells that reach its measuring volume (view-frustum culling).
+class Cells {
+ public:
+  Cells(std::span<const SurfacePoint> points, double size) {
+    std::map<std::array<long, 3>, std::size_t> cell_of_key;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const Vec3& p = points[i].position;
+      const std::array<long, 3> key = {std::lround(std::floor(p.x() / size)),
+                                       std::lround(std::floor(p.y() / size)),
+                                       std::lround(std::floor(p.z() / size))};
+      auto [it, inserted] = cell_of_key.emplace(key, cells_.size());
+      if (inserted) cells_.emplace_back();
+      cells_[it->second].members.push_back(i);
+    }
+    for (Cell& cell : cells_) {
+      Box box;
+      for (std::size_t i : cell.members) box.add(points[i].position);
+      cell.centre = box.center();
+      for (std::size_t i : cell.members)
+        cell.radius = std::max(cell.radius, (points[i].position - cell.centre).norm());
+    }
+  }
+
+  // The points of the cells that may reach the view's measuring volume.
+  std::vector<std::size_t> reaching(const ViewGeometry& geometry) const {
+    std::vector<std::size_t> near;
+    for (const Cell& cell : cells_)
+      if (geometry.mayReachVolume(cell.centre, cell.radius))
+        near.insert(near.end(), cell.members.begin(), cell.members.end());
+    return near;
+  }
+
+ private:
+  struct Cell {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0;
+    std::vector<std::size_t> members;
+  };
+  std::vector<Cell> cells_;
+};
+
+}  // namespace
+
+struct Simulator::Impl {
+  Scanner scanner;
+  SimulationOptions options;
+  TriangleMesh world;  // part (first) then fixtures, world frame
+  std::size_t part_triangles = 0;
+  std::vector<char> specular;  // per face id (index 0: fixtures)
+  std::vector<SurfacePoint> facets;
+  std::vector<double> facet_area;
+  std::optional<Cells> cells;  // of the part's facets
+  std::size_t face_count = 0;
+  double offset = 0;  // mm
+  std::unique_ptr<RayCaster> caster;
+
+  bool isSpecular(int face) const {
+    return face > 0 && face < static_cast<int>(specular.size()) && specular[face];
+  }
+
+  // The working plane z = 0 hides the segment p -> eye when the point lies under it or the
+  // eye is below it.
+  bool planeBlocks(const Vec3& p, const Vec3& eye) const {
+    return options.working_plane && (eye.z() < 0 || p.z() < -offset);
+  }
+
+  Ray segment(const SurfacePoint& point, const Vec3& eye) const {
+    Ray ray;
+    ray.origin = point.position + offset * point.normal;
+    ray.direction = eye - ray.origin;
+    ray.t_near = 0;
+    ray.t_far = 1;
+    return ray;
+  }
+
+  // The measurement test of `points` from `view`. With `subset`, only those indices are
+  // tested and all others are outside the volume.
+  std::vector<Loss> measure(const View& view, std::span<const SurfacePoint> points,
+                            const std::vector<std::size_t>* subset, std::size_t* ray_count) const {
+    const ViewGeometry geometry(view, scanner);
+    std::vector<Loss> losses(points.size(), Loss::OutsideVolume);
+    auto test = [&](std::size_t i) {
+      const SurfacePoint& sp = points[i];
+      Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face));
+      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.camera))
+        loss = Loss::CameraOccluded;
+      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.projector))
+        loss = Loss::ProjectorOccluded;
+      losses[i] = loss;
+    };
+    if (subset) {
+      forEach(subset->size(), [&](std::size_t k) { test((*subset)[k]); });
+    } else {
+      forEach(points.size(), test);
+    }
+    // Two occlusion rays per remaining point, cast in one batch.
+    std::vector<std::size_t> candidates;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (losses[i] == Loss::Measured) candidates.push_back(i);
+    std::vector<Ray> rays(2 * candidates.size());
+    forEach(candidates.size(), [&](std::size_t k) {
+      const SurfacePoint& sp = points[candidates[k]];
+      rays[2 * k] = segment(sp, geometry.camera);
+      rays[2 * k + 1] = segment(sp, geometry.projector);
+    });
+    const std::vector<bool> blocked = caster->occluded(rays);
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      if (blocked[2 * k])
+        losses[candidates[k]] = Loss::CameraOccluded;
+      else if (blocked[2 * k + 1])
+        losses[candidates[k]] = Loss::ProjectorOccluded;
+    }
+    if (ray_count) *ray_count = rays.size();
+    return losses;
+  }
+};
+
+Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  validate(scanner, scanner.name);
+  d.scanner = scanner;
+  d.face_count = part.faces.size();
+  d.specular.assign(d.face_count + 1, 0);
+  for (int id : options.specular_faces) {
+    part.face(id);  // throws for an unknown id
+    d.specular[id] = 1;
+  }
+  // Points on the exact surface lie up to the mesh's chordal tolerance under its facets
+  // where the surface is concave: the rays start above that.
+  d.offset = std::max(
+      {options.surface_offset * part.bounds().diagonal(), 1e-4, 1.1 * part.linear_deflection});
+  d.options = std::move(options);
+
+  // The part in the world, then the fixtures (face id 0).
+  const Pose& placement = d.options.part_to_world;
+  d.world.vertices.reserve(part.mesh.vertices.size());
+  for (const Vec3& v : part.mesh.vertices) d.world.vertices.push_back(placement * v);
+  d.world.triangles = part.mesh.triangles;
+  d.world.triangle_faces = part.mesh.triangle_faces;
+  d.part_triangles = d.world.triangles.size();
+  for (const TriangleMesh& fixture : d.options.fixtures) d.world.append(fixture, 0);
+  d.caster = std::make_unique<RayCaster>(d.world);
+
+  d.facets.resize(d.part_triangles);
+  d.facet_area.resize(d.part_triangles);
+  tbb::parallel_for(std::size_t{0}, d.part_triangles, [&](std::size_t t) {
+    const Vec3i& tri = d.world.triangles[t];
+    d.facets[t].position =
+        (d.world.vertices[tri[0]] + d.world.vertices[tri[1]] + d.world.vertices[tri[2]]) / 3;
+    d.facets[t].normal = d.world.normal(t);
+    d.facets[t].face = d.world.triangle_faces[t];
+    d.facet_area[t] = d.world.area(t);
+  });
+
+  // Cells of a quarter of the depth of field: small enough to cull, large enough to be few.
+  d.cells.emplace(std::span<const SurfacePoint>(d.facets.data(), d.part_triangles),
+                  scanner.depth_of_field / 4);
+}
+
+Simulator::~Simulator() = default;
+Simulator::Simulator(Simulator&&) noexcept = default;
+Simulator& Simulator::operator=(Simulator&&) noexcept = default;
+
+const Scanner& Simulator::scanner() const { return impl_->scanner; }
+
+const SimulationOptions& Simulator::options() const { return impl_->options; }
+
+double Simulator::surfaceOffset() const { return impl_->offset; }
+
+std::vector<bool> Simulator::occluded(std::span<const Ray> rays) const {
+  return impl_->caster->occluded(rays);
+}
+
+std::vector<SurfacePoint> Simulator::facetPoints() const { return impl_->facets; }
+
+std::vector<SurfacePoint> Simulator::surfacePoints(double spacing, std::uint64_t seed) const {
+  const Impl& d = *impl_;
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<SurfacePoint> points;
+  const double cell = spacing * spacing;
+  for (std::size_t t = 0; t < d.part_triangles; ++t) {
+    // Whole expected count, plus one more with the probability of the fraction.
+    const double expected = d.facet_area[t] / cell;
+    auto count = static_cast<std::size_t>(expected);
+    if (uniform(random) < expected - static_cast<double>(count)) ++count;
+    const auto& tri = d.world.triangles[t];
+    const Vec3 &a = d.world.vertices[tri[0]], &b = d.world.vertices[tri[1]],
+               &c = d.world.vertices[tri[2]];
+    for (std::size_t k = 0; k < count; ++k) {
+      double u = uniform(random), v = uniform(random);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      points.push_back({a + u * (b - a) + v * (c - a), d.facets[t].normal, d.facets[t].face});
+    }
+  }
+  return points;
+}
+
+std::vector<Loss> Simulator::measure(const View& view, std::span<const SurfacePoint> points) const {
+  return impl_->measure(view, points, nullptr, nullptr);
+}
+
+std::vector<std::vector<Loss>> Simulator::measure(std::span<const View> views,
+                                                  std::span<const SurfacePoint> points) const {
+  std::vector<std::vector<Loss>> result(views.size());
+  tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+    result[v] = impl_->measure(views[v], points, nullptr, nullptr);
+  });
+  return result;
+}
+
+std::vector<Loss> Simulator::measurePairs(std::span<const View> views,
+                                          std::span<const SurfacePoint> points) const {
+  const Impl& d = *impl_;
+  std::vector<Loss> losses(points.size());
+  std::vector<Vec3> cameras(points.size()), projectors(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
+    const ViewGeometry geometry(views[i], d.scanner);
+    const SurfacePoint& sp = points[i];
+    Loss loss = geometry.test(sp.position, sp.normal, d.isSpecular(sp.face));
+    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.camera))
+      loss = Loss::CameraOccluded;
+    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.projector))
+      loss = Loss::ProjectorOccluded;
+    losses[i] = loss;
+    cameras[i] = geometry.camera;
+    projectors[i] = geometry.projector;
+  });
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (losses[i] == Loss::Measured) candidates.push_back(i);
+  std::vector<Ray> rays(2 * candidates.size());
+  tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t k) {
+    rays[2 * k] = d.segment(points[candidates[k]], cameras[candidates[k]]);
+    rays[2 * k + 1] = d.segment(points[candidates[k]], projectors[candidates[k]]);
+  });
+  const std::vector<bool> blocked = d.caster->occluded(rays);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (blocked[2 * k])
+      losses[candidates[k]] = Loss::CameraOccluded;
+    else if (blocked[2 * k + 1])
+      losses[candidates[k]] = Loss::ProjectorOccluded;
+  }
+  return losses;
+}
+
+Acquisition Simulator::acquire(const View& view) const {
+  const Impl& d = *impl_;
+  Acquisition acquisition;
+  acquisition.view_id = view.id;
+  const ViewGeometry geometry(view, d.scanner);
+  const std::vector<std::size_t> reachable = d.cells->reaching(geometry);
+  acquisition.facets = d.measure(view, d.facets, &reachable, &acquisition.rays);
+  acquisition.face_area.assign(d.face_count, 0.0);
+  for (std::size_t t = 0; t < acquisition.facets.size(); ++t) {
+    Loss loss = acquisition.facets[t];
+    ++acquisition.counts[static_cast<int>(loss)];
+    if (loss != Loss::Measured) continue;
+    acquisition.face_area[d.facets[t].face - 1] += d.facet_area[t];
+    acquisition.measured_area += d.facet_area[t];
+  }
+  return acquisition;
+}
+
+std::vector<Acquisition> Simulator::acquire(std::span<const View> views) const {
+  std::vector<Acquisition> result(views.size());
+  tbb::parallel_for(std::size_t{0}, views.size(),
+                    [&](std::size_t v) { result[v] = acquire(views[v]); });
+  return result;
+}
+
+PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing) const {
+  const Impl& d = *impl_;
+  const Scanner& s = d.scanner;
+  const ViewGeometry geometry(view, s);
+  if (!(spacing > 0)) spacing = s.point_spacing;
+  const int columns = static_cast<int>(std::floor(s.fov_width / spacing));
+  const int rows = static_cast<int>(std::floor(s.fov_height / spacing));
+  const Eigen::Matrix3d rotation = view.camera_to_world.linear();
+  const Vec3 camera = view.camera();
+
+  // Rows are simulated in blocks to bound memory; each row has its own random stream so
+  // that the cloud does not depend on thread scheduling.
+  std::vector<PointCloud> row_clouds(rows);
+  constexpr int kBlock = 32;
+  for (int first = 0; first < rows; first += kBlock) {
+    const int last = std::min(rows, first + kBlock);
+    std::vector<Ray> rays;
+    rays.reserve(static_cast<std::size_t>(last - first) * columns);
+    for (int r = first; r < last; ++r)
+      for (int c = 0; c < columns; ++c) {
+        Vec3 pixel(-s.fov_width / 2 + (c + 0.5) * spacing, -s.fov_height / 2 + (r + 0.5) * spacing,
+                   s.standoff);
+        rays.push_back(Ray{camera, rotation * pixel.normalized()});
+      }
+    const auto hits = d.caster->intersect(rays);
+    // Hits on the part that pass the geometric test; then projector occlusion.
+    std::vector<std::size_t> kept;
+    std::vector<SurfacePoint> surface;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const auto& hit = hits[i];
+      if (!hit || hit->triangle >= static_cast<int>(d.part_triangles)) continue;
+      SurfacePoint sp{hit->point, hit->normal, hit->face};
+      if (geometry.test(sp.position, sp.normal, d.isSpecular(sp.face)) != Loss::Measured) continue;
+      if (d.planeBlocks(sp.position, camera) || d.planeBlocks(sp.position, geometry.projector))
+        continue;
+      kept.push_back(i);
+      surface.push_back(sp);
+    }
+    std::vector<Ray> to_projector(surface.size());
+    for (std::size_t k = 0; k < surface.size(); ++k)
+      to_projector[k] = d.segment(surface[k], geometry.projector);
+    const std::vector<bool> blocked = d.caster->occluded(to_projector);
+
+    tbb::parallel_for(first, last, [&](int r) {
+      std::mt19937_64 random(seed * 0x9E3779B97F4A7C15ULL +
+                             static_cast<std::uint64_t>(view.id) * 1000003ULL +
+                             static_cast<std::uint64_t>(r));
+      std::normal_distribution<double> normal(0.0, 1.0);
+      PointCloud& out = row_clouds[r];
+      const std::size_t begin = static_cast<std::size_t>(r - first) * columns;
+      auto k = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
+      for (; k < static_cast<std::ptrdiff_t>(kept.size()) && kept[k] < begin + columns; ++k) {
+        if (blocked[k]) continue;
+        const SurfacePoint& sp = surface[k];
+        const Vec3 ray_direction = rays[kept[k]].direction;
+        const double cos_incidence = std::clamp(-ray_direction.dot(sp.normal), 1e-3, 1.0);
+        const double depth = (geometry.world_to_camera * sp.position).z();
+        const double sigma =
+            s.noise_sigma * (depth / s.standoff) * (depth / s.standoff) / cos_incidence;
+        out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
+        out.normals.push_back(sp.normal);
+        out.faces.push_back(sp.face);
+        out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
+      }
+    });
+  }
+  PointCloud cloud;
+  for (const PointCloud& row : row_clouds) {
+    cloud.points.insert(cloud.points.end(), row.points.begin(), row.points.end());
+    cloud.normals.insert(cloud.normals.end(), row.normals.begin(), row.normals.end());
+    cloud.faces.insert(cloud.faces.end(), row.faces.begin(), row.faces.end());
+    cloud.incidence.insert(cloud.incidence.end(), row.incidence.begin(), row.incidence.end());
+  }
+  return cloud;
+}
+
+// The points in cells a fortieth of the diagonal of their box across.
+struct IndexedPoints::Impl {
+  explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)), cells(points, size()) {}
+  double size() const {
+    Box box;
+    for (const SurfacePoint& p : points) box.add(p.position);
+    return std::max(box.diagonal() / 40, 1e-6);
+  }
+  std::vector<SurfacePoint> points;
+  Cells cells;
+};
+
+IndexedPoints::IndexedPoints(std::vector<SurfacePoint> points)
+    : impl_(std::make_unique<Impl>(std::move(points))) {}
+IndexedPoints::~IndexedPoints() = default;
+IndexedPoints::IndexedPoints(IndexedPoints&&) noexcept = default;
+
+const std::vector<SurfacePoint>& IndexedPoints::points() const { return impl_->points; }
+
+std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator,
+                                                      std::span<const View> views) const {
+  std::vector<std::vector<int>> result(views.size());
+  if (impl_->points.empty()) return result;
+  tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+    // Only the points of cells that reach the measuring volume can be measured.
+    const std::vector<std::size_t> near =
+        impl_->cells.reaching(ViewGeometry(views[v], simulator.scanner()));
+    std::vector<SurfacePoint> subset;
+    subset.reserve(near.size());
+    for (std::size_t i : near) subset.push_back(impl_->points[i]);
+    const std::vector<Loss> losses = simulator.measure(views[v], subset);
+    for (std::size_t k = 0; k < losses.size(); ++k)
+      if (losses[k] == Loss::Measured) result[v].push_back(static_cast<int>(near[k]));
+    std::sort(result[v].begin(), result[v].end());
+  });
+  return result;
+}
+
+std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
+                                             std::span<const View> views,
+                                             std::span<const SurfacePoint> points) {
+  if (points.empty()) return std::vector<std::vector<int>>(views.size());
+  return IndexedPoints({points.begin(), points.end()}).measured(simulator, views);
+}
+
+PointQuality pointQuality(const Scanner& scanner, const View& view, const Vec3& position,
+                          const Vec3& normal) {
+  const Vec3 ray = position - view.camera();
+  const double z = ray.dot(view.axis()) / scanner.standoff;
+  const double cosine = std::max(-ray.normalized().dot(normal), 1e-3);
+  const double pitch = scanner.point_spacing * z;
+  return {scanner.noise_sigma * z * z / cosine, cosine / (pitch * pitch)};
+}
+
+}  // namespace scanplan

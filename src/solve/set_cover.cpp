@@ -1,0 +1,347 @@
+#include <scanplan/solve/set_cover.h>
+
+#include <CbcModel.hpp>
+#include <CbcSolver.hpp>
+#include <ClpSimplex.hpp>
+#include <CoinPackedMatrix.hpp>
+#include <OsiClpSolverInterface.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <string>
+#include <thread>
+
+namespace scanplan {
+
+namespace {
+
+// A set cover instance reduced by dominance (Beasley's reductions): a set whose required
+// elements another set also holds is dropped, and so is an element whose sets include all
+// sets of another element (covering that one covers it). The minimum is unchanged.
+struct Reduced {
+  std::vector<std::vector<int>> columns;  // per kept set: its rows
+  std::vector<int> set_of;                // per kept set: its index among the given sets
+  std::vector<int> kept_as;               // per given set: a kept set holding all it covers, or -1
+  int rows = 0;
+};
+
+bool includes(const std::vector<int>& big, const std::vector<int>& small) {
+  return std::includes(big.begin(), big.end(), small.begin(), small.end());
+}
+
+// The sets as sorted lists of rows, one row per required element some set holds; the
+// element of each row into `elements`.
+std::vector<std::vector<int>> requiredRows(const std::vector<std::vector<int>>& sets,
+                                           const std::vector<char>& required, int& rows,
+                                           std::vector<int>* elements = nullptr) {
+  std::vector<int> row_of(required.size(), -1);
+  rows = 0;
+  for (const auto& set : sets)
+    for (int e : set)
+      if (required[e] && row_of[e] < 0) {
+        row_of[e] = rows++;
+        if (elements) elements->push_back(e);
+      }
+  std::vector<std::vector<int>> columns(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    for (int e : sets[s])
+      if (row_of[e] >= 0) columns[s].push_back(row_of[e]);
+    std::sort(columns[s].begin(), columns[s].end());
+    columns[s].erase(std::unique(columns[s].begin(), columns[s].end()), columns[s].end());
+  }
+  return columns;
+}
+
+// Sets by size, largest first (the first on ties); each kept unless a kept set includes it.
+void dropDominatedSets(const std::vector<std::vector<int>>& columns, int rows, Reduced& out) {
+  std::vector<int> order(columns.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return columns[a].size() > columns[b].size(); });
+  out.kept_as.assign(columns.size(), -1);
+  std::vector<std::vector<int>> kept_with_row(rows);  // kept sets (reduced index) per row
+  for (int s : order) {
+    if (columns[s].empty()) continue;
+    int rarest = columns[s].front();
+    for (int r : columns[s])
+      if (kept_with_row[r].size() < kept_with_row[rarest].size()) rarest = r;
+    for (int k : kept_with_row[rarest])
+      if (includes(out.columns[k], columns[s])) {
+        out.kept_as[s] = k;
+        break;
+      }
+    if (out.kept_as[s] >= 0) continue;
+    out.kept_as[s] = static_cast<int>(out.columns.size());
+    for (int r : columns[s]) kept_with_row[r].push_back(out.kept_as[s]);
+    out.columns.push_back(columns[s]);
+    out.set_of.push_back(s);
+  }
+}
+
+// Rows by number of sets, fewest first; a row is dropped when the sets of a kept row are
+// all among its own. Renumbers the remaining rows.
+void dropDominatedRows(Reduced& out, int rows) {
+  std::vector<std::vector<int>> sets_of(rows);  // sorted, as sets are visited in order
+  for (std::size_t c = 0; c < out.columns.size(); ++c)
+    for (int r : out.columns[c]) sets_of[r].push_back(static_cast<int>(c));
+  std::vector<int> order(rows);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return sets_of[a].size() < sets_of[b].size(); });
+  std::vector<std::vector<int>> kept_by_first(out.columns.size());  // kept rows by first set
+  std::vector<int> new_row(rows, -1);
+  out.rows = 0;
+  for (int r : order) {
+    bool dominated = false;
+    for (int c : sets_of[r]) {
+      for (int k : kept_by_first[c])
+        if ((dominated = includes(sets_of[r], sets_of[k]))) break;
+      if (dominated) break;
+    }
+    if (dominated) continue;
+    new_row[r] = out.rows++;
+    kept_by_first[sets_of[r].front()].push_back(r);
+  }
+  for (std::vector<int>& column : out.columns) {
+    std::vector<int> kept;
+    for (int r : column)
+      if (new_row[r] >= 0) kept.push_back(new_row[r]);
+    std::sort(kept.begin(), kept.end());
+    column = kept;
+  }
+}
+
+Reduced reduce(const std::vector<std::vector<int>>& sets, const std::vector<char>& required) {
+  int rows = 0;
+  const std::vector<std::vector<int>> columns = requiredRows(sets, required, rows);
+  Reduced out;
+  dropDominatedSets(columns, rows, out);
+  dropDominatedRows(out, rows);
+  return out;
+}
+
+// A cover rounded from the LP optimum `x`: sets by decreasing x take the rows they add,
+// each row then covered by the set of largest x that holds it, and the sets whose rows
+// all others cover dropped (smallest x first).
+std::vector<int> roundedCover(const Reduced& reduced, const double* x) {
+  const int columns = static_cast<int>(reduced.columns.size());
+  std::vector<int> order(columns);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return x[a] > x[b]; });
+  std::vector<int> times(reduced.rows, 0), chosen;
+  for (int c : order) {
+    const auto& rows = reduced.columns[c];
+    if (std::any_of(rows.begin(), rows.end(), [&](int r) { return times[r] == 0; })) {
+      chosen.push_back(c);
+      for (int r : rows) ++times[r];
+    }
+  }
+  for (std::size_t k = chosen.size(); k-- > 0;) {
+    const auto& rows = reduced.columns[chosen[k]];
+    if (std::all_of(rows.begin(), rows.end(), [&](int r) { return times[r] > 1; })) {
+      for (int r : rows) --times[r];
+      chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  }
+  return chosen;
+}
+
+// The LP relaxation of the reduced instance: min sum x, every row covered (`demand[r]`
+// times, once without), 0 <= x <= 1.
+void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
+                    const std::vector<double>& demand = {}) {
+  std::vector<int> indices, starts, lengths;  // column-ordered: one column per kept set
+  for (const auto& column : reduced.columns) {
+    starts.push_back(static_cast<int>(indices.size()));
+    indices.insert(indices.end(), column.begin(), column.end());
+    lengths.push_back(static_cast<int>(column.size()));
+  }
+  const int columns = static_cast<int>(reduced.columns.size());
+  const std::vector<double> ones(indices.size(), 1.0);
+  const CoinPackedMatrix matrix(true, reduced.rows, columns,
+                                static_cast<CoinBigIndex>(indices.size()), ones.data(),
+                                indices.data(), starts.data(), lengths.data());
+  const std::vector<double> column_lower(columns, 0.0), column_upper(columns, 1.0),
+      objective(columns, 1.0), row_upper(reduced.rows, std::numeric_limits<double>::infinity());
+  const std::vector<double> row_lower =
+      demand.empty() ? std::vector<double>(reduced.rows, 1.0) : demand;
+  solver.loadProblem(matrix, column_lower.data(), column_upper.data(), objective.data(),
+                     row_lower.data(), row_upper.data());
+  solver.messageHandler()->setLogLevel(0);
+  solver.getModelPtr()->setLogLevel(0);
+}
+
+// Shows the share of `seconds` gone by, every tenth of a second, while it lives: CBC
+// raises too few events for its own progress to show (docs/planning.md).
+class TimeShown {
+ public:
+  TimeShown(const SetCoverProgress& shown, double seconds) {
+    if (!shown || seconds <= 0) return;
+    thread_ = std::jthread([shown, seconds, this](std::stop_token stop) {
+      const auto began = std::chrono::steady_clock::now();
+      std::unique_lock lock(mutex_);
+      for (;;) {
+        wake_.wait_for(lock, stop, std::chrono::milliseconds(100), [] { return false; });
+        if (stop.stop_requested()) return;
+        const std::chrono::duration<double> gone = std::chrono::steady_clock::now() - began;
+        shown(std::min(gone.count() / seconds, 0.99));
+      }
+    });
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable_any wake_;
+  std::jthread thread_;  // last: stopped and joined first
+};
+
+// CBC's own solver (cuts and primal heuristics, as its command line runs them) on the
+// integer program of `solver`, from the cover `start`: the best cover found, and whether
+// it is proven minimal and the bound, into `result`.
+std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, const std::vector<int>& start,
+                                double seconds, int max_nodes, SetCoverResult& result) {
+  const int columns = solver.getNumCols();
+  CbcModel model(solver);
+  CbcSolverUsefulData data;
+  CbcMain0(model, data);
+  model.setLogLevel(0);
+  model.messageHandler()->setLogLevel(0);
+  model.solver()->messageHandler()->setLogLevel(0);
+  std::vector<double> x(columns, 0.0);
+  for (int c : start) x[c] = 1.0;
+  model.setBestSolution(x.data(), columns, static_cast<double>(start.size()), true);
+  const std::string time = std::to_string(seconds), nodes = std::to_string(max_nodes);
+  const char* argv[] = {"scanplan",   "-log",  "0",           "-slog",  "0",    "-sec",
+                        time.c_str(), "-maxN", nodes.c_str(), "-solve", "-quit"};
+  CbcMain1(static_cast<int>(std::size(argv)), argv, model, nullptr, data);
+  std::vector<int> chosen;
+  if (const double* best = model.bestSolution())
+    for (int c = 0; c < columns; ++c)
+      if (best[c] > 0.5) chosen.push_back(c);
+  if (chosen.empty() || chosen.size() > start.size()) chosen = start;
+  result.optimal = model.isProvenOptimal();
+  result.lower_bound = std::max(result.lp_bound, std::ceil(model.getBestPossibleObjValue() - 1e-6));
+  return chosen;
+}
+
+}  // namespace
+
+SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
+                               const std::vector<char>& required, double time_limit_seconds,
+                               const std::vector<int>& given_start, int max_nodes,
+                               const SetCoverProgress& progress) {
+  const auto began = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  };
+  SetCoverResult result;
+  const Reduced reduced = reduce(sets, required);
+  if (reduced.rows == 0) return result;
+  const TimeShown shown(progress, time_limit_seconds);
+  // The start in the reduced sets: each set replaced by a kept one that includes it.
+  std::vector<int> start;
+  for (int s : given_start)
+    if (reduced.kept_as[s] >= 0) start.push_back(reduced.kept_as[s]);
+  std::sort(start.begin(), start.end());
+  start.erase(std::unique(start.begin(), start.end()), start.end());
+  auto original = [&](std::vector<int> chosen) {
+    for (int& c : chosen) c = reduced.set_of[c];
+    std::sort(chosen.begin(), chosen.end());
+    return chosen;
+  };
+
+  OsiClpSolverInterface solver;
+  loadRelaxation(reduced, solver);
+  // The LP relaxation, in at most half the time; without it, the start is the answer.
+  solver.getModelPtr()->setMaximumSeconds(time_limit_seconds / 2);
+  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.initialSolve();
+  if (solver.isProvenOptimal()) {
+    result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
+    if (std::vector<int> rounded = roundedCover(reduced, solver.getColSolution());
+        start.empty() || rounded.size() < start.size())
+      start = rounded;
+    // The limits were for the root LP only: a node LP stopped by them would be taken as
+    // infeasible, and the search would cut off covers it has not seen.
+    solver.getModelPtr()->setMaximumSeconds(-1);
+    solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
+    for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
+    start = branchAndBound(solver, start, std::max(time_limit_seconds - elapsed(), 0.0), max_nodes,
+                           result);
+  }
+  result.chosen = original(start);
+  result.seconds = elapsed();
+  return result;
+}
+
+double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
+                          const std::vector<char>& required, double time_limit_seconds) {
+  const Reduced reduced = reduce(sets, required);
+  if (reduced.rows == 0) return 0;
+  OsiClpSolverInterface solver;
+  loadRelaxation(reduced, solver);
+  solver.getModelPtr()->setMaximumSeconds(time_limit_seconds);
+  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.initialSolve();
+  return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+}
+
+SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
+                                 const std::vector<int>& demand, double time_limit_seconds) {
+  const auto began = std::chrono::steady_clock::now();
+  SetCoverResult result;
+  // Each element's demand, capped by the sets holding it; no reduction (with demands above
+  // one, a set inside another may still be needed).
+  std::vector<char> required(demand.size(), 0);
+  for (std::size_t e = 0; e < demand.size(); ++e) required[e] = demand[e] > 0;
+  Reduced all;
+  std::vector<int> elements;
+  all.columns = requiredRows(sets, required, all.rows, &elements);
+  if (all.rows == 0) return result;
+  std::vector<double> need(all.rows, 0);
+  for (const auto& column : all.columns)
+    for (int r : column) ++need[r];
+  for (int r = 0; r < all.rows; ++r) need[r] = std::min<double>(need[r], demand[elements[r]]);
+  // A greedy start: the set meeting the most unmet demand, until none is left.
+  std::vector<double> unmet = need;
+  std::vector<char> used(all.columns.size(), 0);
+  std::vector<int> start;
+  for (;;) {
+    int best = -1, best_gain = 0;
+    for (std::size_t c = 0; c < all.columns.size(); ++c) {
+      if (used[c]) continue;
+      int gain = 0;
+      for (int r : all.columns[c]) gain += unmet[r] > 0;
+      if (gain > best_gain) {
+        best_gain = gain;
+        best = static_cast<int>(c);
+      }
+    }
+    if (best < 0) break;
+    used[best] = 1;
+    start.push_back(best);
+    for (int r : all.columns[best]) --unmet[r];
+  }
+  OsiClpSolverInterface solver;
+  loadRelaxation(all, solver, need);
+  solver.initialSolve();
+  if (solver.isProvenOptimal()) {
+    result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
+    for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
+    const double left =
+        time_limit_seconds -
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    start = branchAndBound(solver, start, std::max(left, 0.0), 1000000, result);
+  }
+  std::sort(start.begin(), start.end());
+  result.chosen = start;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  return result;
+}
+
+}  // namespace scanplan

@@ -1,7 +1,0 @@
-#include <scanplan/version.h>
-
-namespace scanplan {
-
-std::string_view version() { return SCANPLAN_VERSION; }
-
-}  // namespace scanplan
