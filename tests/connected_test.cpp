@@ -95,7 +95,7 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   std::vector<View> chosen;
   for (std::size_t v : cover) chosen.push_back(pool.views[v]);
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
-  RegistrationOptions options = detail::registrationOptions(spec.spec);
+  RegistrationOptions options = registrationOptions(spec.spec);
   options.bridging = false;
   const Registration registration =
       registerWithBridging(simulator, chosen, markers, options, {}, {});
@@ -184,7 +184,7 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAChain) {
   std::vector<View> chosen;
   for (std::size_t v : cover) chosen.push_back(plate.pool.views[v]);
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
-  RegistrationOptions options = detail::registrationOptions(plate.spec.spec);
+  RegistrationOptions options = registrationOptions(plate.spec.spec);
   options.bridging = false;
   const Registration registration =
       registerWithBridging(plate.simulator, chosen, {}, options, {}, {});

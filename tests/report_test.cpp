@@ -11,6 +11,7 @@
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_csv.h>
 #include <scanplan/planning.h>
+#include <scanplan/planning/evidence.h>
 #include <scanplan/report/report.h>
 
 #include <tiny_gltf.h>
@@ -143,7 +144,8 @@ TEST(Report, SamplesPlyRoundTripsWithTheirCoverage) {
 TEST(Report, CloudPlyRoundTripsThroughTheReader) {
   const CubePlan& cube = cubePlan();
   test::TempDir dir;
-  const std::vector<PointCloud> clouds = sceneClouds(cube.plan, cube.part, defaultSpec(), 5);
+  const std::vector<PointCloud> clouds =
+      viewClouds(cube.plan, cube.part, resolveSpec(cube.part, defaultSpec()), 5);
   ASSERT_EQ(clouds.size(), cube.plan.views.size());
   ASSERT_FALSE(clouds.front().points.empty());
   writePly(clouds.front(), dir.file("one.ply"));

@@ -1,12 +1,12 @@
 // The inspection-spec editor: the page web/src/editor.html with its script (three.js and
-// web/src/editor.js) and the part's data inlined (report/page.h): faces with their exact
+// web/src/editor.js) and the part's data inlined (io/page.h): faces with their exact
 // elementary surfaces, characteristics, rest orientations, scanner presets, and the spec
 // it starts from.
 
-#include "cad/brep_model.h"
 #include "core/assets.h"
 #include "io/page.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/localization.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/editor/editor.h>
@@ -16,7 +16,6 @@
 #include <scanplan/spec/spec.h>
 
 #include <yaml-cpp/yaml.h>
-#include <BRepAdaptor_Surface.hxx>
 
 #include <charconv>
 #include <cmath>
@@ -27,46 +26,37 @@ namespace {
 
 using json = nlohmann::ordered_json;  // the spec's document keeps its order
 
-json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-json point(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
-json direction(const gp_Dir& d) { return {d.X(), d.Y(), d.Z()}; }
+json vec(const Vec3& v) { return detail::vec<json>(v); }
 
 // Face `id`'s surface where it is elementary (plane, cylinder, cone, sphere, torus), for the
 // page to snap clicked points onto it exactly; null for other surfaces and mesh parts. A
-// plane's axis is the face's outward normal.
+// plane's axis is the face's outward normal; a cone's radius is R + h tan(semi_angle) at
+// height h along the axis.
 json surfaceJson(const Part& part, int id) {
-  if (!part.brep) return nullptr;
-  const TopoDS_Face face = part.brep->outwardFace(id);
-  const BRepAdaptor_Surface s(face);
-  switch (s.GetType()) {
-    case GeomAbs_Plane: {
-      gp_Dir normal = s.Plane().Axis().Direction();
-      if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
-      return {
-          {"type", "plane"}, {"origin", point(s.Plane().Location())}, {"axis", direction(normal)}};
-    }
-    case GeomAbs_Cylinder:
+  const std::optional<ElementarySurface> s = elementarySurface(part, id);
+  if (!s) return nullptr;
+  switch (s->type) {
+    case SurfaceType::Plane:
+      return {{"type", "plane"}, {"origin", vec(s->origin)}, {"axis", vec(s->axis)}};
+    case SurfaceType::Cylinder:
       return {{"type", "cylinder"},
-              {"origin", point(s.Cylinder().Location())},
-              {"axis", direction(s.Cylinder().Axis().Direction())},
-              {"radius", s.Cylinder().Radius()}};
-    case GeomAbs_Cone:  // radius R + h tan(semi_angle) at height h along the axis
+              {"origin", vec(s->origin)},
+              {"axis", vec(s->axis)},
+              {"radius", s->radius}};
+    case SurfaceType::Cone:
       return {{"type", "cone"},
-              {"origin", point(s.Cone().Location())},
-              {"axis", direction(s.Cone().Axis().Direction())},
-              {"radius", s.Cone().RefRadius()},
-              {"semi_angle", s.Cone().SemiAngle()}};
-    case GeomAbs_Sphere:
-      return {{"type", "sphere"},
-              {"origin", point(s.Sphere().Location())},
-              {"radius", s.Sphere().Radius()}};
-    case GeomAbs_Torus:
+              {"origin", vec(s->origin)},
+              {"axis", vec(s->axis)},
+              {"radius", s->radius},
+              {"semi_angle", s->semi_angle}};
+    case SurfaceType::Sphere:
+      return {{"type", "sphere"}, {"origin", vec(s->origin)}, {"radius", s->radius}};
+    case SurfaceType::Torus:
       return {{"type", "torus"},
-              {"origin", point(s.Torus().Location())},
-              {"axis", direction(s.Torus().Axis().Direction())},
-              {"radius", s.Torus().MajorRadius()},
-              {"minor_radius", s.Torus().MinorRadius()}};
+              {"origin", vec(s->origin)},
+              {"axis", vec(s->axis)},
+              {"radius", s->radius},
+              {"minor_radius", s->minor_radius}};
     default: return nullptr;
   }
 }

@@ -1,6 +1,6 @@
 #pragma once
-// Values of the plan format read from JSON, with errors that name the file and the field
-// (private to the library).
+// Values of the plan format as JSON: vectors written, and values read with errors that name
+// the file and the field (private to the library).
 
 #include <scanplan/core/errors.h>
 #include <scanplan/core/view.h>
@@ -12,6 +12,12 @@
 namespace scanplan::detail {
 
 using nlohmann::json;
+
+// A vector as a JSON array of three numbers (in `Json`, nlohmann's json or ordered_json).
+template <class Json = json>
+Json vec(const Vec3& v) {
+  return Json::array({v.x(), v.y(), v.z()});
+}
 
 // A rigid 4x4 matrix given as 4 rows of 4 numbers. \throw InputError naming `what`.
 inline Eigen::Matrix4d matrixFrom(const json& value, const std::string& path,

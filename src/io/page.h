@@ -4,6 +4,8 @@
 // arrays travel as base64 of little-endian typed arrays, which the page views as
 // Float32Array, Uint8Array, ... without parsing numbers (private to the library).
 
+#include "io/json_values.h"
+
 #include <scanplan/cad/mesh.h>
 
 #include <nlohmann/json.hpp>
@@ -25,8 +27,6 @@ std::string base64(const std::vector<T>& values) {
 
 // x, y, z of each point, as the page's Float32Array takes them.
 std::vector<float> floats(const std::vector<Vec3>& points);
-
-inline nlohmann::json vec(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 // The mesh as the pages draw it: positions, triangle indices and each triangle's face id.
 nlohmann::json meshJson(const TriangleMesh& mesh);

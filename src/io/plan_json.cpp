@@ -29,7 +29,7 @@ std::string absolutePath(const std::string& path) {
 
 using nlohmann::json;
 
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+using detail::vec;
 
 double share(std::size_t part, std::size_t whole) {
   return whole ? static_cast<double>(part) / static_cast<double>(whole) : 0.0;

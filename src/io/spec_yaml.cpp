@@ -321,7 +321,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   reader.read(node, "planner", "selection_nodes", p.selection_nodes);
   reader.read(node, "planner", "selection_seconds", p.selection_seconds);
   reader.read(node, "planner", "most_views", p.most_views);
-  reader.read(node, "planner", "capable_ratio", p.capable_ratio);
+  reader.read(node, "planner", "capable_ratio", p.capability.capable_ratio);
   reader.read(node, "planner", "lift_capability", p.lift_capability);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
@@ -352,7 +352,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   if (!(p.selection_seconds >= 0 && p.selection_seconds <= 3600))
     reader.fail("planner.selection_seconds must be within [0, 3600]");
   if (p.most_views < 1) reader.fail("planner.most_views must be at least 1");
-  if (!(p.capable_ratio >= 1 && p.capable_ratio <= 100))
+  if (!(p.capability.capable_ratio >= 1 && p.capability.capable_ratio <= 100))
     reader.fail("planner.capable_ratio must be within [1, 100]");
   if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
     reader.fail("planner.rescue.step must be within [1, 45] degrees");

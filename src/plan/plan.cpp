@@ -19,6 +19,18 @@ std::string_view toString(Uncoverable reason) {
   return "unknown";
 }
 
+void appendOrientation(Plan& merged, Plan& part, int offset) {
+  if (merged.registration && part.registration)
+    appendRegistration(*merged.registration, std::move(*part.registration), offset);
+  if (merged.sequence && part.sequence) {
+    for (int id : part.sequence->views) merged.sequence->views.push_back(id + offset);
+    merged.sequence->length += part.sequence->length;
+    merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
+  }
+  for (std::size_t i = 0; i < merged.samples.size(); ++i)
+    for (int id : part.samples[i].measured_by) merged.samples[i].measured_by.push_back(id + offset);
+}
+
 std::vector<Plan::FaceShortfall> Plan::priorityShortfall() const {
   std::map<int, FaceShortfall> faces;
   for (const PlannedSample& s : samples) {

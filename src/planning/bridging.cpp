@@ -103,7 +103,7 @@ std::vector<Candidate> bridgeCandidates(const RegistrationGraph& graph, const Si
     const auto registers = [&](std::size_t v) {
       const PairCheck pair =
           graph.check(graph.views()[v], graph.observations()[v], poses[k], seen[k]);
-      return pair.markers || pair.stable ? std::optional(pair) : std::nullopt;
+      return pair.passes() ? std::optional(pair) : std::nullopt;
     };
     // A pose neither joining the other side nor coming nearer to it is no candidate:
     // that is known before its pairs with the main component are checked.

@@ -146,9 +146,9 @@ double drawError(Effect effect, const std::vector<const Patch*>& patches, const 
 
 // U: the error 95% of the draws stay under.
 double uncertainty(const Characteristic& c, const std::vector<const Patch*>& patches,
-                   const CapabilityOptions& options) {
+                   const CapabilityOptions& options, std::uint64_t seed) {
   const Fit fit = fitOf(patches);
-  std::mt19937_64 random(options.seed + static_cast<std::uint64_t>(c.id));
+  std::mt19937_64 random(seed + static_cast<std::uint64_t>(c.id));
   std::vector<double> errors;
   for (int k = 0; k < options.draws; ++k)
     errors.push_back(drawError(effectOf(c), patches, fit, random));
@@ -282,9 +282,9 @@ std::string_view toString(Shortfall reason) {
 }
 
 std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
-                                     const std::vector<Characteristic>& characteristics,
-                                     const CapabilityOptions& options) {
+                                     const std::vector<Characteristic>& characteristics) {
   if (characteristics.empty()) return {};
+  const CapabilityOptions& options = spec.spec.planner.capability;
   std::vector<Patch> patches = patchesOf(part, characteristics);
   look(part, spec, plan, patches);
   const std::vector<RestOrientation> rests = restOrientations(part);
@@ -307,7 +307,8 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
     k.covered = k.area > 0 ? covered / k.area : 0;
     k.density = covered > 0 ? k.points / covered : 0;
     k.largest_gap = largestGap(mine);
-    if (!measured.empty()) k.uncertainty = uncertainty(c, measured, options);
+    if (!measured.empty())
+      k.uncertainty = uncertainty(c, measured, options, spec.spec.planner.seed);
     judge(c, k, options);
     if (k.covered < kCoveredEnough) k.rest = restFor(mine, rests, plan.part_to_world);
     result.push_back(k);

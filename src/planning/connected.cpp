@@ -6,10 +6,11 @@
 #include "registration/icp.h"
 #include "registration/overlaps.h"
 
+#include <scanplan/core/disjoint_sets.h>
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -266,15 +267,15 @@ class ConnectedCover {
   // Per chosen view (pool index), the root of its group: the views registering to one
   // another through their parents and the links of joined groups.
   std::map<std::size_t, std::size_t> groups() const {
-    std::map<std::size_t, std::size_t> root;
-    const std::function<std::size_t(std::size_t)> find = [&](std::size_t v) {
-      return root[v] == v ? v : root[v] = find(root[v]);
-    };
-    for (std::size_t v : chosen_) root[v] = v;
+    std::map<std::size_t, int> at;  // pool index: its place in chosen_
+    for (std::size_t k = 0; k < chosen_.size(); ++k) at[chosen_[k]] = static_cast<int>(k);
+    DisjointSets sets(chosen_.size());
     for (std::size_t k = 0; k < chosen_.size(); ++k)
-      if (parent_[k]) root[find(chosen_[k])] = find(*parent_[k]);
-    for (const auto& [a, b] : links_) root[find(a)] = find(b);
-    for (std::size_t v : chosen_) find(v);
+      if (parent_[k]) sets.join(static_cast<int>(k), at.at(*parent_[k]));
+    for (const auto& [a, b] : links_) sets.join(at.at(a), at.at(b));
+    std::map<std::size_t, std::size_t> root;
+    for (std::size_t k = 0; k < chosen_.size(); ++k)
+      root[chosen_[k]] = chosen_[static_cast<std::size_t>(sets.find(static_cast<int>(k)))];
     return root;
   }
 
@@ -405,7 +406,7 @@ class ConnectedCover {
   bool pairRegisters(std::size_t u, std::size_t v) {
     const auto [found, fresh] = tested_.try_emplace({u, v}, false);
     if (fresh)
-      found->second = registers(overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v)));
+      found->second = overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v)).passes();
     return found->second;
   }
 
@@ -450,7 +451,7 @@ class ConnectedCover {
   std::optional<std::size_t> registeredAmong(std::size_t v, const std::vector<std::size_t>& views) {
     for (std::size_t c : views) {
       if (!intersect(pool_.samples[c], pool_.samples[v])) continue;
-      if (registers(overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)))) return c;
+      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
     }
     return std::nullopt;
   }
@@ -458,27 +459,19 @@ class ConnectedCover {
   // Drops the chosen views, last first, whose samples others measure too and to which no
   // other view registers.
   void dropRedundantLeaves() {
-    std::vector<int> times_measured(samples_.size(), 0);
     std::map<std::size_t, int> children;
-    for (std::size_t k = 0; k < chosen_.size(); ++k) {
-      for (int i : pool_.samples[chosen_[k]]) ++times_measured[i];
+    for (std::size_t k = 0; k < chosen_.size(); ++k)
       if (parent_[k]) ++children[*parent_[k]];
-    }
     for (const auto& [a, b] : links_) {
       ++children[a];
       ++children[b];
     }
-    std::vector<char> kept(chosen_.size(), 1);
-    for (std::size_t k = chosen_.size(); k-- > pinned_;) {
-      const std::vector<int>& mine = pool_.samples[chosen_[k]];
-      if (children[chosen_[k]] > 0 || !std::all_of(mine.begin(), mine.end(), [&](int i) {
-            return times_measured[i] > 1 || at_.isDone(i);
-          }))
-        continue;
-      kept[k] = 0;
-      for (int i : mine) --times_measured[i];
-      if (parent_[k]) --children[*parent_[k]];
-    }
+    const std::vector<char> kept = keptViews(
+        at_, pool_, chosen_, pinned_, samples_.size(),
+        [&](std::size_t k) { return children[chosen_[k]] > 0; },
+        [&](std::size_t k) {
+          if (parent_[k]) --children[*parent_[k]];
+        });
     std::vector<std::size_t> chosen;
     std::vector<std::optional<std::size_t>> parent;
     for (std::size_t k = 0; k < chosen_.size(); ++k)
@@ -514,12 +507,10 @@ class ConnectedCover {
   // test; none, and they are forgotten, when it passes with none.
   std::optional<std::size_t> registeredPartner(std::size_t v) {
     for (std::size_t c : partners_[v])
-      if (registers(overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)))) return c;
+      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
     partners_[v].clear();
     return std::nullopt;
   }
-
-  static bool registers(const PairCheck& pair) { return pair.markers || pair.stable; }
 
   // Whether the sorted `a` and `b` have an element in common.
   static bool intersect(const std::vector<int>& a, const std::vector<int>& b) {

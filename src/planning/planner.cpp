@@ -59,32 +59,44 @@ std::vector<Marker> fixtureMarkers(const Spec& spec, const Pose& part_to_world) 
   return markers;
 }
 
-// The spec's grid of markers: on the plate around the part, on the part, on the fixtures.
-std::vector<Marker> gridMarkers(const ResolvedSpec& resolved, const Part& part,
-                                const Pose& part_to_world) {
-  const Spec& spec = resolved.spec;
+// A grid of markers `step` mm apart: on the plate around the part (`margin` mm beyond it), on
+// the part, on the fixtures.
+struct MarkerGrid {
+  double step = 0, margin = 0;
+  bool on_plate = true, on_part = false, on_fixture = false;
+};
+
+// The spec's marker grid.
+MarkerGrid markerGridOf(const Spec& spec) {
+  return {spec.marker_grid, spec.marker_margin, spec.markers_on_plate, spec.markers_on_part,
+          spec.markers_on_fixture};
+}
+
+// The markers of `grid` around the part placed by `part_to_world`; errors name `source`.
+std::vector<Marker> gridMarkers(const MarkerGrid& grid, const ResolvedSpec& resolved,
+                                const Part& part, const Pose& part_to_world) {
   TriangleMesh world = part.mesh;
   for (Vec3& v : world.vertices) v = part_to_world * v;
   Box box;
   for (const Vec3& v : world.vertices) box.add(v);
   // A marker per grid cell over the part and its margin: refused past kMostMarkers.
   const Vec3 size = box.empty() ? Vec3::Zero() : box.size();
-  const double cells = (size.x() + 2 * spec.marker_margin) / spec.marker_grid *
-                       ((size.y() + 2 * spec.marker_margin) / spec.marker_grid);
+  const double cells =
+      (size.x() + 2 * grid.margin) / grid.step * ((size.y() + 2 * grid.margin) / grid.step);
   if (!(cells <= kMostMarkers))
-    throw InputError(spec.source,
+    throw InputError(resolved.spec.source,
                      fmt::format("markers: a grid of {:g} mm with a margin of {:g} mm gives more "
                                  "than a million markers around this part",
-                                 spec.marker_grid, spec.marker_margin));
+                                 grid.step, grid.margin));
   std::vector<Marker> markers;
-  if (spec.markers_on_part) markers = markersOnPart(world, spec.marker_grid);
-  if (spec.markers_on_plate) {
-    const auto plate = markerGrid(box, spec.marker_grid, spec.marker_margin);
+  if (grid.on_part) markers = markersOnPart(world, grid.step);
+  if (grid.on_plate) {
+    const auto plate = markerGrid(box, grid.step, grid.margin);
     markers.insert(markers.end(), plate.begin(), plate.end());
   }
-  if (spec.markers_on_fixture)
+  if (grid.on_fixture)
     for (const TriangleMesh& fixture : fixturesInWorld(resolved, part_to_world)) {
-      const auto on = markersOnPart(fixture, spec.marker_grid);
+      const auto on = markersOnPart(fixture, grid.step);
       markers.insert(markers.end(), on.begin(), on.end());
     }
   return markers;
@@ -99,7 +111,7 @@ std::vector<Marker> specMarkers(const ResolvedSpec& resolved, const Part& part,
   if (!spec.markers_file.empty())
     markers = readMarkers(spec.markers_file);
   else if (spec.marker_grid > 0)
-    markers = gridMarkers(resolved, part, part_to_world);
+    markers = gridMarkers(markerGridOf(spec), resolved, part, part_to_world);
   const std::vector<Marker> on_fixtures = fixtureMarkers(spec, part_to_world);
   markers.insert(markers.end(), on_fixtures.begin(), on_fixtures.end());
   return markers;
@@ -144,12 +156,6 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
 }
 
 namespace detail {
-
-RegistrationOptions registrationOptions(const Spec& spec) {
-  RegistrationOptions registration = spec.registration;
-  registration.seed = spec.planner.seed;
-  return registration;
-}
 
 namespace {
 
@@ -284,19 +290,17 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
 // a fifteenth of the field of view apart (or as far as a million candidates need); none
 // when every view registers or the robot alone registers them.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
-  const RegistrationOptions options = detail::registrationOptions(at.spec.spec);
+  const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
-  ResolvedSpec grid = at.spec;  // a marker grid on part, plate and fixtures
-  Spec& spec = grid.spec;
-  spec.markers_file.clear();
-  for (FixtureModel& fixture : spec.fixtures) fixture.markers_file.clear();
-  // A fifteenth of the field of view, coarser on parts too large for that many candidates.
-  const double across = at.part.bounds().size().maxCoeff() + 2 * spec.marker_margin;
-  spec.marker_grid =
-      std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
-  spec.markers_on_part = spec.markers_on_plate = true;
-  spec.markers_on_fixture = !spec.fixtures.empty();
-  const std::vector<Marker> candidates = specMarkers(grid, at.part, plan.part_to_world);
+  // A grid on part, plate and fixtures a fifteenth of the field of view apart, coarser on
+  // parts too large for that many candidates.
+  const Spec& spec = at.spec.spec;
+  MarkerGrid grid = markerGridOf(spec);
+  const double across = at.part.bounds().size().maxCoeff() + 2 * grid.margin;
+  grid.step = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
+  grid.on_part = grid.on_plate = true;
+  grid.on_fixture = !spec.fixtures.empty();
+  const std::vector<Marker> candidates = gridMarkers(grid, at.spec, at.part, plan.part_to_world);
   plan.proposed_markers =
       scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
 }
@@ -308,9 +312,8 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
                                   const Progress& progress) {
   plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
-  plan.registration =
-      registerWithBridging(at.simulator, plan.views, plan.markers,
-                           detail::registrationOptions(at.spec.spec), at.cell, progress);
+  plan.registration = registerWithBridging(at.simulator, plan.views, plan.markers,
+                                           registrationOptions(at.spec.spec), at.cell, progress);
   proposeMarkers(at, plan);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
   const auto measured = measuredPoints(at.simulator, bridges, at.points);
@@ -428,13 +431,8 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   if (part.registration) {
     const int reference = part.registration->reference;
     orientation.reference = reference > 0 ? reference + offset : 0;
-    appendRegistration(*merged.registration, std::move(*part.registration), offset);
   }
-  if (part.sequence) {
-    for (int id : part.sequence->views) merged.sequence->views.push_back(id + offset);
-    merged.sequence->length += part.sequence->length;
-    merged.sequence->nearest_neighbour_length += part.sequence->nearest_neighbour_length;
-  }
+  appendOrientation(merged, part, offset);
   if (part.proposed_markers) {
     if (!merged.proposed_markers) merged.proposed_markers.emplace();
     merged.proposed_markers->append(*part.proposed_markers);
@@ -456,7 +454,6 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   }
   for (std::size_t i = 0; i < merged.samples.size(); ++i) {
     PlannedSample& s = merged.samples[i];
-    for (int id : part.samples[i].measured_by) s.measured_by.push_back(id + offset);
     // Still not measured: the reason found in the latest orientation.
     s.uncoverable = s.measured_by.empty() ? part.samples[i].uncoverable : Uncoverable::None;
     s.last_loss = part.samples[i].last_loss;
@@ -534,10 +531,7 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
   const auto judged = Clock::now();
   report(progress, "measurement capability", 0);
   plan.characteristics = characteristics(part.gdt);
-  CapabilityOptions capability;
-  capability.capable_ratio = spec.planner.capable_ratio;
-  capability.seed = spec.planner.seed;
-  plan.capabilities = capabilities(part, resolved, plan, plan.characteristics, capability);
+  plan.capabilities = capabilities(part, resolved, plan, plan.characteristics);
   plan.times.push_back({"capability", secondsSince(judged)});
   plan.seconds = secondsSince(start);
   return plan;

@@ -70,20 +70,13 @@ std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& p
 // `chosen` without the views (last first, the `pinned` first ones kept) whose samples all
 // other chosen views also measure.
 std::vector<std::size_t> withoutRedundant(const Placement& at, const MeasuredViews& pool,
-                                          std::vector<std::size_t> chosen, std::size_t pinned,
-                                          std::size_t samples) {
-  std::vector<int> times_measured(samples, 0);
-  for (std::size_t v : chosen)
-    for (int i : pool.samples[v]) ++times_measured[i];
-  for (std::size_t k = chosen.size(); k-- > pinned;) {
-    const std::vector<int>& mine = pool.samples[chosen[k]];
-    if (std::all_of(mine.begin(), mine.end(),
-                    [&](int i) { return times_measured[i] > 1 || at.isDone(i); })) {
-      for (int i : mine) --times_measured[i];
-      chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(k));
-    }
-  }
-  return chosen;
+                                          const std::vector<std::size_t>& chosen,
+                                          std::size_t pinned, std::size_t samples) {
+  const std::vector<char> kept = keptViews(at, pool, chosen, pinned, samples);
+  std::vector<std::size_t> result;
+  for (std::size_t k = 0; k < chosen.size(); ++k)
+    if (kept[k]) result.push_back(chosen[k]);
+  return result;
 }
 
 // The samples the exact selection must cover: those some pool view measures and neither a
@@ -123,6 +116,27 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
 }
 
 }  // namespace
+
+std::vector<char> keptViews(const Placement& at, const MeasuredViews& pool,
+                            const std::vector<std::size_t>& chosen, std::size_t pinned,
+                            std::size_t samples, const std::function<bool(std::size_t)>& needed,
+                            const std::function<void(std::size_t)>& dropped) {
+  std::vector<int> times_measured(samples, 0);
+  for (std::size_t v : chosen)
+    for (int i : pool.samples[v]) ++times_measured[i];
+  std::vector<char> kept(chosen.size(), 1);
+  for (std::size_t k = chosen.size(); k-- > pinned;) {
+    const std::vector<int>& mine = pool.samples[chosen[k]];
+    if ((needed && needed(k)) || !std::all_of(mine.begin(), mine.end(), [&](int i) {
+          return times_measured[i] > 1 || at.isDone(i);
+        }))
+      continue;
+    kept[k] = 0;
+    for (int i : mine) --times_measured[i];
+    if (dropped) dropped(k);
+  }
+  return kept;
+}
 
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,

@@ -5,6 +5,7 @@
 #include <scanplan/planning/planner.h>
 #include <scanplan/scanner/visibility.h>
 
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -22,10 +23,6 @@ struct MeasuredViews {
     samples.push_back(std::move(measured));
   }
 };
-
-// The spec's registration options, with the planner's seed: as the registration stage,
-// and the selection that foresees it, use them.
-RegistrationOptions registrationOptions(const Spec& spec);
 
 // What every stage of one placement reads.
 struct Placement {
@@ -130,6 +127,16 @@ std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews
                                         const std::vector<PlannedSample>& samples,
                                         const std::vector<Marker>& markers,
                                         const Progress& progress);
+
+// Which views of `chosen` (pool indices) are kept: each one, last first but for the first
+// `pinned`, is dropped when every sample it measures is measured by another view still kept
+// or by an earlier placement, unless `needed(k)` holds for it; `dropped(k)` hears of each
+// drop (k indexes `chosen`).
+std::vector<char> keptViews(const Placement& at, const MeasuredViews& pool,
+                            const std::vector<std::size_t>& chosen, std::size_t pinned,
+                            std::size_t samples,
+                            const std::function<bool(std::size_t)>& needed = nullptr,
+                            const std::function<void(std::size_t)>& dropped = nullptr);
 
 // The selected views as the plan's, ids 1..n in selection order, the task of a candidate
 // taken from most of the samples it measures; the samples' measured_by set to them; each

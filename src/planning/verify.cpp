@@ -15,9 +15,8 @@ namespace {
 // The registration options a plan is checked with: the spec's, without bridging, with the
 // plan's method (and robot accuracy) when the spec names none, and the plan's `required`.
 RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) {
-  RegistrationOptions registration = spec.registration;
+  RegistrationOptions registration = registrationOptions(spec);
   registration.bridging = false;
-  registration.seed = spec.planner.seed;
   registration.required = planned.required;
   if (registration.method == RegistrationMode::Default) {
     registration.method = planned.method;
@@ -162,20 +161,14 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     check.sequence_breaks += part_check.sequence_breaks;
     check.unregistered += part_check.unregistered;
     check.registration_required |= part_check.registration_required;
-    for (std::size_t i = 0; i < again.samples.size(); ++i) {
-      std::vector<int>& by = again.samples[i].measured_by;
-      const std::vector<int>& found = part_check.plan.samples[i].measured_by;
-      by.insert(by.end(), found.begin(), found.end());
+    if (registration) {
+      o.markers = part_check.plan.markers;
+      o.reference = part_check.plan.registration->reference;
+    } else {  // the plan's own, not checked again
+      part_check.plan.registration.reset();
+      part_check.plan.sequence.reset();
     }
-    if (!registration) continue;
-    o.markers = part_check.plan.markers;
-    o.reference = part_check.plan.registration->reference;
-    appendRegistration(*again.registration, std::move(*part_check.plan.registration), 0);
-    const Sequence& sequence = *part_check.plan.sequence;
-    again.sequence->views.insert(again.sequence->views.end(), sequence.views.begin(),
-                                 sequence.views.end());
-    again.sequence->length += sequence.length;
-    again.sequence->nearest_neighbour_length += sequence.nearest_neighbour_length;
+    appendOrientation(again, part_check.plan, 0);
   }
   for (PlannedSample& s : again.samples) std::sort(s.measured_by.begin(), s.measured_by.end());
   return check;

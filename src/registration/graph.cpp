@@ -322,15 +322,14 @@ void RegistrationGraph::connect(std::vector<std::size_t> candidates, bool shown)
     if (a.markers) return a.shared_markers > b.shared_markers;
     return a.condition < b.condition;
   });
-  const auto registrable = static_cast<std::size_t>(
-      std::count_if(candidates.begin(), candidates.end(),
-                    [&](std::size_t p) { return pairs_[p].markers || pairs_[p].stable; }));
+  const auto registrable = static_cast<std::size_t>(std::count_if(
+      candidates.begin(), candidates.end(), [&](std::size_t p) { return pairs_[p].passes(); }));
   std::size_t verified_up_to = 0;  // candidates before this index were ICP-verified ahead
   std::size_t walked = 0;          // registrable candidates passed
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const std::size_t p = candidates[k];
     const PairCheck& pair = pairs_[p];
-    if (!pair.markers && !pair.stable) continue;
+    if (!pair.passes()) continue;
     ++walked;
     const int a = find(static_cast<int>(ends_[p].first));
     const int b = find(static_cast<int>(ends_[p].second));

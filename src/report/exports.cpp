@@ -3,7 +3,8 @@
 
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/io/cloud_ply.h>
-#include <scanplan/report/report.h>
+#include <scanplan/planning/evidence.h>
+#include <scanplan/report/exports.h>
 
 #include <fmt/format.h>
 
@@ -36,30 +37,6 @@ Rgb incidenceColour(double degrees) {
   const double g = 1 - std::abs(2 * t - 1);
   return {static_cast<std::uint8_t>(255 * r), static_cast<std::uint8_t>(200 * g),
           static_cast<std::uint8_t>(255 * b)};
-}
-
-// Calls `take(index, cloud)` with each view's simulated cloud in the scene frame, one view
-// at a time, the part placed as the view's orientation places it; view i is seeded i + 1.
-template <typename Take>
-void forEachSceneCloud(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
-                       double spacing, const Progress& progress, Take take) {
-  const std::vector<std::size_t> orientation_of = viewOrientations(plan);
-  std::size_t done = 0;
-  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
-    const Pose placement = orientationPlacement(plan, k);
-    const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, placement));
-    const Pose to_scene = plan.part_to_world * placement.inverse();
-    for (std::size_t i = 0; i < plan.views.size(); ++i) {
-      if (orientation_of[i] != k) continue;
-      report(progress, "simulated clouds",
-             static_cast<double>(done++) / static_cast<double>(plan.views.size()));
-      PointCloud cloud = simulator.cloud(plan.views[i], static_cast<std::uint64_t>(i + 1), spacing);
-      for (Vec3& p : cloud.points) p = to_scene * p;
-      for (Vec3& v : cloud.normals) v = to_scene.linear() * v;
-      take(i, std::move(cloud));
-    }
-  }
-  report(progress, "simulated clouds", 1);
 }
 
 }  // namespace
@@ -102,19 +79,6 @@ PlyData samplesPly(const Plan& plan) {
           {std::move(vertex)}};
 }
 
-std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
-                                    double spacing, const Progress& progress) {
-  return sceneClouds(plan, part, resolveSpec(part, spec), spacing, progress);
-}
-
-std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,
-                                    double spacing, const Progress& progress) {
-  std::vector<PointCloud> clouds(plan.views.size());
-  forEachSceneCloud(plan, part, spec, spacing, progress,
-                    [&](std::size_t i, PointCloud&& cloud) { clouds[i] = std::move(cloud); });
-  return clouds;
-}
-
 void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
                     const std::string& path, const Progress& progress) {
   const ResolvedSpec resolved = resolveSpec(part, spec);
@@ -131,7 +95,7 @@ void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double
         << "property int face\nproperty float incidence\nproperty int view\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
     std::size_t count = 0;
-    forEachSceneCloud(plan, part, resolved, spacing, progress, [&](std::size_t v, PointCloud&& c) {
+    forEachViewCloud(plan, part, resolved, spacing, progress, [&](std::size_t v, PointCloud&& c) {
       const std::int32_t view = plan.views[v].id;
       std::string buffer;
       auto put = [&](const auto& value) {

@@ -3,7 +3,7 @@
 // scales by 0.001 and turns Z up into Y up, so that viewers show it upright and to size.
 
 #include <scanplan/core/atomic_file.h>
-#include <scanplan/report/report.h>
+#include <scanplan/report/exports.h>
 
 #include <tiny_gltf.h>
 

@@ -1,14 +1,13 @@
 // The HTML report: the page (web/src/report.html) with the viewer bundle (three.js and
-// web/src/viewer.js) and the plan's data inlined (report/page.h).
+// web/src/viewer.js) and the plan's data inlined (io/page.h).
 
 #include "core/assets.h"
 #include "io/page.h"
 
 #include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/planning/evidence.h>
 #include <scanplan/report/report.h>
-#include <scanplan/scanner/simulation.h>
-#include <scanplan/scanner/visibility.h>
 
 #include <nlohmann/json.hpp>
 
@@ -153,42 +152,20 @@ json viewsJson(const PlanScene& scene, const Plan& plan, const std::vector<Point
   return views;
 }
 
-// The clusters of the planner's first round of iterative adding (Sample::cluster, as
-// plan.json records it) with their Combined Visibility Maps over all their members, the
-// part placed as the plan's first placement puts it, with the planner's map options.
-json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
-                  const Progress& progress) {
-  const Spec& spec = resolved.spec;
-  std::vector<Sample> samples;
-  std::map<int, std::vector<int>> members_of;
-  for (std::size_t i = 0; i < plan.samples.size(); ++i) {
-    samples.push_back(plan.samples[i].sample);
-    if (samples.back().cluster >= 0)
-      members_of[samples.back().cluster].push_back(static_cast<int>(i));
-  }
-  const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
-  const VisibilityOptions vo =
-      plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
+// The clusters (planning/evidence.h) as the page draws them: each map scaled to 0..255.
+json clustersJson(const std::vector<ClusterMap>& clusters) {
   json list = json::array();
-  std::size_t done = 0;
-  for (const auto& [id, members] : members_of) {
-    report(progress, "visibility maps",
-           static_cast<double>(done++) / static_cast<double>(members_of.size()));
-    const VisibilityMap map = combinedVisibilityMap(simulator, surfacePoints(samples, members), vo);
+  for (const ClusterMap& cluster : clusters) {
+    const VisibilityMap& map = cluster.map;
     std::vector<std::uint8_t> cells(map.counts.size());
     const double top = std::max<std::uint32_t>(map.max(), 1);
     for (std::size_t i = 0; i < cells.size(); ++i)
       cells[i] = static_cast<std::uint8_t>(std::lround(255.0 * map.counts[i] / top));
-    Vec3 position = Vec3::Zero(), normal = Vec3::Zero();
-    for (int i : members) {
-      position += samples[i].position;
-      normal += samples[i].normal;
-    }
-    const std::vector<std::uint32_t> indices(members.begin(), members.end());
-    list.push_back({{"id", id + 1},
-                    {"samples", members.size()},
-                    {"position", vec(position / static_cast<double>(members.size()))},
-                    {"normal", vec(normal.normalized())},
+    const std::vector<std::uint32_t> indices(cluster.members.begin(), cluster.members.end());
+    list.push_back({{"id", cluster.id},
+                    {"samples", cluster.members.size()},
+                    {"position", vec(cluster.position)},
+                    {"normal", vec(cluster.normal)},
                     {"members", base64(indices)},
                     {"azimuths", map.azimuths},
                     {"elevations", map.elevations},
@@ -196,7 +173,6 @@ json clustersJson(const Plan& plan, const Part& part, const ResolvedSpec& resolv
                     {"max", map.max()},
                     {"cvm", base64(cells)}});
   }
-  report(progress, "visibility maps", 1);
   return list;
 }
 
@@ -209,21 +185,15 @@ void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std
 
 void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
                  const std::string& path, const ReportOptions& options, const Progress& progress) {
+  writeReport(plan, part, resolved, reportEvidence(plan, part, resolved, options, progress), path);
+}
+
+void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolved,
+                 const ReportEvidence& evidence, const std::string& path) {
   const Spec& spec = resolved.spec;
   const PlanScene scene = planScene(plan, part, resolved);
   Box part_box;
   for (const Vec3& v : scene.mesh.vertices) part_box.add(v);
-  std::vector<PointCloud> clouds;
-  if (options.clouds) {
-    // About 2,500 points over the field of view, finer on a part much smaller than it.
-    const double spacing =
-        options.cloud_spacing > 0
-            ? options.cloud_spacing
-            : std::max(std::min(std::sqrt(plan.scanner.fov_width * plan.scanner.fov_height / 2500),
-                                part_box.diagonal() / 60),
-                       plan.scanner.point_spacing);
-    clouds = sceneClouds(plan, part, resolved, spacing, progress);
-  }
   json plan_json = planJson(plan);
   plan_json.erase("samples");
   json data = {{"title", std::filesystem::path(plan.part_file).filename().string()},
@@ -232,7 +202,7 @@ void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolve
                {"faces", facesJson(plan, scene, part, resolved.targets.fixture)},
                {"fixtures", detail::meshJson(scene.fixtures)},
                {"samples", samplesJson(plan)},
-               {"views", viewsJson(scene, plan, clouds)},
+               {"views", viewsJson(scene, plan, evidence.clouds)},
                {"path", scene.path},
                {"markers", base64(floats(scene.markers))},
                {"proposed_markers", base64(floats(scene.proposed_markers))},
@@ -240,9 +210,7 @@ void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolve
                {"working_plane", spec.working_plane},
                {"bounds", {{"min", vec(scene.bounds.min)}, {"max", vec(scene.bounds.max)}}},
                {"part_bounds", {{"min", vec(part_box.min)}, {"max", vec(part_box.max)}}},
-               {"clusters", options.visibility_maps && !plan.samples.empty()
-                                ? clustersJson(plan, part, resolved, progress)
-                                : json::array()}};
+               {"clusters", clustersJson(evidence.clusters)}};
   json palette = json::object();
   for (FaceCoverage c : {FaceCoverage::NotTarget, FaceCoverage::Measured, FaceCoverage::Partly,
                          FaceCoverage::NotMeasured})

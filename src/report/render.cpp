@@ -6,7 +6,7 @@
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/core/input_file.h>
-#include <scanplan/report/report.h>
+#include <scanplan/report/exports.h>
 
 #include <stb_easy_font.h>
 #include <stb_image.h>

@@ -3,7 +3,7 @@
 
 #include <scanplan/core/errors.h>
 #include <scanplan/planning/planner.h>
-#include <scanplan/report/report.h>
+#include <scanplan/report/scene.h>
 
 #include <fmt/format.h>
 

@@ -1,14 +1,8 @@
 // User control points (points task): projected onto the nearest face, exactly onto a B-Rep's.
 
-#include "cad/brep_model.h"
-
+#include <scanplan/cad/face_sampling.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/sampling/sampling.h>
-
-#include <BRepAdaptor_Surface.hxx>
-#include <BRepBuilderAPI_MakeVertex.hxx>
-#include <BRepExtrema_DistShapeShape.hxx>
-#include <BRepLProp_SLProps.hxx>
 
 #include <limits>
 
@@ -41,28 +35,6 @@ Sample onMesh(const TriangleMesh& mesh, const Vec3& p, double& distance) {
   return sample;
 }
 
-// Moves `sample` onto its exact face, nearest `p`: the point, its parameters and the
-// outward normal there; `distance` becomes how far that point lies from `p`.
-void ontoExactFace(const detail::BRepModel& brep, const Vec3& p, Sample& sample, double& distance) {
-  const TopoDS_Face face = brep.outwardFace(sample.face);
-  BRepExtrema_DistShapeShape extrema(
-      BRepBuilderAPI_MakeVertex(gp_Pnt(p.x(), p.y(), p.z())).Vertex(), face);
-  if (!extrema.IsDone() || extrema.NbSolution() == 0) return;
-  distance = extrema.Value();
-  const gp_Pnt on = extrema.PointOnShape2(1);
-  sample.position = Vec3(on.X(), on.Y(), on.Z());
-  if (extrema.SupportTypeShape2(1) != BRepExtrema_IsInFace) return;
-  double u = 0, v = 0;
-  extrema.ParOnFaceS2(1, u, v);
-  sample.uv = Eigen::Vector2d(u, v);
-  BRepLProp_SLProps props(BRepAdaptor_Surface(face), u, v, 1, 1e-9);
-  if (props.IsNormalDefined()) {
-    gp_Dir n = props.Normal();
-    if (face.Orientation() == TopAbs_REVERSED) n.Reverse();
-    sample.normal = Vec3(n.X(), n.Y(), n.Z());
-  }
-}
-
 }  // namespace
 
 std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoint>& points,
@@ -71,7 +43,14 @@ std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoin
   for (const ControlPoint& point : points) {
     double distance = 0;
     Sample sample = onMesh(part.mesh, point.position, distance);
-    if (part.brep) ontoExactFace(*part.brep, point.position, sample, distance);
+    if (part.brep)
+      if (const auto exact = nearestOnBrepFace(part, sample.face, point.position)) {
+        // Onto its exact face: the point, and its parameters and normal where inside it.
+        distance = exact->distance;
+        sample.position = exact->position;
+        if (exact->uv) sample.uv = *exact->uv;
+        if (exact->normal) sample.normal = *exact->normal;
+      }
     if (distance > options.point_tolerance)
       throw InputError(source, "line " + std::to_string(point.line) + ": the point (" +
                                    std::to_string(point.position.x()) + ", " +

@@ -132,6 +132,12 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   return resolved;
 }
 
+RegistrationOptions registrationOptions(const Spec& spec) {
+  RegistrationOptions registration = spec.registration;
+  registration.seed = spec.planner.seed;
+  return registration;
+}
+
 Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world) {
   return fixture.in_world ? fixture.placement : Pose(part_to_world * fixture.placement);
 }

@@ -168,6 +168,11 @@ struct Plan {
 
 std::string_view toString(Uncoverable reason);
 
+// Appends to `merged` what `part`, the plan of a later rest orientation, found: its
+// registration and its sequence (where both plans have one) and, per sample, the views
+// measuring it; the ids of `part`'s views shifted by `offset`.
+void appendOrientation(Plan& merged, Plan& part, int offset);
+
 // The ids of the plan's views in the order they are visited: its sequence, then any view
 // outside it in plan order.
 std::vector<int> visitingOrder(const Plan& plan);

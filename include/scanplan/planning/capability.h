@@ -10,22 +10,14 @@
 #include <scanplan/plan/plan.h>
 #include <scanplan/spec/spec.h>
 
-#include <cstdint>
 #include <vector>
 
 namespace scanplan {
 
-struct CapabilityOptions {
-  double capable_ratio = 4;   // width / (2 U) from which a characteristic is capable
-  double marginal_ratio = 1;  // from which it is marginal
-  int draws = 200;            // Monte Carlo draws of the noise
-  std::uint64_t seed = 1;
-};
-
 // The capability of each of `characteristics` under the views of `plan` (each in its own
-// orientation's placement), with the simulation `spec` sets.
+// orientation's placement), with the simulation, the capability options
+// (planner.capable_ratio) and the seed `spec` sets.
 std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
-                                     const std::vector<Characteristic>& characteristics,
-                                     const CapabilityOptions& options = {});
+                                     const std::vector<Characteristic>& characteristics);
 
 }  // namespace scanplan

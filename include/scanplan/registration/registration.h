@@ -128,6 +128,9 @@ struct PairCheck {
   double condition = std::numeric_limits<double>::infinity();
   bool stable = false;          // overlap and condition within the limits
   std::optional<IcpCheck> icp;  // when verified
+  // The pair test passes: the views share markers that register them, or a stable overlap
+  // (which ICP, when verified, may still fail).
+  bool passes() const { return markers || stable; }
   bool registrable() const { return markers || (stable && (!icp || icp->passed)); }
 };
 

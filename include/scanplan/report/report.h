@@ -1,148 +1,35 @@
 #pragma once
-// Seeing a plan: the scene it makes (the part coloured by coverage, the views as frusta
-// in sequence and coloured by registration state, the path, the markers) and the files
-// written from it: the self-contained HTML report, glTF 2.0 binary, PLY of the samples
-// and of the simulated clouds, CSV of the views, and a PNG picture (docs/report.md).
+// The self-contained HTML report of a plan (docs/report.md): its scene (report/scene.h) and
+// the evidence the planning stages make for it (planning/evidence.h), inlined in one page;
+// report/exports.h writes the other files seen beside it.
 
 #include <scanplan/cad/part.h>
-#include <scanplan/cad/ply.h>
 #include <scanplan/core/progress.h>
-#include <scanplan/planning.h>
+#include <scanplan/plan/plan.h>
+#include <scanplan/planning/evidence.h>
+#include <scanplan/report/exports.h>
+#include <scanplan/report/scene.h>
 #include <scanplan/spec/spec.h>
 
-#include <array>
-#include <cstdint>
 #include <string>
-#include <vector>
 
 namespace scanplan {
 
-// How much of a face the plan measures.
-enum class FaceCoverage : std::uint8_t {
-  NotTarget,    // no sample on it
-  Measured,     // every sample measured
-  Partly,       // some samples measured
-  NotMeasured,  // samples on it, none measured
-};
-std::string_view toString(FaceCoverage coverage);
-
-enum class ViewState : std::uint8_t {
-  Registered,     // registers to the reference through the graph
-  Bridge,         // added to join the registration graph
-  Unregistrable,  // registers to no other view
-  Unchecked,      // the plan has no registration
-};
-std::string_view toString(ViewState state);
-
-using Rgb = std::array<std::uint8_t, 3>;  // sRGB
-Rgb colour(FaceCoverage coverage);
-Rgb colour(ViewState state);
-inline constexpr Rgb kFixtureColour{96, 122, 168};  // fixture models and fixture faces
-
-struct FaceStatus {
-  int id = 0;
-  std::size_t samples = 0, measured = 0, not_coverable = 0;
-  FaceCoverage coverage = FaceCoverage::NotTarget;
-  bool priority = false;                   // toleranced or datum face (GD&T)
-  Uncoverable reason = Uncoverable::None;  // the commonest reason of its not coverable samples
-};
-
-struct SceneView {
-  View view;      // in the scene frame
-  int order = 0;  // 1-based position in the sequence; 0: not in it
-  ViewState state = ViewState::Unchecked;
-  int orientation = 0;       // 1-based index into Plan::orientations; 0 for one placement
-  std::size_t measured = 0;  // samples it measures
-};
-
-// The plan in one frame, the world of its first placement (Plan::part_to_world): views
-// of other rest orientations are carried into it with the part.
-struct PlanScene {
-  TriangleMesh mesh;                   // the part's mesh placed in the scene, mm
-  std::vector<FaceStatus> faces;       // per face, faces[i].id == i + 1
-  std::vector<SceneView> views;        // in plan order
-  std::vector<int> path;               // indices into views, in sequence order
-  std::vector<Vec3> markers;           // in the scene frame
-  std::vector<Vec3> proposed_markers;  // the plan's proposal, one orientation only
-  TriangleMesh fixtures;               // the spec's fixture models (face id 0), or none
-  Scanner scanner;
-  Box bounds;  // of the mesh, the cameras and the markers
-};
-
-// \throw InputError when the part does not match the plan (face count).
-PlanScene planScene(const Plan& plan, const Part& part);
-// The same with the fixture models of `spec` (resolved against `part`) in the scene.
-PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec);
-
-// The colour of face `face` of the scene: its coverage, the fixtures' for face 0 (the
-// fixture models), not a target for an id the part does not have.
-Rgb faceColour(const PlanScene& scene, int face);
-
-// A sample's state: 0 measured, 1 not measured, 2 not coverable.
-int sampleState(const PlannedSample& sample);
-
-// The measuring frustum of a view: the camera, then the four corners of the field of view
-// at the far end of the depth of field (scanner frame S: x right, y down, z ahead).
-std::array<Vec3, 5> frustum(const View& view, const Scanner& scanner);
-
-// The outlines of the priority faces: the edges of their triangles that no other
-// triangle of the same face shares, as pairs of points (line segments).
-std::vector<Vec3> priorityOutlines(const PlanScene& scene);
-
-// The samples as PLY (scene frame): x y z nx ny nz, face, task, role, views measuring it,
-// state (0 measured, 1 not measured, 2 not coverable), reason (Uncoverable), red green
-// blue by state.
-PlyData samplesPly(const Plan& plan);
-
-// Each view's simulated cloud in the scene frame, the part placed as the view's
-// orientation places it; `spacing` mm between camera rays (0: the scanner's); view i is
-// seeded i + 1.
-std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const Spec& spec,
-                                    double spacing, const Progress& progress = {});
-// The same with the spec already resolved against `part` (its fixture models read).
-std::vector<PointCloud> sceneClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,
-                                    double spacing, const Progress& progress = {});
-
-// Writes every view's simulated cloud (as sceneClouds makes them) into one binary PLY,
-// one view at a time so that memory stays that of one cloud: x y z nx ny nz, face,
-// incidence (degrees), view (id), red green blue by incidence.
-// \throw OutputError when it cannot be written.
-void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
-                    const std::string& path, const Progress& progress = {});
-
-// The scene as glTF 2.0 binary (.glb): the part with vertex colours by face coverage, the
-// priority faces' outlines, the frusta, the path and the markers, each a node of its own.
-// \throw OutputError when it cannot be written.
-void writeGlb(const PlanScene& scene, const std::string& path);
-
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;  // row-major from the top, 3 bytes a pixel
-};
-
-// A picture of the scene from above and in front (Embree primary rays, Lambert shading
-// with a head light): the part coloured by coverage, the frusta, path and markers drawn
-// over it.
-Image renderScene(const PlanScene& scene, int width = 1280, int height = 960);
-// \throw OutputError when it cannot be written.
-void writePng(const Image& image, const std::string& path);
-// \throw InputError naming the file when it cannot be read.
-Image readPng(const std::string& path);
-
-struct ReportOptions {
-  double cloud_spacing = 0;     // mm between the camera rays of each view's cloud; 0: about
-                                // 2,500 points over the field of view
-  bool clouds = true;           // include each view's simulated cloud
-  bool visibility_maps = true;  // include each cluster's Combined Visibility Map
-};
+// What the report shows beside the plan (planning/evidence.h).
+using ReportOptions = EvidenceOptions;
 
 // Writes the self-contained HTML report of `plan` on `part` (three.js inlined, opens from
-// disk without network). \throw OutputError when it cannot be written.
+// disk without network), with the evidence planning makes as `options` asks
+// (reportEvidence). \throw OutputError when it cannot be written.
 void writeReport(const Plan& plan, const Part& part, const Spec& spec, const std::string& path,
                  const ReportOptions& options = {}, const Progress& progress = {});
 // The same with the spec already resolved against `part` (its fixture models read).
 void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& spec,
                  const std::string& path, const ReportOptions& options = {},
                  const Progress& progress = {});
+
+// The page itself: the plan's scene and `evidence`, drawn as they are.
+void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& spec,
+                 const ReportEvidence& evidence, const std::string& path);
 
 }  // namespace scanplan

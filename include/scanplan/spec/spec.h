@@ -41,6 +41,14 @@ struct FixtureModel {
   std::string markers_file;           // markers: a CSV in the fixture's frame, resolved, or ""
 };
 
+// How a characteristic's capability is judged (docs/capability.md).
+struct CapabilityOptions {
+  double capable_ratio = 4;   // capable from this tolerance width / (2 U) on (shops ask 10
+                              // for gauges)
+  double marginal_ratio = 1;  // marginal from this one on
+  int draws = 200;            // Monte Carlo draws of the noise
+};
+
 struct PlannerSettings {
   std::uint64_t seed = 1;  // k-means and any other randomness
   double vm_step = 5;      // visibility-map grid step, degrees
@@ -57,8 +65,7 @@ struct PlannerSettings {
   double selection_seconds = 8;  // and its time cap, per placement (results depend on
                                  // the machine when it is reached)
   int most_views = 10000;        // a part larger than this many fields of view is refused
-  double capable_ratio = 4;      // a characteristic is capable from this tolerance width /
-                                 // (2 U) on (shops ask 10 for gauges)
+  CapabilityOptions capability;  // capable_ratio: planner.capable_ratio
   bool lift_capability = false;  // plan again with the characteristics' faces as targets when
                                  // one is covered but not capable; kept if more are capable
 };
@@ -114,6 +121,10 @@ struct ResolvedSpec {
 // part without GD&T; PlanningError for a gdt, trim or surface task left without target
 // faces.
 ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
+
+// The registration's options as the spec sets them: its registration section, with the
+// planner's seed.
+RegistrationOptions registrationOptions(const Spec& spec);
 
 // Where a fixture model stands in the world, with the part placed by `part_to_world`.
 Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world);
