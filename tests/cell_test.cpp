@@ -18,7 +18,10 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
+#include <random>
 
 namespace scanplan {
 namespace {
@@ -337,7 +340,50 @@ namespace {
 // with an IRB 4600 1.15 m from it: joints 1 to 5 chosen along the sequence never jump by
 // 180° or more between consecutive views (joint 6 only turns the scanner about its axis,
 // and may turn further where that is quickest).
-TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
+// The distance from the point `p` to the triangle (a, b, c), by its plane where `p`
+// projects inside it, else by its nearest edge.
+double triangleDistance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  auto segment = [&](const Vec3& u, const Vec3& v) {
+    const Vec3 d = v - u;
+    const double t = std::clamp((p - u).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    return (p - (u + t * d)).norm();
+  };
+  const Vec3 n = (b - a).cross(c - a);
+  if (n.squaredNorm() > 1e-24) {
+    const Vec3 q = p - n.dot(p - a) / n.squaredNorm() * n;
+    const bool inside = n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 &&
+                        n.dot((a - c).cross(q - c)) >= 0;
+    if (inside) return (p - q).norm();
+  }
+  return std::min({segment(a, b), segment(b, c), segment(c, a)});
+}
+
+// The least distance from the segment [a, b], sampled every millimetre, to `mesh`; only
+// triangles whose bounds come within `within` of the segment's are looked at (farther
+// ones count as `within`).
+double axisDistance(const TriangleMesh& mesh, const Vec3& a, const Vec3& b, double within) {
+  Box near;
+  near.add(a);
+  near.add(b);
+  near.min -= Vec3::Constant(within);
+  near.max += Vec3::Constant(within);
+  const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm())));
+  double least = within;
+  for (const Vec3i& tri : mesh.triangles) {
+    const Vec3 &p = mesh.vertices[tri[0]], &q = mesh.vertices[tri[1]], &r = mesh.vertices[tri[2]];
+    const Vec3 lo = p.cwiseMin(q).cwiseMin(r), hi = p.cwiseMax(q).cwiseMax(r);
+    if ((lo.array() > near.max.array()).any() || (hi.array() < near.min.array()).any()) continue;
+    for (int s = 0; s <= steps; ++s) {
+      const Vec3 x = a + (b - a) * s / steps;
+      if (((lo.array() - x.array()) > within).any() || ((x.array() - hi.array()) > within).any())
+        continue;  // this triangle lies farther than `within` from this point
+      least = std::min(least, triangleDistance(x, p, q, r));
+    }
+  }
+  return least;
+}
+
+TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBoundedAndItsArmClear) {
   const Part part = importPart(test::testData("nist_ctc_03_asme1_ap242-e2.stp"));
   Spec spec = defaultSpec();
   spec.gdt_from_file = true;
@@ -378,6 +424,65 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBounded) {
       cell, cellPoses(cell, plan.views, cartesian.views, &collisions), plan.views, cartesian.views);
   RecordProperty("cartesian_order_joint_travel_seconds", std::to_string(along_cartesian.seconds));
   EXPECT_LT(motion.seconds, along_cartesian.seconds);
+
+  // The arm's collisions by a second, simple geometry: each link's axis sampled every
+  // millimetre against every triangle of the placed part (and the working plane), where
+  // FCL tests capsules against a bounding-volume hierarchy. They agree on every pose where
+  // the brute force is decisive (its sampling leaves half a millimetre of doubt): the
+  // plan's poses, all clear, the same leant into the part, and random poses within the
+  // joint limits.
+  TriangleMesh world = part.mesh;
+  for (Vec3& v : world.vertices) v = plan.part_to_world * v;
+  std::vector<CellPose> poses;
+  for (const std::optional<CellPose>& pose : plan.cell_poses)
+    if (pose) poses.push_back(*pose);
+  const std::size_t planned = poses.size();
+  // Each planned pose with the upper arm leant 10 and 20 degrees further forward: the scanner
+  // and the forearm go down into the part, above the plane.
+  for (std::size_t k = 0; k < planned; ++k)
+    for (const double lean : {10.0, 20.0}) {
+      CellPose leant = poses[k];
+      leant.joints[1] += radians(lean);
+      poses.push_back(leant);
+    }
+  std::mt19937_64 random(9);
+  for (int k = 0; k < 60; ++k) {
+    CellPose pose;
+    for (int j = 0; j < 6; ++j)
+      pose.joints[j] =
+          std::uniform_real_distribution<double>(cell.robot.lower[j], cell.robot.upper[j])(random);
+    poses.push_back(pose);
+  }
+  std::size_t decisive = 0, collide = 0, through_part = 0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    bool surely = false, maybe = false, part_hit = false, plane_hit = false;
+    for (const CellCollisions::Capsule& c : collisions.links(poses[k])) {
+      const double reach = c.radius + cell.clearance;
+      plane_hit = plane_hit || std::min(c.a.z(), c.b.z()) - reach < 0;
+      surely = surely || plane_hit;
+      const double d = axisDistance(world, c.a, c.b, reach + 1);
+      part_hit = part_hit || d < reach;
+      surely = surely || d < reach;
+      maybe = maybe || d < reach + 0.5;
+    }
+    const bool fcl = collisions.collides(poses[k]);
+    if (k < planned) {
+      EXPECT_FALSE(fcl) << "planned pose " << k;
+    }
+    if (surely == maybe || surely) {
+      ++decisive;
+      EXPECT_EQ(fcl, surely) << "pose " << k;
+      collide += surely;
+      through_part += part_hit && !plane_hit;
+    }
+  }
+  RecordProperty("collision_poses", std::to_string(decisive) + " decisive, " +
+                                        std::to_string(collide) + " colliding, " +
+                                        std::to_string(through_part) +
+                                        " through the part above the plane");
+  EXPECT_GE(decisive, poses.size() - 5);
+  EXPECT_GT(through_part, 0u);
+  EXPECT_GT(decisive - collide, planned);
 }
 
 }  // namespace

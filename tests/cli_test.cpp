@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -374,6 +375,73 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("broken.json"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
       << r.out;
+}
+
+// verify catches each way a plan can lie about its registration and its sequence, and a
+// view moved after planning: on a plan that holds (exit 0), each tampering alone fails it
+// (exit 3) and is named.
+TEST(Cli, VerifyCatchesAFalseLinkABrokenSequenceAndAMovedView) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("spec.yaml"),
+                  "markers: {grid: 40, on: plate}\nregistration: {required: false}\n");
+  const std::string spec = dir.file("spec.yaml");
+  CommandResult r =
+      run("plan " + part + " --spec " + spec + " -o " + dir.file("out") + " --no-report -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir.file("out/plan.json"));
+  const nlohmann::json planned = nlohmann::json::parse(in);
+  auto verify = [&](const nlohmann::json& plan) {
+    test::writeText(dir.file("tampered.json"), plan.dump());
+    return run("verify " + dir.file("tampered.json") + " " + part + " --spec " + spec + " -q");
+  };
+  r = verify(planned);
+  ASSERT_EQ(r.code, 0) << r.out;
+
+  // A view registered to one with which it forms no registrable pair (the plan's own
+  // pairs say which: neither enough markers shared nor a stable overlap).
+  nlohmann::json lying = planned;
+  const nlohmann::json& pairs = planned["registration"]["pairs"];
+  std::map<std::pair<int, int>, bool> registrable;
+  for (const nlohmann::json& p : pairs)
+    registrable[{p["views"][0].get<int>(), p["views"][1].get<int>()}] = p["registrable"];
+  bool tampered = false;
+  for (nlohmann::json& view : lying["views"]) {
+    const int id = view["id"];
+    for (const nlohmann::json& other : planned["views"]) {
+      const int to = other["id"];
+      const auto found = registrable.find({std::min(id, to), std::max(id, to)});
+      if (tampered || to == id || (found != registrable.end() && found->second) ||
+          view["registration"]["method"] != "markers")
+        continue;
+      view["registration"]["to"] = to;
+      tampered = true;
+    }
+  }
+  ASSERT_TRUE(tampered) << "every pair of views registers: no false link to claim";
+  r = verify(lying);
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("1 views registered otherwise than planned"), std::string::npos) << r.out;
+
+  // The sequence with a view left out, and with one visited twice.
+  nlohmann::json missing = planned;
+  missing["sequence"].erase(missing["sequence"].size() - 1);
+  r = verify(missing);
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("1 views missing or repeated"), std::string::npos) << r.out;
+  nlohmann::json repeated = planned;
+  repeated["sequence"].push_back(repeated["sequence"][0]);
+  r = verify(repeated);
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("1 views missing or repeated"), std::string::npos) << r.out;
+
+  // A view moved 2 m away measures none of what the plan says it measures.
+  nlohmann::json moved = planned;
+  nlohmann::json& pose = moved["views"][0]["camera_to_world"];
+  pose[0][3] = pose[0][3].get<double>() + 2000;
+  r = verify(moved);
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("samples measured otherwise than planned"), std::string::npos) << r.out;
 }
 
 // A part with nothing measurable: the plan is written, with no views and the reason per

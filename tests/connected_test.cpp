@@ -216,5 +216,78 @@ TEST(ConnectedCover, AddsNoChainWhoseLinksFailIcp) {
       << ::testing::PrintToString(plate.cover());
 }
 
+// Samples on the studded plate's top between the pyramids (whose bases span x and y of
+// 10 to 40 mm, every 50 mm), none measured yet.
+std::vector<PlannedSample> plateSamples(const std::vector<Vec3>& positions) {
+  std::vector<PlannedSample> samples;
+  for (const Vec3& p : positions) {
+    PlannedSample s;
+    s.sample.position = p;
+    s.sample.normal = Vec3::UnitZ();
+    s.sample.face = 1;
+    samples.push_back(s);
+  }
+  return samples;
+}
+
+std::vector<SurfacePoint> pointsOf(const std::vector<PlannedSample>& samples) {
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : samples) points.push_back({s.sample.position, Vec3::UnitZ(), 1});
+  return points;
+}
+
+// The rescue pass gives each sample left a view that measures it: every sample of the plate
+// ends measured, and each view added measures, simulated again, the samples it is said to.
+TEST(Stages, RescueMeasuresEverySampleADensePoseCanMeasure) {
+  const Part part = studdedPlate();
+  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
+  const Simulator simulator(part, spec.spec.scanner);
+  std::vector<PlannedSample> samples =
+      plateSamples({Vec3(50, 50, 10), Vec3(350, 150, 10), Vec3(650, 250, 10)});
+  const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
+  detail::MeasuredViews added;
+  detail::rescueViews(at, samples, added);
+  for (const PlannedSample& s : samples)
+    EXPECT_FALSE(s.measured_by.empty()) << s.sample.position.transpose();
+  ASSERT_FALSE(added.views.empty());
+  for (std::size_t v = 0; v < added.size(); ++v)
+    EXPECT_EQ(added.samples[v], detail::measuredBy(simulator, added.views[v], at.points)) << v;
+}
+
+// A pose that sees no marker, shifted across its axis towards three just outside its
+// field, is added to the pool: moved no more than half the field of view, seeing the three
+// (simulated again) and still measuring the samples near its target.
+TEST(Stages, MarkerShiftMovesAPoseUntilItSeesEnoughMarkers) {
+  const Part part = studdedPlate();
+  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
+  const Simulator simulator(part, spec.spec.scanner);
+  const Scanner& scanner = simulator.scanner();
+  const std::vector<PlannedSample> samples =
+      plateSamples({Vec3(150, 150, 10), Vec3(200, 150, 10), Vec3(150, 100, 10)});
+  const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
+  const View pose = above(scanner, 160, 150);
+  detail::MeasuredViews pool;
+  pool.add(pose, detail::measuredBy(simulator, pose, at.points));
+  ASSERT_EQ(pool.samples[0], (std::vector<int>{0, 1, 2}));
+  std::vector<Marker> markers;
+  for (const Vec3& p : {Vec3(350, 100, 10), Vec3(400, 150, 10), Vec3(350, 200, 10)})
+    markers.push_back({p, Vec3::UnitZ()});
+  std::vector<SurfacePoint> marker_points;
+  for (const Marker& m : markers) marker_points.push_back({m.position, m.normal, 0});
+  ASSERT_TRUE(detail::measuredBy(simulator, pose, marker_points).empty());
+  detail::addMarkerShifts(at, pool, markers, {});
+  ASSERT_EQ(pool.size(), 2u);
+  const View& shifted = pool.views[1];
+  const double moved = (shifted.target - pose.target).norm();
+  EXPECT_GT(moved, 0);
+  EXPECT_LE(moved, scanner.fov_width / 2 + 1e-9);
+  EXPECT_EQ(detail::measuredBy(simulator, shifted, marker_points), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(pool.samples[1], detail::measuredBy(simulator, shifted, at.points));
+  for (int i : {0, 1, 2}) {
+    if ((at.points[i].position - pose.target).norm() > scanner.fov_height / 4) continue;
+    EXPECT_TRUE(std::count(pool.samples[1].begin(), pool.samples[1].end(), i)) << i;
+  }
+}
+
 }  // namespace
 }  // namespace scanplan

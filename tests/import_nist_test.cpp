@@ -91,7 +91,7 @@ class NistImport : public testing::TestWithParam<NistCase> {};
 TEST_P(NistImport, MatchesXdeAndMeshIsClosedAndOutward) {
   const NistCase& c = GetParam();
   std::string path = pathOf(c);
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  SHARED_FILE_OR_SKIP(path);
   Part part = importPart(path);
 
   ASSERT_EQ(part.faces.size(), static_cast<std::size_t>(c.faces));
@@ -125,7 +125,7 @@ TEST_P(NistImport, MatchesXdeAndMeshIsClosedAndOutward) {
 TEST_P(NistImport, ToleranceFacesAreValidIds) {
   const NistCase& c = GetParam();
   std::string path = pathOf(c);
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  SHARED_FILE_OR_SKIP(path);
   Part part = importPart(path);
   std::size_t attached = 0;
   for (const GeometricTolerance& t : part.gdt.tolerances) {

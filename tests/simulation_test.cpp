@@ -278,7 +278,8 @@ TEST(SimulatedCloud, PlyHasHeaderAndOneRecordPerPoint) {
 }
 
 // Independent check on a real part: a brute-force, double-precision segment test against
-// every triangle (Möller & Trumbore 1997) for every facet the simulation measures.
+// every triangle (Möller & Trumbore 1997) for every facet the simulation measures, and for
+// facets it loses to occlusion.
 bool segmentHitsTriangle(const Vec3& a, const Vec3& b, const Vec3& v0, const Vec3& v1,
                          const Vec3& v2) {
   const Vec3 d = b - a, e1 = v1 - v0, e2 = v2 - v0;
@@ -295,7 +296,7 @@ bool segmentHitsTriangle(const Vec3& a, const Vec3& b, const Vec3& v0, const Vec
   return t > 1e-9 && t < 1 - 1e-9;
 }
 
-TEST(SimulationOnRealPart, MeasuredFacetsAreVisibleByBruteForce) {
+TEST(SimulationOnRealPart, MeasuredFacetsAreVisibleAndOccludedOnesHiddenByBruteForce) {
   Part part = importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
   SimulationOptions options;
   options.part_to_world.translation() = Vec3(0, 0, 100);  // the part spans z in [-100, 50]
@@ -318,7 +319,7 @@ TEST(SimulationOnRealPart, MeasuredFacetsAreVisibleByBruteForce) {
   std::vector<Vec3> world(part.mesh.vertices.size());
   for (std::size_t i = 0; i < world.size(); ++i)
     world[i] = options.part_to_world * part.mesh.vertices[i];
-  std::size_t checked = 0;
+  std::size_t checked = 0, occluded = 0;
   for (const View& view : views) {
     Acquisition acquisition = simulator.acquire(view);
     const Vec3 eyes[2] = {view.camera(), projectorPosition(view, scanner())};
@@ -335,8 +336,30 @@ TEST(SimulationOnRealPart, MeasuredFacetsAreVisibleByBruteForce) {
         }
     }
     EXPECT_GT(acquisition.counts[0], 0u) << "view " << view.id << " measures nothing";
+    // And the other way: a facet lost to occlusion is hidden from that eye by some
+    // triangle (at most 200 such facets a view, spread over them).
+    std::vector<std::pair<std::size_t, Vec3>> lost;  // facet, the eye it is hidden from
+    for (std::size_t f = 0; f < facets.size(); ++f)
+      if (acquisition.facets[f] == Loss::CameraOccluded)
+        lost.push_back({f, eyes[0]});
+      else if (acquisition.facets[f] == Loss::ProjectorOccluded)
+        lost.push_back({f, eyes[1]});
+    const std::size_t stride = std::max<std::size_t>(1, lost.size() / 200);
+    for (std::size_t k = 0; k < lost.size(); k += stride) {
+      const auto& [f, eye] = lost[k];
+      const Vec3 origin = facets[f].position + offset * facets[f].normal;
+      bool hidden = false;
+      for (std::size_t t = 0; t < part.mesh.triangles.size() && !hidden; ++t) {
+        const Vec3i& tri = part.mesh.triangles[t];
+        hidden = segmentHitsTriangle(origin, eye, world[tri[0]], world[tri[1]], world[tri[2]]);
+      }
+      EXPECT_TRUE(hidden) << "view " << view.id << ": facet " << f << " is lost to occlusion "
+                          << "but nothing lies between it and the eye";
+      ++occluded;
+    }
   }
   EXPECT_GT(checked, 100u);
+  EXPECT_GT(occluded, 50u);
 }
 
 }  // namespace

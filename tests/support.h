@@ -32,10 +32,27 @@ inline std::string examplePlan(const std::string& name = "plan.json") {
   return folder + "/" + name;
 }
 
-// A file of ../shared/data; the test is skipped when the shared data is not there.
+// True when the shared data must be there (SCANPLAN_REQUIRE_SHARED_DATA set, as .ci/run sets
+// it when ../shared/data exists): a test that needs a missing file then fails.
+inline bool sharedDataRequired() {
+  const char* value = std::getenv("SCANPLAN_REQUIRE_SHARED_DATA");
+  return value != nullptr && *value != '\0';
+}
+
+// The test needs the file `path` of ../shared/data: it fails when the file is missing and
+// the shared data is required, and is skipped, saying so, otherwise.
+#define SHARED_FILE_OR_SKIP(path)                                                                \
+  if (!std::filesystem::exists(path)) {                                                          \
+    if (test::sharedDataRequired())                                                              \
+      FAIL() << "shared data not found: " << (path) << " (SCANPLAN_REQUIRE_SHARED_DATA is set)"; \
+    GTEST_SKIP() << "shared data not found: " << (path)                                          \
+                 << " (set SCANPLAN_REQUIRE_SHARED_DATA to make this a failure)";                \
+  }
+
+// A file of ../shared/data, as SHARED_FILE_OR_SKIP needs it.
 #define SHARED_DATA_OR_SKIP(var, relative)                                \
   std::string var = std::string(SCANPLAN_SHARED_DATA) + "/" + (relative); \
-  if (!std::filesystem::exists(var)) GTEST_SKIP() << "shared data not found: " << var
+  SHARED_FILE_OR_SKIP(var)
 
 // A fresh folder under the system temp dir, removed with the object.
 class TempDir {

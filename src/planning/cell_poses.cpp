@@ -12,8 +12,6 @@
 namespace scanplan {
 namespace {
 
-constexpr double kTableSpeed = M_PI / 2;  // radians per second
-
 // `poses` with, for joints whose range exceeds a turn, each other turn the limits allow:
 // the same flange pose reached with a joint 360° further, which may travel less.
 std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPose> poses) {
@@ -80,8 +78,7 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
     from[k].assign(layers[k]->size(), 0);
     for (std::size_t s = 0; s < layers[k]->size(); ++s)
       for (std::size_t p = 0; p < layers[k - 1]->size(); ++p) {
-        const double c =
-            cost[k - 1][p] + moveTime(cell, (*layers[k - 1])[p], (*layers[k])[s], kTableSpeed);
+        const double c = cost[k - 1][p] + moveTime(cell, (*layers[k - 1])[p], (*layers[k])[s]);
         if (c < cost[k][s]) {
           cost[k][s] = c;
           from[k][s] = p;
@@ -106,7 +103,7 @@ Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solution
       double best = kUnreached;
       for (const CellPose& a : solutions[static_cast<std::size_t>(i)])
         for (const CellPose& b : solutions[static_cast<std::size_t>(j)])
-          best = std::min(best, moveTime(cell, a, b, kTableSpeed));
+          best = std::min(best, moveTime(cell, a, b));
       times(i, j) = times(j, i) = best;
     }
   return times;

@@ -26,6 +26,18 @@ RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) 
   return registration;
 }
 
+// Whether the link the file claims for view `id` is one the check finds: a view registered
+// by markers or ICP to view `claimed.to` must form a pair with it that shares markers
+// registering both, or a stable overlap that ICP, if it was verified, did not fail.
+bool linkHolds(const Registration& found, int id, const ViewRegistration& claimed) {
+  if (claimed.method != RegistrationMethod::Markers && claimed.method != RegistrationMethod::Icp)
+    return true;
+  const int a = std::min(id, claimed.to), b = std::max(id, claimed.to);
+  const auto pair = std::find_if(found.pairs.begin(), found.pairs.end(),
+                                 [&](const PairCheck& p) { return p.a == a && p.b == b; });
+  return pair != found.pairs.end() && pair->registrable();
+}
+
 // The sequence as the file gives it, into `check`: every view once, each registered view
 // after one it registers to, and its motion cost.
 void checkSequence(const Simulator& simulator, const Plan& plan, const std::vector<View>& views,
@@ -93,8 +105,10 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
     ViewRegistration& found = again.registration->views[v];
     found.bridge = claimed.bridge;
     bridges += claimed.bridge;
-    check.registration_differences +=
+    const bool state_differs =
         (claimed.method == RegistrationMethod::None) != (found.method == RegistrationMethod::None);
+    check.registration_differences +=
+        state_differs || !linkHolds(*again.registration, views[v].id, claimed);
   }
   again.registration->bridging_views = bridges;
   check.unregistered = views.size() - again.registration->registered();

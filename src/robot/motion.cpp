@@ -141,14 +141,14 @@ double programSeconds(const RobotProgram& program) {
   return seconds;
 }
 
-double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed) {
-  return std::max(travelTime(cell.robot, a.joints, b.joints),
-                  std::abs(a.table_angle - b.table_angle) / table_speed);
+double moveTime(const Cell& cell, const CellPose& a, const CellPose& b) {
+  const double joints = travelTime(cell.robot, a.joints, b.joints);
+  if (!cell.table) return joints;
+  return std::max(joints, std::abs(a.table_angle - b.table_angle) / cell.table->speed);
 }
 
 JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
-                        const std::vector<View>& views, const std::vector<int>& order,
-                        double table_speed) {
+                        const std::vector<View>& views, const std::vector<int>& order) {
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < views.size(); ++i) index[views[i].id] = i;
   JointMotion motion;
@@ -169,7 +169,7 @@ JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPo
           motion.max_step_joint = j + 1;
         }
       }
-      motion.seconds += moveTime(cell, *previous, *pose, table_speed);
+      motion.seconds += moveTime(cell, *previous, *pose);
       motion.table_moves += std::abs(pose->table_angle - previous->table_angle) > 1e-9;
     }
     previous = &*pose;

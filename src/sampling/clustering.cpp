@@ -54,15 +54,6 @@ void updateMeans(const std::vector<Sample>& samples, Cluster& cluster) {
 
 }  // namespace
 
-bool keepsConditions(const std::vector<Sample>& samples, const Cluster& cluster,
-                     const ClusteringOptions& options) {
-  const Compatibility compatible(samples, options);
-  for (std::size_t a = 0; a < cluster.samples.size(); ++a)
-    for (std::size_t b = a + 1; b < cluster.samples.size(); ++b)
-      if (!compatible.pair(cluster.samples[a], cluster.samples[b])) return false;
-  return true;
-}
-
 std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
                                     const ClusteringOptions& options) {
   std::vector<Cluster> clusters;

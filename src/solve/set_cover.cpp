@@ -257,7 +257,8 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
 
   OsiClpSolverInterface solver;
   loadRelaxation(reduced, solver);
-  // The LP relaxation, in at most half the time; without it, the start is the answer.
+  // The LP relaxation, in at most half the time; without it, the start is the answer (a
+  // cover rounded from no LP at all when there is none).
   solver.getModelPtr()->setMaximumSeconds(time_limit_seconds / 2);
   solver.getModelPtr()->setMaximumIterations(100000);
   solver.initialSolve();
@@ -274,6 +275,10 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
     start = branchAndBound(solver, start, std::max(time_limit_seconds - elapsed(), 0.0), max_nodes,
                            result);
   }
+  // Out of time before the LP and without a start: still a cover, each row by the first set
+  // that holds it, the redundant ones dropped.
+  if (start.empty())
+    start = roundedCover(reduced, std::vector<double>(reduced.columns.size(), 1).data());
   result.chosen = original(start);
   result.seconds = elapsed();
   return result;

@@ -13,11 +13,13 @@ namespace scanplan {
 // What `scanplan verify` finds when it checks a plan again on its part.
 struct PlanCheck {
   Plan plan;  // the plan with measured_by, registration and path length recomputed
-  std::size_t coverage_differences = 0;      // samples whose measured_by differs from the file's
-  std::size_t registration_differences = 0;  // views whose registration state differs
-  std::size_t sequence_missing = 0;          // views not in the sequence, or in it more than once
-  std::size_t sequence_breaks = 0;  // registered views that follow no view they register to
-  std::size_t unregistered = 0;     // views that register to nothing, as checked again
+  std::size_t coverage_differences = 0;  // samples whose measured_by differs from the file's
+  // Views whose registration state differs, or whose claimed link (registered to a view by
+  // markers or ICP) is no pair the check finds registrable.
+  std::size_t registration_differences = 0;
+  std::size_t sequence_missing = 0;  // views not in the sequence, or in it more than once
+  std::size_t sequence_breaks = 0;   // registered views that follow no view they register to
+  std::size_t unregistered = 0;      // views that register to nothing, as checked again
   // The plan requires its views to register (it was planned with registration and
   // `registration.required`); then an unregistered view fails it.
   bool registration_required = false;

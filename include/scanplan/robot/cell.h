@@ -24,6 +24,7 @@ struct RotaryTable {
   Vec3 axis = Vec3::UnitZ();           // unit
   double lower = -M_PI, upper = M_PI;  // radians
   double step = radians(5);            // angles tried, radians
+  double speed = M_PI / 2;             // its top speed, rad/s: a quarter turn a second
 };
 
 // The scanner as the robot's load, for the controller's payload: its mass and centre of

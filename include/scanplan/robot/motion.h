@@ -47,12 +47,12 @@ struct CellMotion {
 };
 
 // Seconds from one cell pose to the next: the slowest joint at its largest speed, or the
-// table at `table_speed` rad/s.
-double moveTime(const Cell& cell, const CellPose& a, const CellPose& b, double table_speed);
+// table at its speed.
+double moveTime(const Cell& cell, const CellPose& a, const CellPose& b);
 
 // The joint motion of a sequence of cell poses: the largest change of any joint between
 // consecutive reached views (radians), the travel time (seconds, joints at their largest
-// speeds, the table at `table_speed` rad/s) and how often the table turns.
+// speeds, the table at its speed) and how often the table turns.
 struct JointMotion {
   double max_step = 0;
   int max_step_joint = 0;  // 1-based
@@ -61,7 +61,6 @@ struct JointMotion {
   std::size_t unreached = 0;  // views the cell cannot reach
 };
 JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,
-                        const std::vector<View>& views, const std::vector<int>& order,
-                        double table_speed = M_PI / 2);
+                        const std::vector<View>& views, const std::vector<int>& order);
 
 }  // namespace scanplan

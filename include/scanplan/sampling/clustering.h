@@ -36,8 +36,4 @@ ClusteringOptions clusteringOptionsFor(const Scanner& scanner, std::uint64_t see
 std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
                                     const ClusteringOptions& options = {});
 
-// True when every pair of the cluster's samples keeps both conditions.
-bool keepsConditions(const std::vector<Sample>& samples, const Cluster& cluster,
-                     const ClusteringOptions& options);
-
 }  // namespace scanplan

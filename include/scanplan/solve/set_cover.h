@@ -23,7 +23,8 @@ using SetCoverProgress = std::function<void(double)>;
 // min sum x_s  s.t.  sum_{s contains e} x_s >= 1 for each required e,  x_s in {0, 1}.
 // The instance is reduced by dominance first (dominated sets and elements dropped).
 // `start`, when given, is a cover CBC starts from (indices of sets), unless the LP optimum
-// rounds to a smaller one; the result is never larger than it. CBC runs its cuts and
+// rounds to a smaller one; the result is never larger than it, and is a cover even when the
+// time runs out before the LP is solved. CBC runs its cuts and
 // heuristics; the search stops after `max_nodes` branch-and-bound nodes (the LP after
 // 100,000 simplex iterations), so that the result is the same on every run, or at
 // `time_limit_seconds`, a cap that makes it depend on the machine when it is reached.
