@@ -316,14 +316,17 @@ TEST(Planning, CubeFacesTakeNoMoreViewsThanTheFewestOfADenserSearch) {
   EXPECT_LE(plan.views.size(), fewest);
 }
 
-// Why a sample cannot be measured, on two pockets 600 mm apart and from the sides of a
+// Why a sample cannot be measured, on three pockets 600 mm apart and from the sides of a
 // block 620 mm high, whose bottoms the gdt task targets (generic scanner: standoff 400 mm, field
 // depth 200 mm, camera and projector 25 degrees apart, visibility grid 5 degrees):
 // - 10 x 10 mm and 300 mm deep: seen from its bottom, the opening spans at most 1.4 degrees
 //   around the vertical, inside the grid cell nearest it (2.5 degrees off): no free
 //   direction, occluded by the part;
 // - 40 x 40 mm and 150 mm deep: free directions within 21 degrees of each other at most,
-//   fewer than the 25 degrees between camera and projector: seen, but always lost.
+//   fewer than the 25 degrees between camera and projector: seen, but always lost;
+// - 60 x 60 mm and 600 mm deep: free up to the standoff, where the camera would stand
+//   inside the pocket or inside the block's material: no valid pose is aimed within reach
+//   of it.
 TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
   test::TempDir dir;
   TopoDS_Shape block = BRepPrimAPI_MakeBox(2000, 1200, 620).Shape();
@@ -332,10 +335,11 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
     Uncoverable reason;
   };
   const Pocket pockets[] = {{200, 10, 300, Uncoverable::OccludedByPart},
-                            {800, 40, 150, Uncoverable::Lost}};
+                            {800, 40, 150, Uncoverable::Lost},
+                            {1400, 60, 600, Uncoverable::NoValidPose}};
   for (const Pocket& p : pockets)
     block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeBox(
-                                       gp_Pnt(p.x - p.side / 2, 100 - p.side / 2, 620 - p.depth),
+                                       gp_Pnt(p.x - p.side / 2, 600 - p.side / 2, 620 - p.depth),
                                        p.side, p.side, p.depth + 1)
                                        .Shape())
                 .Shape();
@@ -348,7 +352,7 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
           std::abs(f.bounds.min.z() - (620 - p.depth)) < 1e-6 &&
           std::abs(0.5 * (f.bounds.min.x() + f.bounds.max.x()) - p.x) < 1e-6)
         bottom_of[f.id] = &p;
-  ASSERT_EQ(bottom_of.size(), 2u);
+  ASSERT_EQ(bottom_of.size(), 3u);
   std::string faces;
   for (const auto& [id, p] : bottom_of) faces += (faces.empty() ? "" : ", ") + std::to_string(id);
   const Plan plan =
@@ -363,7 +367,7 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
         << "pocket at x = " << pocket->second->x << ": " << toString(s.uncoverable);
     ++found[s.uncoverable];
   }
-  EXPECT_EQ(found.size(), 2u);
+  EXPECT_EQ(found.size(), 3u);
 }
 
 // The foot of a wall standing on the working plane: the pose aimed at a sample 5 mm above

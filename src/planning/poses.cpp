@@ -56,6 +56,8 @@ bool poseIsValid(const Simulator& simulator, const View& view, const CellCheck& 
   for (int i = 0; i < 4; ++i) segments.push_back(Ray{world[i], world[7 - i] - world[i], 0, 1});
   const auto blocked = simulator.occluded(segments);
   if (std::any_of(blocked.begin(), blocked.end(), [](bool b) { return b; })) return false;
+  // A body wholly inside the part's material crosses none of its faces.
+  if (simulator.insideSolid(view.camera())) return false;
   return !cell.cell || reachView(*cell.cell, view, {}, 0, cell.collisions).reachable();
 }
 

@@ -141,6 +141,7 @@ struct Simulator::Impl {
   SimulationOptions options;
   TriangleMesh world;  // part (first) then fixtures, world frame
   std::size_t part_triangles = 0;
+  bool solid = false;          // the part is closed: it has an inside
   std::vector<char> specular;  // per face id (index 0: fixtures)
   std::vector<SurfacePoint> facets;
   std::vector<double> facet_area;
@@ -234,6 +235,7 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
   d.world.triangles = part.mesh.triangles;
   d.world.triangle_faces = part.mesh.triangle_faces;
   d.part_triangles = d.world.triangles.size();
+  d.solid = !part.solids.empty();
   for (const TriangleMesh& fixture : d.options.fixtures) d.world.append(fixture, 0);
   d.caster = std::make_unique<RayCaster>(d.world);
 
@@ -265,6 +267,15 @@ double Simulator::surfaceOffset() const { return impl_->offset; }
 
 std::vector<bool> Simulator::occluded(std::span<const Ray> rays) const {
   return impl_->caster->occluded(rays);
+}
+
+bool Simulator::insideSolid(const Vec3& point) const {
+  const Impl& d = *impl_;
+  if (!d.solid) return false;
+  // Upwards, tilted off the axes so as not to graze the edges of axis-aligned faces.
+  const Vec3 up = Vec3(0.0123, 0.0371, 1).normalized();
+  const std::optional<RayHit> hit = d.caster->intersect(Ray{point, up});
+  return hit && hit->triangle < static_cast<int>(d.part_triangles) && hit->normal.dot(up) > 0;
 }
 
 std::vector<SurfacePoint> Simulator::facetPoints() const { return impl_->facets; }

@@ -29,7 +29,8 @@ struct CellCheck {
 };
 
 // True when the scanner body at `view` (Scanner::body_margin, body_depth) stays clear of
-// the part, the fixtures and the working plane, and the cell's robot, if any, reaches it.
+// the part, the fixtures and the working plane (neither crossing a face nor inside the
+// part's material), and the cell's robot, if any, reaches it.
 bool poseIsValid(const Simulator& simulator, const View& view, const CellCheck& cell = {});
 
 // A unit baseline direction perpendicular to the view axis and horizontal (world +X when

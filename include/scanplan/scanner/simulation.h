@@ -116,6 +116,10 @@ class Simulator {
   double surfaceOffset() const;
   // Occlusion queries against the same scene (part and fixtures, not the working plane).
   std::vector<bool> occluded(std::span<const Ray> rays) const;
+  // True when `point` (world) lies inside the part's material: the part is a closed solid,
+  // and a ray from the point first meets its surface from the inside. Always false for an
+  // open mesh.
+  bool insideSolid(const Vec3& point) const;
   // The part's surface points in the world: facet centroids with their normals.
   std::vector<SurfacePoint> facetPoints() const;
   // Points spread uniformly over the part's surface in the world, one per `spacing`² of
