@@ -223,6 +223,44 @@ TEST(Planning, PlannerSettingsComeFromTheSpec) {
   EXPECT_GT(lenient, strict);
 }
 
+// More planner settings reaching the plan: the visibility grid's step and the sweep
+// overlap change what is planned, and a part needing more fields of view than
+// planner.most_views is refused.
+TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
+  test::TempDir dir;
+  const Part cube_part = cube(dir);
+  auto pool = [&](const std::string& planner) {
+    return planViews(cube_part, specWith(planner, dir), PlanningOptions{.registration = false})
+        .bound->pool;
+  };
+  const std::size_t fine = pool("planner: {anchors: 0, vm_step: 5}\n");
+  const std::size_t coarse = pool("planner: {anchors: 0, vm_step: 20}\n");
+  RecordProperty("pool_by_vm_step", std::to_string(fine) + " and " + std::to_string(coarse));
+  EXPECT_NE(fine, coarse);
+
+  const Scanner scanner = scannerPreset("generic-structured-light");
+  BRepTools::Write(BRepPrimAPI_MakeBox(3 * scanner.fov_width, 2 * scanner.fov_height, 10).Shape(),
+                   dir.file("plate.brep").c_str());
+  const Part plate = importPart(dir.file("plate.brep"));
+  const std::string top = std::to_string(test::topFace(plate));
+  auto tiles = [&](const std::string& overlap) {
+    const Plan plan =
+        planViews(plate,
+                  specWith("planner: {sweep_overlap: " + overlap +
+                               "}\ntasks:\n  - {type: surface, faces: [" + top + "]}\n",
+                           dir),
+                  PlanningOptions{.registration = false});
+    std::size_t count = 0;
+    for (const Sweep& sweep : plan.sweeps) count += sweep.tiles;
+    return count;
+  };
+  const std::size_t little = tiles("0.1"), much = tiles("0.6");
+  RecordProperty("tiles_by_overlap", std::to_string(little) + " and " + std::to_string(much));
+  EXPECT_GT(little, 0u);
+  EXPECT_LT(little, much);
+  EXPECT_THROW(planViews(plate, specWith("planner: {most_views: 2}\n", dir)), InputError);
+}
+
 // A plate whose top is just inside 2 x 2 fields of view: by area no fewer than 4 views
 // measure its top, and the plan takes 4.
 TEST(Planning, PlateOfTwoByTwoFieldsOfViewTakesFourViews) {

@@ -110,7 +110,7 @@ class RegistrationGraph {
 RegistrationMode registrationMethod(const RegistrationOptions& options,
                                     const std::vector<Marker>& markers);
 
-// The graph of `views` for `method`: Geometry uses no markers.
+// An empty graph for `method`: with Geometry, the markers are not used.
 RegistrationGraph registrationGraph(const Simulator& simulator, const RegistrationOptions& options,
                                     RegistrationMode method, const std::vector<Marker>& markers,
                                     const Progress& progress);
