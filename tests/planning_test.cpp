@@ -18,6 +18,7 @@
 #include <BRepTools.hxx>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <mutex>
@@ -223,9 +224,9 @@ TEST(Planning, PlannerSettingsComeFromTheSpec) {
   EXPECT_GT(lenient, strict);
 }
 
-// More planner settings reaching the plan: the visibility grid's step and the sweep
-// overlap change what is planned, and a part needing more fields of view than
-// planner.most_views is refused.
+// More planner settings reaching the plan: the visibility grid's step, the sweep overlap,
+// the seed and the tilt band change what is planned, and a part needing more fields of
+// view than planner.most_views is refused.
 TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   test::TempDir dir;
   const Part cube_part = cube(dir);
@@ -259,6 +260,27 @@ TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   EXPECT_GT(little, 0u);
   EXPECT_LT(little, much);
   EXPECT_THROW(planViews(plate, specWith("planner: {most_views: 2}\n", dir)), InputError);
+
+  // The seed orders the clustering (the samples' clusters change with it); the tilt band
+  // chooses the directions the views come from (the cameras change with it).
+  const Part ftc11 = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  auto planned = [&](const std::string& planner) {
+    return planViews(ftc11, specWith(planner, dir), PlanningOptions{.registration = false});
+  };
+  auto clusters = [](const Plan& plan) {
+    std::vector<int> ids;
+    for (const PlannedSample& s : plan.samples) ids.push_back(s.sample.cluster);
+    return ids;
+  };
+  EXPECT_NE(clusters(planned("planner: {seed: 1}\n")), clusters(planned("planner: {seed: 2}\n")));
+  auto cameras = [](const Plan& plan) {
+    std::vector<std::array<double, 3>> positions;
+    for (const View& view : plan.views)
+      positions.push_back({view.camera().x(), view.camera().y(), view.camera().z()});
+    return positions;
+  };
+  EXPECT_NE(cameras(planned("planner: {tilt: [10, 20]}\n")),
+            cameras(planned("planner: {tilt: [50, 60]}\n")));
 }
 
 // A plate whose top is just inside 2 x 2 fields of view: by area no fewer than 4 views

@@ -2,10 +2,10 @@
 // added one at a time towards a component apart from the main one, each registering to the
 // main component and joining or coming nearer to the other, in chains of a few views.
 
+#include "registration/graph.h"
+
 #include <scanplan/planning/bridging.h>
 #include <scanplan/planning/poses.h>
-
-#include "registration/graph.h"
 
 #include <tbb/parallel_for.h>
 

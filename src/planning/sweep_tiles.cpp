@@ -13,10 +13,6 @@ namespace {
 
 constexpr double kMaxTileSpread = 40;  // degrees between a tile's normals and its mean
 
-}  // namespace
-
-namespace {
-
 // Arc length along the first (u) or second parameter, averaged over the grid lines:
 // result[i] is the mean length from node 0 to node i.
 std::vector<double> meanArcLength(const SurfaceGrid& grid, bool along_u) {
