@@ -225,8 +225,8 @@ TEST(Planning, PlannerSettingsComeFromTheSpec) {
 }
 
 // More planner settings reaching the plan: the visibility grid's step, the sweep overlap,
-// the seed and the tilt band change what is planned, and a part needing more fields of
-// view than planner.most_views is refused.
+// the seed, the tilt band and the exact selection's limits change what is planned, and a
+// part needing more fields of view than planner.most_views is refused.
 TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   test::TempDir dir;
   const Part cube_part = cube(dir);
@@ -281,6 +281,16 @@ TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   };
   EXPECT_NE(cameras(planned("planner: {tilt: [10, 20]}\n")),
             cameras(planned("planner: {tilt: [50, 60]}\n")));
+  // The exact selection's limits: with no node and no time it cannot improve the greedy
+  // cover or bound it; with its defaults it proves its cover the fewest of the pool.
+  const Plan exact = planned("");
+  const Plan greedy = planned("planner: {selection_nodes: 0, selection_seconds: 0}\n");
+  RecordProperty("views_exact_and_greedy", std::to_string(exact.views.size()) + " and " +
+                                               std::to_string(greedy.views.size()));
+  EXPECT_TRUE(exact.bound->proven_optimal);
+  EXPECT_FALSE(greedy.bound->proven_optimal);
+  EXPECT_LT(greedy.bound->lower_bound, exact.bound->lower_bound);
+  EXPECT_LE(exact.views.size(), greedy.views.size());
 }
 
 // A plate whose top is just inside 2 x 2 fields of view: by area no fewer than 4 views
