@@ -225,8 +225,8 @@ TEST(Planning, PlannerSettingsComeFromTheSpec) {
 }
 
 // More planner settings reaching the plan: the visibility grid's step, the sweep overlap,
-// the seed, the tilt band and the exact selection's limits change what is planned, and a
-// part needing more fields of view than planner.most_views is refused.
+// the seed, the tilt band, the exact selection's limits and lifting capability change what
+// is planned, and a part needing more fields of view than planner.most_views is refused.
 TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   test::TempDir dir;
   const Part cube_part = cube(dir);
@@ -291,6 +291,17 @@ TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
   EXPECT_FALSE(greedy.bound->proven_optimal);
   EXPECT_LT(greedy.bound->lower_bound, exact.bound->lower_bound);
   EXPECT_LE(exact.views.size(), greedy.views.size());
+  // Lifting capability plans again with the characteristics' faces as targets, and keeps
+  // that plan when more characteristics are capable by it.
+  auto capable = [](const Plan& plan) {
+    return std::count_if(plan.capabilities.begin(), plan.capabilities.end(),
+                         [](const Capability& k) { return k.verdict == Verdict::Capable; });
+  };
+  const Plan lifted = planned("planner: {lift_capability: true}\n");
+  RecordProperty("capable_without_and_with_lifting",
+                 std::to_string(capable(exact)) + " and " + std::to_string(capable(lifted)));
+  EXPECT_GT(capable(lifted), capable(exact));
+  EXPECT_GT(lifted.samples.size(), exact.samples.size());
 }
 
 // A plate whose top is just inside 2 x 2 fields of view: by area no fewer than 4 views
