@@ -72,6 +72,66 @@ TEST(Scanner, PresetsAreBuiltInAndScanplanDataAddsMore) {
   EXPECT_EQ(scannerPreset("laser-line").standoff, 150);  // the library's own again
 }
 
+// Added presets that name one another in a loop (one naming itself, or a -> b -> a) are an
+// error naming the file and the loop, not an endless descent; those outside the loop read.
+TEST(Scanner, PresetsNamingOneAnotherInALoopAreAnError) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir.file("scanners"));
+  test::writeText(dir.file("scanners/self.yaml"), "preset: self\nstandoff: 300\n");
+  test::writeText(dir.file("scanners/a.yaml"), "preset: b\n");
+  test::writeText(dir.file("scanners/b.yaml"), "preset: a\n");
+  test::writeText(dir.file("scanners/c.yaml"), "preset: laser-line\nstandoff: 140\n");
+  ::setenv("SCANPLAN_DATA", dir.file("").c_str(), 1);
+  std::string self, loop;
+  try {
+    scannerPreset("self");
+  } catch (const InputError& e) {
+    self = e.what();
+  }
+  try {
+    scannerPreset("a");
+  } catch (const InputError& e) {
+    loop = e.what();
+  }
+  const double c = scannerPreset("c").standoff;
+  ::unsetenv("SCANPLAN_DATA");
+  EXPECT_TRUE(contains(self, "self.yaml")) << self;
+  EXPECT_TRUE(contains(self, "self -> self")) << self;
+  EXPECT_TRUE(contains(loop, "a -> b -> a")) << loop;
+  EXPECT_EQ(c, 140);
+}
+
+// A spec of a few hundred bytes whose aliases repeat one another ten times over nine levels
+// (a "billion laughs": 10^9 values once expanded) is refused at once, not walked, as is one
+// nested a hundred levels deep; both errors name the source.
+TEST(Spec, AliasesThatRepeatOneAnotherAndDeepNestingAreRefused) {
+  std::string laughs = "a0: &a0 [lol]\n";
+  for (int k = 1; k <= 9; ++k) {
+    const std::string previous = "*a" + std::to_string(k - 1);
+    laughs += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [";
+    for (int r = 0; r < 10; ++r) laughs += (r ? ", " : "") + previous;
+    laughs += "]\n";
+  }
+  ASSERT_LT(laughs.size(), 600u);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    specFromText(laughs, "laughs.yaml");
+    ADD_FAILURE() << "a billion laughs read as a spec";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "laughs.yaml")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "aliases")) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10);
+  const std::string deep = "tasks: " + std::string(100, '[') + std::string(100, ']') + "\n";
+  try {
+    specFromText(deep, "deep.yaml");
+    ADD_FAILURE() << "a spec nested 100 levels deep read";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), "deep.yaml")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "levels deep")) << e.what();
+  }
+}
+
 // A spec given as text (a Python dict as JSON, say) reads as the same spec from a file,
 // and its errors name the source given.
 TEST(Spec, TextReadsAsTheFile) {

@@ -279,19 +279,34 @@ class SpecReader {
   std::string path_;
 };
 
+// What a spec may hold, counted as its YAML nodes with every alias expanded, and how deep
+// they may nest: far beyond any spec of a real part, and short of what a few aliases that
+// repeat one another (a "billion laughs") or a runaway nesting would make the reader walk.
+constexpr std::size_t kMostSpecNodes = 1000000;
+constexpr int kDeepestSpecNesting = 64;
+
 // Fails on the first mapping anywhere under `node` that gives a key twice (YAML forbids
-// it; the reader would silently take one of them).
-void rejectDuplicateKeys(const YAML::Node& node, const SpecReader& reader,
-                         const std::string& where) {
+// it; the reader would silently take one of them), and on a document larger or deeper than
+// the limits above. `visited` counts the nodes walked so far.
+void rejectDuplicateKeys(const YAML::Node& node, const SpecReader& reader, const std::string& where,
+                         std::size_t& visited, int depth = 0) {
+  if (++visited > kMostSpecNodes)
+    reader.fail(
+        fmt::format("more than {} values once its aliases are expanded (aliases that "
+                    "repeat one another?)",
+                    kMostSpecNodes));
+  if (depth > kDeepestSpecNesting)
+    reader.fail(fmt::format("{} is nested more than {} levels deep", where, kDeepestSpecNesting));
   if (node.IsSequence())
     for (std::size_t i = 0; i < node.size(); ++i)
-      rejectDuplicateKeys(node[i], reader, where + "[" + std::to_string(i + 1) + "]");
+      rejectDuplicateKeys(node[i], reader, where + "[" + std::to_string(i + 1) + "]", visited,
+                          depth + 1);
   if (!node.IsMap()) return;
   std::set<std::string> keys;
   for (const auto& item : node) {
     const std::string key = item.first.Scalar();
     if (!keys.insert(key).second) reader.fail("key '" + key + "' given twice in " + where);
-    rejectDuplicateKeys(item.second, reader, key);
+    rejectDuplicateKeys(item.second, reader, key, visited, depth + 1);
   }
 }
 
@@ -588,7 +603,8 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
   if (!root.IsMap())
     reader.fail("a spec is a mapping of sections (scanner, part, roles, tasks, ...)");
   try {
-    rejectDuplicateKeys(root, reader, "the spec");
+    std::size_t visited = 0;
+    rejectDuplicateKeys(root, reader, "the spec", visited);
     checkKeys(root,
               {"scanner", "part", "roles", "gdt", "markers", "fixtures", "registration", "tasks",
                "planner", "cell"},

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <vector>
 
 namespace scanplan {
 
@@ -95,11 +96,15 @@ const std::array<ScannerParameter, 12>& scannerParameters() {
 
 namespace {
 
-// Applies a YAML mapping of scanner parameters on top of `scanner`.
-Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& source) {
+Scanner presetIn(const std::string& name, std::vector<std::string>& chain);
+
+// Applies a YAML mapping of scanner parameters on top of `scanner`; `chain`: the presets
+// being read, each naming the next.
+Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& source,
+                    std::vector<std::string>& chain) {
   if (!node.IsMap())
     throw InputError(source, "the scanner must be a preset name or a mapping of parameters");
-  if (node["preset"]) scanner = scannerPreset(node["preset"].as<std::string>());
+  if (node["preset"]) scanner = presetIn(node["preset"].as<std::string>(), chain);
   for (const auto& item : node) {
     const std::string key = item.first.as<std::string>();
     if (key == "preset") continue;
@@ -150,6 +155,15 @@ std::vector<std::string> scannerPresetNames() {
 }
 
 Scanner scannerPreset(const std::string& name) {
+  std::vector<std::string> chain;
+  return presetIn(name, chain);
+}
+
+namespace {
+
+// The preset `name`, read while the presets of `chain` are (one names the next): a preset
+// naming one of them, itself included, is an error.
+Scanner presetIn(const std::string& name, std::vector<std::string>& chain) {
   namespace fs = std::filesystem;
   // A preset is named by letters, digits, '.', '_' and '-' (no path, no file name too long).
   const bool plain =
@@ -163,7 +177,14 @@ Scanner scannerPreset(const std::string& name) {
     const fs::path file = folder / (name + ".yaml");
     if (fs::exists(file, missing)) {
       try {
-        return fromMapping(loadYaml(file.string()), scanner, file.string());
+        if (std::find(chain.begin(), chain.end(), name) != chain.end())
+          throw InputError(file.string(), fmt::format("the scanner presets {} -> {} name one "
+                                                      "another in a loop",
+                                                      fmt::join(chain, " -> "), name));
+        chain.push_back(name);
+        Scanner read = fromMapping(loadYaml(file.string()), scanner, file.string(), chain);
+        chain.pop_back();
+        return read;
       } catch (const YAML::Exception& e) {
         throw InputError(file.string(), e.what());
       }
@@ -175,8 +196,14 @@ Scanner scannerPreset(const std::string& name) {
   if (!plain || own == presets.end())
     throw InputError(name, fmt::format("unknown scanner preset (known: {})",
                                        fmt::join(scannerPresetNames(), ", ")));
-  return fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)");
+  chain.push_back(name);  // a built-in preset names no other
+  Scanner read =
+      fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)", chain);
+  chain.pop_back();
+  return read;
 }
+
+}  // namespace
 
 Scanner scannerFromYaml(const YAML::Node& root, const std::string& source) {
   try {
@@ -189,9 +216,11 @@ Scanner scannerFromYaml(const YAML::Node& root, const std::string& source) {
           throw InputError(source, "scanner '" + e.file() + "': " + e.reason());
         }
       }
-      return fromMapping(node, Scanner{}, source);
+      std::vector<std::string> chain;
+      return fromMapping(node, Scanner{}, source, chain);
     }
-    return fromMapping(root, Scanner{}, source);
+    std::vector<std::string> chain;
+    return fromMapping(root, Scanner{}, source, chain);
   } catch (const YAML::Exception& e) {
     throw InputError(source, e.what());
   }
