@@ -134,6 +134,7 @@ TEST(Cell, SpecRejectsABadCell) {
   for (const char* text :
        {"cell:\n  robot: {preset: kuka-kr1000}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {range: [10, 90]}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {range: [-1e7, 1e7]}\n",
         "cell:\n  mount: {position: [0, 0, 100]}\n", "cell:\n  robot: {a1: 100}\n",
         "cell:\n  robot: {preset: abb-irb2400-10, base: {turn: [0, 0, 1]}}\n",
         "cell:\n  robot: {preset: ur5e, c2: 400}\n",

@@ -4,6 +4,7 @@
 #include "support.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/core/errors.h>
 
 #include <cstring>
 #include <sstream>
@@ -186,6 +187,21 @@ TEST(MeshImport, Off) {
   test::TempDir dir;
   test::writeText(dir.file("cube.off"), off(cube()));
   expectCube(importPart(dir.file("cube.off")), 6);
+}
+
+// An OFF face announcing two billion vertices in a file of a few bytes is refused, naming
+// the file and the face, before anything is allocated for it.
+TEST(MeshImport, OffFaceAnnouncingMoreVerticesThanTheFileHoldsIsRefused) {
+  test::TempDir dir;
+  test::writeText(dir.file("huge.off"), "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n");
+  try {
+    importPart(dir.file("huge.off"));
+    ADD_FAILURE() << "read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.off"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("face 1 announces 2000000000 vertices"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(MeshImport, InwardMeshIsTurnedOutward) {

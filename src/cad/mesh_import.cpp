@@ -186,6 +186,9 @@ RawMesh readOff(const std::string& path) {
   if (!(body >> vertices >> faces >> edges) || vertices < 0 || faces < 0)
     throw InputError(path, "malformed OFF header: expected vertex, face and edge counts");
   bool colored = header.find('C') != std::string::npos;
+  // Each index of a face takes two characters at least: a face announcing more than the
+  // file holds is refused before anything is allocated for it.
+  const std::size_t characters = body.str().size();
   std::string rest;
   for (long i = 0; i < vertices; ++i) {
     Vec3 p;
@@ -202,6 +205,9 @@ RawMesh readOff(const std::string& path) {
     if (!(body >> n) || n < 0)
       throw InputError(path, "truncated OFF file: face " + std::to_string(i + 1) + " of " +
                                  std::to_string(faces) + " is missing");
+    if (static_cast<std::size_t>(n) > characters / 2)
+      throw InputError(path, "OFF file: face " + std::to_string(i + 1) + " announces " +
+                                 std::to_string(n) + " vertices, more than the file holds");
     polygon.resize(n);
     for (int& index : polygon)
       if (!(body >> index))

@@ -28,6 +28,9 @@ void validate(const Cell& c, const std::string& source) {
     require(t.axis.allFinite() && t.axis.norm() > 0.5, "table.axis must not be zero");
     require(t.lower <= 0 && 0 <= t.upper,
             "table.range must hold 0 (the angle the plan is made at)");
+    // A turn each way at most: angles beyond repeat the ones within, and each is tried.
+    require(t.lower >= -2 * M_PI && t.upper <= 2 * M_PI,
+            "table.range must lie within [-360, 360] degrees");
     require(t.step >= radians(0.1), "table.step must be at least 0.1 degrees");
   }
   require(c.clearance >= 0 && c.clearance <= kLongestLength, "clearance must not be negative (mm)");
