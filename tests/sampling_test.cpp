@@ -405,6 +405,24 @@ TEST(SpecSampling, ResolvedSpecHoldsFaceIds) {
   EXPECT_THROW(resolveSpec(part, loadSpec(dir.file("bad.yaml"))), InputError);
 }
 
+// A task given again targets nothing new: three thousand copies of two tasks resolve to the
+// two, and sample as one copy of each does.
+TEST(SpecSampling, ATaskGivenAgainIsSampledOnce) {
+  Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  test::TempDir dir;
+  std::string copies = "tasks:\n";
+  for (int k = 0; k < 3000; ++k) copies += "  - {type: global}\n  - {type: trim, faces: [2, 3]}\n";
+  test::writeText(dir.file("copies.yaml"), copies);
+  test::writeText(dir.file("once.yaml"),
+                  "tasks:\n  - {type: global}\n  - {type: trim, faces: [3, 2]}\n");
+  const ResolvedSpec many = resolveSpec(part, loadSpec(dir.file("copies.yaml")));
+  const ResolvedSpec once = resolveSpec(part, loadSpec(dir.file("once.yaml")));
+  ASSERT_EQ(many.targets.tasks.size(), 2u);
+  const SamplingOptions options = samplingOptionsFor(many.spec.scanner);
+  EXPECT_EQ(sampleTargets(part, many.targets, options).size(),
+            sampleTargets(part, once.targets, options).size());
+}
+
 TEST(SpecSampling, TasksWithoutTargetsCannotBePlanned) {
   test::TempDir dir;
   Part part = boxWithHole(dir);

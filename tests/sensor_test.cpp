@@ -174,6 +174,7 @@ TEST(Scanner, ValidationNamesTheParameter) {
   check([](Scanner& s) { s.depth_of_field = 800; }, "twice the standoff");
   check([](Scanner& s) { s.point_spacing = 0; }, "point_spacing");
   check([](Scanner& s) { s.noise_sigma = -0.1; }, "noise_sigma");
+  check([](Scanner& s) { s.noise_sigma = 1e300; }, "noise_sigma");
   check([](Scanner& s) { s.body_margin = -1; }, "body_margin");
   check([](Scanner& s) { s.body_depth = 0; }, "body_depth");
   // Absurd sizes: rays far beyond the ray caster's precision, clouds beyond memory.

@@ -52,8 +52,10 @@ void validate(const Scanner& s, const std::string& source) {
   positive(s.fov_width, "fov_width");
   positive(s.fov_height, "fov_height");
   positive(s.point_spacing, "point_spacing");
-  if (!(s.noise_sigma >= 0) || !std::isfinite(s.noise_sigma))
-    fail("noise_sigma must be zero or positive");
+  // A noise as wide as the measuring depth would make clouds of nothing but noise (and,
+  // far beyond, of infinities).
+  if (!(s.noise_sigma >= 0) || !(s.noise_sigma < s.depth_of_field))
+    fail("noise_sigma must be zero or positive, and less than the depth of field");
   if (!(s.body_margin >= 0) || !(s.body_margin <= kLongestLength))
     fail("body_margin must be zero or a positive number of mm, at most 100,000 (100 m)");
   positive(s.body_depth, "body_depth");

@@ -118,8 +118,15 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   targets.priority = united(resolveFaces(part, spec.priority, resolved.source), resolved.gdt_faces);
   targets.fixture = resolveFaces(part, spec.fixture, resolved.source);
   resolved.specular = resolveFaces(part, spec.specular, resolved.source);
-  for (std::size_t k = 0; k < spec.tasks.size(); ++k)
-    targets.tasks.push_back(taskTargets(part, resolved, k));
+  for (std::size_t k = 0; k < spec.tasks.size(); ++k) {
+    TaskTargets task = taskTargets(part, resolved, k);
+    // A task given again targets nothing new: it is sampled once.
+    const bool again =
+        std::any_of(targets.tasks.begin(), targets.tasks.end(), [&](const TaskTargets& t) {
+          return t.type == task.type && t.faces == task.faces && t.points_file == task.points_file;
+        });
+    if (!again) targets.tasks.push_back(std::move(task));
+  }
   if (spec.markers_on_fixture && spec.fixtures.empty() && spec.marker_grid > 0)
     throw InputError(resolved.source, "markers.on: fixture, but the spec has no fixtures");
   for (const FixtureModel& fixture : spec.fixtures) {

@@ -116,7 +116,8 @@ struct ResolvedSpec {
   std::size_t fixtureFaces() const { return targets.fixture.size() + fixture_model_faces; }
 };
 
-// Resolves `spec` against `part`, and reads its fixture models' files.
+// Resolves `spec` against `part`, and reads its fixture models' files. A task given again
+// (the same type and faces, or the same points file) is kept once.
 // \throw InputError for faces or files the spec names wrongly, or gdt: from-file on a
 // part without GD&T; PlanningError for a gdt, trim or surface task left without target
 // faces.
