@@ -262,6 +262,13 @@ TEST(ImportErrors, NonsenseOptions) {
   options.angular_deflection = -5;
   std::string path = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   EXPECT_NE(importError(path, options).find("invalid import options"), std::string::npos);
+  // An infinite chordal tolerance (--deflection inf) or mesh unit is no tolerance at all.
+  for (const auto change : {+[](ImportOptions& o) { o.linear_deflection = INFINITY; },
+                            +[](ImportOptions& o) { o.mesh_unit = INFINITY; }}) {
+    ImportOptions infinite;
+    change(infinite);
+    EXPECT_NE(importError(path, infinite).find("invalid import options"), std::string::npos);
+  }
 }
 
 // The bundled example's plan, changed by `change`, written to `path`; the reason readPlan

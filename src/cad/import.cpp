@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -184,7 +185,10 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   std::error_code ec;
   requireInputFile(path);
   if (fs::file_size(path, ec) == 0) throw InputError(path, "empty file");
-  if (!(options.linear_deflection >= 0) || !(options.relative_deflection > 0) ||
+  const bool finite = std::isfinite(options.linear_deflection) &&
+                      std::isfinite(options.relative_deflection) &&
+                      std::isfinite(options.mesh_unit);
+  if (!finite || !(options.linear_deflection >= 0) || !(options.relative_deflection > 0) ||
       !(options.angular_deflection > 0 && options.angular_deflection < 90) ||
       !(options.sharp_angle >= 0 && options.sharp_angle <= 180) || !(options.mesh_unit > 0))
     throw InputError(path,
