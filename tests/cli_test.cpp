@@ -466,6 +466,17 @@ TEST(Cli, APlanWithNoViewsIsWrittenAndFails) {
 }
 
 // A run that fails on its inputs leaves no output folder behind.
+// An empty spec file name is refused, not read as no spec given.
+TEST(Cli, AnEmptySpecFileNameIsRefused) {
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  for (const std::string& command : {"plan " + part, "sample " + part, "spec " + part}) {
+    const CommandResult r = run(command + " --spec '' -q");
+    EXPECT_EQ(r.code, 1) << command << "\n" << r.out;
+    EXPECT_NE(r.out.find("--spec"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("the file name is empty"), std::string::npos) << r.out;
+  }
+}
+
 TEST(Cli, AFailedPlanLeavesNoFolder) {
   test::TempDir dir;
   CommandResult r = run("plan " + dir.file("missing.stp") + " -o " + dir.file("out") + " -q");

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <string>
 
 namespace scanplan::cli {
 
@@ -14,6 +15,12 @@ struct GlobalOptions {
 };
 
 using Action = std::function<int()>;
+
+// Refuses an empty file name given to an option (`--spec ""`), which would else read as no
+// file given.
+inline const CLI::Validator kNamedFile(
+    [](std::string& name) { return name.empty() ? std::string("the file name is empty") : ""; },
+    "FILE");
 
 // scanplan info FILE [--json]
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& selected);

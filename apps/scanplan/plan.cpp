@@ -160,7 +160,8 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   CLI::App* command =
       app.add_subcommand("plan", "Plan the scanner views for a part and write plan.json");
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
+  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task")
+      ->check(kNamedFile);
   command->add_option("-o,--out", options->outdir, "Output folder (default: scanplan-out)");
   command->add_option("--scanner", options->scanner,
                       "Scanner preset (scanplan scanners) or scanner file (YAML), overriding the "

@@ -66,8 +66,10 @@ void addInput(CLI::App& command, Input& input) {
   command.add_option("plan", input.plan, "plan.json")->required();
   command.add_option("part", input.part,
                      "CAD or mesh file of the part (default: the file the plan names)");
-  command.add_option("--spec", input.spec,
-                     "Inspection spec (YAML) of the plan: specular faces, markers, fixtures");
+  command
+      .add_option("--spec", input.spec,
+                  "Inspection spec (YAML) of the plan: specular faces, markers, fixtures")
+      ->check(kNamedFile);
 }
 
 struct ReportCommand {

@@ -154,7 +154,8 @@ void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& select
   CLI::App* command =
       app.add_subcommand("sample", "Sample the surfaces the spec's tasks target, and cluster them");
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task");
+  command->add_option("--spec", options->spec, "Inspection spec (YAML); default: one global task")
+      ->check(kNamedFile);
   command->add_option("-o,--out", options->out,
                       "Write the samples with their clusters (.ply or .json)");
   command->add_option(

@@ -118,7 +118,8 @@ void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& sele
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command->add_option("--views", options->views, "Views as JSON: a plan.json or its views array")
       ->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML): scanner, specular faces");
+  command->add_option("--spec", options->spec, "Inspection spec (YAML): scanner, specular faces")
+      ->check(kNamedFile);
   command->add_option("--scanner", options->scanner,
                       "Scanner preset or scanner file (YAML), overriding the spec's");
   command->add_option("-o,--cloud", options->cloud_dir,

@@ -37,7 +37,8 @@ void addSpecCommand(CLI::App& app, const GlobalOptions& global, Action& selected
       "Write the inspection-spec editor of a part: pick faces, tasks and control points "
       "in a browser, download spec.yaml and points.csv");
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML) to start from");
+  command->add_option("--spec", options->spec, "Inspection spec (YAML) to start from")
+      ->check(kNamedFile);
   command->add_option("-o,--out", options->out, "HTML file (default: spec-editor.html)");
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };

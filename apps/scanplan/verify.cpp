@@ -73,8 +73,10 @@ void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& select
       "plan does not hold)");
   command->add_option("plan", options->plan, "plan.json")->required();
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
-  command->add_option("--spec", options->spec,
-                      "Inspection spec (YAML): specular faces, markers, registration thresholds");
+  command
+      ->add_option("--spec", options->spec,
+                   "Inspection spec (YAML): specular faces, markers, registration thresholds")
+      ->check(kNamedFile);
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };
   });
