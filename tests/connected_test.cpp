@@ -3,6 +3,7 @@
 // one view, and poses between them that measure nothing new but overlap stably.
 
 #include "planning/stages.h"
+#include "registration/overlaps.h"
 #include "support.h"
 
 #include <scanplan/planning/bridging.h>
@@ -272,8 +273,7 @@ TEST(Stages, MarkerShiftMovesAPoseUntilItSeesEnoughMarkers) {
   std::vector<Marker> markers;
   for (const Vec3& p : {Vec3(350, 100, 10), Vec3(400, 150, 10), Vec3(350, 200, 10)})
     markers.push_back({p, Vec3::UnitZ()});
-  std::vector<SurfacePoint> marker_points;
-  for (const Marker& m : markers) marker_points.push_back({m.position, m.normal, 0});
+  const std::vector<SurfacePoint> marker_points = detail::markerPoints(markers);
   ASSERT_TRUE(detail::measuredBy(simulator, pose, marker_points).empty());
   detail::addMarkerShifts(at, pool, markers, {});
   ASSERT_EQ(pool.size(), 2u);

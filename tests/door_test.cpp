@@ -4,6 +4,7 @@
 
 #include "door_panel.h"
 #include "plan_support.h"
+#include "registration/overlaps.h"
 
 #include <scanplan/cad/import.h>
 #include <scanplan/io/spec_yaml.h>
@@ -48,8 +49,7 @@ TEST(Door, ControlPointsAllAcquiredAndViewsAlignableByTheFrameMarkers) {
   // At least 95% of the views register by the markers on the frame: each one registered
   // by markers sees, simulated again, three or more of the markers its partner sees.
   ASSERT_TRUE(plan.registration);
-  std::vector<SurfacePoint> markers;
-  for (const Marker& m : plan.markers) markers.push_back({m.position, m.normal, 0});
+  const std::vector<SurfacePoint> markers = detail::markerPoints(plan.markers);
   const auto seen = simulator.measure(plan.views, markers);
   std::map<int, std::size_t> index;
   for (std::size_t v = 0; v < plan.views.size(); ++v) index[plan.views[v].id] = v;

@@ -256,12 +256,10 @@ TEST(RegistrationTest, BridgingJoinsTwoGroupsFarApart) {
   for (std::size_t v = 0; v < views.size(); ++v) {
     const ViewRegistration& r = joined.views[v];
     if (r.method != RegistrationMethod::Icp) continue;
-    const int a = std::min(views[v].id, r.to), b = std::max(views[v].id, r.to);
-    const auto pair = std::find_if(joined.pairs.begin(), joined.pairs.end(),
-                                   [&](const PairCheck& p) { return p.a == a && p.b == b; });
-    ASSERT_NE(pair, joined.pairs.end()) << "view " << views[v].id << " to " << r.to;
-    ASSERT_TRUE(pair->icp.has_value()) << a << "-" << b;
-    EXPECT_TRUE(pair->icp->passed) << a << "-" << b;
+    const PairCheck* pair = joined.pair(views[v].id, r.to);
+    ASSERT_NE(pair, nullptr) << "view " << views[v].id << " to " << r.to;
+    ASSERT_TRUE(pair->icp.has_value()) << views[v].id << "-" << r.to;
+    EXPECT_TRUE(pair->icp->passed) << views[v].id << "-" << r.to;
   }
   for (const PairCheck& pair : joined.pairs)
     if (pair.icp) {

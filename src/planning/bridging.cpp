@@ -168,12 +168,8 @@ Registration registerWithBridging(const Simulator& simulator, std::vector<View>&
   // With a robot accurate enough, every view registers: bridges would add nothing.
   if (!options.bridging || robotRegistersAll(options))
     return registerViews(simulator, views, markers, options, progress);
-  validate(options, "registration");
-  const RegistrationMode method = detail::registrationMethod(options, markers);
   std::optional<RegistrationGraph> graph;
-  graph.emplace(detail::registrationGraph(simulator, options, method, markers, progress));
-  report(progress, "registration: overlaps of " + std::to_string(views.size()) + " views", 0);
-  graph->add(views);
+  graph.emplace(detail::graphOf(simulator, views, markers, options, progress));
   const std::size_t first_bridge = views.size();
   int next_id = 1;
   for (const View& view : views) next_id = std::max(next_id, view.id + 1);
@@ -214,7 +210,8 @@ Registration registerWithBridging(const Simulator& simulator, std::vector<View>&
       hopeless.push_back(towards);
     }
   }
-  return detail::finishRegistration(*graph, first_bridge, method, markers, options);
+  return detail::finishRegistration(*graph, first_bridge,
+                                    detail::registrationMethod(options, markers), markers, options);
 }
 
 }  // namespace scanplan

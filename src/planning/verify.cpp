@@ -32,10 +32,8 @@ RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) 
 bool linkHolds(const Registration& found, int id, const ViewRegistration& claimed) {
   if (claimed.method != RegistrationMethod::Markers && claimed.method != RegistrationMethod::Icp)
     return true;
-  const int a = std::min(id, claimed.to), b = std::max(id, claimed.to);
-  const auto pair = std::find_if(found.pairs.begin(), found.pairs.end(),
-                                 [&](const PairCheck& p) { return p.a == a && p.b == b; });
-  return pair != found.pairs.end() && pair->registrable();
+  const PairCheck* pair = found.pair(id, claimed.to);
+  return pair && pair->registrable();
 }
 
 // The sequence as the file gives it, into `check`: every view once, each registered view

@@ -73,11 +73,16 @@ bool Registration::links(const PairCheck& pair) const {
   return pair.markers || (pair.icp ? pair.icp->passed : pair.stable && !verified);
 }
 
-bool Registration::linked(int a, int b) const {
+const PairCheck* Registration::pair(int a, int b) const {
   if (a > b) std::swap(a, b);
-  for (const PairCheck& pair : pairs)
-    if (pair.a == a && pair.b == b) return links(pair);
-  return false;
+  for (const PairCheck& p : pairs)
+    if (p.a == a && p.b == b) return &p;
+  return nullptr;
+}
+
+bool Registration::linked(int a, int b) const {
+  const PairCheck* p = pair(a, b);
+  return p && links(*p);
 }
 
 namespace detail {
@@ -406,12 +411,16 @@ RegistrationMode registrationMethod(const RegistrationOptions& options,
                                                      : RegistrationMode::Markers;
 }
 
-RegistrationGraph registrationGraph(const Simulator& simulator, const RegistrationOptions& options,
-                                    RegistrationMode method, const std::vector<Marker>& markers,
-                                    const Progress& progress) {
+RegistrationGraph graphOf(const Simulator& simulator, std::span<const View> views,
+                          const std::vector<Marker>& markers, const RegistrationOptions& options,
+                          const Progress& progress) {
+  validate(options, "registration");
   static const std::vector<Marker> no_markers;
-  return {simulator, options, method == RegistrationMode::Geometry ? no_markers : markers,
-          progress};
+  const bool geometry = registrationMethod(options, markers) == RegistrationMode::Geometry;
+  RegistrationGraph graph(simulator, options, geometry ? no_markers : markers, progress);
+  report(progress, "registration: overlaps of " + std::to_string(views.size()) + " views", 0);
+  graph.add(views);
+  return graph;
 }
 
 Registration finishRegistration(RegistrationGraph& graph, std::size_t first_bridge,
@@ -431,13 +440,9 @@ Registration finishRegistration(RegistrationGraph& graph, std::size_t first_brid
 Registration registerViews(const Simulator& simulator, std::span<const View> views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
                            const Progress& progress) {
-  validate(options, "registration");
-  const RegistrationMode method = detail::registrationMethod(options, markers);
-  detail::RegistrationGraph graph =
-      detail::registrationGraph(simulator, options, method, markers, progress);
-  report(progress, "registration: overlaps of " + std::to_string(views.size()) + " views", 0);
-  graph.add(views);
-  return detail::finishRegistration(graph, views.size(), method, markers, options);
+  detail::RegistrationGraph graph = detail::graphOf(simulator, views, markers, options, progress);
+  return detail::finishRegistration(graph, views.size(),
+                                    detail::registrationMethod(options, markers), markers, options);
 }
 
 void appendRegistration(Registration& into, Registration from, int id_offset) {

@@ -110,10 +110,11 @@ class RegistrationGraph {
 RegistrationMode registrationMethod(const RegistrationOptions& options,
                                     const std::vector<Marker>& markers);
 
-// An empty graph for `method`: with Geometry, the markers are not used.
-RegistrationGraph registrationGraph(const Simulator& simulator, const RegistrationOptions& options,
-                                    RegistrationMode method, const std::vector<Marker>& markers,
-                                    const Progress& progress);
+// The graph of `views` (options validated; with Geometry, the markers are not used): their
+// pairs checked and joined, as registerViews and planning's bridging begin.
+RegistrationGraph graphOf(const Simulator& simulator, std::span<const View> views,
+                          const std::vector<Marker>& markers, const RegistrationOptions& options,
+                          const Progress& progress);
 
 // The graph's registration: its views' (those from `first_bridge` on bridging views) with
 // the method, the markers counted and, with a robot accurate enough, every view registered

@@ -42,13 +42,19 @@ std::vector<Sample> sampleTargets(const Part& part, const Targets& targets,
   return samples;
 }
 
+std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples) {
+  std::vector<SurfacePoint> points;
+  for (const Sample& s : samples) points.push_back({s.position, s.normal, s.face});
+  return points;
+}
+
 std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples,
                                         const std::vector<int>& members) {
   std::vector<SurfacePoint> points;
-  auto add = [&](const Sample& s) { points.push_back({s.position, s.normal, s.face}); };
-  if (members.empty())
-    for (const Sample& s : samples) add(s);
-  for (int i : members) add(samples[static_cast<std::size_t>(i)]);
+  for (int i : members) {
+    const Sample& s = samples[static_cast<std::size_t>(i)];
+    points.push_back({s.position, s.normal, s.face});
+  }
   return points;
 }
 

@@ -198,11 +198,8 @@ Scanner presetIn(const std::string& name, std::vector<std::string>& chain) {
   if (!plain || own == presets.end())
     throw InputError(name, fmt::format("unknown scanner preset (known: {})",
                                        fmt::join(scannerPresetNames(), ", ")));
-  chain.push_back(name);  // a built-in preset names no other
-  Scanner read =
-      fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)", chain);
-  chain.pop_back();
-  return read;
+  // A built-in preset names no other, so no loop goes through one.
+  return fromMapping(YAML::Load(std::string(own->text)), scanner, name + " (built in)", chain);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ class DisjointSets {
     return true;
   }
 
-  // Adds `n`'s index as a set of its own (n == size()).
+  // Adds the index size() as a set of its own.
   void add() { parent_.push_back(static_cast<int>(parent_.size())); }
 
   // Forgets the indices from `n` on, which no index below `n` may lie under.

@@ -165,6 +165,8 @@ struct Registration {
   // True when the pair registers: its views share markers, or it passed ICP verification
   // (is stable, without verification).
   bool links(const PairCheck& pair) const;
+  // The checked pair of views a and b (either order); null when they were not checked.
+  const PairCheck* pair(int a, int b) const;
   // links() of the pair of views a and b; false when they were not checked.
   bool linked(int a, int b) const;
 };

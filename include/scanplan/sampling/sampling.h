@@ -68,9 +68,10 @@ std::vector<Sample> sampleGlobal(const Part& part, const std::vector<int>& exclu
 std::vector<Sample> samplePoints(const Part& part, const std::vector<ControlPoint>& points,
                                  const std::string& source, const SamplingOptions& options = {});
 
-// The samples `members` (indices into `samples`; all of them when empty) as surface points.
+// The samples as surface points; those of `members` (indices into `samples`) only.
+std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples);
 std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples,
-                                        const std::vector<int>& members = {});
+                                        const std::vector<int>& members);
 
 // Greedy decimation: keeps a sample unless an earlier kept one lies within `radius`
 // with a normal within `angle` degrees, which then stands for its weight too.
