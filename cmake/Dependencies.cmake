@@ -53,7 +53,7 @@ target_include_directories(scanplan_occt SYSTEM INTERFACE ${OpenCASCADE_INCLUDE_
 target_link_libraries(scanplan_occt INTERFACE
   TKernel TKMath TKG2d TKG3d TKGeomBase TKBRep TKGeomAlgo TKTopAlgo TKPrim TKBO
   TKShHealing TKMesh TKLCAF TKCAF TKXSBase TKSTEPBase TKSTEP TKIGES TKXCAF TKXDESTEP
-  TKXDEIGES TKSTL TKRWMesh TKGeomAlgo)
+  TKXDEIGES TKSTL TKRWMesh TKGeomAlgo TKBinXCAF TKBin TKBinL)
 
 scanplan_require(TinyGLTF libtinygltf-dev CONFIG)
 scanplan_require(fcl libfcl-dev CONFIG)

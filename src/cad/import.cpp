@@ -12,10 +12,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <sstream>
 #include <unordered_set>
 #include <vector>
 
@@ -118,9 +120,31 @@ void checkStepFraming(const std::string& path) {
     throw InputError(path, "truncated STEP file: it does not end with END-ISO-10303-21;");
 }
 
+// The largest magnitude of a number in a STEP file: no length, angle, knot or weight of a
+// part comes near it, and squares of larger ones overflow in the CAD kernel, which then
+// meshes without end.
+constexpr double kLargestStepNumber = 1e15;
+
+// Refuses the number that may begin at text[k] (after a comma or parenthesis) when it is
+// beyond kLargestStepNumber, naming `entity`.
+void checkStepNumber(const std::string& text, std::size_t k, long entity, const std::string& path) {
+  while (k < text.size() && (text[k] == ' ' || text[k] == '\n' || text[k] == '\r')) ++k;
+  if (k >= text.size() ||
+      !(std::isdigit(static_cast<unsigned char>(text[k])) || text[k] == '-' || text[k] == '+'))
+    return;
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str() + k, &end);
+  if (!(std::abs(value) <= kLargestStepNumber))
+    throw InputError(
+        path,
+        fmt::format("entity #{} holds the number {}, beyond the ±1e15 of any "
+                    "length, angle or parameter of a part",
+                    entity, text.substr(k, std::min<std::size_t>(end - (text.c_str() + k), 40))));
+}
+
 // Every entity a STEP file's data section refers to (#n) must be defined there: OCCT's
-// translator follows a dangling reference into a crash.
-void checkStepReferences(const std::string& path) {
+// translator follows a dangling reference into a crash. No number may be out of range.
+void checkStepEntities(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t k = text.find("DATA;");
@@ -140,6 +164,7 @@ void checkStepReferences(const std::string& path) {
     }
     if (c == '\'') in_string = true;
     if (c == ';') statement_start = true;
+    if ((c == ',' || c == '(') && k + 1 < text.size()) checkStepNumber(text, k + 1, entity, path);
     if (c != '#') {
       if (!std::isspace(static_cast<unsigned char>(c)) && c != ';') statement_start = false;
       continue;
@@ -174,7 +199,35 @@ void checkIgesFraming(const std::string& path) {
     throw InputError(path, "truncated IGES file: its last line is not the Terminate section");
 }
 
+// An OCCT BREP file opens each of its tables with the count of its entries ("Curves 15"):
+// a count beyond the file's size, which could not hold them, sends OCCT's reader into a
+// loop over entries that are not there.
+void checkBrepCounts(const std::string& path) {
+  static const std::unordered_set<std::string> kTables = {
+      "Locations", "Curve2ds", "Curves",         "Polygon3D", "PolygonOnTriangulations",
+      "Polygon2D", "Surfaces", "Triangulations", "TShapes"};
+  const auto size = std::filesystem::file_size(path);
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (long number = 1; std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string table;
+    double count = 0;
+    if (!(words >> table >> count) || !kTables.count(table)) continue;
+    if (!(count >= 0 && count <= static_cast<double>(size)))
+      throw InputError(path, fmt::format("line {}: the table {} announces {:.0f} entries, more "
+                                         "than a file of {} bytes can hold",
+                                         number, table, count, size));
+  }
+}
+
 }  // namespace
+
+InputError detail::kernelError(const std::string& path, const Standard_Failure& failure) {
+  return InputError(path, std::string("the CAD kernel failed on it: ") +
+                              (failure.GetMessageString() ? failure.GetMessageString() : "") +
+                              " (" + failure.DynamicType()->Name() + ")");
+}
 
 Part importPart(const std::string& path, const ImportOptions& options, const Progress& progress) {
   // OCCT's readers print their statistics on stdout through its default messenger; the
@@ -198,11 +251,12 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
 
   std::string format = formatOf(path);
   if (format == "STEP") {
-    report(progress, "checking STEP references", 0);
+    report(progress, "checking STEP entities", 0);
     checkStepFraming(path);
-    checkStepReferences(path);
+    checkStepEntities(path);
   }
   if (format == "IGES") checkIgesFraming(path);
+  if (format == "BREP") checkBrepCounts(path);
 
   Part part;
   try {
@@ -210,9 +264,7 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
                ? detail::importBRep(path, format, options, progress)
                : detail::importMesh(path, format, options, progress);
   } catch (const Standard_Failure& failure) {
-    throw InputError(path, std::string("the CAD kernel failed on it: ") +
-                               (failure.GetMessageString() ? failure.GetMessageString() : "") +
-                               " (" + failure.DynamicType()->Name() + ")");
+    throw detail::kernelError(path, failure);
   }
   if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
   double extent = part.bounds().size().maxCoeff();
@@ -220,6 +272,15 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
     throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
                                        "length unit the file declares ({})",
                                        extent, part.file_unit.empty() ? "none" : part.file_unit));
+  // Ray casting and the simulation work in single precision, which keeps 0.01 mm only
+  // within 100 m of the origin.
+  const Box box = part.bounds();
+  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  if (!(reach <= kLongestLength))
+    throw InputError(path, fmt::format("the part lies {:.3g} mm from the origin of its file, "
+                                       "more than 100 m, where the simulation keeps less than "
+                                       "0.01 mm: move it nearer the origin",
+                                       reach));
   // A face without a boundary (an untrimmed plane) has an area without end.
   for (const Face& face : part.faces)
     if (!(face.area <= kLongestLength * kLongestLength))

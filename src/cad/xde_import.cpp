@@ -5,10 +5,14 @@
 #include "cad/xde.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/core/geometry.h>
+#include <scanplan/core/isolated.h>
 
 #include <BRepBndLib.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <BinTools.hxx>
+#include <BinXCAFDrivers.hxx>
 #include <Bnd_Box.hxx>
 #include <IGESCAFControl_Reader.hxx>
 #include <IGESControl_Controller.hxx>
@@ -21,6 +25,7 @@
 #include <STEPCAFControl_Controller.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <StepGeom_Curve.hxx>
 #include <StepGeom_Direction.hxx>
 #include <StepGeom_Placement.hxx>
@@ -47,6 +52,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <sstream>
 
 namespace scanplan::detail {
 
@@ -168,9 +178,18 @@ class XdeWalker {
   TopTools_IndexedMapOfShape solids_;
 };
 
+// OCCT's XDE application, which stores and retrieves documents in its binary format.
+Handle(XCAFApp_Application) application() {
+  static std::once_flag defined;
+  std::call_once(defined,
+                 [] { BinXCAFDrivers::DefineFormat(XCAFApp_Application::GetApplication()); });
+  return XCAFApp_Application::GetApplication();
+}
+
+// A new XDE document, in the binary format it is handed on in.
 Handle(TDocStd_Document) newDocument() {
   Handle(TDocStd_Document) doc;
-  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+  application()->NewDocument("BinXCAF", doc);
   return doc;
 }
 
@@ -206,9 +225,8 @@ void refuseBrokenGeometry(XSControl_Reader& reader, const std::string& path) {
 }
 
 // Reads a STEP or IGES file into a new XDE document, filling the file's declared unit.
-Handle(TDocStd_Document)
-    readExchangeFile(const std::string& path, const std::string& format,
-                     const ImportOptions& options, Part& part, const Progress& progress) {
+Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::string& format,
+                                          const ImportOptions& options, Part& part) {
   Handle(TDocStd_Document) doc = newDocument();
   // Shapes are converted to millimetres on transfer, whatever the file declares. The
   // controllers declare the static parameter; setting it before they run is a no-op.
@@ -216,7 +234,6 @@ Handle(TDocStd_Document)
   IGESControl_Controller::Init();
   Interface_Static::SetCVal("xstep.cascade.unit", "MM");
   Interface_Static::SetIVal("read.stepcaf.subshapes.name", 1);  // face names, e.g. DATUM_A
-  report(progress, "reading " + format, 0);
   if (format == "STEP") {
     STEPCAFControl_Reader reader;
     reader.SetColorMode(true);
@@ -232,7 +249,6 @@ Handle(TDocStd_Document)
     TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
     reader.ChangeReader().FileUnits(lengths, angles, solid_angles);
     if (!lengths.IsEmpty()) part.file_unit = lowercase(lengths.First().ToCString());
-    report(progress, "transferring STEP entities", 0);
     if (!reader.Transfer(doc))
       throw InputError(path, "no geometry could be transferred from the STEP file");
   } else {
@@ -245,7 +261,6 @@ Handle(TDocStd_Document)
     Handle(IGESData_IGESModel) model = Handle(IGESData_IGESModel)::DownCast(reader.Model());
     if (!model.IsNull() && !model->GlobalSection().UnitName().IsNull())
       part.file_unit = lowercase(model->GlobalSection().UnitName()->ToCString());
-    report(progress, "transferring IGES entities", 0);
     if (!reader.Transfer(doc))
       throw InputError(path, "no geometry could be transferred from the IGES file");
   }
@@ -272,13 +287,49 @@ TopoDS_Shape freeShapes(const Handle(TDocStd_Document) & doc) {
 // default. Finer ones mesh for minutes into gigabytes, or fail inside the CAD kernel.
 constexpr double kFinestRelativeDeflection = 1e-5;
 
+// How far the geometry's bounding box may reach from the file's origin before meshing, mm:
+// farther, it is corrupt (the part itself must lie within kLongestLength, checked on its
+// mesh) and the mesher would run without end.
+constexpr double kFarthestGeometry = 1000 * kLongestLength;
+
+// How far the geometry of `shape` reaches from the origin, mm (infinite when unbounded);
+// its bounding box in `box`.
+double reachOf(const TopoDS_Shape& shape, Bnd_Box& box) {
+  BRepBndLib::Add(shape, box, false);
+  if (box.IsVoid()) return 0;
+  if (box.IsOpen()) return std::numeric_limits<double>::infinity();
+  double x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  return std::max(
+      {std::abs(x0), std::abs(y0), std::abs(z0), std::abs(x1), std::abs(y1), std::abs(z1)});
+}
+
+// The diagonal of the shape's geometry, mm.
+// \throw InputError naming `path` and the first face that is unbounded or reaches beyond
+//        kFarthestGeometry.
+double geometryDiagonal(const TopoDS_Shape& shape, const std::string& path) {
+  Bnd_Box box;
+  if (reachOf(shape, box) <= kFarthestGeometry)
+    return box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  for (int id = 1; id <= faces.Extent(); ++id) {
+    Bnd_Box face_box;
+    const double reach = reachOf(faces(id), face_box);
+    if (!(reach <= kFarthestGeometry))
+      throw InputError(path, fmt::format("face {} reaches {:.3g} mm from the origin, beyond "
+                                         "{:.0f} km: it has no boundary, or a radius, point or "
+                                         "pole of it is corrupt",
+                                         id, reach, kFarthestGeometry / 1e6));
+  }
+  throw InputError(path, fmt::format("the geometry reaches beyond {:.0f} km from the origin: an "
+                                     "edge or vertex is corrupt",
+                                     kFarthestGeometry / 1e6));
+}
+
 // The mesh's chordal tolerance: the options' own, or their share of the diagonal.
 // \throw InputError naming `path` when it is finer than kFinestRelativeDeflection allows.
-double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options,
-                        const std::string& path) {
-  Bnd_Box box;
-  BRepBndLib::Add(shape, box, false);
-  const double diagonal = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
+double chooseDeflection(double diagonal, const ImportOptions& options, const std::string& path) {
   const double finest = std::max(kFinestRelativeDeflection * diagonal, 1e-4);
   const double chosen = options.linear_deflection > 0
                             ? options.linear_deflection
@@ -290,6 +341,77 @@ double chooseDeflection(const TopoDS_Shape& shape, const ImportOptions& options,
   return chosen;
 }
 
+// The shape a file holds, and for STEP and IGES the XDE document it came in (null for BREP).
+struct ReadShape {
+  Handle(TDocStd_Document) doc;
+  TopoDS_Shape shape;
+};
+
+ReadShape readShape(const std::string& path, const std::string& format,
+                    const ImportOptions& options, Part& part) {
+  ReadShape read;
+  if (format == "BREP") {
+    BRep_Builder builder;
+    if (!BRepTools::Read(read.shape, path.c_str(), builder) || read.shape.IsNull())
+      throw InputError(path, "not a readable OCCT BREP file");
+    part.file_unit = "mm";  // BREP carries no unit; OCCT's convention is millimetres
+    return read;
+  }
+  read.doc = readExchangeFile(path, format, options, part);
+  read.shape = freeShapes(read.doc);
+  if (read.shape.IsNull())
+    throw InputError(path, "no geometry: the file holds no shape that could be read");
+  return read;
+}
+
+// What the isolated reader hands back: the file's unit on the first line, then the shape
+// in OCCT's binary formats, as an XDE document (STEP, IGES) or a bare shape (BREP).
+std::string serialize(const ReadShape& read, const Part& part) {
+  std::ostringstream out(std::ios::binary);
+  out << part.file_unit << '\n';
+  if (read.doc.IsNull())
+    BinTools::Write(read.shape, out);
+  else if (application()->SaveAs(read.doc, out) != PCDM_SS_OK)
+    throw InputError(part.file, "the document read from it could not be handed on");
+  return out.str();
+}
+
+ReadShape deserialize(const std::string& bytes, const std::string& format, Part& part) {
+  std::istringstream in(bytes, std::ios::binary);
+  std::getline(in, part.file_unit);
+  part.unit_scale = millimetresPer(part.file_unit);
+  ReadShape read;
+  if (format == "BREP") {
+    BinTools::Read(read.shape, in);
+    return read;
+  }
+  if (application()->Open(in, read.doc) != PCDM_RS_OK)
+    throw InputError(part.file, "the document read from it could not be taken over");
+  read.shape = freeShapes(read.doc);
+  return read;
+}
+
+// OCCT's readers can crash on a corrupt file, loop on it or allocate out of all proportion:
+// they run in a child process bounded by readerLimits(), which hands the shape back.
+ReadShape readInIsolation(const std::string& path, const std::string& format,
+                          const ImportOptions& options, Part& part) {
+  const std::size_t size = static_cast<std::size_t>(std::filesystem::file_size(path));
+  const std::string bytes = runIsolated(path, "the " + format + " reader", readerLimits(size), [&] {
+    try {
+      Part scratch;
+      scratch.file = path;
+      const ReadShape read = readShape(path, format, options, scratch);
+      geometryDiagonal(read.shape, path);
+      return serialize(read, scratch);
+    } catch (const Standard_OutOfMemory&) {
+      throw std::bad_alloc();
+    } catch (const Standard_Failure& failure) {
+      throw kernelError(path, failure);
+    }
+  });
+  return deserialize(bytes, format, part);
+}
+
 }  // namespace
 
 Part importBRep(const std::string& path, const std::string& format, const ImportOptions& options,
@@ -297,39 +419,26 @@ Part importBRep(const std::string& path, const std::string& format, const Import
   Part part;
   part.file = path;
   part.format = format;
-  const double angle = radians(options.angular_deflection);
-
-  if (format == "BREP") {
-    TopoDS_Shape shape;
-    BRep_Builder builder;
-    report(progress, "reading BREP", 0);
-    if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
-      throw InputError(path, "not a readable OCCT BREP file");
-    part.file_unit = "mm";  // BREP carries no unit; OCCT's convention is millimetres
-    buildFromShape(part, shape, chooseDeflection(shape, options, path), angle, progress);
-    return part;
-  }
-
-  Handle(TDocStd_Document) doc = readExchangeFile(path, format, options, part, progress);
-  TopoDS_Shape shape = freeShapes(doc);
-  if (shape.IsNull())
-    throw InputError(path, "no geometry: the file holds no shape that could be read");
-  buildFromShape(part, shape, chooseDeflection(shape, options, path), angle, progress);
+  report(progress, "reading and transferring " + format, 0);
+  const ReadShape read = readInIsolation(path, format, options, part);
+  const double deflection = chooseDeflection(geometryDiagonal(read.shape, path), options, path);
+  buildFromShape(part, read.shape, deflection, radians(options.angular_deflection), progress);
+  if (read.doc.IsNull()) return part;
 
   report(progress, "reading names and colours", 0);
   XdeFaceLookup lookup;
   lookup.model = part.brep.get();
-  XdeWalker walker(doc, part, *part.brep, lookup);
-  Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  XdeWalker walker(read.doc, part, *part.brep, lookup);
+  Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(read.doc->Main());
   TDF_LabelSequence roots;
   shapes->GetFreeShapes(roots);
   for (const TDF_Label& root : roots) walker.walk(root, TopLoc_Location());
   if (format == "STEP" && options.read_gdt) {
     report(progress, "reading GD&T", 0);
-    part.gdt = readGdt(doc, lookup, path);
+    part.gdt = readGdt(read.doc, lookup, path);
   }
   report(progress, "closing the document", 0);
-  XCAFApp_Application::GetApplication()->Close(doc);
+  application()->Close(read.doc);
   return part;
 }
 
