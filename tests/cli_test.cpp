@@ -208,6 +208,32 @@ TEST(Cli, SampleSpecErrorsAreExitCodeTwo) {
       << r.out;
 }
 
+// What import warns of (an open mesh, a part a fraction of a millimetre across) reaches
+// the commands that plan and sample, for the part and for fixture models, not `info` only.
+TEST(Cli, ImportWarningsOfThePartAndItsFixturesReachTheCommands) {
+  test::TempDir dir;
+  // An open square, 0.5 mm wide: two warnings.
+  test::writeText(dir.file("square.off"),
+                  "OFF\n4 2 0\n0 0 0\n0.5 0 0\n0.5 0.5 0\n0 0.5 0\n3 0 1 2\n3 0 2 3\n");
+  test::writeText(dir.file("spec.yaml"), "fixtures:\n  - file: " + dir.file("square.off") + "\n");
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r = run("--quiet sample " + dir.file("square.off") + " -o " + dir.file("s.ply"));
+  EXPECT_NE(r.out.find("warning: " + dir.file("square.off") + ": the mesh is not closed"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("warning: " + dir.file("square.off") + ": the part is only 0.5"),
+            std::string::npos)
+      << r.out;
+  r = run("--quiet sample " + part + " --spec " + dir.file("spec.yaml") + " -o " +
+          dir.file("t.ply"));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning: " + dir.file("square.off") + ": the mesh is not closed"),
+            std::string::npos)
+      << r.out;
+  // The bundled part has nothing to warn of.
+  EXPECT_EQ(r.out.find("warning: " + part), std::string::npos) << r.out;
+}
+
 // Also: a picture an earlier run left in the folder does not stay beside this run's plan.
 TEST(Cli, PlanWritesPlanJsonAndSummary) {
   test::TempDir dir;
@@ -280,7 +306,9 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
   r = run("verify " + plan + " " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " -q");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("faces where the plan's part has 117"), std::string::npos) << r.out;
-  test::writeText(dir.file("broken.json"), "{\"format\": \"scanplan.plan\", \"views\": []}");
+  test::writeText(dir.file("broken.json"),
+                  "{\"format\": \"scanplan.plan\", \"version\": 1, \"units\": \"mm\", "
+                  "\"views\": []}");
   r = run("verify " + dir.file("broken.json") + " " + part + " -q");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("error: " + dir.file("broken.json") + ": part: no 'file'"),

@@ -312,6 +312,33 @@ TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
                "view 1 registration: 'to' has the wrong type");
 }
 
+// A plan in inches, of another version, with a key or a task this version does not know,
+// or a key given twice, is refused as the spec's unknown keys are, not read in part.
+TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
+  test::TempDir dir;
+  const std::string path = dir.file("plan.json");
+  EXPECT_EQ(planError(path, [](auto& p) { p["units"] = "inch"; }), "units 'inch': plans are in mm");
+  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 2; }),
+            "version 2 is not one this scanplan reads (it reads version 1)");
+  EXPECT_EQ(planError(path, [](auto& p) { p["views"][2]["task"] = "gdtt"; }),
+            "view 3: unknown task 'gdtt'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["view"] = p["views"]; }), "plan: unknown key 'view'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["views"][0]["camera"] = 1; }),
+            "view 1: unknown key 'camera'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["samples"][1]["weight"] = 2; }),
+            "sample 2: unknown key 'weight'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["part"]["unit"] = "mm"; }), "part: unknown key 'unit'");
+  // nlohmann would keep the second "units" silently.
+  std::ifstream in(test::examplePlan());
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find('{'), 1, "{\"units\": \"inch\", ");
+  test::writeText(path, text);
+  EXPECT_EQ(inputError(path, [&] { readPlan(path); }),
+            "the key 'units' is given twice in one object");
+  // The plan as written reads.
+  EXPECT_NO_THROW(readPlan(test::examplePlan()));
+}
+
 // Loads the spec `text` (written to spec.yaml in `dir`) and returns the error's reason.
 std::string specError(const test::TempDir& dir, const std::string& text) {
   const std::string path = dir.file("spec.yaml");

@@ -74,17 +74,17 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
   writePlanFiles(plan, (outdir / "plan.json").string(), &outputs);
   const auto report_start = std::chrono::steady_clock::now();
   // Resolved once for the report and the picture: it reads the fixture models.
-  std::optional<ResolvedSpec> resolved;
-  if (!options.no_report || options.png) resolved = resolveSpec(part, spec);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
+  printWarnings("", resolved.warnings);
   if (!options.no_report)
-    writeReport(plan, part, *resolved, outputs.stage((outdir / "report.html").string()), {},
+    writeReport(plan, part, resolved, outputs.stage((outdir / "report.html").string()), {},
                 progress);
   else
     outputs.drop((outdir / "report.html").string());
   const double report_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - report_start).count();
   if (options.png)
-    writePng(renderScene(planScene(plan, part, *resolved)),
+    writePng(renderScene(planScene(plan, part, resolved)),
              outputs.stage((outdir / "plan.png").string()));
   else
     outputs.drop((outdir / "plan.png").string());
@@ -95,7 +95,7 @@ int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
-  const Part part = importPart(options.part, {}, progress);
+  const Part part = importWithWarnings(options.part, {}, progress);
   PlanningOptions planning;
   planning.registration = !options.no_registration;
   Plan plan = planViews(part, spec, planning, progress);

@@ -56,9 +56,10 @@ Checked check(const Input& input, const Progress& progress) {
       std::filesystem::exists(beside, ec))
     part_file = beside.string();
   Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
-  Part part = importPart(part_file, {}, progress);
+  Part part = importWithWarnings(part_file, {}, progress);
   PlanCheck checked = verifyPlan(plan, part, spec, {}, progress);
   ResolvedSpec resolved = resolveSpec(part, spec);
+  printWarnings("", resolved.warnings);
   return {std::move(checked.plan), std::move(part), std::move(resolved)};
 }
 

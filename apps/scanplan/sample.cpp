@@ -86,8 +86,9 @@ void writeSamples(const std::string& path, const std::vector<Sample>& samples,
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  const Part part = importPart(options.part, {}, progress);
+  const Part part = importWithWarnings(options.part, {}, progress);
   const ResolvedSpec resolved = resolveSpec(part, spec);
+  printWarnings("", resolved.warnings);
   report(progress, "sampling", 0);
   std::vector<Sample> samples =
       sampleTargets(part, resolved.targets, samplingOptionsFor(spec.scanner));

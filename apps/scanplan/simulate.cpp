@@ -39,9 +39,11 @@ int run(const Options& options, const GlobalOptions& global) {
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   ViewsFile views = readViews(options.views);
-  Part part = importPart(options.part, {}, progress);
+  Part part = importWithWarnings(options.part, {}, progress);
 
-  SimulationOptions simulation = simulationOptionsFor(resolveSpec(part, spec), views.part_to_world);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
+  printWarnings("", resolved.warnings);
+  SimulationOptions simulation = simulationOptionsFor(resolved, views.part_to_world);
   simulation.working_plane = simulation.working_plane && !options.no_working_plane;
   report(progress, "building ray-casting scene", 0);
   Simulator simulator(part, spec.scanner, simulation);

@@ -21,7 +21,7 @@ struct SpecCommand {
 
 int run(const SpecCommand& options, const GlobalOptions& global) {
   refuseInputAsOutput(options.out, {options.part, options.spec});
-  const Part part = importPart(options.part, {}, terminalProgress(global));
+  const Part part = importWithWarnings(options.part, {}, terminalProgress(global));
   writeSpecEditor(part, options.spec, options.out);
   clearProgress();
   fmt::print("editor     {}\n", options.out);

@@ -63,4 +63,20 @@ void clearProgress() {
   endLine();
 }
 
+void printWarnings(const std::string& file, const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return;
+  std::lock_guard<std::mutex> lock(g_mutex);
+  endLine();
+  for (const std::string& warning : warnings)
+    std::fprintf(stderr, "warning: %s%s\n", file.empty() ? "" : (file + ": ").c_str(),
+                 warning.c_str());
+}
+
+Part importWithWarnings(const std::string& path, const ImportOptions& options,
+                        const Progress& progress) {
+  Part part = importPart(path, options, progress);
+  printWarnings(part.file, part.warnings);
+  return part;
+}
+
 }  // namespace scanplan::cli

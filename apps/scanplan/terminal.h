@@ -3,9 +3,11 @@
 
 #include "commands.h"
 
+#include <scanplan/cad/import.h>
 #include <scanplan/core/progress.h>
 
 #include <string>
+#include <vector>
 
 namespace scanplan::cli {
 
@@ -16,5 +18,13 @@ Progress terminalProgress(const GlobalOptions& global);
 
 // Ends the status line, if one is shown, and under --verbose the stage under way.
 void clearProgress();
+
+// Writes each warning on stderr as "warning: <file>: <warning>" (an empty `file`: none),
+// after the status line, even under --quiet.
+void printWarnings(const std::string& file, const std::vector<std::string>& warnings);
+
+// importPart(), with the part's import warnings written by printWarnings().
+Part importWithWarnings(const std::string& path, const ImportOptions& options,
+                        const Progress& progress);
 
 }  // namespace scanplan::cli

@@ -28,7 +28,7 @@ int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   const Plan plan = readPlan(options.plan);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  const Part part = importPart(options.part, {}, progress);
+  const Part part = importWithWarnings(options.part, {}, progress);
   const PlanCheck check = verifyPlan(plan, part, spec, {}, progress);
   clearProgress();
 

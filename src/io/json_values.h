@@ -7,11 +7,49 @@
 
 #include <nlohmann/json.hpp>
 
+#include <istream>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace scanplan::detail {
 
 using nlohmann::json;
+
+// The JSON text of `in`, refusing what nlohmann would take silently: a key given twice in
+// one object (it keeps the last). \throw InputError naming `path`.
+inline json parseJson(std::istream& in, const std::string& path) {
+  std::vector<std::set<std::string>> keys;  // of the objects being read, outermost first
+  std::string twice;
+  const json::parser_callback_t callback = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) keys.emplace_back();
+    if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    if (event == json::parse_event_t::key && !keys.empty() &&
+        !keys.back().insert(parsed.get<std::string>()).second && twice.empty())
+      twice = parsed.get<std::string>();
+    return true;
+  };
+  json root;
+  try {
+    root = json::parse(in, callback);
+  } catch (const json::exception& e) {
+    throw InputError(path, std::string("not valid JSON: ") + e.what());
+  }
+  if (!twice.empty())
+    throw InputError(path, "the key '" + twice + "' is given twice in one object");
+  return root;
+}
+
+// Refuses a key of `object` that is not among `known`, naming `where`.
+inline void refuseUnknownKeys(const json& object, std::initializer_list<const char*> known,
+                              const std::string& path, const std::string& where) {
+  if (!object.is_object()) return;
+  for (const auto& [key, value] : object.items()) {
+    bool found = false;
+    for (const char* k : known) found = found || key == k;
+    if (!found) throw InputError(path, where + ": unknown key '" + key + "'");
+  }
+}
 
 // A vector as a JSON array of three numbers (in `Json`, nlohmann's json or ordered_json).
 template <class Json = json>

@@ -846,6 +846,47 @@ std::string partFile(const json& part, const std::string& path) {
   return candidates.front();
 }
 
+// The view tasks a plan can hold: a task's type, a bridge for registration, or none.
+bool knownViewTask(const std::string& task) {
+  for (const TaskType type :
+       {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
+    if (task == toString(type)) return true;
+  return task.empty() || task == "bridge";
+}
+
+// Refuses what this version does not understand: another version or unit, and keys it
+// does not know in the plan, its part, views and samples.
+void checkPlanKeys(const json& root, const std::string& path) {
+  if (const int version = field<int>(root, "version", path, "plan"); version != 1)
+    throw InputError(path, "version " + std::to_string(version) +
+                               " is not one this scanplan reads (it reads version 1)");
+  if (const std::string units = field<std::string>(root, "units", path, "plan"); units != "mm")
+    throw InputError(path, "units '" + units + "': plans are in mm");
+  detail::refuseUnknownKeys(
+      root,
+      {"format", "version", "units", "part", "scanner", "views", "sequence", "samples", "summary",
+       "registration", "orientations", "cell", "sweeps", "characteristics"},
+      path, "plan");
+  detail::refuseUnknownKeys(objectAt(root, "part"),
+                            {"file", "absolute_file", "faces", "part_to_world"}, path, "part");
+  const json& views = root["views"];
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const std::string where = "view " + std::to_string(v + 1);
+    detail::refuseUnknownKeys(views[v],
+                              {"id", "camera_to_world", "target", "task", "registration", "bridge",
+                               "robot", "orientation"},
+                              path, where);
+    const std::string task = views[v].value("task", std::string());
+    if (!knownViewTask(task)) throw InputError(path, where + ": unknown task '" + task + "'");
+  }
+  const json samples = root.value("samples", json::array());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    detail::refuseUnknownKeys(samples[i],
+                              {"position", "normal", "face", "role", "task", "measured_by",
+                               "cluster", "not_coverable", "loss", "characteristics"},
+                              path, "sample " + std::to_string(i + 1));
+}
+
 // readPlan without its net for values of the wrong type.
 Plan readPlanFields(const std::string& path) {
   ViewsFile views = readViews(path);  // checks the file, the JSON and every view
@@ -853,6 +894,7 @@ Plan readPlanFields(const std::string& path) {
   const json root = json::parse(in, nullptr, false);
   if (field<std::string>(root, "format", path, "plan") != "scanplan.plan")
     throw InputError(path, "not a scanplan plan (format is not 'scanplan.plan')");
+  checkPlanKeys(root, path);
   const PlanReader reader{path};
   Plan plan;
   plan.part_to_world = views.part_to_world;

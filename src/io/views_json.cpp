@@ -17,12 +17,7 @@ using nlohmann::json;
 ViewsFile readViews(const std::string& path) {
   requireInputFile(path);
   std::ifstream in(path);
-  json root;
-  try {
-    root = json::parse(in);
-  } catch (const json::exception& e) {
-    throw InputError(path, std::string("not valid JSON: ") + e.what());
-  }
+  const json root = detail::parseJson(in, path);
   ViewsFile file;
   const json* views = &root;
   if (root.is_object()) {

@@ -134,6 +134,8 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
     options.read_gdt = false;
     Part model = importPart(fixture.file, options);
     resolved.fixture_model_faces += model.faces.size();
+    for (const std::string& warning : model.warnings)
+      resolved.warnings.push_back(fixture.file + ": " + warning);
     resolved.fixture_meshes.push_back(std::move(model.mesh));
   }
   return resolved;

@@ -111,6 +111,8 @@ struct ResolvedSpec {
   std::vector<int> gdt_faces;  // with gdt: from-file, the part's GD&T faces, else empty
   std::vector<TriangleMesh> fixture_meshes;  // per spec.fixtures: its mesh, its own frame
   std::size_t fixture_model_faces = 0;       // faces of the fixture models' files
+  std::vector<std::string> warnings;         // the fixture models' import warnings,
+                                             // each "<file>: <warning>"
 
   // The fixture faces: roles.fixture's and those of the fixture models.
   std::size_t fixtureFaces() const { return targets.fixture.size() + fixture_model_faces; }
