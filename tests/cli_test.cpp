@@ -252,6 +252,46 @@ TEST(Cli, PlanWritesPlanJsonAndSummary) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/plan.png")));
 }
 
+// A run ended by SIGHUP (its terminal closed) leaves no temporary, as one ended by SIGINT
+// or SIGTERM does: the shell waits for the export's temporary, then hangs the run up.
+TEST(Cli, RunEndedByAHangupLeavesNoTemporary) {
+  test::TempDir dir;
+  const std::string script =
+      std::string(SCANPLAN_EXE) + " export " + test::examplePlan() +
+      " --format clouds-ply --spacing 0.5 -o clouds.ply -q & pid=$!; "
+      "for i in $(seq 1 400); do ls | grep -q 'clouds.tmp-' && break; sleep 0.025; done; "
+      "ls; kill -HUP $pid; wait $pid; echo \"status $?\"; ls";
+  CommandResult r = run("--version >/dev/null; " + script, dir.file(""));
+  const std::size_t seen = r.out.find("clouds.tmp-");
+  ASSERT_NE(seen, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("status 129", seen), std::string::npos) << r.out;  // 128 + SIGHUP
+  EXPECT_EQ(r.out.find("clouds", r.out.find("status 129")), std::string::npos) << r.out;
+}
+
+// The files a spec names are inputs too: an export or a plan that would write over the
+// spec's control points or markers is refused (exit 4), and they are left as they were.
+TEST(Cli, OutputsNeverReplaceFilesTheSpecNames) {
+  test::TempDir dir;
+  std::filesystem::create_directory(dir.file("out"));
+  test::writeText(dir.file("points.csv"), "0,0,0\n");
+  test::writeText(dir.file("out/proposed-markers.csv"), "1,2,3\n");
+  test::writeText(dir.file("points.yaml"), "tasks:\n  - {type: points, file: points.csv}\n");
+  test::writeText(dir.file("markers.yaml"), "markers: out/proposed-markers.csv\n");
+  CommandResult r = run("export " + test::examplePlan() + " --spec " + dir.file("points.yaml") +
+                        " --format csv -o " + dir.file("points.csv"));
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(r.out.find("error: " + dir.file("points.csv") + ": is an input of this command"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(test::readText(dir.file("points.csv")), "0,0,0\n");
+  r = run("plan " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " --spec " +
+          dir.file("markers.yaml") + " -o " + dir.file("out") + " -q");
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(r.out.find("proposed-markers.csv: is an input of this command"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(test::readText(dir.file("out/proposed-markers.csv")), "1,2,3\n");
+}
+
 // The bundled example as `scanplan plan` planned it once for the test run (support.h).
 TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
   test::TempDir dir;

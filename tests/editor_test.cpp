@@ -110,6 +110,24 @@ TEST(SpecEditor, ABoxRestsOnEachOfItsFaces) {
   EXPECT_NEAR(rests[0]["contact_area"].get<double>(), 6000, 1e-6);
 }
 
+// A face name from the CAD file that closes the data's element or opens an HTML comment
+// stays text: the page holds one data element, no '<' in it, and the name reads back.
+TEST(SpecEditor, NamesFromTheFileCannotEndThePagesData) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 60, 40).Shape(), dir.file("box.brep").c_str());
+  Part part = importPart(dir.file("box.brep"));
+  const std::string name = "</script><!--<script>alert(1)</script>";
+  part.faces[0].name = name;
+  writeSpecEditor(part, "", dir.file("editor.html"));
+  const std::string page = test::readText(dir.file("editor.html"));
+  const std::string open = R"(<script type="application/json" id="scanplan-data">)";
+  const std::size_t begin = page.find(open) + open.size();
+  const std::string data = page.substr(begin, page.find("</script>", begin) - begin);
+  EXPECT_EQ(data.find('<'), std::string::npos);
+  EXPECT_EQ(page.find("<!--"), std::string::npos);
+  EXPECT_NE(json::parse(data).dump().find(json(name).dump()), std::string::npos);
+}
+
 // The spec it starts from: its document as written (order, numbers, quoted strings), each
 // task's and role's faces as ids, and its control points with their faces.
 TEST(SpecEditor, StartsFromAGivenSpec) {

@@ -427,6 +427,15 @@ TEST(InputFiles, ADirectoryIsNotAFile) {
     EXPECT_EQ(inputError(folder, read), "not a regular file (a directory)");
 }
 
+// The names in `dir`, sorted.
+std::vector<std::string> entries(const test::TempDir& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.file("")))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 // Outputs go to regular files only, through a link to its target, and leave no
 // temporary behind when writing fails.
 TEST(OutputFiles, OnlyRegularFilesAreWrittenAndLinksAreKept) {
@@ -444,18 +453,44 @@ TEST(OutputFiles, OnlyRegularFilesAreWrittenAndLinksAreKept) {
   EXPECT_THROW(writeFileAtomically(dir.file("failed.txt"),
                                    [](std::ostream&) { throw OutputError("x", "stop"); }),
                OutputError);
-  EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt.tmp")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("failed.txt")));
   // An interrupt's handler removes the temporary of a write under way.
   EXPECT_THROW(writeFileAtomically(dir.file("cut.txt"),
                                    [&](std::ostream& out) {
                                      out << "x\n";
-                                     EXPECT_TRUE(std::filesystem::exists(dir.file("cut.txt.tmp")));
+                                     EXPECT_EQ(entries(dir).size(), 4u);  // with the temporary
                                      removeTemporaries();
-                                     EXPECT_FALSE(std::filesystem::exists(dir.file("cut.txt.tmp")));
                                    }),
                OutputError);
   EXPECT_FALSE(std::filesystem::exists(dir.file("cut.txt")));
+  EXPECT_EQ(entries(dir), (std::vector<std::string>{"folder", "link.txt", "target.txt"}));
+}
+
+// A temporary is never written through a link planted where it would be (at the fixed
+// name of earlier versions, or at this process's next names), and the file replaced
+// keeps its permissions.
+TEST(OutputFiles, TemporariesAreCreatedAfreshAndPermissionsKept) {
+  test::TempDir dir;
+  const std::string pid = std::to_string(::getpid());
+  test::writeText(dir.file("outside.txt"), "not an output");
+  for (int n = 0; n < 50; ++n)  // a link at the names this process picks first
+    for (const char* kind : {"tmp", "staged"})
+      std::filesystem::create_symlink(
+          dir.file("outside.txt"),
+          dir.file("plan." + std::string(kind) + "-" + pid + "-" + std::to_string(n) + ".json"));
+  std::filesystem::create_symlink(dir.file("outside.txt"), dir.file("plan.staged.json"));
+  test::writeText(dir.file("plan.json"), "old");
+  std::filesystem::permissions(dir.file("plan.json"), std::filesystem::perms::owner_read |
+                                                          std::filesystem::perms::owner_write);
+  FileSet outputs;
+  writeFileAtomically(outputs.stage(dir.file("plan.json")),
+                      [](std::ostream& out) { out << "new"; });
+  outputs.commit();
+  EXPECT_EQ(test::readText(dir.file("outside.txt")), "not an output");
+  EXPECT_EQ(test::readText(dir.file("plan.json")), "new");
+  EXPECT_EQ(
+      std::filesystem::status(dir.file("plan.json")).permissions() & std::filesystem::perms::all,
+      std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
 }
 
 // A run's files are written as a set: none is in place before all are written, a failed

@@ -43,11 +43,6 @@ std::string importError(const std::string& path) {
   return {};
 }
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // A 100 x 60 x 40 mm box with a through hole, every face a B-spline.
 TopoDS_Shape nurbsBoxWithHole() {
   TopoDS_Shape box = BRepPrimAPI_MakeBox(100, 60, 40).Shape();
@@ -96,7 +91,7 @@ TEST(HostileCad, IgesBSplineWithItsParametersCutShortIsRefusedWithoutACrash) {
   test::TempDir dir;
   const std::string whole = writeIges(nurbsBoxWithHole(), dir.file("whole.igs"));
   EXPECT_EQ(importPart(whole).faces.size(), 7u);
-  test::writeText(dir.file("cut.igs"), cutFirstBSplineCurve(readText(whole), "126,5,3;"));
+  test::writeText(dir.file("cut.igs"), cutFirstBSplineCurve(test::readText(whole), "126,5,3;"));
   EXPECT_PRED2(contains, importError(dir.file("cut.igs")), "the IGES reader crashed on it");
   // The process that survived reads the whole file again, unchanged.
   EXPECT_EQ(importPart(whole).faces.size(), 7u);
@@ -107,7 +102,7 @@ TEST(HostileCad, BrepTableAnnouncingMoreEntriesThanTheFileHoldsIsRefused) {
   test::TempDir dir;
   const std::string whole =
       test::writeBrep(BRepPrimAPI_MakeBox(10, 20, 30).Shape(), dir.file("box.brep"));
-  std::string text = readText(whole);
+  std::string text = test::readText(whole);
   for (const char* table : {"Curves", "Curve2ds"}) {
     const std::size_t at = text.find(std::string("\n") + table + " ");
     ASSERT_NE(at, std::string::npos) << table;
@@ -121,7 +116,7 @@ TEST(HostileCad, BrepTableAnnouncingMoreEntriesThanTheFileHoldsIsRefused) {
 
 // The cylinder of FTC 11's first CYLINDRICAL_SURFACE with radius `radius`; its reason.
 std::string cylinderRadiusError(const test::TempDir& dir, const std::string& radius) {
-  std::string text = readText(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  std::string text = test::readText(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   const std::size_t at = text.find("CYLINDRICAL_SURFACE('',#");
   if (at == std::string::npos) return "no cylinder in the file";
   const std::size_t comma = text.find(',', text.find('#', at));

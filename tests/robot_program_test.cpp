@@ -316,6 +316,30 @@ TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
             "cell.signals.table {angle, move, ready} in the spec");
 }
 
+// A plan's path and a robot's name come from the user's files: a line break in them would
+// end the comment and leave the rest as a statement. Each stays inside its comment line.
+TEST(RobotProgram, TextFromTheInputsCannotBecomeAStatement) {
+  const std::string evil = "\nDEF EVIL()\r\nMoveAbsJ home;\n\x1b[2J";
+  RobotProgram krl = program(), ur = urProgram();
+  krl.source = ur.source = "plans/x" + evil + ".json";
+  krl.cell.robot.name += evil;
+  ur.cell.robot.name += evil;
+  for (const auto& [text, comment] :
+       {std::pair{krlProgram(krl), ";"}, {rapidProgram(krl), "!"}, {urScript(ur), "#"}}) {
+    for (const std::string& line : lines(text)) {
+      EXPECT_EQ(line.find('\r'), std::string::npos);
+      EXPECT_EQ(line.find('\x1b'), std::string::npos);
+      if (line.find("EVIL") == std::string::npos && line.find("MoveAbsJ home") == std::string::npos)
+        continue;
+      const std::size_t start = line.find_first_not_of(' ');
+      EXPECT_EQ(line.compare(start, 2, std::string(comment) + " "), 0)
+          << "outside a comment: " << line;
+    }
+    EXPECT_NE(text.find(" from plans/x?DEF EVIL()??MoveAbsJ home;??[2J.json\n"), std::string::npos)
+        << text;
+  }
+}
+
 TEST(RobotProgram, JsonHoldsJointsAndFlangePoses) {
   const RobotProgram p = program();
   const std::string text = programJson(p);

@@ -1,12 +1,23 @@
 #include "files.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/io/spec_yaml.h>
+#include <scanplan/spec/spec.h>
 
 #include <filesystem>
 
 namespace scanplan::cli {
 
-void refuseInputAsOutput(const std::string& out, std::initializer_list<std::string> inputs) {
+std::vector<std::string> commandInputs(std::vector<std::string> inputs, const std::string& spec) {
+  if (!spec.empty()) {
+    inputs.push_back(spec);
+    const std::vector<std::string> named = specFiles(loadSpec(spec));
+    inputs.insert(inputs.end(), named.begin(), named.end());
+  }
+  return inputs;
+}
+
+void refuseInputAsOutput(const std::string& out, const std::vector<std::string>& inputs) {
   std::error_code ec;
   for (const std::string& in : inputs)
     if (!in.empty() && std::filesystem::equivalent(in, out, ec))

@@ -1,13 +1,16 @@
 #pragma once
 // Checks on the files a command is given.
 
-#include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace scanplan::cli {
 
-// \throw OutputError naming `out` when it is one of the command's `inputs` (those given;
-// empty ones are skipped).
-void refuseInputAsOutput(const std::string& out, std::initializer_list<std::string> inputs);
+// The files a command reads: `inputs`, and the spec at `spec` (if given) with the files it
+// names (specFiles()). Empty names are skipped.
+std::vector<std::string> commandInputs(std::vector<std::string> inputs, const std::string& spec);
+
+// \throw OutputError naming `out` when it is one of `inputs`.
+void refuseInputAsOutput(const std::string& out, const std::vector<std::string>& inputs);
 
 }  // namespace scanplan::cli

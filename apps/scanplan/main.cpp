@@ -14,22 +14,32 @@
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <string>
 
 namespace {
 
-// Interrupted: the files being written are removed, then the signal ends the run as usual.
+// Ended by a signal: the files being written are removed, then the signal ends the run as
+// usual.
 extern "C" void onInterrupt(int signal) {
   scanplan::removeTemporaries();
   std::signal(signal, SIG_DFL);
   std::raise(signal);
 }
 
+// An error's text on one line: names taken from the input (a file's, a robot's) may hold
+// line breaks or terminal escapes, which are shown as '?'.
+std::string oneLine(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace scanplan;
-  std::signal(SIGINT, onInterrupt);
-  std::signal(SIGTERM, onInterrupt);
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGXCPU, SIGXFSZ})
+    std::signal(signal, onInterrupt);
 
   CLI::App app{"scanplan: view planning for robotic 3D scanning inspection"};
   app.require_subcommand(1);
@@ -69,11 +79,11 @@ int main(int argc, char** argv) {
     return code;
   } catch (const Error& e) {
     cli::clearProgress();
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", oneLine(e.what()).c_str());
     return e.exitCode();
   } catch (const std::exception& e) {
     cli::clearProgress();
-    std::fprintf(stderr, "error: internal: %s\n", e.what());
+    std::fprintf(stderr, "error: internal: %s\n", oneLine(e.what()).c_str());
     return kExitPlanning;
   }
 }

@@ -1,6 +1,7 @@
 // scanplan plan: the main job, from a part and a spec to plan.json and report.html.
 
 #include "commands.h"
+#include "files.h"
 #include "summary.h"
 #include "terminal.h"
 
@@ -92,6 +93,9 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
 }
 
 int run(const Options& options, const GlobalOptions& global) {
+  const std::vector<std::string> inputs = commandInputs({options.part}, options.spec);
+  for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
+    refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
   Progress progress = terminalProgress(global);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
@@ -99,6 +103,10 @@ int run(const Options& options, const GlobalOptions& global) {
   PlanningOptions planning;
   planning.registration = !options.no_registration;
   Plan plan = planViews(part, spec, planning, progress);
+  for (const Sweep& sweep : plan.sweeps)
+    if (!sweep.patch_file.empty())
+      refuseInputAsOutput((std::filesystem::path(options.outdir) / sweep.patch_file).string(),
+                          inputs);
   // The folder only once the inputs are read and planned: a failed run leaves none.
   std::error_code ec;
   std::filesystem::create_directories(options.outdir, ec);

@@ -31,9 +31,10 @@ struct Input {
   std::string spec;
 };
 
-// \throw OutputError when `out` is one of the command's own input files.
+// \throw OutputError when `out` is one of the command's own input files, or a file its
+// spec names.
 void refuseOwnInput(const std::string& out, const Input& input) {
-  refuseInputAsOutput(out, {input.plan, input.part, input.spec});
+  refuseInputAsOutput(out, commandInputs({input.plan, input.part}, input.spec));
 }
 
 struct Checked {
@@ -80,14 +81,14 @@ struct ReportCommand {
 };
 
 int runReport(const ReportCommand& options, const GlobalOptions& global) {
-  Progress progress = terminalProgress(global);
-  const Checked c = check(options.input, progress);
   const std::string out =
       options.out.empty()
           ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
           : options.out;
   refuseOwnInput(out, options.input);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input);
+  Progress progress = terminalProgress(global);
+  const Checked c = check(options.input, progress);
   writeReport(c.plan, c.part, c.spec, out, {}, progress);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.png);
   clearProgress();

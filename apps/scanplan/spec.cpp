@@ -20,7 +20,7 @@ struct SpecCommand {
 };
 
 int run(const SpecCommand& options, const GlobalOptions& global) {
-  refuseInputAsOutput(options.out, {options.part, options.spec});
+  refuseInputAsOutput(options.out, commandInputs({options.part}, options.spec));
   const Part part = importWithWarnings(options.part, {}, terminalProgress(global));
   writeSpecEditor(part, options.spec, options.out);
   clearProgress();

@@ -1,8 +1,12 @@
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/core/errors.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -65,12 +69,44 @@ std::filesystem::path destination(const std::string& path) {
   return target;
 }
 
+// A new, empty file beside `target` for writing it: named after it with `kind`, this
+// process and a count, its extension kept (some writers go by it), and created
+// exclusively, so that neither another run nor a link planted at that name is written
+// through. \throw OutputError naming `path` when it cannot be created.
+std::filesystem::path newTemporary(const std::filesystem::path& target, const char* kind,
+                                   const std::string& path) {
+  static std::atomic<unsigned> count{0};
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::filesystem::path temporary = target;
+    temporary.replace_filename(target.stem().string() + "." + kind + "-" +
+                               std::to_string(::getpid()) + "-" + std::to_string(count++) +
+                               target.extension().string());
+    const int fd =
+        ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      ::close(fd);
+      return temporary;
+    }
+    if (errno != EEXIST)
+      throw OutputError(path, std::string("cannot be written: ") + std::strerror(errno));
+  }
+  throw OutputError(path, "cannot be written: no free temporary name beside it");
+}
+
+// Renames `temporary` to `target`, which keeps the permissions of the file it replaces.
+void replace(const std::filesystem::path& temporary, const std::filesystem::path& target,
+             std::error_code& ec) {
+  struct stat replaced {};
+  if (::stat(target.c_str(), &replaced) == 0) ::chmod(temporary.c_str(), replaced.st_mode & 07777);
+  std::filesystem::rename(temporary, target, ec);
+}
+
 }  // namespace
 
 void writeFileAtomically(const std::string& path,
                          const std::function<void(const std::string&)>& write_file) {
   const std::filesystem::path target = destination(path);
-  const std::string temporary = target.string() + ".tmp";
+  const std::string temporary = newTemporary(target, "tmp", path).string();
   const RegisteredTemporary registered(temporary);
   try {
     write_file(temporary);
@@ -79,7 +115,7 @@ void writeFileAtomically(const std::string& path,
     throw;
   }
   std::error_code ec;
-  std::filesystem::rename(temporary, target, ec);
+  replace(temporary, target, ec);
   if (ec) {
     std::remove(temporary.c_str());
     throw OutputError(path, "cannot be written: " + ec.message());
@@ -116,10 +152,7 @@ FileSet::~FileSet() {
 
 std::string FileSet::stage(const std::string& path) {
   Impl::Staged s{path, destination(path), {}, {}};
-  // Beside the target, with its extension, which some writers go by.
-  s.temporary = s.target;
-  s.temporary.replace_filename(s.target.stem().string() + ".staged" +
-                               s.target.extension().string());
+  s.temporary = newTemporary(s.target, "staged", path);
   s.registered = std::make_unique<RegisteredTemporary>(s.temporary.string());
   impl_->staged.push_back(std::move(s));
   return impl_->staged.back().temporary.string();
@@ -130,7 +163,7 @@ void FileSet::drop(const std::string& path) { impl_->dropped.push_back(path); }
 void FileSet::commit() {
   for (const Impl::Staged& s : impl_->staged) {
     std::error_code ec;
-    std::filesystem::rename(s.temporary, s.target, ec);
+    replace(s.temporary, s.target, ec);
     if (ec) throw OutputError(s.path, "cannot be written: " + ec.message());
   }
   impl_->committed = true;

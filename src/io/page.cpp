@@ -80,7 +80,11 @@ void writePage(std::string_view page_template, std::string_view script, const st
     page.replace(at, slot.size(), content);
   };
   fill("/*@VIEWER@*/", escapeScript(std::string(script), "</script"));
-  fill("/*@DATA@*/", escapeScript(data, "</"));
+  // The data is JSON, where '<' stands only inside strings: as \u003c, no text of it can
+  // end the element or open a comment ("<!--") that changes how the page parses.
+  std::string escaped;
+  for (const char c : data) escaped += c == '<' ? std::string("\\u003c") : std::string(1, c);
+  fill("/*@DATA@*/", escaped);
   writeFileAtomically(path, [&](std::ostream& out) { out << page; });
 }
 

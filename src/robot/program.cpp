@@ -25,6 +25,16 @@ std::string identifier(const std::string& name, std::size_t length) {
   return id.substr(0, length);
 }
 
+// `text` from the user's files (a path, a robot's name) for a one-line comment: every byte
+// outside printable ASCII, a line break above all, becomes '?', so that nothing of it can
+// end the comment and stand as a statement, nor trouble a controller's 8-bit editor.
+std::string commentText(const std::string& text) {
+  std::string safe = text;
+  for (char& c : safe)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+  return safe;
+}
+
 // KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees (no -0).
 Vec3 kukaAbc(const Eigen::Matrix3d& r) {
   const Vec3 abc(degrees(std::atan2(r(1, 0), r(0, 0))),
@@ -61,8 +71,8 @@ int quadrant(double angle) { return static_cast<int>(std::floor(degrees(angle) /
 std::string header(const RobotProgram& p, std::string_view comment, bool urscript = false) {
   std::ostringstream out;
   out << comment << " scanplan robot program " << p.name << "\n"
-      << comment << " from " << p.source << "\n"
-      << comment << " robot " << p.cell.robot.name << ", " << p.steps.size()
+      << comment << " from " << commentText(p.source) << "\n"
+      << comment << " robot " << commentText(p.cell.robot.name) << ", " << p.steps.size()
       << " views in sequence order";
   if (p.cell.table)
     out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");

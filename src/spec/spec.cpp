@@ -141,6 +141,17 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   return resolved;
 }
 
+std::vector<std::string> specFiles(const Spec& spec) {
+  std::vector<std::string> files = {spec.source, spec.part_file, spec.markers_file};
+  for (const FixtureModel& fixture : spec.fixtures) {
+    files.push_back(fixture.file);
+    files.push_back(fixture.markers_file);
+  }
+  for (const Task& task : spec.tasks) files.push_back(task.points_file);
+  files.erase(std::remove(files.begin(), files.end(), std::string()), files.end());
+  return files;
+}
+
 RegistrationOptions registrationOptions(const Spec& spec) {
   RegistrationOptions registration = spec.registration;
   registration.seed = spec.planner.seed;

@@ -1,6 +1,7 @@
 #pragma once
-// Outputs are never half-written (docs/design.md §8): written to `<path>.tmp`, then renamed
-// into place.
+// Outputs are never half-written (docs/design.md §8): written to a temporary beside the
+// path (`<stem>.tmp-<pid>-<n><ext>`, created exclusively, never through a link), then
+// renamed into place, keeping the permissions of the file replaced.
 
 #include <functional>
 #include <memory>
@@ -9,7 +10,7 @@
 
 namespace scanplan {
 
-// Calls `write` on a binary stream for `<path>.tmp` and renames it to `path`; on any
+// Calls `write` on a binary stream for a temporary and renames it to `path`; on any
 // failure, an exception from `write` included, the temporary is removed. A link at `path`
 // is kept and its target replaced. \throw OutputError naming `path`, also when it is a
 // directory or a device rather than a file.
@@ -46,7 +47,7 @@ class FileSet {
 };
 
 // Removes the temporaries of the writes under way (up to 64 at once). Async-signal-safe:
-// for a handler of SIGINT and SIGTERM, so that an interrupted run leaves none behind.
+// for a handler of the signals that end a run, so that it leaves none behind.
 void removeTemporaries() noexcept;
 
 }  // namespace scanplan

@@ -129,6 +129,10 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
 // planner's seed.
 RegistrationOptions registrationOptions(const Spec& spec);
 
+// The files `spec` names: itself, its part, markers, fixture models and their markers, and
+// control points; a run must not write over any of them.
+std::vector<std::string> specFiles(const Spec& spec);
+
 // Where a fixture model stands in the world, with the part placed by `part_to_world`.
 Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world);
 
