@@ -6,8 +6,10 @@
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
+#include <scanplan/io/points_csv.h>
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
+#include <scanplan/scanner/sensor.h>
 #include <scanplan/spec/spec.h>
 
 #include <nlohmann/json.hpp>
@@ -156,10 +158,15 @@ TEST(ImportErrors, TruncatedIges) {
   EXPECT_NE(importError(path).find("truncated IGES file"), std::string::npos);
 }
 
-TEST(ImportErrors, CorruptBrep) {
+// OCCT's BREP reader prints its complaint on std::cout, which is the program's output
+// (`info --json`): the reader's output goes nowhere.
+TEST(ImportErrors, CorruptBrepIsRefusedWithoutAWordOnStdout) {
   test::TempDir dir;
   test::writeText(dir.file("corrupt.brep"), "DBRep_DrawableShape\nnot really\n");
-  EXPECT_NE(importError(dir.file("corrupt.brep")).find("BREP"), std::string::npos);
+  testing::internal::CaptureStdout();
+  const std::string reason = importError(dir.file("corrupt.brep"));
+  EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
+  EXPECT_NE(reason.find("BREP"), std::string::npos);
 }
 
 TEST(ImportErrors, StlWithoutTriangles) {
@@ -241,10 +248,20 @@ TEST(ImportErrors, PlyHeaderClaimingMoreThanTheFileHolds) {
   EXPECT_NE(importError(dir.file("huge.ply")).find("truncated PLY file"), std::string::npos);
 }
 
-TEST(ImportErrors, FaceIndexOutOfRange) {
+// The index is named as the file writes it: OBJ counts from 1, OFF and PLY from 0, and an
+// index of INT_MAX is no negative number.
+TEST(ImportErrors, FaceIndexOutOfRangeIsNamedAsTheFileWritesIt) {
   test::TempDir dir;
   test::writeText(dir.file("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  EXPECT_NE(importError(dir.file("bad.obj")).find("refers to vertex 9"), std::string::npos);
+  EXPECT_EQ(importError(dir.file("bad.obj")),
+            "a face refers to vertex 9 but the file has 3 vertices, numbered 1 to 3");
+  for (const char* index : {"3", "2147483647"}) {
+    test::writeText(dir.file("bad.off"),
+                    std::string("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 ") + index + "\n");
+    EXPECT_EQ(importError(dir.file("bad.off")),
+              std::string("a face refers to vertex ") + index +
+                  " but the file has 3 vertices, numbered 0 to 2");
+  }
 }
 
 // A chordal tolerance far finer than the part needs would mesh for minutes into gigabytes,
@@ -373,6 +390,48 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                          "cell:\n  robot: {preset: abb-irb4600-60-205}\n"
                          "  table: {step: 1.0e-9}\n"),
                "cell.table.step must be at least 0.1 degrees");
+}
+
+// What YAML or a CSV would let through silently: a second document, a key given twice in a
+// scanner file, a first line of data mistyped (taken for a header), a markers file that
+// is missing while registration is off and nothing reads it.
+TEST(SpecErrors, WhatWouldPassSilentlyIsRefused) {
+  test::TempDir dir;
+  EXPECT_EQ(specError(dir, "scanner: laser-line\n---\nscanner: generic-structured-light\n"),
+            "holds 2 YAML documents (split by ---): a spec is one");
+  test::writeText(dir.file("scanner.yaml"), "standoff: 300\nstandoff: 400\n");
+  EXPECT_EQ(inputError(dir.file("scanner.yaml"), [&] { scannerNamed(dir.file("scanner.yaml")); }),
+            "key 'standoff' given twice");
+  test::writeText(dir.file("scanner.yaml"), "standoff: 300\n---\nstandoff: 400\n");
+  EXPECT_EQ(inputError(dir.file("scanner.yaml"), [&] { scannerNamed(dir.file("scanner.yaml")); }),
+            "holds 2 YAML documents (split by ---): a scanner file is one");
+  test::writeText(dir.file("points.csv"), "1;2;3\n4,5,6\n");
+  EXPECT_EQ(inputError(dir.file("points.csv"), [&] { readPointsCsv(dir.file("points.csv")); }),
+            "line 1: not a number in '1;2;3'");
+  test::writeText(dir.file("points.csv"), "x,y,z\n4,5,6\n");
+  EXPECT_EQ(readPointsCsv(dir.file("points.csv")).size(), 1u);  // a header names columns
+  test::writeText(dir.file("spec.yaml"), "markers: missing.csv\n");
+  EXPECT_EQ(inputError(dir.file("missing.csv"), [&] { loadSpec(dir.file("spec.yaml")); }),
+            "no such file");
+}
+
+// planner.most_views bounds the plan, not only the estimate from the part's size.
+TEST(SpecErrors, PlanOfMoreViewsThanMostViewsIsRefused) {
+  const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  Spec spec = defaultSpec();
+  spec.source = "spec.yaml";
+  spec.planner.most_views = 2;
+  PlanningOptions options;
+  options.registration = false;
+  try {
+    planViews(part, spec, options);
+    ADD_FAILURE() << "a plan of more than 2 views was accepted";
+  } catch (const PlanningError& e) {
+    EXPECT_PRED2(contains, std::string(e.what()),
+                 "spec.yaml: the plan needs 4 views, more than planner.most_views (2)");
+  }
+  spec.planner.most_views = 4;
+  EXPECT_EQ(planViews(part, spec, options).views.size(), 4u);
 }
 
 // A marker grid finer than the part can hold is refused by size, naming the spec.

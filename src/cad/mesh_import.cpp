@@ -34,13 +34,16 @@ struct RawMesh {
   std::vector<std::string> group_names;
 };
 
-void addPolygon(RawMesh& mesh, const std::vector<int>& polygon, int group,
+// Adds `polygon` (0-based indices) as a fan of triangles. `first` is the number the file
+// gives its first vertex (0 in OFF and PLY, 1 in OBJ), for the error naming a bad index.
+void addPolygon(RawMesh& mesh, const std::vector<long long>& polygon, int group, int first,
                 const std::string& path) {
-  const int n = static_cast<int>(mesh.vertices.size());
-  for (int index : polygon)
+  const auto n = static_cast<long long>(mesh.vertices.size());
+  for (long long index : polygon)
     if (index < 0 || index >= n)
-      throw InputError(path, "a face refers to vertex " + std::to_string(index + 1) +
-                                 " but the file has " + std::to_string(n) + " vertices");
+      throw InputError(path, "a face refers to vertex " + std::to_string(index + first) +
+                                 " but the file has " + std::to_string(n) + " vertices, numbered " +
+                                 std::to_string(first) + " to " + std::to_string(n - 1 + first));
   for (std::size_t k = 2; k < polygon.size(); ++k) {
     mesh.triangles.emplace_back(polygon[0], polygon[k - 1], polygon[k]);
     mesh.groups.push_back(group);
@@ -136,7 +139,7 @@ RawMesh readObj(const std::string& path) {
   int group = -1;
   std::map<std::string, int> group_ids;
   std::string line;
-  std::vector<int> polygon;
+  std::vector<long long> polygon;
   for (int line_no = 1; std::getline(in, line); ++line_no) {
     std::istringstream words(line);
     std::string tag;
@@ -150,16 +153,17 @@ RawMesh readObj(const std::string& path) {
       polygon.clear();
       std::string corner;
       while (words >> corner) {
-        int index = 0;
+        long long index = 0;
         try {
-          index = std::stoi(corner.substr(0, corner.find('/')));
+          index = std::stoll(corner.substr(0, corner.find('/')));
         } catch (const std::exception&) {
           throw InputError(path, "line " + std::to_string(line_no) + ": malformed face");
         }
         // OBJ indices are 1-based; negative ones count back from the last vertex.
-        polygon.push_back(index < 0 ? static_cast<int>(mesh.vertices.size()) + index : index - 1);
+        polygon.push_back(index < 0 ? static_cast<long long>(mesh.vertices.size()) + index
+                                    : index - 1);
       }
-      addPolygon(mesh, polygon, group, path);
+      addPolygon(mesh, polygon, group, 1, path);
     } else if (tag == "g" || tag == "o") {
       std::string name;
       std::getline(words >> std::ws, name);
@@ -199,7 +203,7 @@ RawMesh readOff(const std::string& path) {
     if (colored) std::getline(body, rest);
     mesh.vertices.push_back(p);
   }
-  std::vector<int> polygon;
+  std::vector<long long> polygon;
   for (long i = 0; i < faces; ++i) {
     int n = 0;
     if (!(body >> n) || n < 0)
@@ -209,11 +213,11 @@ RawMesh readOff(const std::string& path) {
       throw InputError(path, "OFF file: face " + std::to_string(i + 1) + " announces " +
                                  std::to_string(n) + " vertices, more than the file holds");
     polygon.resize(n);
-    for (int& index : polygon)
+    for (long long& index : polygon)
       if (!(body >> index))
         throw InputError(path, "truncated OFF file in face " + std::to_string(i + 1));
     std::getline(body, rest);  // optional face colour
-    addPolygon(mesh, polygon, -1, path);
+    addPolygon(mesh, polygon, -1, 0, path);
   }
   return mesh;
 }
@@ -248,7 +252,7 @@ RawMesh readPlyMesh(const std::string& path) {
       if (inserted) mesh.group_names.push_back("group " + std::to_string(key));
       g = it->second;
     }
-    addPolygon(mesh, indices->lists[i], g, path);
+    addPolygon(mesh, {indices->lists[i].begin(), indices->lists[i].end()}, g, 0, path);
   }
   return mesh;
 }

@@ -1,6 +1,7 @@
 #include <scanplan/core/errors.h>
 #include <scanplan/core/isolated.h>
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
@@ -57,6 +58,10 @@ std::size_t addressSpace() {
     rlimit limit{cap, cap};
     setrlimit(RLIMIT_AS, &limit);
   }
+  // The child speaks through the pipe only: what a reader prints (OCCT's BREP reader
+  // writes to std::cout) would end up in the program's output. (What the parent left in
+  // its buffer is copied here too: it must not be flushed twice, so to nowhere.)
+  if (const int null = ::open("/dev/null", O_WRONLY); null >= 0) ::dup2(null, STDOUT_FILENO);
   // Should the parent die, the child does not outlive its time.
   alarm(static_cast<unsigned>(std::ceil(limits.seconds)) + 5);
   int code = 0;

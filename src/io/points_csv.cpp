@@ -3,6 +3,8 @@
 #include <scanplan/core/input_file.h>
 #include <scanplan/io/points_csv.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -35,7 +37,10 @@ std::vector<ControlPoint> readPointsCsv(const std::string& path) {
     }
     const std::string where = "line " + std::to_string(number);
     if (!numeric) {
-      if (points.empty() && number == 1) continue;  // a header
+      // A header names its columns; a first line without a letter is data mistyped.
+      const bool named =
+          std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalpha(c); });
+      if (points.empty() && number == 1 && named) continue;
       throw InputError(path, where + ": not a number in '" + line + "'");
     }
     if (values.size() != 3 && values.size() != 6)

@@ -444,6 +444,7 @@ std::vector<FixtureModel> readFixtures(const YAML::Node& node, const SpecReader&
     if (item["markers"])
       fixture.markers_file =
           reader.resolvePath(reader.scalar<std::string>(item["markers"], key + ".markers"));
+    if (!fixture.markers_file.empty()) requireInputFile(fixture.markers_file);
     fixtures.push_back(fixture);
   }
   return fixtures;
@@ -462,6 +463,7 @@ void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec
     if (!(spec.marker_margin >= 0)) reader.fail("markers.margin must not be negative");
   } else {
     spec.markers_file = reader.resolvePath(reader.scalar<std::string>(markers, "markers"));
+    requireInputFile(spec.markers_file);  // also when registration is off: named, it must be
   }
 }
 
@@ -655,7 +657,11 @@ Spec loadSpec(const std::string& path) {
 Spec specFromText(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw InputError(source, "holds " + std::to_string(documents.size()) +
+                                   " YAML documents (split by ---): a spec is one");
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw InputError(source, "not valid YAML: " + std::string(e.what()));
   }

@@ -553,10 +553,24 @@ bool liftable(const Plan& plan) {
 
 }  // namespace
 
+namespace {
+
+// A plan of more views than planner.most_views allows is refused, as a part is whose size
+// would need them. \throw PlanningError naming the spec (else the part).
+const Plan& withinMostViews(const Plan& plan, const Part& part, const Spec& spec) {
+  if (plan.views.size() > static_cast<std::size_t>(spec.planner.most_views))
+    throw PlanningError(spec.source.empty() ? part.file : spec.source,
+                        fmt::format("the plan needs {} views, more than planner.most_views ({})",
+                                    plan.views.size(), spec.planner.most_views));
+  return plan;
+}
+
+}  // namespace
+
 Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
                const Progress& progress) {
   Plan plan = planAndJudge(part, spec, options, progress);
-  if (!spec.planner.lift_capability || !liftable(plan)) return plan;
+  if (!spec.planner.lift_capability || !liftable(plan)) return withinMostViews(plan, part, spec);
   // Again with every characteristic's faces as GD&T targets; kept when more are capable.
   Spec lifting = spec;
   Task targets{TaskType::Gdt, {}, {}, {}};
@@ -566,7 +580,7 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   Plan lifted = planAndJudge(part, lifting, options, progress);
   lifted.seconds += plan.seconds;
   plan.seconds = lifted.seconds;
-  return capableCount(lifted) > capableCount(plan) ? lifted : plan;
+  return withinMostViews(capableCount(lifted) > capableCount(plan) ? lifted : plan, part, spec);
 }
 
 }  // namespace scanplan

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <vector>
@@ -129,10 +130,30 @@ Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& 
   return scanner;
 }
 
+// Refuses a key given twice in `node` or in a mapping it holds (a scanner file is flat; a
+// spec read for its scanner holds it one level down): yaml-cpp keeps the first silently.
+void refuseRepeatedKeys(const YAML::Node& node, const std::string& path, int depth = 0) {
+  if (!node.IsMap() || depth > 1) return;
+  std::set<std::string> keys;
+  for (const auto& entry : node) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : std::string();
+    if (!key.empty() && !keys.insert(key).second)
+      throw InputError(path, "key '" + key + "' given twice");
+    refuseRepeatedKeys(entry.second, path, depth + 1);
+  }
+}
+
 YAML::Node loadYaml(const std::string& path) {
   requireInputFile(path);
   try {
-    return YAML::LoadFile(path);
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(in);
+    if (documents.size() > 1)
+      throw InputError(path, "holds " + std::to_string(documents.size()) +
+                                 " YAML documents (split by ---): a scanner file is one");
+    if (documents.empty()) return YAML::Node();
+    refuseRepeatedKeys(documents.front(), path);
+    return documents.front();
   } catch (const YAML::Exception& e) {
     throw InputError(path, "not valid YAML: " + std::string(e.what()));
   }

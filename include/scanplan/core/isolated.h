@@ -24,7 +24,8 @@ IsolationLimits readerLimits(std::size_t file_bytes);
 // it threw a scanplan::Error, the same reason is rethrown as an InputError naming `file`;
 // when it threw anything else, crashed on a signal, ran out of memory or of time, an
 // InputError naming `file` says so and names `what` (for instance "the IGES reader").
-// `work` must not call back into the parent's threads (a progress callback of Python, say).
+// `work` must not call back into the parent's threads (a progress callback of Python, say);
+// what it prints on stdout is discarded.
 std::string runIsolated(const std::string& file, const std::string& what,
                         const IsolationLimits& limits, const std::function<std::string()>& work);
 
