@@ -2,13 +2,13 @@
 # Builds the fuzzers (the `fuzz` preset: clang, libFuzzer, AddressSanitizer and UBSan) and
 # runs each for SECONDS (default 600) on a copy of its corpus in tests/fuzz/. Inputs that
 # crash are left in build/fuzz/findings/<fuzzer>/: add each to the corpus with its fix.
-#   scripts/fuzz.sh [SECONDS] [FUZZER ...]     fuzzers: mesh points_csv spec plan
+#   scripts/fuzz.sh [SECONDS] [FUZZER ...]     fuzzers: mesh cad points_csv spec plan
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 fuzzers=("$@")
-[ ${#fuzzers[@]} -gt 0 ] || fuzzers=(mesh points_csv spec plan)
+[ ${#fuzzers[@]} -gt 0 ] || fuzzers=(mesh cad points_csv spec plan)
 
 scripts/install-deps.sh
 # The fuzzers need clang and its libFuzzer, which the build itself does not.
