@@ -346,6 +346,11 @@ TEST(Cli, PlanReportsRegistrationAndVerifyChecksItAgain) {
   r = run("verify " + plan + " " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") + " -q");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("faces where the plan's part has 117"), std::string::npos) << r.out;
+  r = run("export " + plan + " " + test::testData("nist_ftc_11_asme1_ap242-e1.stp") +
+          " --format csv -o " + dir.file("views.csv") + " -q");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("faces where the plan's part has 117"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("views.csv")));
   test::writeText(dir.file("broken.json"),
                   "{\"format\": \"scanplan.plan\", \"version\": 1, \"units\": \"mm\", "
                   "\"views\": []}");

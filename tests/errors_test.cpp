@@ -264,6 +264,21 @@ TEST(ImportErrors, FaceIndexOutOfRangeIsNamedAsTheFileWritesIt) {
   }
 }
 
+// A face of two vertices is no face; a polygon collapsed onto a line gives triangles of no
+// area, which are warned of.
+TEST(ImportErrors, FaceOfTwoVerticesIsRefusedAndEmptyTrianglesWarnedOf) {
+  test::TempDir dir;
+  test::writeText(dir.file("two.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n2 0 3\n");
+  EXPECT_EQ(importError(dir.file("two.off")), "a face of 2 vertices: a face needs at least 3");
+  test::writeText(dir.file("line.off"),
+                  "OFF\n6 2 0\n0 0 0\n10 0 0\n0 10 0\n1 1 1\n2 2 2\n3 3 3\n"
+                  "3 0 1 2\n3 3 4 5\n");
+  const Part part = importPart(dir.file("line.off"));
+  ASSERT_FALSE(part.warnings.empty());
+  EXPECT_EQ(part.warnings.back(),
+            "1 of the mesh's 2 triangles have no area (corners coincident or in a line)");
+}
+
 // A chordal tolerance far finer than the part needs would mesh for minutes into gigabytes,
 // or fail inside the CAD kernel.
 TEST(ImportErrors, DeflectionTooFineForThePart) {

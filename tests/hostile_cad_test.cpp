@@ -136,6 +136,33 @@ TEST(HostileCad, StepNumbersBeyondAnyPartAreRefusedBeforeMeshing) {
   EXPECT_PRED2(contains, cylinderRadiusError(dir, "1.E14"), "reaches 1e+14 mm from the origin");
 }
 
+// OCCT takes one of two definitions of an entity silently, and drops a face of negative
+// radius with its solid: the first is refused, the second warned of by count.
+TEST(HostileCad, StepEntityDefinedTwiceIsRefusedAndALostFaceWarnedOf) {
+  test::TempDir dir;
+  std::string text = test::readText(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  const std::size_t at = text.find("\n#", text.find("DATA;"));
+  const std::string first = text.substr(at + 1, text.find(';', at + 1) - at);  // one entity
+  test::writeText(dir.file("twice.stp"), std::string(text).insert(at + 1, first + "\n"));
+  const std::string id = first.substr(0, first.find('='));
+  EXPECT_EQ(importError(dir.file("twice.stp")), "entity " + id + " is defined twice");
+  const Part whole = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  EXPECT_TRUE(whole.warnings.empty());
+  const std::size_t cylinder = text.find("CYLINDRICAL_SURFACE('',#");
+  const std::size_t comma = text.find(',', text.find('#', cylinder));
+  text.replace(comma + 1, text.find(')', comma) - comma - 1, "-2.");
+  test::writeText(dir.file("negative.stp"), text);
+  const Part part = importPart(dir.file("negative.stp"));
+  ASSERT_EQ(part.faces.size(), whole.faces.size() - 1);
+  ASSERT_EQ(part.warnings.size(), 2u);
+  EXPECT_EQ(part.warnings[0],
+            "the file defines 8 faces, of which 7 could be read: the others' "
+            "geometry is corrupt");
+  EXPECT_EQ(part.warnings[1],
+            "the file defines 1 solids, of which 0 could be read: a face of "
+            "the others could not be");
+}
+
 // Single-precision ray casting keeps 0.01 mm only within 100 m of the origin: a small part
 // far away is refused, not simulated with millimetre noise.
 TEST(HostileCad, PartFarFromTheOriginIsRefused) {

@@ -131,19 +131,26 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
   fmt::print("motion     {:.1f} s of joint travel\n", programSeconds(program));
 }
 
+// The plan's views as CSV, in the order the cell visits them.
+void writeViewsInOrder(const Plan& plan, const std::string& out) {
+  std::map<int, const View*> by_id;
+  for (const View& view : plan.views) by_id[view.id] = &view;
+  std::vector<View> in_order;
+  for (int id : visitingOrder(plan)) in_order.push_back(*by_id.at(id));
+  writeViewsCsv(in_order, out);
+}
+
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
   refuseOwnInput(options.out, options.input);
-  if (options.format == "csv") {
-    const Plan plan = readPlan(options.input.plan);
-    std::map<int, const View*> by_id;
-    for (const View& view : plan.views) by_id[view.id] = &view;
-    std::vector<View> in_order;
-    for (int id : visitingOrder(plan)) in_order.push_back(*by_id.at(id));
-    writeViewsCsv(in_order, options.out);
+  // The views' CSV needs the plan only; a part given is checked against it all the same.
+  if (options.format == "csv" && options.input.part.empty()) {
+    writeViewsInOrder(readPlan(options.input.plan), options.out);
   } else {
     Progress progress = terminalProgress(global);
     const Checked c = check(options.input, progress);
-    if (options.format == "glb") {
+    if (options.format == "csv") {
+      writeViewsInOrder(c.plan, options.out);
+    } else if (options.format == "glb") {
       writeGlb(planScene(c.plan, c.part, c.spec), options.out);
     } else if (options.format == "samples-ply") {
       writePly(samplesPly(c.plan), options.out);

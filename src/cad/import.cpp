@@ -18,6 +18,7 @@
 #include <iterator>
 #include <mutex>
 #include <sstream>
+#include <string_view>
 #include <unordered_set>
 #include <vector>
 
@@ -142,13 +143,32 @@ void checkStepNumber(const std::string& text, std::size_t k, long entity, const 
                     entity, text.substr(k, std::min<std::size_t>(end - (text.c_str() + k), 40))));
 }
 
-// Every entity a STEP file's data section refers to (#n) must be defined there: OCCT's
-// translator follows a dangling reference into a crash. No number may be out of range.
-void checkStepEntities(const std::string& path) {
+// The faces and solids a STEP file defines, to tell whether all came through.
+struct StepCounts {
+  std::size_t faces = 0, solids = 0;
+};
+
+// Counts the entity whose type begins at text[k] (after "#n =").
+void countEntity(const std::string& text, std::size_t k, StepCounts& counts) {
+  while (k < text.size() && std::isspace(static_cast<unsigned char>(text[k]))) ++k;
+  std::size_t end = k;
+  while (end < text.size() &&
+         (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_'))
+    ++end;
+  const std::string_view type(text.data() + k, end - k);
+  counts.faces += type == "ADVANCED_FACE" || type == "FACE_SURFACE";
+  counts.solids += type == "MANIFOLD_SOLID_BREP" || type == "BREP_WITH_VOIDS";
+}
+
+// Every entity a STEP file's data section refers to (#n) must be defined there, once:
+// OCCT's translator follows a dangling reference into a crash, and takes one of two
+// definitions silently. No number may be out of range.
+StepCounts checkStepEntities(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t k = text.find("DATA;");
-  if (k == std::string::npos) return;
+  StepCounts counts;
+  if (k == std::string::npos) return counts;
   std::unordered_set<long> defined;
   std::vector<std::pair<long, long>> references;  // (referenced, by the entity)
   long entity = 0;
@@ -171,12 +191,15 @@ void checkStepEntities(const std::string& path) {
     }
     long id = 0;
     while (k + 1 < text.size() && std::isdigit(static_cast<unsigned char>(text[k + 1])))
-      id = id * 10 + (text[++k] - '0');
+      if ((id = id * 10 + (text[++k] - '0')) > 999'999'999'999)
+        throw InputError(path, "an entity number of more than 12 digits");
     std::size_t next = k + 1;
     while (next < text.size() && std::isspace(static_cast<unsigned char>(text[next]))) ++next;
     if (statement_start && next < text.size() && text[next] == '=') {
-      defined.insert(id);
+      if (!defined.insert(id).second)
+        throw InputError(path, "entity #" + std::to_string(id) + " is defined twice");
       entity = id;
+      countEntity(text, next + 1, counts);
     } else {
       references.push_back({id, entity});
     }
@@ -186,6 +209,22 @@ void checkStepEntities(const std::string& path) {
     if (!defined.count(id))
       throw InputError(path, "entity #" + std::to_string(by) + " refers to #" + std::to_string(id) +
                                  ", which the file does not define");
+  return counts;
+}
+
+// Warns of faces and solids the file defines that did not come through the translator (a
+// face whose geometry is corrupt, a negative radius, is dropped with its solid).
+void warnOfLostEntities(Part& part, const StepCounts& counts) {
+  if (part.faces.size() < counts.faces)
+    part.warnings.push_back(
+        fmt::format("the file defines {} faces, of which {} could be read: "
+                    "the others' geometry is corrupt",
+                    counts.faces, part.faces.size()));
+  if (part.solids.size() < counts.solids)
+    part.warnings.push_back(
+        fmt::format("the file defines {} solids, of which {} could be read: "
+                    "a face of the others could not be",
+                    counts.solids, part.solids.size()));
 }
 
 // IGES files end with the one-line Terminate section, marked 'T' in column 73.
@@ -250,10 +289,11 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
                      "within [0, 180] degrees)");
 
   std::string format = formatOf(path);
+  StepCounts defined;
   if (format == "STEP") {
     report(progress, "checking STEP entities", 0);
     checkStepFraming(path);
-    checkStepEntities(path);
+    defined = checkStepEntities(path);
   }
   if (format == "IGES") checkIgesFraming(path);
   if (format == "BREP") checkBrepCounts(path);
@@ -267,6 +307,7 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
     throw detail::kernelError(path, failure);
   }
   if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
+  warnOfLostEntities(part, defined);
   double extent = part.bounds().size().maxCoeff();
   if (!(extent <= kLongestLength))
     throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "

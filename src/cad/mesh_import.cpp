@@ -38,6 +38,9 @@ struct RawMesh {
 // gives its first vertex (0 in OFF and PLY, 1 in OBJ), for the error naming a bad index.
 void addPolygon(RawMesh& mesh, const std::vector<long long>& polygon, int group, int first,
                 const std::string& path) {
+  if (polygon.size() < 3)
+    throw InputError(
+        path, "a face of " + std::to_string(polygon.size()) + " vertices: a face needs at least 3");
   const auto n = static_cast<long long>(mesh.vertices.size());
   for (long long index : polygon)
     if (index < 0 || index >= n)
@@ -316,6 +319,17 @@ void closeSolid(Part& part) {
   }
 }
 
+// Triangles without area (corners coincident or in a line, as a polygon collapsed to a
+// segment gives) are named in the part's warnings: they measure nothing.
+void warnOfEmptyTriangles(Part& part) {
+  std::size_t empty = 0;
+  for (std::size_t t = 0; t < part.mesh.triangles.size(); ++t) empty += !(part.mesh.area(t) > 0);
+  if (empty > 0)
+    part.warnings.push_back(std::to_string(empty) + " of the mesh's " +
+                            std::to_string(part.mesh.triangles.size()) +
+                            " triangles have no area (corners coincident or in a line)");
+}
+
 }  // namespace
 
 Part importMesh(const std::string& path, const std::string& format, const ImportOptions& options,
@@ -380,6 +394,7 @@ Part importMesh(const std::string& path, const std::string& format, const Import
   }
 
   closeSolid(part);
+  warnOfEmptyTriangles(part);
   report(progress, "splitting mesh into faces", 1);
   return part;
 }
