@@ -240,6 +240,24 @@ TEST(ImportErrors, PlyIndexThatIsNoIndex) {
   EXPECT_PRED2(contains, importError(dir.file("big.ply")), "not an index");
 }
 
+// An ASCII PLY item is one line: a vertex short of a value is named by its line and item,
+// not read on into the next line.
+TEST(ImportErrors, AsciiPlyItemOfTheWrongLengthIsNamedByItsLine) {
+  test::TempDir dir;
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  test::writeText(dir.file("short.ply"), header + "0 0 0\n1 0 0\n0 1\n3 0 1 2\n");
+  EXPECT_EQ(importError(dir.file("short.ply")),
+            "line 12, element 'vertex' item 3: fewer values than the element's properties, or one "
+            "not a number");
+  test::writeText(dir.file("long.ply"), header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2 7\n");
+  EXPECT_EQ(importError(dir.file("long.ply")),
+            "line 13, element 'face' item 1: more values than the element's properties");
+  test::writeText(dir.file("good.ply"), header + "0 0 0\r\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(importPart(dir.file("good.ply")).mesh.triangles.size(), 1u);
+}
+
 TEST(ImportErrors, PlyHeaderClaimingMoreThanTheFileHolds) {
   test::TempDir dir;
   test::writeText(dir.file("huge.ply"),
@@ -424,7 +442,16 @@ TEST(SpecErrors, WhatWouldPassSilentlyIsRefused) {
   EXPECT_EQ(inputError(dir.file("points.csv"), [&] { readPointsCsv(dir.file("points.csv")); }),
             "line 1: not a number in '1;2;3'");
   test::writeText(dir.file("points.csv"), "x,y,z\n4,5,6\n");
-  EXPECT_EQ(readPointsCsv(dir.file("points.csv")).size(), 1u);  // a header names columns
+  EXPECT_EQ(readPointsCsv(dir.file("points.csv")).size(), 1u);       // a header names columns
+  test::writeText(dir.file("points.csv"), "x,y,z\r4,5,6\r7,8,9\r");  // CR line ends
+  EXPECT_EQ(readPointsCsv(dir.file("points.csv")).size(), 2u);
+  EXPECT_PRED2(contains, specError(dir, "roles:\n  priority: [{name: \"\"}]\n"),
+               "roles.priority: a face name must not be empty");
+  EXPECT_PRED2(contains,
+               specError(dir,
+                         "cell:\n  robot: {preset: ur10e, speeds: [1e-300, 180, 180, 180, "
+                         "180, 180]}\n"),
+               "cell.robot.speeds: joint 1 needs a speed within [1, 3600] °/s");
   test::writeText(dir.file("spec.yaml"), "markers: missing.csv\n");
   EXPECT_EQ(inputError(dir.file("missing.csv"), [&] { loadSpec(dir.file("spec.yaml")); }),
             "no such file");

@@ -65,7 +65,8 @@ class Reader {
         else
           p.values.reserve(std::min(element.count, kReserve));
       }
-      for (std::size_t i = 0; i < element.count; ++i)
+      for (std::size_t i = 0; i < element.count; ++i) {
+        startItem(element, i);
         for (PlyProperty& p : element.properties) {
           if (!p.is_list) {
             p.values.push_back(value(p.type));
@@ -83,18 +84,45 @@ class Reader {
             item = static_cast<int>(v);
           }
         }
+        endItem();
+      }
     }
     return std::move(data_);
   }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const { throw InputError(path_, why); }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InputError(path_, where_.empty() ? why : where_ + ": " + why);
+  }
+
+  // An ASCII item is one line: its values are read from it, and errors name it.
+  void startItem(const PlyElement& element, std::size_t i) {
+    where_.clear();
+    std::string place = "element '" + element.name + "' item " + std::to_string(i + 1);
+    if (format_ == "ascii") {
+      std::string line;
+      if (!std::getline(in_, line)) fail("truncated PLY file: " + place + " is missing");
+      ++line_;
+      item_.clear();
+      item_.str(line);
+      place = "line " + std::to_string(line_) + ", " + place;
+    }
+    where_ = place;
+  }
+
+  void endItem() {
+    std::string rest;
+    if (format_ == "ascii" && item_ >> rest) fail("more values than the element's properties");
+    where_.clear();
+  }
 
   void readHeader() {
     std::string line;
     if (!std::getline(in_, line) || line.substr(0, 3) != "ply")
       fail("not a PLY file: it does not begin with 'ply'");
+    line_ = 1;
     while (std::getline(in_, line)) {
+      ++line_;
       if (!line.empty() && line.back() == '\r') line.pop_back();
       std::istringstream words(line);
       std::string keyword;
@@ -138,7 +166,7 @@ class Reader {
   double value(PlyType type) {
     if (format_ == "ascii") {
       double v;
-      if (!(in_ >> v)) fail("truncated or malformed PLY data");
+      if (!(item_ >> v)) fail("fewer values than the element's properties, or one not a number");
       return v;
     }
     unsigned char bytes[8];
@@ -166,6 +194,9 @@ class Reader {
 
   std::string path_;
   std::ifstream in_;
+  std::istringstream item_;  // the ASCII item being read
+  std::size_t line_ = 0;     // lines read
+  std::string where_;        // the item being read, for errors
   std::string format_ = "ascii";
   PlyData data_;
 };

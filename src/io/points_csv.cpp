@@ -7,6 +7,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <ostream>
 #include <sstream>
 
@@ -14,7 +15,12 @@ namespace scanplan {
 
 std::vector<ControlPoint> readPointsCsv(const std::string& path) {
   requireInputFile(path);
-  std::ifstream in(path);
+  // Lines may end in LF, CRLF or CR alone (spreadsheets on old Macs write those).
+  std::ifstream file(path, std::ios::binary);
+  std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  for (std::size_t k = 0; k < text.size(); ++k)
+    if (text[k] == '\r') text[k] = k + 1 < text.size() && text[k + 1] == '\n' ? ' ' : '\n';
+  std::istringstream in(text);
   std::vector<ControlPoint> points;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {

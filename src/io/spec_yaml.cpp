@@ -93,6 +93,7 @@ class SpecReader {
           fail(key + ": face ids start at 1, got " + std::to_string(selector.id));
       } else if (item.IsMap() && item["name"]) {
         selector.name = scalar<std::string>(item["name"], key);
+        if (selector.name.empty()) fail(key + ": a face name must not be empty");
       } else if (item.IsMap() && (item["color"] || item["colour"])) {
         selector.color = color(item["color"] ? item["color"] : item["colour"], key);
       } else {

@@ -73,8 +73,10 @@ void validate(const RobotModel& r, const std::string& source, const std::string&
   for (int i = 0; i < 6; ++i) {
     if (!(r.lower[i] < r.upper[i]))
       fail(": joint " + std::to_string(i + 1) + " has lower >= upper");
-    if (!(r.speeds[i] > 0) || !std::isfinite(r.speeds[i]))
-      fail(".speeds: joint " + std::to_string(i + 1) + " needs a positive speed");
+    // The presets' joints run at 120-615 °/s; a speed outside [1, 3600] °/s is a typo
+    // (radians for degrees, a unit per minute) and would print days or nothing of time.
+    if (!(r.speeds[i] >= radians(1) && r.speeds[i] <= radians(3600)))
+      fail(".speeds: joint " + std::to_string(i + 1) + " needs a speed within [1, 3600] °/s");
   }
 }
 
