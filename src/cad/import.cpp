@@ -260,6 +260,36 @@ void checkBrepCounts(const std::string& path) {
   }
 }
 
+// Refuses a part without triangles, larger or farther than the simulation keeps to
+// 0.01 mm, or with a face without a boundary; warns of one under a millimetre across.
+void checkImported(Part& part, const std::string& path) {
+  if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
+  double extent = part.bounds().size().maxCoeff();
+  if (!(extent <= kLongestLength))
+    throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
+                                       "length unit the file declares ({})",
+                                       extent, part.file_unit.empty() ? "none" : part.file_unit));
+  // Ray casting and the simulation work in single precision, which keeps 0.01 mm only
+  // within 100 m of the origin.
+  const Box box = part.bounds();
+  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  if (!(reach <= kLongestLength))
+    throw InputError(path, fmt::format("the part lies {:.3g} mm from the origin of its file, "
+                                       "more than 100 m, where the simulation keeps less than "
+                                       "0.01 mm: move it nearer the origin",
+                                       reach));
+  // A face without a boundary (an untrimmed plane) has an area without end.
+  for (const Face& face : part.faces)
+    if (!(face.area <= kLongestLength * kLongestLength))
+      throw InputError(path, fmt::format("face {} has an area of {:.3g} mm², more than the part "
+                                         "can hold: it has no boundary",
+                                         face.id, face.area));
+  if (extent < 1.0)
+    part.warnings.push_back("the part is only " + std::to_string(extent) +
+                            " mm across: check the length unit the file declares (" +
+                            (part.file_unit.empty() ? "none" : part.file_unit) + ")");
+}
+
 }  // namespace
 
 InputError detail::kernelError(const std::string& path, const Standard_Failure& failure) {
@@ -306,32 +336,8 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
   } catch (const Standard_Failure& failure) {
     throw detail::kernelError(path, failure);
   }
-  if (part.mesh.empty()) throw InputError(path, "no triangles: the geometry could not be meshed");
+  checkImported(part, path);
   warnOfLostEntities(part, defined);
-  double extent = part.bounds().size().maxCoeff();
-  if (!(extent <= kLongestLength))
-    throw InputError(path, fmt::format("the part is {:.3g} mm across, more than 100 m: check the "
-                                       "length unit the file declares ({})",
-                                       extent, part.file_unit.empty() ? "none" : part.file_unit));
-  // Ray casting and the simulation work in single precision, which keeps 0.01 mm only
-  // within 100 m of the origin.
-  const Box box = part.bounds();
-  const double reach = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
-  if (!(reach <= kLongestLength))
-    throw InputError(path, fmt::format("the part lies {:.3g} mm from the origin of its file, "
-                                       "more than 100 m, where the simulation keeps less than "
-                                       "0.01 mm: move it nearer the origin",
-                                       reach));
-  // A face without a boundary (an untrimmed plane) has an area without end.
-  for (const Face& face : part.faces)
-    if (!(face.area <= kLongestLength * kLongestLength))
-      throw InputError(path, fmt::format("face {} has an area of {:.3g} mm², more than the part "
-                                         "can hold: it has no boundary",
-                                         face.id, face.area));
-  if (extent < 1.0)
-    part.warnings.push_back("the part is only " + std::to_string(extent) +
-                            " mm across: check the length unit the file declares (" +
-                            (part.file_unit.empty() ? "none" : part.file_unit) + ")");
   return part;
 }
 
