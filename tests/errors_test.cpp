@@ -378,6 +378,10 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   EXPECT_EQ(planError(path, [](auto& p) { p["samples"][1]["weight"] = 2; }),
             "sample 2: unknown key 'weight'");
   EXPECT_EQ(planError(path, [](auto& p) { p["part"]["unit"] = "mm"; }), "part: unknown key 'unit'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["registration"]["tolerence"] = 0.1; }),
+            "registration: unknown key 'tolerence'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["characteristics"][1]["toleranse"] = 0.1; }),
+            "characteristic 2: unknown key 'toleranse'");
   // nlohmann would keep the second "units" silently.
   std::ifstream in(test::examplePlan());
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

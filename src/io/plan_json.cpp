@@ -854,8 +854,39 @@ bool knownViewTask(const std::string& task) {
   return task.empty() || task == "bridge";
 }
 
+// Refuses keys unknown in every entry of the list at `key` of `root`, named `what` N.
+void checkListKeys(const json& root, const char* key, const char* what,
+                   std::initializer_list<const char*> known, const std::string& path) {
+  const json list = root.value(key, json::array());
+  if (!list.is_array()) return;
+  for (std::size_t k = 0; k < list.size(); ++k)
+    detail::refuseUnknownKeys(list[k], known, path,
+                              what + std::string(" ") + std::to_string(k + 1));
+}
+
+// The sections a reader reads beyond the views and samples: registration, orientations,
+// cell, characteristics and sweeps. (The summary is written for people and other tools;
+// what it holds is recomputed, not read, save the path lengths and the robot's travel.)
+void checkSectionKeys(const json& root, const std::string& path) {
+  detail::refuseUnknownKeys(objectAt(root, "registration"),
+                            {"method", "required", "reference", "markers", "pairs", "verified",
+                             "robot_accuracy", "proposed_markers"},
+                            path, "registration");
+  detail::refuseUnknownKeys(objectAt(root, "cell"),
+                            {"model", "family", "lengths", "offsets", "signs", "link_radii", "base",
+                             "mount", "lower", "upper", "speeds", "clearance", "tool", "signals",
+                             "home", "approach", "motion_step", "link_meshes", "table"},
+                            path, "cell");
+  checkListKeys(root, "orientations", "orientation",
+                {"id", "part_to_world", "down", "margin", "views", "reference", "markers"}, path);
+  checkListKeys(root, "characteristics", "characteristic",
+                {"id", "kind", "dimension", "value", "limits", "datums", "faces", "capability"},
+                path);
+  checkListKeys(root, "sweeps", "sweep", {"task", "faces", "tiles", "views", "patch"}, path);
+}
+
 // Refuses what this version does not understand: another version or unit, and keys it
-// does not know in the plan, its part, views and samples.
+// does not know in the plan, its part, views, samples and the sections it reads.
 void checkPlanKeys(const json& root, const std::string& path) {
   if (const int version = field<int>(root, "version", path, "plan"); version != 1)
     throw InputError(path, "version " + std::to_string(version) +
@@ -879,6 +910,7 @@ void checkPlanKeys(const json& root, const std::string& path) {
     const std::string task = views[v].value("task", std::string());
     if (!knownViewTask(task)) throw InputError(path, where + ": unknown task '" + task + "'");
   }
+  checkSectionKeys(root, path);
   const json samples = root.value("samples", json::array());
   for (std::size_t i = 0; i < samples.size(); ++i)
     detail::refuseUnknownKeys(samples[i],
