@@ -97,8 +97,9 @@ TEST(HostileCad, IgesBSplineWithItsParametersCutShortIsRefusedWithoutACrash) {
   EXPECT_EQ(importPart(whole).faces.size(), 7u);
 }
 
-// A BREP table announcing a billion curves sends OCCT's reader round a loop without end.
-TEST(HostileCad, BrepTableAnnouncingMoreEntriesThanTheFileHoldsIsRefused) {
+// A BREP table announcing a billion curves, or a byte that is no text in a number, sends
+// OCCT's reader round a loop without end.
+TEST(HostileCad, BrepThatWouldLoopTheReaderIsRefused) {
   test::TempDir dir;
   const std::string whole =
       test::writeBrep(BRepPrimAPI_MakeBox(10, 20, 30).Shape(), dir.file("box.brep"));
@@ -112,6 +113,13 @@ TEST(HostileCad, BrepTableAnnouncingMoreEntriesThanTheFileHoldsIsRefused) {
     EXPECT_PRED2(contains, importError(dir.file("edited.brep")),
                  "the table " + std::string(table) + " announces 1000000000 entries");
   }
+  // Bytes that are no text inside a number: OCCT's reader loops on them.
+  const std::size_t shapes = text.find("\nTShapes ");
+  ASSERT_NE(shapes, std::string::npos);
+  const std::size_t digit = text.find_first_of("0123456789", text.find('\n', shapes + 1));
+  test::writeText(dir.file("bytes.brep"), std::string(text).insert(digit + 1, "\xff\xff"));
+  EXPECT_PRED2(contains, importError(dir.file("bytes.brep")),
+               "a byte that is no text (0xff): an OCCT BREP file is plain ASCII");
 }
 
 // The cylinder of FTC 11's first CYLINDRICAL_SURFACE with radius `radius`; its reason.

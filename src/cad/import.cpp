@@ -238,10 +238,10 @@ void checkIgesFraming(const std::string& path) {
     throw InputError(path, "truncated IGES file: its last line is not the Terminate section");
 }
 
-// An OCCT BREP file opens each of its tables with the count of its entries ("Curves 15"):
-// a count beyond the file's size, which could not hold them, sends OCCT's reader into a
-// loop over entries that are not there.
-void checkBrepCounts(const std::string& path) {
+// An OCCT BREP file is plain ASCII, and opens each of its tables with the count of its
+// entries ("Curves 15"). A byte that is no text inside a number, or a count beyond the
+// file's size, which could not hold them, sends OCCT's reader into a loop without end.
+void checkBrepText(const std::string& path) {
   static const std::unordered_set<std::string> kTables = {
       "Locations", "Curve2ds", "Curves",         "Polygon3D", "PolygonOnTriangulations",
       "Polygon2D", "Surfaces", "Triangulations", "TShapes"};
@@ -249,6 +249,12 @@ void checkBrepCounts(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   for (long number = 1; std::getline(in, line); ++number) {
+    for (const char c : line)
+      if ((static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r') ||
+          static_cast<unsigned char>(c) > 0x7e)
+        throw InputError(path, fmt::format("line {}: a byte that is no text (0x{:02x}): an OCCT "
+                                           "BREP file is plain ASCII",
+                                           number, static_cast<unsigned char>(c)));
     std::istringstream words(line);
     std::string table;
     double count = 0;
@@ -326,7 +332,7 @@ Part importPart(const std::string& path, const ImportOptions& options, const Pro
     defined = checkStepEntities(path);
   }
   if (format == "IGES") checkIgesFraming(path);
-  if (format == "BREP") checkBrepCounts(path);
+  if (format == "BREP") checkBrepText(path);
 
   Part part;
   try {

@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <new>
@@ -29,7 +30,7 @@ namespace scanplan {
 
 IsolationLimits readerLimits(std::size_t file_bytes) {
   IsolationLimits limits;
-  limits.seconds = 120 + 60 * static_cast<double>(file_bytes) / 1e6;
+  limits.seconds = 30 + 10 * static_cast<double>(file_bytes) / 1e6;
 #ifndef SCANPLAN_SANITIZED
   limits.bytes = (std::size_t{4} << 30) + 400 * file_bytes;
 #endif
@@ -53,6 +54,12 @@ std::size_t addressSpace() {
 
 [[noreturn]] void runChild(int fd, const IsolationLimits& limits,
                            const std::function<std::string()>& work) {
+  // The parent's handlers are not the child's: a crash ends the child by its signal, for
+  // the parent to report (not through a sanitizer's or fuzzer's handler), and an interrupt
+  // does not remove the parent's temporaries from here.
+  for (const int signal : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGINT, SIGTERM, SIGHUP,
+                           SIGQUIT, SIGPIPE, SIGXCPU, SIGXFSZ, SIGALRM})
+    std::signal(signal, SIG_DFL);
   if (limits.bytes > 0) {
     const rlim_t cap = addressSpace() + limits.bytes;
     rlimit limit{cap, cap};

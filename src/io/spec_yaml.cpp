@@ -658,11 +658,7 @@ Spec loadSpec(const std::string& path) {
 Spec specFromText(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
-    if (documents.size() > 1)
-      throw InputError(source, "holds " + std::to_string(documents.size()) +
-                                   " YAML documents (split by ---): a spec is one");
-    if (!documents.empty()) root = documents.front();
+    root = loadOneDocument(text, source, "a spec");
   } catch (const YAML::Exception& e) {
     throw InputError(source, "not valid YAML: " + std::string(e.what()));
   }

@@ -5,6 +5,7 @@
 #include <scanplan/core/input_file.h>
 #include <scanplan/scanner/sensor.h>
 
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <fmt/format.h>
@@ -16,8 +17,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
+#include <sstream>
 #include <vector>
 
 namespace scanplan {
@@ -130,6 +133,23 @@ Scanner fromMapping(const YAML::Node& node, Scanner scanner, const std::string& 
   return scanner;
 }
 
+// Takes a document's events and keeps none: enough to tell whether another follows.
+class IgnoredEvents : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
 // Refuses a key given twice in `node` or in a mapping it holds (a scanner file is flat; a
 // spec read for its scanner holds it one level down): yaml-cpp keeps the first silently.
 void refuseRepeatedKeys(const YAML::Node& node, const std::string& path, int depth = 0) {
@@ -147,13 +167,10 @@ YAML::Node loadYaml(const std::string& path) {
   requireInputFile(path);
   try {
     std::ifstream in(path, std::ios::binary);
-    const std::vector<YAML::Node> documents = YAML::LoadAll(in);
-    if (documents.size() > 1)
-      throw InputError(path, "holds " + std::to_string(documents.size()) +
-                                 " YAML documents (split by ---): a scanner file is one");
-    if (documents.empty()) return YAML::Node();
-    refuseRepeatedKeys(documents.front(), path);
-    return documents.front();
+    const YAML::Node root =
+        loadOneDocument({std::istreambuf_iterator<char>(in), {}}, path, "a scanner file");
+    refuseRepeatedKeys(root, path);
+    return root;
   } catch (const YAML::Exception& e) {
     throw InputError(path, "not valid YAML: " + std::string(e.what()));
   }
@@ -166,6 +183,26 @@ std::filesystem::path addedPresets() {
 }
 
 }  // namespace
+
+YAML::Node loadOneDocument(const std::string& text, const std::string& source,
+                           const std::string& what) {
+  // YAML is text: control characters other than tab and line ends are not allowed in it.
+  for (std::size_t k = 0; k < text.size(); ++k)
+    if (static_cast<unsigned char>(text[k]) < 0x20 && text[k] != '\t' && text[k] != '\n' &&
+        text[k] != '\r')
+      throw InputError(source, fmt::format("byte {} is a control character (0x{:02x}): {} is "
+                                           "YAML, which is text",
+                                           k + 1, static_cast<unsigned char>(text[k]), what));
+  // Two documents at most are looked at: yaml-cpp's LoadAll loops without end on some
+  // bytes that are no YAML (a NUL, a comma and a stray byte).
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  IgnoredEvents ignored;
+  if (parser.HandleNextDocument(ignored) && parser.HandleNextDocument(ignored))
+    throw InputError(source,
+                     "holds more than one YAML document (split by ---): " + what + " is one");
+  return YAML::Load(text);
+}
 
 std::vector<std::string> scannerPresetNames() {
   std::set<std::string> names;

@@ -14,7 +14,7 @@ struct IsolationLimits {
   std::size_t bytes = 0;  // address space the child may add to the parent's; 0: no limit
 };
 
-// The limits for reading a file of `file_bytes`: 120 s plus 60 s per MB, and 4 GiB plus
+// The limits for reading a file of `file_bytes`: 30 s plus 10 s per MB, and 4 GiB plus
 // 400 bytes per byte of the file (readers of STEP and IGES files in use take under 2 s
 // per MB and under 100 bytes per byte). No memory limit in sanitizer builds, whose shadow
 // memory an address-space limit would refuse.
