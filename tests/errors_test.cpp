@@ -20,29 +20,9 @@
 namespace scanplan {
 namespace {
 
-// The reason of the InputError `read` throws naming `path`; fails the test if nothing is
-// thrown.
-std::string inputError(const std::string& path, const std::function<void()>& read) {
-  try {
-    read();
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.exitCode(), kExitInput);
-    EXPECT_EQ(std::string(e.what()), path + ": " + e.reason());
-    return e.reason();
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return {};
-}
-
-// Imports `path` and returns the error's reason.
-std::string importError(const std::string& path, const ImportOptions& options = {}) {
-  return inputError(path, [&] { importPart(path, options); });
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using test::contains;
+using test::importError;
+using test::inputError;
 
 std::string truncatedCopy(const std::string& from, const std::string& to, double fraction) {
   std::ifstream in(from, std::ios::binary);

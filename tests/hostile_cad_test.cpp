@@ -27,21 +27,8 @@
 namespace scanplan {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-// The reason of the InputError importing `path` throws; fails the test when none is.
-std::string importError(const std::string& path) {
-  try {
-    importPart(path);
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    return e.reason();
-  }
-  ADD_FAILURE() << "no InputError for " << path;
-  return {};
-}
+using test::contains;
+using test::importError;
 
 // A 100 x 60 x 40 mm box with a through hole, every face a B-spline.
 TopoDS_Shape nurbsBoxWithHole() {

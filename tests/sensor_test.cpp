@@ -21,9 +21,7 @@ std::string reasonOf(const std::function<void()>& call) {
   return {};
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using test::contains;
 
 TEST(Scanner, GenericPresetHasTheIssuedParameters) {
   Scanner s = scannerPreset("generic-structured-light");

@@ -1,7 +1,9 @@
 #pragma once
 // Shared helpers of the test suite: where the test parts are, temporary folders.
 
+#include <scanplan/cad/import.h>
 #include <scanplan/cad/part.h>
+#include <scanplan/core/errors.h>
 
 #include <gtest/gtest.h>
 
@@ -9,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 
@@ -131,6 +134,30 @@ inline void addRectangle(TriangleMesh& mesh, const Vec3& centre, const Vec3& u, 
   mesh.triangles.emplace_back(base, base + 1, base + 2);
   mesh.triangles.emplace_back(base, base + 2, base + 3);
   mesh.triangle_faces.insert(mesh.triangle_faces.end(), 2, face);
+}
+
+inline bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The reason of the InputError `read` throws naming `path` (exit code 2, what() as
+// "<path>: <reason>"); fails the test if nothing is thrown.
+inline std::string inputError(const std::string& path, const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.exitCode(), kExitInput);
+    EXPECT_EQ(std::string(e.what()), path + ": " + e.reason());
+    return e.reason();
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return {};
+}
+
+// Imports `path` and returns the error's reason.
+inline std::string importError(const std::string& path, const ImportOptions& options = {}) {
+  return inputError(path, [&] { importPart(path, options); });
 }
 
 }  // namespace scanplan::test

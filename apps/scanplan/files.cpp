@@ -1,19 +1,14 @@
 #include "files.h"
 
 #include <scanplan/core/errors.h>
-#include <scanplan/io/spec_yaml.h>
-#include <scanplan/spec/spec.h>
 
 #include <filesystem>
 
 namespace scanplan::cli {
 
-std::vector<std::string> commandInputs(std::vector<std::string> inputs, const std::string& spec) {
-  if (!spec.empty()) {
-    inputs.push_back(spec);
-    const std::vector<std::string> named = specFiles(loadSpec(spec));
-    inputs.insert(inputs.end(), named.begin(), named.end());
-  }
+std::vector<std::string> commandInputs(std::vector<std::string> inputs, const Spec& spec) {
+  const std::vector<std::string> named = specFiles(spec);
+  inputs.insert(inputs.end(), named.begin(), named.end());
   return inputs;
 }
 

@@ -93,11 +93,11 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
 }
 
 int run(const Options& options, const GlobalOptions& global) {
-  const std::vector<std::string> inputs = commandInputs({options.part}, options.spec);
+  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const std::vector<std::string> inputs = commandInputs({options.part}, spec);
   for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
     refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
   Progress progress = terminalProgress(global);
-  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   const Part part = importWithWarnings(options.part, {}, progress);
   PlanningOptions planning;

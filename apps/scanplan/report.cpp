@@ -33,8 +33,13 @@ struct Input {
 
 // \throw OutputError when `out` is one of the command's own input files, or a file its
 // spec names.
-void refuseOwnInput(const std::string& out, const Input& input) {
-  refuseInputAsOutput(out, commandInputs({input.plan, input.part}, input.spec));
+void refuseOwnInput(const std::string& out, const Input& input, const Spec& spec) {
+  refuseInputAsOutput(out, commandInputs({input.plan, input.part}, spec));
+}
+
+// The spec given with --spec, or the default one.
+Spec specOf(const Input& input) {
+  return input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
 }
 
 struct Checked {
@@ -44,7 +49,7 @@ struct Checked {
 };
 
 // The plan re-simulated and its registration re-checked on its part, as verify does.
-Checked check(const Input& input, const Progress& progress) {
+Checked check(const Input& input, const Spec& spec, const Progress& progress) {
   Plan plan = readPlan(input.plan);
   std::string part_file = input.part.empty() ? plan.part_file : input.part;
   if (part_file.empty())
@@ -56,7 +61,6 @@ Checked check(const Input& input, const Progress& progress) {
   if (input.part.empty() && !std::filesystem::exists(part_file, ec) &&
       std::filesystem::exists(beside, ec))
     part_file = beside.string();
-  Spec spec = input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
   Part part = importWithWarnings(part_file, {}, progress);
   PlanCheck checked = verifyPlan(plan, part, spec, {}, progress);
   ResolvedSpec resolved = resolveSpec(part, spec);
@@ -85,10 +89,11 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
       options.out.empty()
           ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
           : options.out;
-  refuseOwnInput(out, options.input);
-  if (!options.png.empty()) refuseOwnInput(options.png, options.input);
+  const Spec spec = specOf(options.input);
+  refuseOwnInput(out, options.input, spec);
+  if (!options.png.empty()) refuseOwnInput(options.png, options.input, spec);
   Progress progress = terminalProgress(global);
-  const Checked c = check(options.input, progress);
+  const Checked c = check(options.input, spec, progress);
   writeReport(c.plan, c.part, c.spec, out, {}, progress);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.png);
   clearProgress();
@@ -141,13 +146,14 @@ void writeViewsInOrder(const Plan& plan, const std::string& out) {
 }
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
-  refuseOwnInput(options.out, options.input);
+  const Spec spec = specOf(options.input);
+  refuseOwnInput(options.out, options.input, spec);
   // The views' CSV needs the plan only; a part given is checked against it all the same.
   if (options.format == "csv" && options.input.part.empty()) {
     writeViewsInOrder(readPlan(options.input.plan), options.out);
   } else {
     Progress progress = terminalProgress(global);
-    const Checked c = check(options.input, progress);
+    const Checked c = check(options.input, spec, progress);
     if (options.format == "csv") {
       writeViewsInOrder(c.plan, options.out);
     } else if (options.format == "glb") {

@@ -7,6 +7,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/editor/editor.h>
+#include <scanplan/io/spec_yaml.h>
 
 #include <fmt/format.h>
 
@@ -20,7 +21,9 @@ struct SpecCommand {
 };
 
 int run(const SpecCommand& options, const GlobalOptions& global) {
-  refuseInputAsOutput(options.out, commandInputs({options.part}, options.spec));
+  refuseInputAsOutput(
+      options.out,
+      commandInputs({options.part}, options.spec.empty() ? defaultSpec() : loadSpec(options.spec)));
   const Part part = importWithWarnings(options.part, {}, terminalProgress(global));
   writeSpecEditor(part, options.spec, options.out);
   clearProgress();

@@ -400,9 +400,7 @@ ReadShape readInIsolation(const std::string& path, const std::string& format,
     try {
       Part scratch;
       scratch.file = path;
-      const ReadShape read = readShape(path, format, options, scratch);
-      geometryDiagonal(read.shape, path);
-      return serialize(read, scratch);
+      return serialize(readShape(path, format, options, scratch), scratch);
     } catch (const Standard_OutOfMemory&) {
       throw std::bad_alloc();
     } catch (const Standard_Failure& failure) {

@@ -83,7 +83,13 @@ void writePage(std::string_view page_template, std::string_view script, const st
   // The data is JSON, where '<' stands only inside strings: as \u003c, no text of it can
   // end the element or open a comment ("<!--") that changes how the page parses.
   std::string escaped;
-  for (const char c : data) escaped += c == '<' ? std::string("\\u003c") : std::string(1, c);
+  escaped.reserve(data.size());
+  for (const char c : data) {
+    if (c == '<')
+      escaped += "\\u003c";
+    else
+      escaped += c;
+  }
   fill("/*@DATA@*/", escaped);
   writeFileAtomically(path, [&](std::ostream& out) { out << page; });
 }

@@ -900,7 +900,7 @@ void checkPlanKeys(const json& root, const std::string& path) {
       path, "plan");
   detail::refuseUnknownKeys(objectAt(root, "part"),
                             {"file", "absolute_file", "faces", "part_to_world"}, path, "part");
-  const json& views = root["views"];
+  const json views = root.value("views", json::array());
   for (std::size_t v = 0; v < views.size(); ++v) {
     const std::string where = "view " + std::to_string(v + 1);
     detail::refuseUnknownKeys(views[v],
