@@ -15,9 +15,9 @@ struct IsolationLimits {
 };
 
 // The limits for reading a file of `file_bytes`: 30 s plus 10 s per MB, and 4 GiB plus
-// 400 bytes per byte of the file (readers of STEP and IGES files in use take under 2 s
-// per MB and under 100 bytes per byte). No memory limit in sanitizer builds, whose shadow
-// memory an address-space limit would refuse.
+// 400 bytes per byte of the file (imports of files in use take up to 3.6 s per MB and
+// about 60 bytes per byte; docs/import.md). No memory limit in sanitizer builds, whose
+// shadow memory an address-space limit would refuse.
 IsolationLimits readerLimits(std::size_t file_bytes);
 
 // Runs `work` in a child process within `limits` and returns the bytes it returned. When
