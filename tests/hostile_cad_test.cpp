@@ -84,8 +84,8 @@ TEST(HostileCad, IgesBSplineWithItsParametersCutShortIsRefusedWithoutACrash) {
   EXPECT_EQ(importPart(whole).faces.size(), 7u);
 }
 
-// A BREP table announcing a billion curves, or a byte that is no text in a number, sends
-// OCCT's reader round a loop without end.
+// A BREP table announcing a billion curves, a byte that is no text or a letter in a
+// number sends OCCT's reader round a loop without end, or makes it read nonsense.
 TEST(HostileCad, BrepThatWouldLoopTheReaderIsRefused) {
   test::TempDir dir;
   const std::string whole =
@@ -107,6 +107,20 @@ TEST(HostileCad, BrepThatWouldLoopTheReaderIsRefused) {
   test::writeText(dir.file("bytes.brep"), std::string(text).insert(digit + 1, "\xff\xff"));
   EXPECT_PRED2(contains, importError(dir.file("bytes.brep")),
                "a byte that is no text (0xff): an OCCT BREP file is plain ASCII");
+  // A letter in a number: in the kind of an edge's curve on a surface ("2  1 1 0 0 40")
+  // OCCT's reader loops on it, in a vertex's tolerance it reads nonsense and says nothing.
+  for (const std::string& kind : {std::string("\n2  "), std::string("\nVe\n")}) {
+    const std::size_t shape = text.find(kind, shapes);
+    ASSERT_NE(shape, std::string::npos) << kind;
+    const std::size_t at = text.find_first_of("0123456789", shape);
+    std::string edited = text;
+    edited.insert(at + 1, "x");
+    test::writeText(dir.file("letter.brep"), edited);
+    const std::size_t end = edited.find_first_of(" \n", at);
+    EXPECT_PRED2(contains, importError(dir.file("letter.brep")),
+                 "'" + edited.substr(at, end - at) +
+                     "' is neither a number nor a word of an OCCT BREP file");
+  }
 }
 
 // The cylinder of FTC 11's first CYLINDRICAL_SURFACE with radius `radius`; its reason.

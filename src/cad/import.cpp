@@ -238,16 +238,41 @@ void checkIgesFraming(const std::string& path) {
     throw InputError(path, "truncated IGES file: its last line is not the Terminate section");
 }
 
-// An OCCT BREP file is plain ASCII, and opens each of its tables with the count of its
-// entries ("Curves 15"). A byte that is no text inside a number, or a count beyond the
-// file's size, which could not hold them, sends OCCT's reader into a loop without end.
+// The tables of an OCCT BREP file, and the other words it holds after its header: the
+// kinds of shape, the end of a list of sub-shapes, the continuities of edges, and the mark
+// before a polygon's parameters.
+const std::unordered_set<std::string> kBrepTables = {
+    "Locations", "Curve2ds", "Curves",         "Polygon3D", "PolygonOnTriangulations",
+    "Polygon2D", "Surfaces", "Triangulations", "TShapes"};
+
+bool isBrepWord(const std::string& word) {
+  static const std::unordered_set<std::string> kWords = {"Ve", "Ed", "Wi", "Fa", "Sh", "So",
+                                                         "CS", "Co", "*",  "C0", "C1", "C2",
+                                                         "C3", "CN", "G1", "G2", "p"};
+  return kWords.count(word) > 0 || kBrepTables.count(word) > 0;
+}
+
+// Whether `word` is a decimal number, or an index written against a continuity ("2CN").
+bool isBrepNumber(const std::string& word) {
+  std::size_t end = word.find_first_not_of("+-.0123456789eE");
+  if (end == 0) return false;
+  if (end != std::string::npos && !(end + 2 == word.size() && isBrepWord(word.substr(end))))
+    return false;
+  const std::string number = word.substr(0, end);
+  char* rest = nullptr;
+  std::strtod(number.c_str(), &rest);
+  return rest == number.c_str() + number.size();
+}
+
+// An OCCT BREP file is plain ASCII: after its header, numbers and a few words, and each
+// table opens with the count of its entries ("Curves 15"). A byte that is no text, a
+// number with a letter in it, or a count beyond what the file's size could hold sends
+// OCCT's reader into a loop without end, or makes it read nonsense without a word.
 void checkBrepText(const std::string& path) {
-  static const std::unordered_set<std::string> kTables = {
-      "Locations", "Curve2ds", "Curves",         "Polygon3D", "PolygonOnTriangulations",
-      "Polygon2D", "Surfaces", "Triangulations", "TShapes"};
   const auto size = std::filesystem::file_size(path);
   std::ifstream in(path, std::ios::binary);
   std::string line;
+  bool header = true;
   for (long number = 1; std::getline(in, line); ++number) {
     for (const char c : line)
       if ((static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r') ||
@@ -256,13 +281,21 @@ void checkBrepText(const std::string& path) {
                                            "BREP file is plain ASCII",
                                            number, static_cast<unsigned char>(c)));
     std::istringstream words(line);
-    std::string table;
+    std::string word;
+    for (int at = 0; words >> word; ++at) {
+      header = header && !(at == 0 && word == "Locations");
+      if (header || isBrepWord(word) || isBrepNumber(word)) continue;
+      throw InputError(path, fmt::format("line {}: '{}' is neither a number nor a word of an "
+                                         "OCCT BREP file",
+                                         number, word));
+    }
+    std::istringstream table(line);
     double count = 0;
-    if (!(words >> table >> count) || !kTables.count(table)) continue;
+    if (!(table >> word >> count) || !kBrepTables.count(word)) continue;
     if (!(count >= 0 && count <= static_cast<double>(size)))
       throw InputError(path, fmt::format("line {}: the table {} announces {:.0f} entries, more "
                                          "than a file of {} bytes can hold",
-                                         number, table, count, size));
+                                         number, word, count, size));
   }
 }
 
