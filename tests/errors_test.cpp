@@ -362,6 +362,8 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
             "registration: unknown key 'tolerence'");
   EXPECT_EQ(planError(path, [](auto& p) { p["characteristics"][1]["toleranse"] = 0.1; }),
             "characteristic 2: unknown key 'toleranse'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["summary"]["path_lenght"] = 1.0; }),
+            "summary: unknown key 'path_lenght'");
   // nlohmann would keep the second "units" silently.
   std::ifstream in(test::examplePlan());
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -864,10 +864,39 @@ void checkListKeys(const json& root, const char* key, const char* what,
                               what + std::string(" ") + std::to_string(k + 1));
 }
 
-// The sections a reader reads beyond the views and samples: registration, orientations,
-// cell, characteristics and sweeps. (The summary is written for people and other tools;
-// what it holds is recomputed, not read, save the path lengths and the robot's travel.)
+// The sections beyond the views and samples: summary, registration, orientations, cell,
+// characteristics and sweeps. (Most of the summary is recomputed, not read, save the path
+// lengths, the robot's travel and the registration's counts; its keys are checked all the
+// same, so that one misspelt is not taken for one read.)
 void checkSectionKeys(const json& root, const std::string& path) {
+  detail::refuseUnknownKeys(objectAt(root, "summary"),
+                            {"model_faces",
+                             "results",
+                             "priority_faces_short",
+                             "fixture_faces",
+                             "samples",
+                             "measured",
+                             "measured_share",
+                             "not_coverable",
+                             "not_coverable_by_reason",
+                             "views",
+                             "registrable_views",
+                             "seconds",
+                             "stage_seconds",
+                             "characteristics",
+                             "registered_share",
+                             "measured_by_registered_views",
+                             "bridging_views",
+                             "unregistrable_views",
+                             "registration_components",
+                             "registered_by",
+                             "path_length",
+                             "nearest_neighbour_path_length",
+                             "orientations",
+                             "robot",
+                             "sweep_views",
+                             "bound"},
+                            path, "summary");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "reference", "markers", "pairs", "verified",
                              "robot_accuracy", "proposed_markers"},
