@@ -797,6 +797,31 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
                                       count("; retract view") + count("; via"));
   EXPECT_EQ(count("; home"), 2u);
   EXPECT_EQ(count("could not be cleared"), 0u);
+  // The plan's cycle moves the arm as long as the program's PTP moves take at the
+  // preset's joint speeds and accelerations, each move's slowest joint stepped in time.
+  ASSERT_TRUE(plan.cycle && plan.cell);
+  std::vector<Joints> moves;
+  for (std::size_t at = krl.find("PTP {E6AXIS:"); at != std::string::npos;
+       at = krl.find("PTP {E6AXIS:", at + 1)) {
+    Joints q{};
+    for (int j = 0; j < 6; ++j) {
+      const std::size_t axis = krl.find(" A" + std::to_string(j + 1) + " ", at);
+      q[j] = radians(std::stod(krl.substr(axis + 4)));
+    }
+    moves.push_back(q);
+  }
+  double program_seconds = 0;
+  for (std::size_t k = 1; k < moves.size(); ++k) {
+    double slowest = 0;
+    for (int j = 0; j < 6; ++j)
+      slowest =
+          std::max(slowest, test::steppedMoveSeconds(std::abs(moves[k][j] - moves[k - 1][j]),
+                                                     plan.cell->robot.speeds[j],
+                                                     plan.cell->robot.accelerations[j], 1e-4));
+    program_seconds += slowest;
+  }
+  EXPECT_NEAR(plan.cycle->motion + plan.cycle->table, program_seconds, 0.01 * program_seconds);
+  EXPECT_EQ(plan.cycle->views, plan.views.size());
   // The plan carries its cell: without --spec the program is the same.
   std::filesystem::create_directory(dir.file("again"));
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("again/cell_plan.src") +

@@ -348,8 +348,10 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");
   EXPECT_EQ(planError(path, [](auto& p) { p["units"] = "inch"; }), "units 'inch': plans are in mm");
-  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 2; }),
-            "version 2 is not one this scanplan reads (it reads version 1)");
+  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 3; }),
+            "version 3 is not one this scanplan reads (it reads versions 1 to 2)");
+  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 0; }),
+            "version 0 is not one this scanplan reads (it reads versions 1 to 2)");
   EXPECT_EQ(planError(path, [](auto& p) { p["views"][2]["task"] = "gdtt"; }),
             "view 3: unknown task 'gdtt'");
   EXPECT_EQ(planError(path, [](auto& p) { p["view"] = p["views"]; }), "plan: unknown key 'view'");
@@ -371,8 +373,17 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   test::writeText(path, text);
   EXPECT_EQ(inputError(path, [&] { readPlan(path); }),
             "the key 'units' is given twice in one object");
-  // The plan as written reads.
+  // The plan as written reads, and so does a version 1 plan, without a cycle time.
   EXPECT_NO_THROW(readPlan(test::examplePlan()));
+  nlohmann::json old = nlohmann::json::parse(test::readText(test::examplePlan()));
+  old["version"] = 1;
+  old["summary"].erase("cycle");
+  test::writeText(path, old.dump());
+  EXPECT_FALSE(readPlan(path).cycle.has_value());
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["cycle"]["model"] = "x"; }),
+               "summary cycle: unknown model 'x'");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["cycle"]["motion"] = -1; }),
+               "summary cycle: 'motion' is not a number of seconds");
 }
 
 // Loads the spec `text` (written to spec.yaml in `dir`) and returns the error's reason.

@@ -608,7 +608,7 @@ TEST(Planning, PlanJsonHasTheContractFields) {
   Part part = cube(dir);
   const nlohmann::json plan = planJson(planViews(part, defaultSpec()));
   EXPECT_EQ(plan["format"], "scanplan.plan");
-  EXPECT_EQ(plan["version"], 1);
+  EXPECT_EQ(plan["version"], kPlanVersion);
   EXPECT_EQ(plan["units"], "mm");
   for (const char* key : {"file", "faces", "part_to_world"})
     EXPECT_TRUE(plan["part"].contains(key)) << key;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -158,6 +159,25 @@ inline std::string inputError(const std::string& path, const std::function<void(
 // Imports `path` and returns the error's reason.
 inline std::string importError(const std::string& path, const ImportOptions& options = {}) {
   return inputError(path, [&] { importPart(path, options); });
+}
+
+// Seconds an axis takes over `distance` from rest to rest, at most `speed` and
+// `acceleration`, by stepping time in steps of `dt`: full acceleration until its speed,
+// on at it until it must brake to stop at the end, then braking until it stands. A
+// reference for motion-profile formulas that shares none of their algebra.
+inline double steppedMoveSeconds(double distance, double speed, double acceleration,
+                                 double dt = 1e-5) {
+  double x = 0, v = 0, t = 0;
+  bool braking = false;
+  while (!braking || v > 0) {  // until it stands still again
+    braking = braking || distance - x <= v * v / (2 * acceleration);
+    const double next =
+        braking ? std::max(v - acceleration * dt, 0.0) : std::min(v + acceleration * dt, speed);
+    x += 0.5 * (v + next) * dt;
+    v = next;
+    t += dt;
+  }
+  return t;
 }
 
 }  // namespace scanplan::test

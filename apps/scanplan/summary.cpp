@@ -123,6 +123,14 @@ void printPlanSummary(const Plan& plan, const Part& part) {
     for (const RobotMove& move : plan.cell_motion->uncleared)
       fmt::print("{:<22} {} collides and could not be cleared\n", "robot move", toString(move));
   }
+  if (plan.cycle) {
+    const CycleTime& c = *plan.cycle;
+    fmt::print(
+        "{:<22} {:.1f} s: acquisition {:.1f}, motion {:.1f}, table {:.1f}, settling and "
+        "handshakes {:.1f} ({})\n",
+        "cycle time", c.total(), c.acquisition, c.motion, c.table, c.other,
+        c.model == "cell" ? "the robot program" : "generic positioning, no cell");
+  }
 }
 
 void printResultsRow(const Plan& plan) {

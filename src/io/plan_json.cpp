@@ -171,6 +171,13 @@ json summaryJson(const Plan& plan) {
           {"stage_seconds", times}};
 }
 
+json cycleJson(const CycleTime& c) {
+  return {{"model", c.model},   {"seconds", c.total()},
+          {"views", c.views},   {"acquisition", c.acquisition},
+          {"motion", c.motion}, {"table", c.table},
+          {"other", c.other}};
+}
+
 json pairJson(const PairCheck& p) {
   json pair = {{"views", {p.a, p.b}},
                {"shared_markers", p.shared_markers},
@@ -289,6 +296,7 @@ void addCell(const Plan& plan, json& result) {
                 {"lower", inDegrees(r.lower)},
                 {"upper", inDegrees(r.upper)},
                 {"speeds", inDegrees(r.speeds)},
+                {"accelerations", inDegrees(r.accelerations)},
                 {"clearance", cell.clearance},
                 {"tool",
                  {{"mass", cell.tool.mass},
@@ -303,7 +311,9 @@ void addCell(const Plan& plan, json& result) {
     robot["table"] = {{"origin", vec(cell.table->origin)},
                       {"axis", vec(cell.table->axis)},
                       {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}},
-                      {"step", degrees(cell.table->step)}};
+                      {"step", degrees(cell.table->step)},
+                      {"speed", degrees(cell.table->speed)},
+                      {"acceleration", degrees(cell.table->acceleration)}};
   result["cell"] = robot;
   for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
     const std::optional<CellPose>& pose = plan.cell_poses[v];
@@ -380,7 +390,7 @@ json planJson(const Plan& plan) {
   }
   json result = {
       {"format", "scanplan.plan"},
-      {"version", 1},
+      {"version", kPlanVersion},
       {"units", "mm"},
       {"part",
        {{"file", plan.part_file},
@@ -399,6 +409,7 @@ json planJson(const Plan& plan) {
   if (plan.cell) addCell(plan, result);
   if (!plan.sweeps.empty()) addSweeps(plan, result);
   if (plan.bound) result["summary"]["bound"] = boundJson(plan);
+  if (plan.cycle) result["summary"]["cycle"] = cycleJson(*plan.cycle);
   if (!plan.characteristics.empty()) addCharacteristics(plan, result);
   return result;
 }
@@ -614,6 +625,8 @@ struct PlanReader {
     r.lower = joints(entry, "lower", "cell");
     r.upper = joints(entry, "upper", "cell");
     r.speeds = joints(entry, "speeds", "cell");
+    r.accelerations = entry.contains("accelerations") ? joints(entry, "accelerations", "cell")
+                                                      : rampAccelerations(r.speeds);
     const std::vector<double> radii =
         fieldOr(entry, "link_radii", std::vector<double>{}, path, "cell");
     for (std::size_t i = 0; i < 3 && i < radii.size(); ++i) r.link_radii[i] = radii[i];
@@ -664,6 +677,9 @@ struct PlanReader {
       t.lower = radians(range[0]);
       t.upper = radians(range[1]);
       t.step = radians(fieldOr(table, "step", degrees(t.step), path, "cell table"));
+      t.speed = radians(fieldOr(table, "speed", degrees(t.speed), path, "cell table"));
+      t.acceleration =
+          radians(fieldOr(table, "acceleration", degrees(t.acceleration), path, "cell table"));
     }
     validate(cell, path);
     return cell;
@@ -742,6 +758,29 @@ struct PlanReader {
       motion.uncleared.push_back({move[0], move[1]});
     }
     return motion;
+  }
+
+  // The cycle time (summary.cycle), if recorded.
+  std::optional<CycleTime> cycle(const json& root) const {
+    const json entry = objectAt(objectAt(root, "summary"), "cycle");
+    if (entry.empty()) return std::nullopt;
+    const std::string where = "summary cycle";
+    CycleTime c;
+    c.model = field<std::string>(entry, "model", path, where);
+    if (c.model != "cell" && c.model != "generic")
+      throw InputError(path, where + ": unknown model '" + c.model + "'");
+    c.views = field<std::size_t>(entry, "views", path, where);
+    double* parts[] = {&c.acquisition, &c.motion, &c.table, &c.other};
+    const char* names[] = {"acquisition", "motion", "table", "other"};
+    for (int k = 0; k < 4; ++k) {
+      *parts[k] = field<double>(entry, names[k], path, where);
+      if (!(*parts[k] >= 0 && std::isfinite(*parts[k])))
+        throw InputError(path, where + ": '" + names[k] + "' is not a number of seconds");
+    }
+    detail::refuseUnknownKeys(
+        entry, {"model", "seconds", "views", "acquisition", "motion", "table", "other"}, path,
+        where);
+    return c;
   }
 
   PlannedOrientation orientation(const json& entry, std::size_t k) const {
@@ -895,17 +934,19 @@ void checkSectionKeys(const json& root, const std::string& path) {
                              "orientations",
                              "robot",
                              "sweep_views",
-                             "bound"},
+                             "bound",
+                             "cycle"},
                             path, "summary");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "reference", "markers", "pairs", "verified",
                              "robot_accuracy", "proposed_markers"},
                             path, "registration");
-  detail::refuseUnknownKeys(objectAt(root, "cell"),
-                            {"model", "family", "lengths", "offsets", "signs", "link_radii", "base",
-                             "mount", "lower", "upper", "speeds", "clearance", "tool", "signals",
-                             "home", "approach", "motion_step", "link_meshes", "table"},
-                            path, "cell");
+  detail::refuseUnknownKeys(
+      objectAt(root, "cell"),
+      {"model",   "family", "lengths",  "offsets",     "signs",         "link_radii", "base",
+       "mount",   "lower",  "upper",    "speeds",      "accelerations", "clearance",  "tool",
+       "signals", "home",   "approach", "motion_step", "link_meshes",   "table"},
+      path, "cell");
   checkListKeys(root, "orientations", "orientation",
                 {"id", "part_to_world", "down", "margin", "views", "reference", "markers"}, path);
   checkListKeys(root, "characteristics", "characteristic",
@@ -917,9 +958,11 @@ void checkSectionKeys(const json& root, const std::string& path) {
 // Refuses what this version does not understand: another version or unit, and keys it
 // does not know in the plan, its part, views, samples and the sections it reads.
 void checkPlanKeys(const json& root, const std::string& path) {
-  if (const int version = field<int>(root, "version", path, "plan"); version != 1)
+  if (const int version = field<int>(root, "version", path, "plan");
+      version < 1 || version > kPlanVersion)
     throw InputError(path, "version " + std::to_string(version) +
-                               " is not one this scanplan reads (it reads version 1)");
+                               " is not one this scanplan reads (it reads versions 1 to " +
+                               std::to_string(kPlanVersion) + ")");
   if (const std::string units = field<std::string>(root, "units", path, "plan"); units != "mm")
     throw InputError(path, "units '" + units + "': plans are in mm");
   detail::refuseUnknownKeys(
@@ -1003,6 +1046,7 @@ Plan readPlanFields(const std::string& path) {
     plan.cell_poses = reader.cellPoses(root, plan.views.size());
     plan.cell_motion = reader.cellMotion(root);
   }
+  plan.cycle = reader.cycle(root);
   checkReferences(plan, path);
   return plan;
 }

@@ -161,8 +161,9 @@ class SpecReader {
     const std::string key = "cell.robot";
     if (!node.IsMap()) fail(key + " must be a mapping");
     static const std::set<std::string> fields = {
-        "preset", "a1",    "a2",    "b",      "c1",   "c2",   "c3",         "c4",         "offsets",
-        "signs",  "lower", "upper", "speeds", "base", "name", "link_radii", "link_meshes"};
+        "preset", "a1",   "a2",      "b",          "c1",          "c2",
+        "c3",     "c4",   "offsets", "signs",      "lower",       "upper",
+        "speeds", "base", "name",    "link_radii", "link_meshes", "accelerations"};
     for (const auto& item : node)
       if (!fields.count(item.first.as<std::string>()))
         fail(key + ": unknown field '" + item.first.as<std::string>() + "'");
@@ -198,6 +199,9 @@ class SpecReader {
     if (node["lower"]) r.lower = joints(node["lower"], key + ".lower");
     if (node["upper"]) r.upper = joints(node["upper"], key + ".upper");
     if (node["speeds"]) r.speeds = joints(node["speeds"], key + ".speeds");
+    if (!node["preset"] || node["speeds"]) r.accelerations = rampAccelerations(r.speeds);
+    if (node["accelerations"])
+      r.accelerations = joints(node["accelerations"], key + ".accelerations");
     if (node["link_radii"]) {
       const std::vector<double> radii = numbers(node["link_radii"], 3, key + ".link_radii");
       for (int i = 0; i < 3; ++i) {
@@ -222,7 +226,8 @@ class SpecReader {
     if (!node.IsMap()) fail(key + " must be a mapping");
     for (const auto& item : node) {
       const std::string field = item.first.as<std::string>();
-      if (field != "origin" && field != "axis" && field != "range" && field != "step")
+      if (field != "origin" && field != "axis" && field != "range" && field != "step" &&
+          field != "speed" && field != "acceleration")
         fail(key + ": unknown field '" + field + "'");
     }
     RotaryTable t;
@@ -234,6 +239,9 @@ class SpecReader {
       t.upper = radians(range[1]);
     }
     if (node["step"]) t.step = radians(scalar<double>(node["step"], key + ".step"));
+    if (node["speed"]) t.speed = radians(scalar<double>(node["speed"], key + ".speed"));
+    if (node["acceleration"])
+      t.acceleration = radians(scalar<double>(node["acceleration"], key + ".acceleration"));
     return t;
   }
 
@@ -318,6 +326,17 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
     const std::string key = item.first.as<std::string>();
     if (!allowed.count(key)) reader.fail("unknown key '" + key + "' in " + section);
   }
+}
+
+CycleSettings readCycle(const YAML::Node& node, const SpecReader& reader) {
+  checkKeys(node, {"settle", "handshake", "speed", "acceleration"}, reader, "cycle");
+  CycleSettings c;
+  reader.read(node, "cycle", "settle", c.settle);
+  reader.read(node, "cycle", "handshake", c.handshake);
+  reader.read(node, "cycle", "speed", c.speed);
+  reader.read(node, "cycle", "acceleration", c.acceleration);
+  validate(c, reader.path());
+  return c;
 }
 
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
@@ -610,7 +629,7 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
     rejectDuplicateKeys(root, reader, "the spec", visited);
     checkKeys(root,
               {"scanner", "part", "roles", "gdt", "markers", "fixtures", "registration", "tasks",
-               "planner", "cell"},
+               "planner", "cell", "cycle"},
               reader, "the spec");
     if (root["scanner"]) spec.scanner = scannerFromYaml(root, path);
     if (const YAML::Node part = root["part"]) readPart(part, reader, spec);
@@ -641,6 +660,7 @@ Spec specFromYaml(const YAML::Node& root, const std::string& path) {
     }
     if (const YAML::Node planner = root["planner"]) spec.planner = readPlanner(planner, reader);
     if (const YAML::Node cell = root["cell"]) readCell(cell, reader, spec);
+    if (const YAML::Node cycle = root["cycle"]) spec.cycle = readCycle(cycle, reader);
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.what());
   }

@@ -11,12 +11,14 @@
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/cell_poses.h>
 #include <scanplan/planning/robot_steps.h>
+#include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <memory>
 
 namespace scanplan {
@@ -305,6 +307,25 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
       scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
 }
 
+// Orders the views of a plan without a cell by the generic positioning's time (the
+// scanner's shortest paths, mm, each a trapezoid at the cycle's speed and acceleration;
+// lengths in mm), and sets the plan's cycle along that order.
+void sequenceByGenericTime(const detail::Placement& at, Plan& plan) {
+  const CycleSettings& settings = at.spec.spec.cycle;
+  const Eigen::MatrixXd paths = shortestPaths(directCosts(at.simulator, plan.views));
+  const Eigen::MatrixXd times = paths.unaryExpr(
+      [&](double mm) { return trapezoidSeconds(mm, settings.speed, settings.acceleration); });
+  plan.sequence = sequenceViews(times, paths, plan.views, *plan.registration);
+  std::map<int, Eigen::Index> index;
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    index[plan.views[v].id] = static_cast<Eigen::Index>(v);
+  std::vector<double> moves;
+  const std::vector<int>& order = plan.sequence->views;
+  for (std::size_t k = 1; k < order.size(); ++k)
+    moves.push_back(paths(index[order[k - 1]], index[order[k]]));
+  plan.cycle = genericCycle(moves, plan.views.size(), at.scanner(), settings);
+}
+
 // Registers the plan's views, bridging where they fall apart (bridging views measure
 // samples too), and orders them: by the robot's joint travel with a cell, whose
 // solutions for the views it returns, else by the scanner's path.
@@ -330,7 +351,7 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
                                   shortestPaths(directCosts(at.simulator, plan.views)), plan.views,
                                   *plan.registration);
   } else {
-    plan.sequence = sequenceViews(at.simulator, plan.views, *plan.registration);
+    sequenceByGenericTime(at, plan);
   }
   clock.lap("sequencing");
   return solutions;
@@ -395,6 +416,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     report(progress, "robot motion", 0);
     const RobotProgram program = safeProgram(plan, *cell, *collisions, plan.cell_poses, "plan", "");
     plan.cell_motion = CellMotion{programSeconds(program), program.uncleared};
+    plan.cycle = programCycle(program, at.scanner(), spec.spec.cycle);
     clock.lap("robot motion");
   }
   plan.seconds = clock.total();
@@ -448,6 +470,12 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
   if (part.cell_motion) appendMotion(merged, *part.cell_motion, offset);
+  if (part.cycle) {
+    if (merged.cycle)
+      *merged.cycle += *part.cycle;
+    else
+      merged.cycle = part.cycle;
+  }
   for (Sweep& sweep : part.sweeps) {
     for (int& id : sweep.views) shift(id);
     merged.sweeps.push_back(std::move(sweep));
@@ -489,6 +517,7 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
       merged.views.clear();
       merged.cell_poses.clear();
       merged.cell_motion.reset();
+      merged.cycle.reset();
       merged.sweeps.clear();
       merged.times.clear();
       merged.bound.reset();

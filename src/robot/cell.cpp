@@ -32,6 +32,10 @@ void validate(const Cell& c, const std::string& source) {
     require(t.lower >= -2 * M_PI && t.upper <= 2 * M_PI,
             "table.range must lie within [-360, 360] degrees");
     require(t.step >= radians(0.1), "table.step must be at least 0.1 degrees");
+    require(t.speed >= radians(1) && t.speed <= radians(3600),
+            "table.speed must lie within [1, 3600] °/s");
+    require(t.acceleration >= radians(1) && t.acceleration <= radians(36000),
+            "table.acceleration must lie within [1, 36000] °/s²");
   }
   require(c.clearance >= 0 && c.clearance <= kLongestLength, "clearance must not be negative (mm)");
   require(c.tool.mass > 0 && c.tool.mass <= 1000, "tool.mass must be within (0, 1000] kg");

@@ -7,6 +7,7 @@
 #include "robot/offset_wrist.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/robot/cycle.h>
 #include <scanplan/robot/kinematics.h>
 
 #include <Eigen/SVD>
@@ -77,6 +78,9 @@ void validate(const RobotModel& r, const std::string& source, const std::string&
     // (radians for degrees, a unit per minute) and would print days or nothing of time.
     if (!(r.speeds[i] >= radians(1) && r.speeds[i] <= radians(3600)))
       fail(".speeds: joint " + std::to_string(i + 1) + " needs a speed within [1, 3600] °/s");
+    if (!(r.accelerations[i] >= radians(1) && r.accelerations[i] <= radians(36000)))
+      fail(".accelerations: joint " + std::to_string(i + 1) +
+           " needs an acceleration within [1, 36000] °/s²");
   }
 }
 
@@ -106,6 +110,9 @@ std::optional<RobotModel> universalRobot(std::string_view name) {
   }
   r.lower = degrees({-360, -360, -360, -360, -360, -360});
   r.upper = degrees({360, 360, 360, 360, 360, 360});
+  // Universal Robots publish no joint accelerations; 1.4 rad/s² is movej's default in
+  // the URScript manual, what the controller uses when a program gives none.
+  r.accelerations.fill(1.4);
   return r;
 }
 
@@ -148,6 +155,7 @@ RobotModel robotPreset(std::string_view name, const std::string& source) {
     throw InputError(source,
                      "unknown robot preset '" + std::string(name) + "' (known: " + known + ")");
   }
+  r.accelerations = rampAccelerations(r.speeds);  // KUKA and ABB publish none
   return r;
 }
 
@@ -328,8 +336,17 @@ Reach reachOf(const RobotModel& r, const Pose& flange) {
 double travelTime(const RobotModel& r, const Joints& from, const Joints& to) {
   double seconds = 0;
   for (int i = 0; i < 6; ++i)
-    if (r.speeds[i] > 0) seconds = std::max(seconds, std::abs(to[i] - from[i]) / r.speeds[i]);
+    if (r.speeds[i] > 0)
+      seconds = std::max(
+          seconds, trapezoidSeconds(std::abs(to[i] - from[i]), r.speeds[i], r.accelerations[i]));
   return seconds;
+}
+
+Joints rampAccelerations(const Joints& speeds) {
+  constexpr double kRampSeconds = 0.5;
+  Joints accelerations{};
+  for (int i = 0; i < 6; ++i) accelerations[i] = speeds[i] / kRampSeconds;
+  return accelerations;
 }
 
 }  // namespace scanplan

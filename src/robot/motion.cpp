@@ -2,6 +2,7 @@
 // joint-interpolated moves sampled and checked with the cell's collision model (FCL), and
 // via points above the scene where a direct move collides.
 
+#include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
 
 #include <algorithm>
@@ -137,14 +138,12 @@ double programSeconds(const RobotProgram& program) {
   const std::vector<Waypoint> path = waypoints(program);
   double seconds = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
-    seconds += travelTime(program.cell.robot, path[k - 1].pose.joints, path[k].pose.joints);
+    seconds += moveTime(program.cell, path[k - 1].pose, path[k].pose);
   return seconds;
 }
 
 double moveTime(const Cell& cell, const CellPose& a, const CellPose& b) {
-  const double joints = travelTime(cell.robot, a.joints, b.joints);
-  if (!cell.table) return joints;
-  return std::max(joints, std::abs(a.table_angle - b.table_angle) / cell.table->speed);
+  return moveSeconds(cell, a, b).total();
 }
 
 JointMotion jointMotion(const Cell& cell, const std::vector<std::optional<CellPose>>& poses,

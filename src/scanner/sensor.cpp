@@ -37,6 +37,10 @@ double Scanner::reach() const {
 
 Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
 
+double Scanner::acquisitionSeconds() const {
+  return sweep_speed > 0 ? fov_height / sweep_speed : patterns * exposure;
+}
+
 void validate(const Scanner& s, const std::string& source) {
   auto fail = [&](const std::string& what) {
     throw InputError(source, "scanner '" + s.name + "': " + what);
@@ -67,6 +71,11 @@ void validate(const Scanner& s, const std::string& source) {
   angle(s.max_camera_angle, "max_camera_angle", 1);
   angle(s.max_projector_angle, "max_projector_angle", 1);
   angle(s.reflection_cone, "reflection_cone", 0);
+  if (!(s.patterns >= 1 && s.patterns <= 1000 && s.patterns == std::round(s.patterns)))
+    fail("patterns must be a whole number within [1, 1000]");
+  if (!(s.exposure > 0 && s.exposure <= 10)) fail("exposure must be within (0, 10] s");
+  if (!(s.sweep_speed == 0 || (s.sweep_speed >= 1 && s.sweep_speed <= 10000)))
+    fail("sweep_speed must be 0 (a fringe head) or within [1, 10000] mm/s");
   if (!(s.depth_of_field < 2 * s.standoff))
     fail(
         "depth_of_field must be shorter than twice the standoff (the volume would reach the "
@@ -82,8 +91,8 @@ void validate(const Scanner& s, const std::string& source) {
                     std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
 }
 
-const std::array<ScannerParameter, 12>& scannerParameters() {
-  static const std::array<ScannerParameter, 12> table = {{
+const std::array<ScannerParameter, 15>& scannerParameters() {
+  static const std::array<ScannerParameter, 15> table = {{
       {"standoff", &Scanner::standoff},
       {"depth_of_field", &Scanner::depth_of_field},
       {"fov_width", &Scanner::fov_width},
@@ -96,6 +105,9 @@ const std::array<ScannerParameter, 12>& scannerParameters() {
       {"noise_sigma", &Scanner::noise_sigma},
       {"body_margin", &Scanner::body_margin},
       {"body_depth", &Scanner::body_depth},
+      {"patterns", &Scanner::patterns},
+      {"exposure", &Scanner::exposure},
+      {"sweep_speed", &Scanner::sweep_speed},
   }};
   return table;
 }

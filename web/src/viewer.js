@@ -26,7 +26,8 @@ $('headline').textContent =
   `(${pct(summary.measured, summary.samples)}), ${summary.not_coverable} not coverable` +
   (summary.registrable_views !== undefined && summary.registrable_views !== null
     ? `, ${summary.registrable_views} views registered` : '') +
-  (summary.path_length !== undefined ? `, path ${fmt(summary.path_length / 1000, 2)} m` : '');
+  (summary.path_length !== undefined ? `, path ${fmt(summary.path_length / 1000, 2)} m` : '') +
+  (summary.cycle ? `, cycle ${fmt(summary.cycle.seconds)} s` : '');
 {
   const h = data.header, sc = plan.scanner;
   $('report-header').replaceChildren(
@@ -315,6 +316,12 @@ if (summary.robot) {
   summaryRows.push(['robot', plan.cell ? plan.cell.model : ''],
     ['robot joint travel', `${fmt(r.travel_seconds)} s, largest step ${fmt(r.max_joint_step)}° (axis ${r.max_joint_step_joint})`],
     ['table moves', r.table_moves], ['views the robot cannot reach', r.unreached_views]);
+}
+if (summary.cycle) {
+  const c = summary.cycle;
+  summaryRows.push(['cycle time', `${fmt(c.seconds)} s (${c.model === 'cell' ? 'the robot program' : 'generic positioning, no cell'})`],
+    ['  acquisition', `${fmt(c.acquisition)} s over ${c.views} views`], ['  motion', `${fmt(c.motion)} s`],
+    ['  table', `${fmt(c.table)} s`], ['  settling and handshakes', `${fmt(c.other)} s`]);
 }
 if (summary.sweep_views !== undefined) summaryRows.push(['sweep views', summary.sweep_views]);
 summaryRows.push(['planning time', `${fmt(summary.seconds, 2)} s`]);

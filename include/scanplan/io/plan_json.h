@@ -9,6 +9,10 @@
 
 namespace scanplan {
 
+// The version of plan.json this scanplan writes. Version 2 adds the cycle time
+// (summary.cycle) and the cell's accelerations; version 1 plans read without them.
+constexpr int kPlanVersion = 2;
+
 // The plan as JSON: every field §7 requires (format, version, units, part, scanner,
 // views, sequence, samples with measured_by, summary) plus `not_coverable` reasons and
 // stage times; with registration, each view's registration and bridge flag, the

@@ -9,6 +9,7 @@
 #include <scanplan/registration/registration.h>
 #include <scanplan/registration/sequencing.h>
 #include <scanplan/robot/cell.h>
+#include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
 #include <scanplan/sampling/sampling.h>
 
@@ -128,6 +129,9 @@ struct Plan {
   std::optional<Cell> cell;
   std::vector<std::optional<CellPose>> cell_poses;
   std::optional<CellMotion> cell_motion;  // of the program along the sequence
+  // What a run takes (robot/cycle.h): by the cell's program, or without a cell by the
+  // generic positioning along the sequence; none without either.
+  std::optional<CycleTime> cycle;
   // The part's characteristics (its GD&T) and whether the views can verify each
   // (planning/capability.h), in the same order.
   std::vector<Characteristic> characteristics;

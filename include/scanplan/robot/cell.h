@@ -25,6 +25,7 @@ struct RotaryTable {
   double lower = -M_PI, upper = M_PI;  // radians
   double step = radians(5);            // angles tried, radians
   double speed = M_PI / 2;             // its top speed, rad/s: a quarter turn a second
+  double acceleration = M_PI / 2;      // rad/s²: its top speed in a second (docs/cycle.md)
 };
 
 // The scanner as the robot's load, for the controller's payload: its mass and centre of

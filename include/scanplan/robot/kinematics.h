@@ -39,6 +39,7 @@ struct RobotModel {
   std::array<int, 6> signs{1, 1, 1, 1, 1, 1};
   Joints lower{}, upper{};  // joint limits, radians
   Joints speeds{};          // largest joint speeds, radians per second
+  Joints accelerations{};   // largest joint accelerations, radians per second² (docs/cycle.md)
   // Radii of the upper arm, the forearm and the wrist for collisions, mm; 0: sized from
   // the lengths (upper arm and forearm 0.1 x length + 20 mm, wrist 60 mm).
   std::array<double, 3> link_radii{};
@@ -89,7 +90,12 @@ Reach reachOf(const RobotModel& robot, const Pose& flange);
 // True when some arm configuration puts the flange there, joint limits aside.
 bool armReaches(const RobotModel& robot, const Pose& flange);
 
-// Largest joint travel time between two joint vectors, seconds (the joints move together).
+// The time of a joint move between two joint vectors, seconds: the joints move together,
+// in the slowest joint's time, each by its speed and acceleration (trapezoidSeconds).
 double travelTime(const RobotModel& robot, const Joints& from, const Joints& to);
+
+// The accelerations of joints the maker gives none for: each reaches its top speed in
+// half a second (docs/cycle.md).
+Joints rampAccelerations(const Joints& speeds);
 
 }  // namespace scanplan

@@ -35,7 +35,8 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
 // and its margin, and the cell's clearance, mm.
 double viaLift(const Cell& cell, const Scanner& scanner);
 
-// The program's joint travel time, seconds: home, vias, approaches, views and back home.
+// The program's travel time, seconds, by moveTime: home, vias, approaches, views and back
+// home.
 double programSeconds(const RobotProgram& program);
 
 // The robot program's motion with a cell: the joint travel of the whole program, seconds
@@ -46,13 +47,13 @@ struct CellMotion {
   std::vector<RobotMove> uncleared;
 };
 
-// Seconds from one cell pose to the next: the slowest joint at its largest speed, or the
-// table at its speed.
+// Seconds from one cell pose to the next: the slowest joint, or the table, each by its
+// speed and acceleration (robot/cycle.h, moveSeconds).
 double moveTime(const Cell& cell, const CellPose& a, const CellPose& b);
 
 // The joint motion of a sequence of cell poses: the largest change of any joint between
-// consecutive reached views (radians), the travel time (seconds, joints at their largest
-// speeds, the table at its speed) and how often the table turns.
+// consecutive reached views (radians), the travel time (seconds, by moveTime) and how
+// often the table turns.
 struct JointMotion {
   double max_step = 0;
   int max_step_joint = 0;  // 1-based

@@ -29,6 +29,12 @@ struct Scanner {
   // around camera and projector grown by body_margin, reaching body_depth behind the camera.
   double body_margin = 60;  // mm
   double body_depth = 200;  // mm
+  // The acquisition at each view (docs/cycle.md): a fringe head projects `patterns`
+  // patterns, each exposed for `exposure` seconds; a laser line (sweep_speed > 0, mm/s)
+  // sweeps its stroke, fov_height, at that speed.
+  double patterns = 10;
+  double exposure = 0.05;  // s
+  double sweep_speed = 0;  // mm/s; 0: a fringe head
 
   // Distance from camera to projector: standoff * tan(triangulation_angle), mm.
   double baseline() const;
@@ -36,6 +42,8 @@ struct Scanner {
   double reach() const;
   // Projector centre in S: (baseline, 0, 0).
   Vec3 projectorInScanner() const;
+  // Seconds from the trigger to the end of one view's capture.
+  double acquisitionSeconds() const;
 };
 
 // The scanner's numeric parameters by the names spec, preset and plan files give them.
@@ -43,11 +51,13 @@ struct ScannerParameter {
   const char* name;
   double Scanner::*value;
 };
-const std::array<ScannerParameter, 12>& scannerParameters();
+const std::array<ScannerParameter, 15>& scannerParameters();
 
 // \throw InputError naming `source` and the parameter when a value is out of range:
 //        sizes must be positive, angles within (0, 90) degrees (the reflection cone
-//        within [0, 90)), and the depth of field shorter than twice the standoff.
+//        within [0, 90)), and the depth of field shorter than twice the standoff; the
+//        patterns a whole number within [1, 1000], the exposure within (0, 10] s, the
+//        sweep speed 0 or within [1, 10000] mm/s.
 void validate(const Scanner& scanner, const std::string& source);
 
 // The scanner presets' names, sorted: those compiled into the library (data/scanners/ of

@@ -7,6 +7,7 @@
 #include <scanplan/core/view.h>
 #include <scanplan/registration/registration.h>
 #include <scanplan/robot/cell.h>
+#include <scanplan/robot/cycle.h>
 #include <scanplan/scanner/sensor.h>
 
 #include <cstdint>
@@ -96,6 +97,7 @@ struct Spec {
   PlannerSettings planner;
   bool working_plane = true;  // cell.working_plane: the plane z = 0 occludes
   std::optional<Cell> cell;   // cell.robot, cell.mount, cell.table: views must be reachable
+  CycleSettings cycle;        // cycle: what a view takes besides its acquisition
 };
 
 // The default spec: the generic structured-light scanner, one global task.

@@ -1,0 +1,83 @@
+// The cycle time of a plan (docs/cycle.md).
+#include <scanplan/core/errors.h>
+#include <scanplan/robot/cycle.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace scanplan {
+
+void validate(const CycleSettings& c, const std::string& source) {
+  auto within = [&](double value, double lo, double hi, const std::string& what) {
+    if (!(value >= lo && value <= hi)) throw InputError(source, "cycle." + what);
+  };
+  within(c.settle, 0, 60, "settle must lie within [0, 60] s");
+  within(c.handshake, 0, 60, "handshake must lie within [0, 60] s");
+  within(c.speed, 1, 10000, "speed must lie within [1, 10000] mm/s");
+  within(c.acceleration, 1, 100000, "acceleration must lie within [1, 100000] mm/s²");
+}
+
+CycleTime& CycleTime::operator+=(const CycleTime& more) {
+  views += more.views;
+  acquisition += more.acquisition;
+  motion += more.motion;
+  table += more.table;
+  other += more.other;
+  return *this;
+}
+
+double trapezoidSeconds(double distance, double speed, double acceleration) {
+  if (!(distance > 0)) return 0;
+  if (!(acceleration > 0)) return distance / speed;
+  // Up to speed and down again cover speed² / acceleration; a shorter move peaks below it.
+  if (distance >= speed * speed / acceleration) return distance / speed + speed / acceleration;
+  return 2 * std::sqrt(distance / acceleration);
+}
+
+MoveSeconds moveSeconds(const Cell& cell, const CellPose& a, const CellPose& b) {
+  MoveSeconds seconds{travelTime(cell.robot, a.joints, b.joints), 0};
+  if (cell.table)
+    seconds.table = trapezoidSeconds(std::abs(a.table_angle - b.table_angle), cell.table->speed,
+                                     cell.table->acceleration);
+  return seconds;
+}
+
+namespace {
+
+// The time at the views: their acquisition, settling and handshakes.
+void addViews(CycleTime& cycle, std::size_t views, const Scanner& scanner,
+              const CycleSettings& settings) {
+  cycle.views = views;
+  cycle.acquisition = static_cast<double>(views) * scanner.acquisitionSeconds();
+  cycle.other = static_cast<double>(views) * (settings.settle + settings.handshake);
+}
+
+}  // namespace
+
+CycleTime programCycle(const RobotProgram& program, const Scanner& scanner,
+                       const CycleSettings& settings) {
+  CycleTime cycle;
+  cycle.model = "cell";
+  const std::vector<Waypoint> path = waypoints(program);
+  std::size_t views = 0;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    views += path[k].what == "view";
+    if (k == 0) continue;
+    const MoveSeconds move = moveSeconds(program.cell, path[k - 1].pose, path[k].pose);
+    (move.table > move.arm ? cycle.table : cycle.motion) += move.total();
+  }
+  addViews(cycle, views, scanner, settings);
+  return cycle;
+}
+
+CycleTime genericCycle(std::span<const double> distances, std::size_t views, const Scanner& scanner,
+                       const CycleSettings& settings) {
+  CycleTime cycle;
+  cycle.model = "generic";
+  for (double d : distances)
+    cycle.motion += trapezoidSeconds(d, settings.speed, settings.acceleration);
+  addViews(cycle, views, scanner, settings);
+  return cycle;
+}
+
+}  // namespace scanplan
