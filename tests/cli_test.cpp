@@ -120,6 +120,11 @@ TEST(Cli, BadUsageIsExitCodeOne) {
   EXPECT_EQ(run("info").code, 1);
   EXPECT_EQ(run("info x.step --deflection nonsense").code, 1);
   EXPECT_EQ(run("--threads 0 info x.step").code, 1);
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  const CommandResult r = run("plan " + part + " --coverage 0 -o never-written -q");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_PRED2(test::contains, r.out, "--coverage: must be a share within (0, 1]");
+  EXPECT_FALSE(std::filesystem::exists("never-written"));
 }
 
 TEST(Cli, SimulateTwoViewsWithClouds) {

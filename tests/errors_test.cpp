@@ -420,6 +420,13 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                          "cell:\n  robot: {preset: abb-irb4600-60-205}\n"
                          "  table: {step: 1.0e-9}\n"),
                "cell.table.step must be at least 0.1 degrees");
+  // Coverage targets are shares of the coverable samples.
+  EXPECT_PRED2(contains, specError(dir, "planner: {coverage: 1.5}\n"),
+               "planner.coverage must be a share within (0, 1]");
+  EXPECT_PRED2(contains, specError(dir, "planner: {coverage: {global: 0}}\n"),
+               "planner.coverage.global must be a share within (0, 1]");
+  EXPECT_PRED2(contains, specError(dir, "planner: {coverage: {globl: 0.9}}\n"),
+               "unknown key 'globl' in planner.coverage");
 }
 
 // What YAML or a CSV would let through silently: a second document, a key given twice in a

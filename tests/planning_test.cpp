@@ -785,6 +785,89 @@ TEST(SetCover, MulticoverMatchesBruteForce) {
   }
 }
 
+// Partial cover against brute force over every subset, with two groups of elements and
+// costs of 1 to 3: the least cost meeting each group's need (a share of the elements some
+// set holds), the chosen sets meeting it, and the bound never above the optimum.
+TEST(SetCover, PartialCoverMatchesBruteForce) {
+  std::mt19937 random(13);
+  for (int instance = 0; instance < 30; ++instance) {
+    const int elements = 16, count = 12;
+    const std::vector<std::vector<int>> sets = randomSets(random, elements, count, 4);
+    std::vector<int> group(elements);
+    for (int e = 0; e < elements; ++e) group[e] = e % 3 == 0 ? -1 : e % 2;  // some not counted
+    std::vector<double> costs(count, 1.0);
+    if (instance % 2 == 1)
+      for (double& c : costs) c = 1.0 + static_cast<double>(random() % 3);
+    std::vector<int> held(2, 0);
+    std::vector<char> in_some(elements, 0);
+    for (const auto& set : sets)
+      for (int e : set) in_some[e] = 1;
+    for (int e = 0; e < elements; ++e) held[e % 2] += in_some[e] && group[e] >= 0;
+    const std::vector<double> need = {std::ceil(0.75 * held[0]), std::ceil(0.5 * held[1])};
+    auto meetsNeed = [&](const std::vector<int>& chosen) {
+      std::vector<char> covered(elements, 0);
+      for (int s : chosen)
+        for (int e : sets[s]) covered[e] = 1;
+      std::vector<double> got(2, 0);
+      for (int e = 0; e < elements; ++e)
+        got[group[e] < 0 ? 0 : group[e]] += covered[e] && group[e] >= 0;
+      return got[0] >= need[0] && got[1] >= need[1];
+    };
+    double optimum = 1e9;
+    for (unsigned mask = 0; mask < (1u << count); ++mask) {
+      std::vector<int> chosen;
+      double cost = 0;
+      for (int s = 0; s < count; ++s)
+        if (mask >> s & 1) {
+          chosen.push_back(s);
+          cost += costs[s];
+        }
+      if (cost < optimum && meetsNeed(chosen)) optimum = cost;
+    }
+    const SetCoverResult result = minimumPartialCover(sets, costs, group, need, 10);
+    double cost = 0;
+    for (int s : result.chosen) cost += costs[s];
+    EXPECT_TRUE(meetsNeed(result.chosen)) << "instance " << instance;
+    EXPECT_NEAR(cost, optimum, 1e-9) << "instance " << instance;
+    EXPECT_LE(result.lower_bound, optimum + 1e-9) << "instance " << instance;
+    EXPECT_LE(result.lp_bound, optimum + 1e-9) << "instance " << instance;
+  }
+}
+
+// The plate just inside 2 x 2 fields of view: its top takes four views, three can hold
+// three quarters of it (three fields are 75.2 % of its area), two at most half. A 75 %
+// target takes three views, which measure, simulated again, at least 75 % of what the four
+// measure.
+TEST(Planning, PlateOfTwoByTwoFieldsTakesThreeViewsForThreeQuarters) {
+  test::TempDir dir;
+  const Scanner scanner = scannerPreset("generic-structured-light");
+  const double width = 2 * scanner.fov_width - 1, height = 2 * scanner.fov_height - 1;
+  BRepTools::Write(BRepPrimAPI_MakeBox(width, height, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  const std::string task =
+      "tasks:\n  - {type: gdt, faces: [" + std::to_string(test::topFace(part)) + "]}\n";
+  const PlanningOptions options{.registration = false};
+  const Plan full = planViews(part, specWith(task, dir), options);
+  const Plan partial = planViews(
+      part, specWith(task + "planner: {coverage: {priority: 0.75, others: 0.75}}\n", dir), options);
+  EXPECT_EQ(full.views.size(), 4u);
+  EXPECT_EQ(partial.views.size(), 3u);
+  ASSERT_TRUE(partial.bound);
+  EXPECT_LE(partial.bound->lower_bound, 3);
+  const Simulator simulator = simulatorFor(part, full);
+  std::vector<SurfacePoint> points;
+  for (const PlannedSample& s : full.samples)
+    points.push_back({s.sample.position, s.sample.normal, s.sample.face});
+  auto measured = [&](const Plan& plan) {
+    std::vector<char> hit(points.size(), 0);
+    for (const std::vector<int>& seen : measuredPoints(simulator, plan.views, points))
+      for (int i : seen) hit[i] = 1;
+    return static_cast<double>(std::count(hit.begin(), hit.end(), 1));
+  };
+  EXPECT_EQ(measured(full), static_cast<double>(points.size()));
+  EXPECT_GE(measured(partial), 0.75 * measured(full));
+}
+
 // The selection's bookkeeping on a real part: its bound is positive and no more than its
 // views, which are no more than the greedy cover's and come from the pool. (The bound
 // against an optimum found by brute force is in the SetCover tests.)

@@ -34,6 +34,7 @@ struct Options {
   bool no_report = false;
   bool png = false;
   bool place_markers = false;
+  std::optional<double> coverage;  // --coverage: planner.coverage for every task
 };
 
 constexpr const char* kProposedMarkers = "proposed-markers.csv";
@@ -99,6 +100,12 @@ int run(const Options& options, const GlobalOptions& global) {
     refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
   Progress progress = terminalProgress(global);
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
+  if (options.coverage) {
+    if (!(*options.coverage > 0 && *options.coverage <= 1))
+      throw UsageError("--coverage", "must be a share within (0, 1], such as 0.95");
+    spec.planner.coverage.others = *options.coverage;
+    spec.planner.coverage.tasks.clear();
+  }
   const Part part = importWithWarnings(options.part, {}, progress);
   PlanningOptions planning;
   planning.registration = !options.no_registration;
@@ -174,6 +181,10 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
   command->add_option("--scanner", options->scanner,
                       "Scanner preset (scanplan scanners) or scanner file (YAML), overriding the "
                       "spec's");
+  command->add_option("--coverage", options->coverage,
+                      "Share of the coverable samples of every task to measure, such as 0.95 "
+                      "(the priority faces' samples keep the spec's share, all of them by "
+                      "default); overrides planner.coverage");
   command->add_flag("--no-registration", options->no_registration,
                     "Skip the registration check, bridging and sequencing");
   command->add_flag("--no-report", options->no_report,

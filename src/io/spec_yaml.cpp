@@ -339,11 +339,41 @@ CycleSettings readCycle(const YAML::Node& node, const SpecReader& reader) {
   return c;
 }
 
+// planner.coverage: one share for every task's samples but the priority ones, or a
+// mapping of shares by `priority`, `others` and task type; each within (0, 1].
+CoverageTargets readCoverage(const YAML::Node& node, const SpecReader& reader) {
+  CoverageTargets targets;
+  auto share = [&](const YAML::Node& value, const std::string& key) {
+    const double v = reader.scalar<double>(value, key);
+    if (!(v > 0 && v <= 1)) reader.fail(key + " must be a share within (0, 1]");
+    return v;
+  };
+  if (node.IsScalar()) {
+    targets.others = share(node, "planner.coverage");
+    return targets;
+  }
+  checkKeys(node, {"priority", "others", "gdt", "trim", "surface", "global", "points"}, reader,
+            "planner.coverage");
+  for (const auto& item : node) {
+    const std::string key = item.first.as<std::string>();
+    const double v = share(item.second, "planner.coverage." + key);
+    if (key == "priority")
+      targets.priority = v;
+    else if (key == "others")
+      targets.others = v;
+    else
+      for (TaskType type :
+           {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
+        if (key == toString(type)) targets.tasks[type] = v;
+  }
+  return targets;
+}
+
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
              "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
-             "capable_ratio", "lift_capability"},
+             "capable_ratio", "lift_capability", "coverage"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -364,6 +394,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     p.tilt_min = reader.scalar<double>(tilt[0], "planner.tilt");
     p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
   }
+  if (const YAML::Node coverage = node["coverage"]) p.coverage = readCoverage(coverage, reader);
   if (const YAML::Node rescue = node["rescue"]) {
     checkKeys(rescue, {"step", "rotations"}, reader, "planner.rescue");
     reader.read(rescue, "planner.rescue", "step", p.rescue_step);

@@ -115,6 +115,87 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
   return {chosen, cover};
 }
 
+// The groups of the partial cover: the priority samples, then each task's others.
+constexpr TaskType kTaskTypes[] = {TaskType::Gdt, TaskType::Trim, TaskType::Surface,
+                                   TaskType::Global, TaskType::Points};
+
+int coverageGroup(const Sample& s) {
+  if (s.role == Role::Priority) return 0;
+  return 1 + static_cast<int>(std::find(std::begin(kTaskTypes), std::end(kTaskTypes), s.task) -
+                              std::begin(kTaskTypes));
+}
+
+// What the coverage targets ask of the views after the pinned ones: per sample its group,
+// or -1 when it counts as measured already (done in an earlier placement, or by a pinned
+// view) or no view of the pool measures it; per group the samples still to measure.
+struct CoverageNeed {
+  std::vector<int> group;
+  std::vector<double> need;
+};
+
+CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+                          const std::vector<PlannedSample>& samples) {
+  const std::size_t groups = 1 + std::size(kTaskTypes);
+  std::vector<char> coverable(samples.size(), 0), measured(samples.size(), 0);
+  for (std::size_t v = 0; v < pool.size(); ++v)
+    for (int i : pool.samples[v]) {
+      coverable[i] = 1;
+      measured[i] = measured[i] || v < pinned;
+    }
+  CoverageNeed result{std::vector<int>(samples.size(), -1), std::vector<double>(groups, 0)};
+  std::vector<double> total(groups, 0), already(groups, 0);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!coverable[i] && !at.isDone(i)) continue;
+    const int g = coverageGroup(samples[i].sample);
+    ++total[g];
+    if (measured[i] || at.isDone(i))
+      ++already[g];
+    else
+      result.group[i] = g;
+  }
+  for (std::size_t g = 0; g < groups; ++g) {
+    const double share = g == 0 ? at.settings().coverage.priority
+                                : at.settings().coverage.of(Role::Normal, kTaskTypes[g - 1]);
+    result.need[g] = std::max(0.0, std::ceil(share * total[g] - 1e-9) - already[g]);
+  }
+  return result;
+}
+
+// How many views of `order` (pool indices, by marginal coverage) meet `needs`.
+std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size_t>& order,
+                          const CoverageNeed& needs) {
+  std::vector<double> unmet = needs.need;
+  std::vector<char> covered(needs.group.size(), 0);
+  auto met = [&] {
+    return std::all_of(unmet.begin(), unmet.end(), [](double u) { return u <= 0; });
+  };
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (met()) return k;
+    for (int i : pool.samples[order[k]])
+      if (needs.group[i] >= 0 && !covered[i]) {
+        covered[i] = 1;
+        --unmet[needs.group[i]];
+      }
+  }
+  return order.size();
+}
+
+// The selection to coverage targets below 1: the fewest views after the `pinned` ones that
+// meet every group's share (minimumPartialCover). Pool indices, the pinned ones first; the
+// cover's result.
+std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
+    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+    const std::vector<PlannedSample>& samples, const CoverageNeed& needs) {
+  const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
+  const SetCoverResult cover =
+      minimumPartialCover(sets, std::vector<double>(sets.size(), 1.0), needs.group, needs.need,
+                          at.settings().selection_seconds, at.settings().selection_nodes);
+  std::vector<std::size_t> chosen(pinned);
+  std::iota(chosen.begin(), chosen.end(), 0);
+  for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
+  return {greedyCover(at, pool, chosen, pinned, samples), cover};
+}
+
 }  // namespace
 
 std::vector<char> keptViews(const Placement& at, const MeasuredViews& pool,
@@ -147,7 +228,16 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
   Selection selection;
   PlanBound& bound = selection.bound;
-  if (registering) {
+  bound.greedy_views = greedy.size();
+  if (!at.settings().coverage.full()) {
+    // To coverage targets: a partial cover, registered afterwards (bridging views where
+    // its views fall apart), against the greedy cover's shortest prefix meeting them.
+    const CoverageNeed needs = coverageNeed(at, pool, pinned, samples);
+    const auto [chosen, cover] = partialCover(at, pool, pinned, samples, needs);
+    selection.views = chosen;
+    bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
+    bound.greedy_views = prefixMeeting(pool, greedy, needs);
+  } else if (registering) {
     // The cover and the bound of the pool's cover are independent: made side by side.
     tbb::parallel_invoke(
         [&] {
@@ -160,7 +250,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
                                                  at.settings().selection_seconds);
         });
   }
-  if (selection.views.empty()) {
+  if (selection.views.empty() && at.settings().coverage.full()) {
     const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size(), progress);
     const std::vector<std::size_t> chosen =
         withoutRedundant(at, pool, exact, pinned, samples.size());
@@ -168,7 +258,6 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
     bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
   }
   bound.views = selection.views.size();
-  bound.greedy_views = greedy.size();
   bound.pool = pool.size();
   bound.proven_optimal = bound.lower_bound >= static_cast<double>(bound.views);
   return selection;

@@ -200,11 +200,22 @@ class TimeShown {
   std::jthread thread_;  // last: stopped and joined first
 };
 
+// The objective of `x` in `solver`.
+double objectiveOf(const OsiClpSolverInterface& solver, const double* x) {
+  const double* costs = solver.getObjCoefficients();
+  double sum = 0;
+  for (int c = 0; c < solver.getNumCols(); ++c) sum += costs[c] * x[c];
+  return sum;
+}
+
 // CBC's own solver (cuts and primal heuristics, as its command line runs them) on the
-// integer program of `solver`, from the cover `start`: the best cover found, and whether
-// it is proven minimal and the bound, into `result`.
-std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, const std::vector<int>& start,
-                                double seconds, int max_nodes, SetCoverResult& result) {
+// integer program of `solver`, from the feasible solution `start` (every column): the
+// first `sets` columns at 1 in the best solution found (the start's unless one costs
+// less), and whether it is proven least and the bound (rounded up when `integral`), into
+// `result`.
+std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector<double> start,
+                                int sets, double seconds, int max_nodes, bool integral,
+                                SetCoverResult& result) {
   const int columns = solver.getNumCols();
   CbcModel model(solver);
   CbcSolverUsefulData data;
@@ -212,21 +223,29 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, const std::
   model.setLogLevel(0);
   model.messageHandler()->setLogLevel(0);
   model.solver()->messageHandler()->setLogLevel(0);
-  std::vector<double> x(columns, 0.0);
-  for (int c : start) x[c] = 1.0;
-  model.setBestSolution(x.data(), columns, static_cast<double>(start.size()), true);
+  const double start_cost = objectiveOf(solver, start.data());
+  model.setBestSolution(start.data(), columns, start_cost, true);
   const std::string time = std::to_string(seconds), nodes = std::to_string(max_nodes);
   const char* argv[] = {"scanplan",   "-log",  "0",           "-slog",  "0",    "-sec",
                         time.c_str(), "-maxN", nodes.c_str(), "-solve", "-quit"};
   CbcMain1(static_cast<int>(std::size(argv)), argv, model, nullptr, data);
+  const double* best = model.bestSolution();
+  const double* chosen_x =
+      best && objectiveOf(solver, best) <= start_cost + 1e-9 ? best : start.data();
   std::vector<int> chosen;
-  if (const double* best = model.bestSolution())
-    for (int c = 0; c < columns; ++c)
-      if (best[c] > 0.5) chosen.push_back(c);
-  if (chosen.empty() || chosen.size() > start.size()) chosen = start;
+  for (int c = 0; c < sets; ++c)
+    if (chosen_x[c] > 0.5) chosen.push_back(c);
   result.optimal = model.isProvenOptimal();
-  result.lower_bound = std::max(result.lp_bound, std::ceil(model.getBestPossibleObjValue() - 1e-6));
+  const double bound = model.getBestPossibleObjValue();
+  result.lower_bound = std::max(result.lp_bound, integral ? std::ceil(bound - 1e-6) : bound);
   return chosen;
+}
+
+// The columns `chosen` at 1, the others at 0.
+std::vector<double> indicator(const std::vector<int>& chosen, int columns) {
+  std::vector<double> x(columns, 0.0);
+  for (int c : chosen) x[c] = 1.0;
+  return x;
 }
 
 }  // namespace
@@ -272,8 +291,8 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
     solver.getModelPtr()->setMaximumSeconds(-1);
     solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
     for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    start = branchAndBound(solver, start, std::max(time_limit_seconds - elapsed(), 0.0), max_nodes,
-                           result);
+    start = branchAndBound(solver, indicator(start, solver.getNumCols()), solver.getNumCols(),
+                           std::max(time_limit_seconds - elapsed(), 0.0), max_nodes, true, result);
   }
   // Out of time before the LP and without a start: still a cover, each row by the first set
   // that holds it, the redundant ones dropped.
@@ -341,10 +360,146 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
     const double left =
         time_limit_seconds -
         std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-    start = branchAndBound(solver, start, std::max(left, 0.0), 1000000, result);
+    start = branchAndBound(solver, indicator(start, solver.getNumCols()), solver.getNumCols(),
+                           std::max(left, 0.0), 1000000, true, result);
   }
   std::sort(start.begin(), start.end());
   result.chosen = start;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  return result;
+}
+
+namespace {
+
+// The partial cover as rows of element indices: per set its rows, per row its group; the
+// need of each group capped by the rows it has.
+struct PartialInstance {
+  std::vector<std::vector<int>> columns;
+  std::vector<int> group_of;  // per row
+  std::vector<double> need;   // per group
+};
+
+PartialInstance partialInstance(const std::vector<std::vector<int>>& sets,
+                                const std::vector<int>& group, const std::vector<double>& need) {
+  std::vector<char> counted(group.size(), 0);
+  for (std::size_t e = 0; e < group.size(); ++e)
+    counted[e] = group[e] >= 0 && group[e] < static_cast<int>(need.size());
+  PartialInstance instance;
+  std::vector<int> elements;
+  int rows = 0;
+  instance.columns = requiredRows(sets, counted, rows, &elements);
+  std::vector<double> held(need.size(), 0);
+  for (int e : elements) {
+    instance.group_of.push_back(group[e]);
+    ++held[group[e]];
+  }
+  for (std::size_t g = 0; g < need.size(); ++g)
+    instance.need.push_back(std::min(std::ceil(need[g] - 1e-9), held[g]));
+  return instance;
+}
+
+// Greedy: the set meeting the most unmet need per cost, until every group has its need.
+std::vector<int> greedyPartial(const PartialInstance& p, const std::vector<double>& costs) {
+  std::vector<double> unmet = p.need;
+  std::vector<char> covered(p.group_of.size(), 0), used(p.columns.size(), 0);
+  std::vector<int> chosen;
+  for (;;) {
+    int best = -1;
+    double best_rate = 0;
+    for (std::size_t c = 0; c < p.columns.size(); ++c) {
+      if (used[c]) continue;
+      std::vector<double> gain(unmet.size(), 0);
+      for (int r : p.columns[c])
+        if (!covered[r]) ++gain[p.group_of[r]];
+      double useful = 0;
+      for (std::size_t g = 0; g < gain.size(); ++g) useful += std::min(gain[g], unmet[g]);
+      const double rate = useful / std::max(costs[c], 1e-12);
+      if (useful > 0 && rate > best_rate) {
+        best_rate = rate;
+        best = static_cast<int>(c);
+      }
+    }
+    if (best < 0) return chosen;
+    used[best] = 1;
+    chosen.push_back(best);
+    for (int r : p.columns[best])
+      if (!covered[r]) {
+        covered[r] = 1;
+        unmet[p.group_of[r]] = std::max(unmet[p.group_of[r]] - 1, 0.0);
+      }
+  }
+}
+
+// The LP of the partial cover: a column per set (cost c_s) and per row (its y, cost 0);
+// y_r - sum_{s holds r} x_s <= 0 per row, sum_{r in g} y_r >= need_g per group.
+void loadPartial(const PartialInstance& p, const std::vector<double>& costs,
+                 OsiClpSolverInterface& solver) {
+  const int sets = static_cast<int>(p.columns.size()), rows = static_cast<int>(p.group_of.size());
+  const int groups = static_cast<int>(p.need.size());
+  std::vector<int> indices, starts, lengths;
+  std::vector<double> values;
+  for (const auto& column : p.columns) {
+    starts.push_back(static_cast<int>(indices.size()));
+    indices.insert(indices.end(), column.begin(), column.end());
+    values.insert(values.end(), column.size(), -1.0);
+    lengths.push_back(static_cast<int>(column.size()));
+  }
+  for (int r = 0; r < rows; ++r) {
+    starts.push_back(static_cast<int>(indices.size()));
+    indices.insert(indices.end(), {r, rows + p.group_of[r]});
+    values.insert(values.end(), {1.0, 1.0});
+    lengths.push_back(2);
+  }
+  const CoinPackedMatrix matrix(true, rows + groups, sets + rows,
+                                static_cast<CoinBigIndex>(indices.size()), values.data(),
+                                indices.data(), starts.data(), lengths.data());
+  const double infinity = std::numeric_limits<double>::infinity();
+  std::vector<double> objective(costs.begin(), costs.end());
+  objective.resize(sets + rows, 0.0);
+  const std::vector<double> column_lower(sets + rows, 0.0), column_upper(sets + rows, 1.0);
+  std::vector<double> row_lower(rows, -infinity), row_upper(rows, 0.0);
+  row_lower.insert(row_lower.end(), p.need.begin(), p.need.end());
+  row_upper.insert(row_upper.end(), groups, infinity);
+  solver.loadProblem(matrix, column_lower.data(), column_upper.data(), objective.data(),
+                     row_lower.data(), row_upper.data());
+  solver.messageHandler()->setLogLevel(0);
+  solver.getModelPtr()->setLogLevel(0);
+}
+
+}  // namespace
+
+SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
+                                   const std::vector<double>& costs, const std::vector<int>& group,
+                                   const std::vector<double>& need, double time_limit_seconds,
+                                   int max_nodes) {
+  const auto began = std::chrono::steady_clock::now();
+  SetCoverResult result;
+  const PartialInstance p = partialInstance(sets, group, need);
+  std::vector<int> chosen = greedyPartial(p, costs);
+  const bool integral = std::all_of(costs.begin(), costs.end(), [](double c) { return c == 1; });
+  if (!p.group_of.empty() && !chosen.empty()) {
+    OsiClpSolverInterface solver;
+    loadPartial(p, costs, solver);
+    solver.getModelPtr()->setMaximumIterations(100000);
+    solver.initialSolve();
+    if (solver.isProvenOptimal()) {
+      const double lp = solver.getObjValue();
+      result.lp_bound = integral ? std::ceil(lp - 1e-6) : lp;
+      solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
+      const int columns = static_cast<int>(p.columns.size());
+      for (int c = 0; c < columns; ++c) solver.setInteger(c);
+      std::vector<double> start = indicator(chosen, solver.getNumCols());
+      for (int c : chosen)  // each row the start covers counts
+        for (int r : p.columns[c]) start[columns + r] = 1.0;
+      const double left =
+          time_limit_seconds -
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+      chosen =
+          branchAndBound(solver, start, columns, std::max(left, 0.0), max_nodes, integral, result);
+    }
+  }
+  std::sort(chosen.begin(), chosen.end());
+  result.chosen = chosen;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return result;
 }

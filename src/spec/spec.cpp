@@ -152,6 +152,17 @@ std::vector<std::string> specFiles(const Spec& spec) {
   return files;
 }
 
+double CoverageTargets::of(Role role, TaskType task) const {
+  if (role == Role::Priority) return priority;
+  const auto it = tasks.find(task);
+  return it == tasks.end() ? others : it->second;
+}
+
+bool CoverageTargets::full() const {
+  return priority >= 1 && others >= 1 &&
+         std::all_of(tasks.begin(), tasks.end(), [](const auto& t) { return t.second >= 1; });
+}
+
 RegistrationOptions registrationOptions(const Spec& spec) {
   RegistrationOptions registration = spec.registration;
   registration.seed = spec.planner.seed;

@@ -46,4 +46,17 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
                                  const std::vector<int>& demand, double time_limit_seconds);
 
+// The cheapest of `sets` such that, in each group g, at least need[g] of the elements
+// group[e] = g assigns to it are covered (group[e] < 0: an element that does not count;
+// a need beyond the elements some set holds is capped there). costs[s] is each set's
+// cost (all 1: the fewest sets).
+//   min sum c_s x_s  s.t.  y_e <= sum_{s contains e} x_s,  sum_{e in g} y_e >= need_g,
+//   x_s in {0, 1},  0 <= y_e <= 1.
+// A greedy start (the most unmet need per cost), the LP relaxation's bound (rounded up
+// with unit costs), then CBC for at most `max_nodes` nodes or `time_limit_seconds`.
+SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
+                                   const std::vector<double>& costs, const std::vector<int>& group,
+                                   const std::vector<double>& need, double time_limit_seconds,
+                                   int max_nodes = 1000000);
+
 }  // namespace scanplan

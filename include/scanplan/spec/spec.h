@@ -11,6 +11,7 @@
 #include <scanplan/scanner/sensor.h>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -50,6 +51,18 @@ struct CapabilityOptions {
   int draws = 200;            // Monte Carlo draws of the noise
 };
 
+// planner.coverage (docs/planning.md, "Coverage targets"): the share of the coverable
+// samples the selection must measure, for the priority samples and for each task's
+// others. 1 everywhere: every sample a pose of the pool measures.
+struct CoverageTargets {
+  double priority = 1;               // the priority faces' samples
+  double others = 1;                 // every task's other samples, unless named below
+  std::map<TaskType, double> tasks;  // a task's own share
+
+  double of(Role role, TaskType task) const;
+  bool full() const;  // every share 1
+};
+
 struct PlannerSettings {
   std::uint64_t seed = 1;  // k-means and any other randomness
   double vm_step = 5;      // visibility-map grid step, degrees
@@ -69,6 +82,7 @@ struct PlannerSettings {
   CapabilityOptions capability;  // capable_ratio: planner.capable_ratio
   bool lift_capability = false;  // plan again with the characteristics' faces as targets when
                                  // one is covered but not capable; kept if more are capable
+  CoverageTargets coverage;      // below 1: the selection is a partial cover
 };
 
 struct Spec {
