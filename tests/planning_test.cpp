@@ -866,6 +866,9 @@ TEST(Planning, PlateOfTwoByTwoFieldsTakesThreeViewsForThreeQuarters) {
   };
   EXPECT_EQ(measured(full), static_cast<double>(points.size()));
   EXPECT_GE(measured(partial), 0.75 * measured(full));
+  // The samples left out are coverable: no reason is given for them.
+  EXPECT_EQ(partial.notCoverableCount(), 0u);
+  EXPECT_LT(partial.measuredCount(), partial.samples.size());
 }
 
 // The selection's bookkeeping on a real part: its bound is positive and no more than its

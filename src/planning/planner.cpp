@@ -201,9 +201,15 @@ std::vector<Loss> bestLosses(const Placement& at, const MeasuredViews& pool,
 
 void explainUncoverable(const Placement& at, const std::vector<Visibility>& visibility,
                         const MeasuredViews& pool, std::vector<PlannedSample>& samples) {
+  // Below a coverage target of 1, a sample a pose of the pool measures was left out by the
+  // target, and is coverable: it gets no reason.
+  std::vector<char> left_out(samples.size(), 0);
+  if (!at.settings().coverage.full())
+    for (const std::vector<int>& measured : pool.samples)
+      for (int i : measured) left_out[i] = 1;
   std::vector<std::size_t> unmeasured;
   for (std::size_t i = 0; i < samples.size(); ++i)
-    if (samples[i].measured_by.empty() && !at.isDone(i)) unmeasured.push_back(i);
+    if (samples[i].measured_by.empty() && !at.isDone(i) && !left_out[i]) unmeasured.push_back(i);
   const std::vector<Loss> best = bestLosses(at, pool, unmeasured);
   for (std::size_t k = 0; k < unmeasured.size(); ++k) {
     const std::size_t i = unmeasured[k];
