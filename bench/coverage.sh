@@ -12,7 +12,7 @@ shares=("$@")
 [ ${#shares[@]} -gt 0 ] || shares=(1 0.98 0.95 0.9)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-echo "| coverage | views | measured | cycle s | greedy prefix | bound | planning s |"
+echo "| coverage | views (selected) | measured | cycle s | greedy prefix | bound | planning s |"
 echo "|---|---|---|---|---|---|---|"
 for share in "${shares[@]}"; do
   args=(plan "$part" -o "$out/$share" --no-report -q --coverage "$share" "${extra[@]}")
@@ -25,7 +25,8 @@ s = plan["summary"]
 coverable = s["samples"] - s["not_coverable"]
 cycle = s.get("cycle", {}).get("seconds")
 bound = s.get("bound", {})
-print(f"| {float(sys.argv[2]):.2f} | {s['views']} | {s['measured']} of {coverable} "
+print(f"| {float(sys.argv[2]):.2f} | {s['views']} ({bound.get('views', '-')}) | "
+      f"{s['measured']} of {coverable} "
       f"({100 * s['measured'] / max(coverable, 1):.1f}%) | "
       f"{'-' if cycle is None else f'{cycle:.0f}'} | {bound.get('greedy_views', '-')} | "
       f"{bound.get('lower_bound', '-')} | {float(sys.argv[3]):.1f} |")

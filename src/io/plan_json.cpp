@@ -806,10 +806,8 @@ struct PlanReader {
     p.sample.face = field<int>(entry, "face", path, where);
     p.sample.role = enumFrom(field<std::string>(entry, "role", path, where),
                              std::array{Role::Priority, Role::Normal, Role::Fixture}, path, where);
-    p.sample.task = enumFrom(field<std::string>(entry, "task", path, where),
-                             std::array{TaskType::Gdt, TaskType::Trim, TaskType::Surface,
-                                        TaskType::Global, TaskType::Points},
-                             path, where);
+    p.sample.task =
+        enumFrom(field<std::string>(entry, "task", path, where), kTaskTypes, path, where);
     p.measured_by = field<std::vector<int>>(entry, "measured_by", path, where);
     if (entry.contains("cluster")) p.sample.cluster = field<int>(entry, "cluster", path, where);
     if (entry.contains("not_coverable"))
@@ -887,8 +885,7 @@ std::string partFile(const json& part, const std::string& path) {
 
 // The view tasks a plan can hold: a task's type, a bridge for registration, or none.
 bool knownViewTask(const std::string& task) {
-  for (const TaskType type :
-       {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
+  for (const TaskType type : kTaskTypes)
     if (task == toString(type)) return true;
   return task.empty() || task == "bridge";
 }

@@ -362,8 +362,7 @@ CoverageTargets readCoverage(const YAML::Node& node, const SpecReader& reader) {
     else if (key == "others")
       targets.others = v;
     else
-      for (TaskType type :
-           {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
+      for (TaskType type : kTaskTypes)
         if (key == toString(type)) targets.tasks[type] = v;
   }
   return targets;

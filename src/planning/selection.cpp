@@ -115,14 +115,12 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
   return {chosen, cover};
 }
 
-// The groups of the partial cover: the priority samples, then each task's others.
-constexpr TaskType kTaskTypes[] = {TaskType::Gdt, TaskType::Trim, TaskType::Surface,
-                                   TaskType::Global, TaskType::Points};
-
+// The group of a sample in the partial cover: 0 for the priority samples, then one per
+// task type for the others.
 int coverageGroup(const Sample& s) {
   if (s.role == Role::Priority) return 0;
-  return 1 + static_cast<int>(std::find(std::begin(kTaskTypes), std::end(kTaskTypes), s.task) -
-                              std::begin(kTaskTypes));
+  return 1 + static_cast<int>(std::find(kTaskTypes.begin(), kTaskTypes.end(), s.task) -
+                              kTaskTypes.begin());
 }
 
 // What the coverage targets ask of the views after the pinned ones: per sample its group,
@@ -135,7 +133,7 @@ struct CoverageNeed {
 
 CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                           const std::vector<PlannedSample>& samples) {
-  const std::size_t groups = 1 + std::size(kTaskTypes);
+  const std::size_t groups = 1 + kTaskTypes.size();
   std::vector<char> coverable(samples.size(), 0), measured(samples.size(), 0);
   for (std::size_t v = 0; v < pool.size(); ++v)
     for (int i : pool.samples[v]) {
@@ -181,15 +179,20 @@ std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size
 }
 
 // The selection to coverage targets below 1: the fewest views after the `pinned` ones that
-// meet every group's share (minimumPartialCover). Pool indices, the pinned ones first; the
-// cover's result.
+// meet every group's share (minimumPartialCover), CBC starting from the shortest prefix of
+// the greedy cover `greedy` that meets them, when it is the better start. Pool indices,
+// the pinned ones first; the cover's result.
 std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
     const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-    const std::vector<PlannedSample>& samples, const CoverageNeed& needs) {
+    const std::vector<PlannedSample>& samples, const CoverageNeed& needs,
+    const std::vector<std::size_t>& greedy) {
   const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
+  std::vector<int> start;
+  for (std::size_t k = pinned; k < prefixMeeting(pool, greedy, needs); ++k)
+    start.push_back(static_cast<int>(greedy[k] - pinned));
   const SetCoverResult cover =
       minimumPartialCover(sets, std::vector<double>(sets.size(), 1.0), needs.group, needs.need,
-                          at.settings().selection_seconds, at.settings().selection_nodes);
+                          at.settings().selection_seconds, at.settings().selection_nodes, start);
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -233,7 +236,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
     // To coverage targets: a partial cover, registered afterwards (bridging views where
     // its views fall apart), against the greedy cover's shortest prefix meeting them.
     const CoverageNeed needs = coverageNeed(at, pool, pinned, samples);
-    const auto [chosen, cover] = partialCover(at, pool, pinned, samples, needs);
+    const auto [chosen, cover] = partialCover(at, pool, pinned, samples, needs, greedy);
     selection.views = chosen;
     bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
     bound.greedy_views = prefixMeeting(pool, greedy, needs);

@@ -92,9 +92,7 @@ json samplesJson(const Plan& plan) {
     face.push_back(s.sample.face);
   }
   json tasks = json::array(), roles = json::array(), reasons = json::array();
-  for (TaskType t :
-       {TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points})
-    tasks.push_back(toString(t));
+  for (TaskType t : kTaskTypes) tasks.push_back(toString(t));
   for (Role r : {Role::Priority, Role::Normal, Role::Fixture}) roles.push_back(toString(r));
   for (Uncoverable u :
        {Uncoverable::None, Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,

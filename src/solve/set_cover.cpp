@@ -430,6 +430,24 @@ std::vector<int> greedyPartial(const PartialInstance& p, const std::vector<doubl
   }
 }
 
+// Whether the sets `chosen` meet every group's need.
+bool meetsNeed(const PartialInstance& p, const std::vector<int>& chosen) {
+  std::vector<char> covered(p.group_of.size(), 0);
+  for (int c : chosen)
+    for (int r : p.columns[c]) covered[r] = 1;
+  std::vector<double> got(p.need.size(), 0);
+  for (std::size_t r = 0; r < covered.size(); ++r) got[p.group_of[r]] += covered[r];
+  for (std::size_t g = 0; g < got.size(); ++g)
+    if (got[g] < p.need[g]) return false;
+  return true;
+}
+
+double cost(const std::vector<double>& costs, const std::vector<int>& chosen) {
+  double sum = 0;
+  for (int c : chosen) sum += costs[c];
+  return sum;
+}
+
 // The LP of the partial cover: a column per set (cost c_s) and per row (its y, cost 0);
 // y_r - sum_{s holds r} x_s <= 0 per row, sum_{r in g} y_r >= need_g per group.
 void loadPartial(const PartialInstance& p, const std::vector<double>& costs,
@@ -471,11 +489,12 @@ void loadPartial(const PartialInstance& p, const std::vector<double>& costs,
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
                                    const std::vector<double>& need, double time_limit_seconds,
-                                   int max_nodes) {
+                                   int max_nodes, const std::vector<int>& start) {
   const auto began = std::chrono::steady_clock::now();
   SetCoverResult result;
   const PartialInstance p = partialInstance(sets, group, need);
   std::vector<int> chosen = greedyPartial(p, costs);
+  if (meetsNeed(p, start) && cost(costs, start) < cost(costs, chosen)) chosen = start;
   const bool integral = std::all_of(costs.begin(), costs.end(), [](double c) { return c == 1; });
   if (!p.group_of.empty() && !chosen.empty()) {
     OsiClpSolverInterface solver;
@@ -488,14 +507,13 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
       solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
       const int columns = static_cast<int>(p.columns.size());
       for (int c = 0; c < columns; ++c) solver.setInteger(c);
-      std::vector<double> start = indicator(chosen, solver.getNumCols());
+      std::vector<double> x = indicator(chosen, solver.getNumCols());
       for (int c : chosen)  // each row the start covers counts
-        for (int r : p.columns[c]) start[columns + r] = 1.0;
+        for (int r : p.columns[c]) x[columns + r] = 1.0;
       const double left =
           time_limit_seconds -
           std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-      chosen =
-          branchAndBound(solver, start, columns, std::max(left, 0.0), max_nodes, integral, result);
+      chosen = branchAndBound(solver, x, columns, std::max(left, 0.0), max_nodes, integral, result);
     }
   }
   std::sort(chosen.begin(), chosen.end());

@@ -4,6 +4,7 @@
 
 #include <scanplan/core/geometry.h>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -13,6 +14,9 @@ namespace scanplan {
 
 enum class TaskType { Gdt, Trim, Surface, Global, Points };
 std::string_view toString(TaskType type);
+// Every task type, in the order of the enum.
+inline constexpr std::array<TaskType, 5> kTaskTypes = {
+    TaskType::Gdt, TaskType::Trim, TaskType::Surface, TaskType::Global, TaskType::Points};
 
 enum class Role { Priority, Normal, Fixture };
 std::string_view toString(Role role);

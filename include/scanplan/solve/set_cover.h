@@ -52,11 +52,12 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
 // cost (all 1: the fewest sets).
 //   min sum c_s x_s  s.t.  y_e <= sum_{s contains e} x_s,  sum_{e in g} y_e >= need_g,
 //   x_s in {0, 1},  0 <= y_e <= 1.
-// A greedy start (the most unmet need per cost), the LP relaxation's bound (rounded up
-// with unit costs), then CBC for at most `max_nodes` nodes or `time_limit_seconds`.
+// A greedy start (the most unmet need per cost, or `start` when it meets every need and
+// costs less), the LP relaxation's bound (rounded up with unit costs), then CBC for at most
+// `max_nodes` nodes or `time_limit_seconds`; the result never costs more than the start.
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
                                    const std::vector<double>& need, double time_limit_seconds,
-                                   int max_nodes = 1000000);
+                                   int max_nodes = 1000000, const std::vector<int>& start = {});
 
 }  // namespace scanplan
