@@ -8,6 +8,7 @@
 
 #include <scanplan/planning/bridging.h>
 #include <scanplan/planning/poses.h>
+#include <scanplan/scanner/visibility.h>
 
 #include <algorithm>
 #include <map>
@@ -253,6 +254,38 @@ TEST(Stages, RescueMeasuresEverySampleADensePoseCanMeasure) {
   ASSERT_FALSE(added.views.empty());
   for (std::size_t v = 0; v < added.size(); ++v)
     EXPECT_EQ(added.samples[v], detail::measuredBy(simulator, added.views[v], at.points)) << v;
+}
+
+// planner.rescue sets the rescue's search: each view it adds looks along a direction of
+// the grid of `planner.rescue.step`, and another step gives other views.
+TEST(Stages, RescueTriesTheDirectionsOfItsStep) {
+  const Part part = studdedPlate();
+  std::map<double, std::vector<Vec3>> axes;  // per step, the added views' directions
+  for (const double step : {10.0, 25.0}) {
+    Spec settings = defaultSpec();
+    settings.planner.rescue_step = step;
+    settings.planner.rescue_rotations = 1;
+    const ResolvedSpec spec = resolveSpec(part, settings);
+    const Simulator simulator(part, spec.spec.scanner);
+    std::vector<PlannedSample> samples =
+        plateSamples({Vec3(50, 50, 10), Vec3(350, 150, 10), Vec3(650, 250, 10)});
+    const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
+    detail::MeasuredViews added;
+    detail::rescueViews(at, samples, added);
+    ASSERT_EQ(added.size(), 3u) << step;
+    const VisibilityMap grid(step);
+    for (const View& view : added.views) {
+      const Vec3 back = -view.camera_to_world.linear().col(2);  // the target to the camera
+      double nearest = -1;
+      for (int c = 0; c < grid.cells(); ++c)
+        nearest = std::max(nearest, back.dot(grid.direction(c)));
+      EXPECT_GT(nearest, 1 - 1e-9) << "step " << step << ": " << back.transpose();
+      axes[step].push_back(back);
+    }
+  }
+  bool differ = false;
+  for (std::size_t k = 0; k < 3; ++k) differ = differ || axes[10][k].dot(axes[25][k]) < 1 - 1e-6;
+  EXPECT_TRUE(differ);
 }
 
 // A pose that sees no marker, shifted across its axis towards three just outside its

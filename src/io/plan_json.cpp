@@ -136,6 +136,26 @@ void addCharacteristics(const Plan& plan, json& result) {
   }
 }
 
+// The samples measured by the first k views, in the plan's numbering (by marginal
+// coverage, bridging views last), for k = 1..n; and the coverable samples: what each view
+// adds, and what the last ones cost.
+json coverageByViewsJson(const Plan& plan) {
+  std::map<int, std::size_t> position;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) position[plan.views[v].id] = v;
+  std::vector<std::size_t> first(plan.views.size(), 0);  // samples whose first view is v
+  for (const PlannedSample& s : plan.samples) {
+    std::size_t earliest = plan.views.size();
+    for (int id : s.measured_by)
+      if (const auto it = position.find(id); it != position.end())
+        earliest = std::min(earliest, it->second);
+    if (earliest < plan.views.size()) ++first[earliest];
+  }
+  json measured = json::array();
+  std::size_t sum = 0;
+  for (std::size_t count : first) measured.push_back(sum += count);
+  return {{"coverable", plan.samples.size() - plan.notCoverableCount()}, {"measured", measured}};
+}
+
 json summaryJson(const Plan& plan) {
   std::map<std::string, std::size_t> reasons;
   for (const PlannedSample& p : plan.samples)
@@ -168,7 +188,8 @@ json summaryJson(const Plan& plan) {
           {"views", plan.views.size()},
           {"registrable_views", nullptr},
           {"seconds", plan.seconds},
-          {"stage_seconds", times}};
+          {"stage_seconds", times},
+          {"coverage_by_views", coverageByViewsJson(plan)}};
 }
 
 json cycleJson(const CycleTime& c) {
@@ -932,7 +953,8 @@ void checkSectionKeys(const json& root, const std::string& path) {
                              "robot",
                              "sweep_views",
                              "bound",
-                             "cycle"},
+                             "cycle",
+                             "coverage_by_views"},
                             path, "summary");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "reference", "markers", "pairs", "verified",

@@ -57,6 +57,19 @@ try {
         shown.rows === Number(expectedViews),
         `view count shown ${shown.count}, ${shown.rows} rows, plan has ${expectedViews}`);
 
+  // The coverage curve: one point per view and the origin, ending at the share the plan
+  // measures of its coverable samples, read from plan.json.
+  const planned = JSON.parse(readFileSync(planFile, 'utf8'));
+  const curve = planned.summary.coverage_by_views;
+  const curvePoints = await page.evaluate(() => {
+    const line = document.querySelector('#coverage-curve polyline');
+    return line ? line.getAttribute('points').trim().split(/\s+/).length : 0;
+  });
+  check(curvePoints === curve.measured.length + 1 &&
+        curve.measured[curve.measured.length - 1] === planned.summary.measured,
+        `coverage curve of ${curvePoints} points for ${curve.measured.length} views, ending at ` +
+        `${curve.measured[curve.measured.length - 1]} of ${planned.summary.measured} measured`);
+
   // The WebGL canvas: share of pixels off the background colour, and distinct colours.
   const pixels = await page.evaluate(() => {
     const gl = document.querySelector('#viewport canvas');
