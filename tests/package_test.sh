@@ -9,8 +9,10 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 unset SCANPLAN_DATA
 cmake --install "$1" --prefix "$work/prefix" >/dev/null
+# SCANPLAN_CONSUMER_FLAGS: compiler flags the library was built with that its users need
+# too (the sanitizers' runtime).
 cmake -S "$2/examples/consumer" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+  -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_CXX_FLAGS="${SCANPLAN_CONSUMER_FLAGS:-}" >/dev/null
 cmake --build "$work/build" >/dev/null
 cp "$3" "$work/part.stp"
 cd "$work"
