@@ -238,22 +238,35 @@ std::vector<SurfacePoint> pointsOf(const std::vector<PlannedSample>& samples) {
   return points;
 }
 
+// The rescue pass over three samples of the studded plate, with the planner's settings
+// of `settings`.
+struct PlateRescue {
+  PlateRescue(const Part& part, const Spec& settings)
+      : spec(resolveSpec(part, settings)),
+        simulator(part, spec.spec.scanner),
+        samples(plateSamples({Vec3(50, 50, 10), Vec3(350, 150, 10), Vec3(650, 250, 10)})),
+        at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}} {
+    detail::rescueViews(at, samples, added);
+  }
+  const ResolvedSpec spec;
+  const Simulator simulator;
+  std::vector<PlannedSample> samples;
+  const detail::Placement at;
+  detail::MeasuredViews added;
+};
+
 // The rescue pass gives each sample left a view that measures it: every sample of the plate
 // ends measured, and each view added measures, simulated again, the samples it is said to.
 TEST(Stages, RescueMeasuresEverySampleADensePoseCanMeasure) {
   const Part part = studdedPlate();
-  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
-  const Simulator simulator(part, spec.spec.scanner);
-  std::vector<PlannedSample> samples =
-      plateSamples({Vec3(50, 50, 10), Vec3(350, 150, 10), Vec3(650, 250, 10)});
-  const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
-  detail::MeasuredViews added;
-  detail::rescueViews(at, samples, added);
-  for (const PlannedSample& s : samples)
+  const PlateRescue rescue(part, defaultSpec());
+  for (const PlannedSample& s : rescue.samples)
     EXPECT_FALSE(s.measured_by.empty()) << s.sample.position.transpose();
-  ASSERT_FALSE(added.views.empty());
-  for (std::size_t v = 0; v < added.size(); ++v)
-    EXPECT_EQ(added.samples[v], detail::measuredBy(simulator, added.views[v], at.points)) << v;
+  ASSERT_FALSE(rescue.added.views.empty());
+  for (std::size_t v = 0; v < rescue.added.size(); ++v)
+    EXPECT_EQ(rescue.added.samples[v],
+              detail::measuredBy(rescue.simulator, rescue.added.views[v], rescue.at.points))
+        << v;
 }
 
 // planner.rescue sets the rescue's search: each view it adds looks along a direction of
@@ -265,16 +278,10 @@ TEST(Stages, RescueTriesTheDirectionsOfItsStep) {
     Spec settings = defaultSpec();
     settings.planner.rescue_step = step;
     settings.planner.rescue_rotations = 1;
-    const ResolvedSpec spec = resolveSpec(part, settings);
-    const Simulator simulator(part, spec.spec.scanner);
-    std::vector<PlannedSample> samples =
-        plateSamples({Vec3(50, 50, 10), Vec3(350, 150, 10), Vec3(650, 250, 10)});
-    const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
-    detail::MeasuredViews added;
-    detail::rescueViews(at, samples, added);
-    ASSERT_EQ(added.size(), 3u) << step;
+    const PlateRescue rescue(part, settings);
+    ASSERT_EQ(rescue.added.size(), 3u) << step;
     const VisibilityMap grid(step);
-    for (const View& view : added.views) {
+    for (const View& view : rescue.added.views) {
       const Vec3 back = -view.camera_to_world.linear().col(2);  // the target to the camera
       double nearest = -1;
       for (int c = 0; c < grid.cells(); ++c)

@@ -280,22 +280,20 @@ void checkBrepText(const std::string& path) {
         throw InputError(path, fmt::format("line {}: a byte that is no text (0x{:02x}): an OCCT "
                                            "BREP file is plain ASCII",
                                            number, static_cast<unsigned char>(c)));
-    std::istringstream words(line);
-    std::string word;
-    for (int at = 0; words >> word; ++at) {
-      header = header && !(at == 0 && word == "Locations");
-      if (header || isBrepWord(word) || isBrepNumber(word)) continue;
-      throw InputError(path, fmt::format("line {}: '{}' is neither a number nor a word of an "
-                                         "OCCT BREP file",
-                                         number, word));
-    }
-    std::istringstream table(line);
-    double count = 0;
-    if (!(table >> word >> count) || !kBrepTables.count(word)) continue;
+    std::istringstream in_line(line);
+    const std::vector<std::string> words{std::istream_iterator<std::string>(in_line), {}};
+    header = header && !(!words.empty() && words[0] == "Locations");
+    for (const std::string& word : words)
+      if (!header && !isBrepWord(word) && !isBrepNumber(word))
+        throw InputError(path, fmt::format("line {}: '{}' is neither a number nor a word of an "
+                                           "OCCT BREP file",
+                                           number, word));
+    if (words.size() < 2 || !kBrepTables.count(words[0])) continue;
+    const double count = std::strtod(words[1].c_str(), nullptr);
     if (!(count >= 0 && count <= static_cast<double>(size)))
       throw InputError(path, fmt::format("line {}: the table {} announces {:.0f} entries, more "
                                          "than a file of {} bytes can hold",
-                                         number, word, count, size));
+                                         number, words[0], count, size));
   }
 }
 

@@ -798,9 +798,6 @@ struct PlanReader {
       if (!(*parts[k] >= 0 && std::isfinite(*parts[k])))
         throw InputError(path, where + ": '" + names[k] + "' is not a number of seconds");
     }
-    detail::refuseUnknownKeys(
-        entry, {"model", "seconds", "views", "acquisition", "motion", "table", "other"}, path,
-        where);
     return c;
   }
 
@@ -926,36 +923,20 @@ void checkListKeys(const json& root, const char* key, const char* what,
 // lengths, the robot's travel and the registration's counts; its keys are checked all the
 // same, so that one misspelt is not taken for one read.)
 void checkSectionKeys(const json& root, const std::string& path) {
+  // clang-format off
   detail::refuseUnknownKeys(objectAt(root, "summary"),
-                            {"model_faces",
-                             "results",
-                             "priority_faces_short",
-                             "fixture_faces",
-                             "samples",
-                             "measured",
-                             "measured_share",
-                             "not_coverable",
-                             "not_coverable_by_reason",
-                             "views",
-                             "registrable_views",
-                             "seconds",
-                             "stage_seconds",
-                             "characteristics",
-                             "registered_share",
-                             "measured_by_registered_views",
-                             "bridging_views",
-                             "unregistrable_views",
-                             "registration_components",
-                             "registered_by",
-                             "path_length",
-                             "nearest_neighbour_path_length",
-                             "orientations",
-                             "robot",
-                             "sweep_views",
-                             "bound",
-                             "cycle",
-                             "coverage_by_views"},
-                            path, "summary");
+      {"model_faces", "results", "priority_faces_short", "fixture_faces", "samples", "measured",
+       "measured_share", "not_coverable", "not_coverable_by_reason", "views",
+       "registrable_views", "seconds", "stage_seconds", "characteristics", "registered_share",
+       "measured_by_registered_views", "bridging_views", "unregistrable_views",
+       "registration_components", "registered_by", "path_length",
+       "nearest_neighbour_path_length", "orientations", "robot", "sweep_views", "bound",
+       "cycle", "coverage_by_views"},
+      path, "summary");
+  // clang-format on
+  detail::refuseUnknownKeys(objectAt(objectAt(root, "summary"), "cycle"),
+                            {"model", "seconds", "views", "acquisition", "motion", "table", "other"},
+                            path, "summary cycle");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "reference", "markers", "pairs", "verified",
                              "robot_accuracy", "proposed_markers"},

@@ -179,16 +179,16 @@ std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size
 }
 
 // The selection to coverage targets below 1: the fewest views after the `pinned` ones that
-// meet every group's share (minimumPartialCover), CBC starting from the shortest prefix of
-// the greedy cover `greedy` that meets them, when it is the better start. Pool indices,
-// the pinned ones first; the cover's result.
+// meet every group's share (minimumPartialCover), CBC starting from the first `prefix`
+// views of the greedy cover `greedy`, which meet them, when they are the better start.
+// Pool indices, the pinned ones first; the cover's result.
 std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
     const Placement& at, const MeasuredViews& pool, std::size_t pinned,
     const std::vector<PlannedSample>& samples, const CoverageNeed& needs,
-    const std::vector<std::size_t>& greedy) {
+    const std::vector<std::size_t>& greedy, std::size_t prefix) {
   const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
   std::vector<int> start;
-  for (std::size_t k = pinned; k < prefixMeeting(pool, greedy, needs); ++k)
+  for (std::size_t k = pinned; k < prefix; ++k)
     start.push_back(static_cast<int>(greedy[k] - pinned));
   const SetCoverResult cover =
       minimumPartialCover(sets, std::vector<double>(sets.size(), 1.0), needs.group, needs.need,
@@ -236,10 +236,11 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
     // To coverage targets: a partial cover, registered afterwards (bridging views where
     // its views fall apart), against the greedy cover's shortest prefix meeting them.
     const CoverageNeed needs = coverageNeed(at, pool, pinned, samples);
-    const auto [chosen, cover] = partialCover(at, pool, pinned, samples, needs, greedy);
+    bound.greedy_views = prefixMeeting(pool, greedy, needs);
+    const auto [chosen, cover] =
+        partialCover(at, pool, pinned, samples, needs, greedy, bound.greedy_views);
     selection.views = chosen;
     bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
-    bound.greedy_views = prefixMeeting(pool, greedy, needs);
   } else if (registering) {
     // The cover and the bound of the pool's cover are independent: made side by side.
     tbb::parallel_invoke(

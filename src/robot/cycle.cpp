@@ -26,14 +26,6 @@ CycleTime& CycleTime::operator+=(const CycleTime& more) {
   return *this;
 }
 
-double trapezoidSeconds(double distance, double speed, double acceleration) {
-  if (!(distance > 0)) return 0;
-  if (!(acceleration > 0)) return distance / speed;
-  // Up to speed and down again cover speed² / acceleration; a shorter move peaks below it.
-  if (distance >= speed * speed / acceleration) return distance / speed + speed / acceleration;
-  return 2 * std::sqrt(distance / acceleration);
-}
-
 MoveSeconds moveSeconds(const Cell& cell, const CellPose& a, const CellPose& b) {
   MoveSeconds seconds{travelTime(cell.robot, a.joints, b.joints), 0};
   if (cell.table)

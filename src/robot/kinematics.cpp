@@ -7,7 +7,6 @@
 #include "robot/offset_wrist.h"
 
 #include <scanplan/core/errors.h>
-#include <scanplan/robot/cycle.h>
 #include <scanplan/robot/kinematics.h>
 
 #include <Eigen/SVD>
@@ -331,6 +330,14 @@ bool armReaches(const RobotModel& r, const Pose& flange) {
 Reach reachOf(const RobotModel& r, const Pose& flange) {
   if (!inverseKinematics(r, flange).empty()) return Reach::Reachable;
   return armReaches(r, flange) ? Reach::JointLimits : Reach::OutOfReach;
+}
+
+double trapezoidSeconds(double distance, double speed, double acceleration) {
+  if (!(distance > 0)) return 0;
+  if (!(acceleration > 0)) return distance / speed;
+  // Up to speed and down again cover speed² / acceleration; a shorter move peaks below it.
+  if (distance >= speed * speed / acceleration) return distance / speed + speed / acceleration;
+  return 2 * std::sqrt(distance / acceleration);
 }
 
 double travelTime(const RobotModel& r, const Joints& from, const Joints& to) {

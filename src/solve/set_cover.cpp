@@ -20,6 +20,12 @@ namespace scanplan {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point began) {
+  return std::chrono::duration<double>(Clock::now() - began).count();
+}
+
 // A set cover instance reduced by dominance (Beasley's reductions): a set whose required
 // elements another set also holds is dropped, and so is an element whose sets include all
 // sets of another element (covering that one covers it). The minimum is unchanged.
@@ -254,10 +260,8 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
                                const std::vector<char>& required, double time_limit_seconds,
                                const std::vector<int>& given_start, int max_nodes,
                                const SetCoverProgress& progress) {
-  const auto began = std::chrono::steady_clock::now();
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-  };
+  const auto began = Clock::now();
+  auto elapsed = [&] { return secondsSince(began); };
   SetCoverResult result;
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return result;
@@ -317,7 +321,7 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
 
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
                                  const std::vector<int>& demand, double time_limit_seconds) {
-  const auto began = std::chrono::steady_clock::now();
+  const auto began = Clock::now();
   SetCoverResult result;
   // Each element's demand, capped by the sets holding it; no reduction (with demands above
   // one, a set inside another may still be needed).
@@ -357,15 +361,13 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
   if (solver.isProvenOptimal()) {
     result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
     for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    const double left =
-        time_limit_seconds -
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    const double left = time_limit_seconds - secondsSince(began);
     start = branchAndBound(solver, indicator(start, solver.getNumCols()), solver.getNumCols(),
                            std::max(left, 0.0), 1000000, true, result);
   }
   std::sort(start.begin(), start.end());
   result.chosen = start;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  result.seconds = secondsSince(began);
   return result;
 }
 
@@ -403,12 +405,13 @@ std::vector<int> greedyPartial(const PartialInstance& p, const std::vector<doubl
   std::vector<double> unmet = p.need;
   std::vector<char> covered(p.group_of.size(), 0), used(p.columns.size(), 0);
   std::vector<int> chosen;
+  std::vector<double> gain(unmet.size());  // per group, of the set weighed
   for (;;) {
     int best = -1;
     double best_rate = 0;
     for (std::size_t c = 0; c < p.columns.size(); ++c) {
       if (used[c]) continue;
-      std::vector<double> gain(unmet.size(), 0);
+      std::fill(gain.begin(), gain.end(), 0.0);
       for (int r : p.columns[c])
         if (!covered[r]) ++gain[p.group_of[r]];
       double useful = 0;
@@ -490,7 +493,7 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
                                    const std::vector<double>& need, double time_limit_seconds,
                                    int max_nodes, const std::vector<int>& start) {
-  const auto began = std::chrono::steady_clock::now();
+  const auto began = Clock::now();
   SetCoverResult result;
   const PartialInstance p = partialInstance(sets, group, need);
   std::vector<int> chosen = greedyPartial(p, costs);
@@ -510,15 +513,13 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
       std::vector<double> x = indicator(chosen, solver.getNumCols());
       for (int c : chosen)  // each row the start covers counts
         for (int r : p.columns[c]) x[columns + r] = 1.0;
-      const double left =
-          time_limit_seconds -
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+      const double left = time_limit_seconds - secondsSince(began);
       chosen = branchAndBound(solver, x, columns, std::max(left, 0.0), max_nodes, integral, result);
     }
   }
   std::sort(chosen.begin(), chosen.end());
   result.chosen = chosen;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  result.seconds = secondsSince(began);
   return result;
 }
 

@@ -39,12 +39,6 @@ struct CycleTime {
   CycleTime& operator+=(const CycleTime& more);
 };
 
-// The seconds of a move over `distance` (≥ 0) by a trapezoidal speed profile: up at
-// `acceleration` to `speed`, on at that speed, down at `acceleration`; a triangle when the
-// move is too short to reach the speed. Any consistent units (rad, rad/s, rad/s²; mm,
-// mm/s, mm/s²). An acceleration of 0 or less stands for an instant one.
-double trapezoidSeconds(double distance, double speed, double acceleration);
-
 // One move of the cell from `a` to `b`, every joint and the table synchronised to the
 // slowest: the arm's seconds (the slowest joint's trapezoid) and the table's.
 struct MoveSeconds {

@@ -90,6 +90,12 @@ Reach reachOf(const RobotModel& robot, const Pose& flange);
 // True when some arm configuration puts the flange there, joint limits aside.
 bool armReaches(const RobotModel& robot, const Pose& flange);
 
+// The seconds of a move over `distance` (≥ 0) by a trapezoidal speed profile: up at
+// `acceleration` to `speed`, on at that speed, down at `acceleration`; a triangle when the
+// move is too short to reach the speed. Any consistent units (rad, rad/s, rad/s²; mm,
+// mm/s, mm/s²). An acceleration of 0 or less stands for an instant one.
+double trapezoidSeconds(double distance, double speed, double acceleration);
+
 // The time of a joint move between two joint vectors, seconds: the joints move together,
 // in the slowest joint's time, each by its speed and acceleration (trapezoidSeconds).
 double travelTime(const RobotModel& robot, const Joints& from, const Joints& to);
