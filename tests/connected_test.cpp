@@ -18,6 +18,12 @@
 namespace scanplan {
 namespace {
 
+// The whole cover at one view a pose: what the selection aims at by default.
+detail::SelectionAim everySample(const detail::Placement& at, const detail::MeasuredViews& pool,
+                                 const std::vector<PlannedSample>& samples) {
+  return {detail::coverageNeed(at, pool, 0, samples), std::vector<double>(pool.size(), 1.0)};
+}
+
 // Adds a square pyramid of 45° sides on the plate's top, its base from `lo` 30 mm wide.
 void addPyramid(TriangleMesh& mesh, const Vec3& lo, int face) {
   const int base = static_cast<int>(mesh.vertices.size());
@@ -47,7 +53,7 @@ View above(const Scanner& scanner, double x, double y) {
   return aimedPoses(scanner, Vec3(x, y, 10), Vec3::UnitZ(), 1).front();
 }
 
-TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
+TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
   const Part part = studdedPlate();
   const ResolvedSpec spec = resolveSpec(part, defaultSpec());
   const Simulator simulator(part, spec.spec.scanner);
@@ -89,7 +95,8 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   // A first, A2 registering to it by the markers, then B on its own: no pose with
   // anything new registers to A or A2. C joins B to them.
   const detail::Placement at{part, spec, simulator, CellCheck{}, points, {}};
-  std::vector<std::size_t> cover = detail::connectedCover(at, pool, 0, samples, markers, {});
+  std::vector<std::size_t> cover =
+      detail::connectedCover(at, pool, 0, samples, everySample(at, pool, samples), markers, {});
   std::sort(cover.begin(), cover.end());
   EXPECT_EQ(cover, (std::vector<std::size_t>{0, 1, 2, 3})) << ::testing::PrintToString(cover);
 
@@ -102,6 +109,14 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnector) {
   const Registration registration =
       registerWithBridging(simulator, chosen, markers, options, {}, {});
   EXPECT_EQ(registration.registered(), chosen.size());
+
+  // Six of the ten samples: A, then A2 registering to it by the markers; B and C are not
+  // needed.
+  detail::SelectionAim six = everySample(at, pool, samples);
+  std::fill(six.needs.need.begin(), six.needs.need.end(), 0.0);
+  six.needs.need[six.needs.group[0]] = 6;
+  EXPECT_EQ(detail::connectedCover(at, pool, 0, samples, six, markers, {}),
+            (std::vector<std::size_t>{0, 1}));
 }
 
 // The chain case: a 1000 mm studded plate, samples on the four sides of five rows of pyramids
@@ -155,7 +170,8 @@ struct ChainPlate {
   // The connected cover, sorted.
   std::vector<std::size_t> cover(const Progress& progress = {}) const {
     const detail::Placement at{part, spec, simulator, CellCheck{}, points, done};
-    std::vector<std::size_t> chosen = detail::connectedCover(at, pool, 0, samples, {}, progress);
+    std::vector<std::size_t> chosen =
+        detail::connectedCover(at, pool, 0, samples, everySample(at, pool, samples), {}, progress);
     std::sort(chosen.begin(), chosen.end());
     return chosen;
   }

@@ -115,6 +115,30 @@ TEST(Cycle, GenericPositioningAndALaserLinesSweep) {
   EXPECT_EQ(cycle.table, 0.0);
 }
 
+// The curve of the first k views' cycle: k times the view's standing time (acquisition
+// 10 × 0.05 s, settling 0.3 s, handshake 0.2 s) plus the path through them; a later run's
+// curve continues from the first run's total, and a run without a curve leaves none.
+TEST(Cycle, CurveByViewsAddsTheStandingTimeAndContinuesOverRuns) {
+  const Scanner scanner;  // 10 patterns of 0.05 s
+  const CycleSettings settings;
+  EXPECT_NEAR(viewSeconds(scanner, settings), 1.0, 1e-12);
+  const std::vector<double> path = {0, 2, 5};
+  EXPECT_EQ(cycleByViews(path, scanner, settings), (std::vector<double>{1, 4, 8}));
+  CycleTime first = genericCycle(std::vector<double>{1000, 50}, 3, scanner, settings);
+  first.by_views = cycleByViews(path, scanner, settings);
+  CycleTime second = genericCycle(std::vector<double>{}, 1, scanner, settings);
+  second.by_views = {1.0};
+  CycleTime run = first;
+  run += second;
+  EXPECT_NEAR(run.total(), first.total() + second.total(), 1e-12);
+  ASSERT_EQ(run.by_views.size(), 4u);
+  EXPECT_NEAR(run.by_views[3], first.total() + 1.0, 1e-12);
+  second.by_views.clear();
+  run = first;
+  run += second;
+  EXPECT_TRUE(run.by_views.empty());
+}
+
 // Settings out of range are refused, naming the key.
 TEST(Cycle, SettingsOutOfRangeAreRefused) {
   CycleSettings settings;

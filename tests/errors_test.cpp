@@ -427,6 +427,8 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                "planner.coverage.global must be a share within (0, 1]");
   EXPECT_PRED2(contains, specError(dir, "planner: {coverage: {globl: 0.9}}\n"),
                "unknown key 'globl' in planner.coverage");
+  EXPECT_PRED2(contains, specError(dir, "planner: {objective: seconds}\n"),
+               "planner.objective must be views or cycle_time, not 'seconds'");
 }
 
 // What YAML or a CSV would let through silently: a second document, a key given twice in a

@@ -51,6 +51,15 @@ Plan gdtPlan(const Part& part, int face, const test::TempDir& dir) {
       PlanningOptions{.registration = false});
 }
 
+// A 10 mm plate a millimetre short of two by two fields of view of the generic
+// structured-light scanner.
+Part plateOfTwoByTwoFields(const test::TempDir& dir) {
+  const Scanner scanner = scannerPreset("generic-structured-light");
+  const double width = 2 * scanner.fov_width - 1, height = 2 * scanner.fov_height - 1;
+  BRepTools::Write(BRepPrimAPI_MakeBox(width, height, 10).Shape(), dir.file("plate.brep").c_str());
+  return importPart(dir.file("plate.brep"));
+}
+
 // A simulator of `part` placed as `plan` places it, built afresh beside the planner's (the
 // same model: it checks what the plan recorded, not the simulation itself).
 Simulator simulatorFor(const Part& part, const Plan& plan) {
@@ -308,13 +317,11 @@ TEST(Planning, MorePlannerSettingsComeFromTheSpec) {
 // measure its top, and the plan takes 4.
 TEST(Planning, PlateOfTwoByTwoFieldsOfViewTakesFourViews) {
   test::TempDir dir;
-  const Scanner scanner = scannerPreset("generic-structured-light");
-  const double width = 2 * scanner.fov_width - 1, height = 2 * scanner.fov_height - 1;
-  BRepTools::Write(BRepPrimAPI_MakeBox(width, height, 10).Shape(), dir.file("plate.brep").c_str());
-  const Part part = importPart(dir.file("plate.brep"));
+  const Part part = plateOfTwoByTwoFields(dir);
   const Plan plan = gdtPlan(part, test::topFace(part), dir);
   EXPECT_EQ(plan.measuredCount(), plan.samples.size());
-  EXPECT_GT(width * height, 3 * scanner.fov_width * scanner.fov_height);
+  const Vec3 size = part.bounds().size();
+  EXPECT_GT(size.x() * size.y(), 3 * plan.scanner.fov_width * plan.scanner.fov_height);
   EXPECT_EQ(plan.views.size(), 4u);
   EXPECT_LE(plan.bound->lower_bound, static_cast<double>(plan.views.size()));
 }
@@ -788,6 +795,30 @@ TEST(SetCover, MulticoverMatchesBruteForce) {
 // Partial cover against brute force over every subset, with two groups of elements and
 // costs of 1 to 3: the least cost meeting each group's need (a share of the elements some
 // set holds), the chosen sets meeting it, and the bound never above the optimum.
+// A partial cover far wider than tall, as the pool makes it (thousands of poses, a few
+// hundred samples), at costs other than one: the solver writes nothing to the standard
+// output, which belongs to the CLI.
+TEST(SetCover, WidePartialCoverWritesNothingToStandardOutput) {
+  std::mt19937 random(11);
+  const int elements = 300;
+  std::vector<std::vector<int>> sets(6000);
+  std::vector<double> costs;
+  for (auto& set : sets) {
+    for (int e = 0; e < elements; ++e)
+      if (random() % 40 == 0) set.push_back(e);
+    costs.push_back(1.0 + static_cast<double>(random() % 100) / 100);
+  }
+  const std::vector<int> group(elements, 0);
+  testing::internal::CaptureStdout();
+  const SetCoverResult result = minimumPartialCover(sets, costs, group, {270}, 2, 0);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  EXPECT_EQ(printed, "");
+  std::vector<char> covered(elements, 0);
+  for (int s : result.chosen)
+    for (int e : sets[s]) covered[e] = 1;
+  EXPECT_GE(std::count(covered.begin(), covered.end(), 1), 270);
+}
+
 TEST(SetCover, PartialCoverMatchesBruteForce) {
   std::mt19937 random(13);
   for (int instance = 0; instance < 30; ++instance) {
@@ -848,10 +879,7 @@ TEST(SetCover, PartialCoverMatchesBruteForce) {
 // measure.
 TEST(Planning, PlateOfTwoByTwoFieldsTakesThreeViewsForThreeQuarters) {
   test::TempDir dir;
-  const Scanner scanner = scannerPreset("generic-structured-light");
-  const double width = 2 * scanner.fov_width - 1, height = 2 * scanner.fov_height - 1;
-  BRepTools::Write(BRepPrimAPI_MakeBox(width, height, 10).Shape(), dir.file("plate.brep").c_str());
-  const Part part = importPart(dir.file("plate.brep"));
+  const Part part = plateOfTwoByTwoFields(dir);
   const std::string task =
       "tasks:\n  - {type: gdt, faces: [" + std::to_string(test::topFace(part)) + "]}\n";
   const PlanningOptions options{.registration = false};
@@ -877,6 +905,29 @@ TEST(Planning, PlateOfTwoByTwoFieldsTakesThreeViewsForThreeQuarters) {
   // The samples left out are coverable: no reason is given for them.
   EXPECT_EQ(partial.notCoverableCount(), 0u);
   EXPECT_LT(partial.measuredCount(), partial.samples.size());
+}
+
+// By cycle time the plate of 2 x 2 fields still takes its four views: every view stands
+// for the same second, and no three views measure the whole plate. Every sample is
+// measured, as the plan's views measure them afresh.
+TEST(Planning, CycleTimeObjectiveCoversThePlateOfTwoByTwoFieldsInFourViews) {
+  test::TempDir dir;
+  const Part part = plateOfTwoByTwoFields(dir);
+  const Plan plan =
+      planViews(part,
+                specWith("tasks:\n  - {type: gdt, faces: [" + std::to_string(test::topFace(part)) +
+                             "]}\nplanner: {objective: cycle_time}\n",
+                         dir),
+                PlanningOptions{.registration = false});
+  EXPECT_EQ(plan.views.size(), 4u);
+  ASSERT_TRUE(plan.bound);
+  EXPECT_LE(plan.bound->lower_bound, 4);
+  const Simulator simulator = simulatorFor(part, plan);
+  const std::vector<SurfacePoint> points = plan.samplePoints();
+  std::vector<char> hit(points.size(), 0);
+  for (const std::vector<int>& seen : measuredPoints(simulator, plan.views, points))
+    for (int i : seen) hit[i] = 1;
+  EXPECT_EQ(std::count(hit.begin(), hit.end(), 1), static_cast<long>(points.size()));
 }
 
 // The selection's bookkeeping on a real part: its bound is positive and no more than its

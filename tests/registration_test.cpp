@@ -12,6 +12,7 @@
 #include <scanplan/planning/bridging.h>
 #include <scanplan/registration/registration.h>
 #include <scanplan/registration/sequencing.h>
+#include <scanplan/robot/cycle.h>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -444,16 +445,28 @@ TEST(SequencingTest, ShortestPathsAgreeWithBellmanFord) {
   EXPECT_EQ(paths(0, n - 1), inf);
 }
 
-TEST(SequencingTest, MovesThroughThePartGoOverIt) {
-  // Two cameras on either side of a 200 mm cube, level with it: the straight move crosses
-  // the cube, so it goes over the top (clearance 100 mm above z = 200).
-  TriangleMesh mesh;
-  test::addCube(mesh, Vec3(-100, -100, 0), 200, 1);
-  const Part part = test::meshPart(mesh);
-  const Simulator simulator(part, Scanner{});
+// A 200 mm cube on the plane, and two cameras on either side of it, level with it.
+struct CubeBetweenTwoViews {
+  CubeBetweenTwoViews() : part(cube()), simulator(part, Scanner{}) {
+    views.push_back(aimedAt(Scanner{}, Vec3(-100, 0, 100), Vec3(-1, 0, 0), 1));
+    views.push_back(aimedAt(Scanner{}, Vec3(100, 0, 100), Vec3(1, 0, 0), 2));
+  }
+  static Part cube() {
+    TriangleMesh mesh;
+    test::addCube(mesh, Vec3(-100, -100, 0), 200, 1);
+    return test::meshPart(mesh);
+  }
+  Part part;
+  Simulator simulator;
   std::vector<View> views;
-  views.push_back(aimedAt(Scanner{}, Vec3(-100, 0, 100), Vec3(-1, 0, 0), 1));
-  views.push_back(aimedAt(Scanner{}, Vec3(100, 0, 100), Vec3(1, 0, 0), 2));
+};
+
+TEST(SequencingTest, MovesThroughThePartGoOverIt) {
+  // The straight move between the two cameras crosses the cube, so it goes over the top
+  // (clearance 100 mm above z = 200).
+  const CubeBetweenTwoViews scene;
+  const Simulator& simulator = scene.simulator;
+  const std::vector<View>& views = scene.views;
   SequenceOptions options;
   options.rotation_arm = 0;
   const Eigen::MatrixXd cost = directCosts(simulator, views, options);
@@ -461,6 +474,40 @@ TEST(SequencingTest, MovesThroughThePartGoOverIt) {
   EXPECT_NEAR(cost(0, 1), 200 + 1000 + 200, 1e-6);
   options.rotation_arm = 200;
   EXPECT_NEAR(directCosts(simulator, views, options)(0, 1), 1400 + 200 * M_PI, 1e-6);
+}
+
+// From each view to each of another list: the same costs as between every two views, the
+// move over the cube included.
+TEST(SequencingTest, CostsFromSomeViewsToOthersAreThoseBetweenEveryTwo) {
+  CubeBetweenTwoViews scene;
+  const Simulator& simulator = scene.simulator;
+  std::vector<View>& views = scene.views;
+  views.push_back(aimedAt(Scanner{}, Vec3(0, 0, 200), Vec3(0, 0, 1), 3));
+  const Eigen::MatrixXd all = directCosts(simulator, views);
+  const auto view = std::span<const View>(views);
+  const Eigen::MatrixXd some = directCosts(simulator, view.subspan(0, 1), view.subspan(1));
+  ASSERT_EQ(some.rows(), 1);
+  ASSERT_EQ(some.cols(), 2);
+  EXPECT_NEAR(some(0, 0), all(0, 1), 1e-9);
+  EXPECT_NEAR(some(0, 1), all(0, 2), 1e-9);
+  EXPECT_GT(all(0, 1), 1400);  // over the top
+}
+
+// Points on a line, taken in a shuffled order: a path through the first k of them is at
+// least as long as their span, and cheapest insertion finds one that long.
+TEST(SequencingTest, InsertionPathThroughPointsOnALineIsTheirSpan) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(0, 1000);
+  std::vector<Vec3> points;
+  for (int i = 0; i < 40; ++i) points.emplace_back(u(random), 0, 0);
+  const std::vector<double> lengths = insertionPathLengths(planarCosts(points));
+  ASSERT_EQ(lengths.size(), points.size());
+  double low = points[0].x(), high = low;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    low = std::min(low, points[k].x());
+    high = std::max(high, points[k].x());
+    EXPECT_NEAR(lengths[k], high - low, 1e-9) << k + 1 << " points";
+  }
 }
 
 TEST(MarkersTest, OnThePartWhereItFacesUp) {
@@ -842,6 +889,22 @@ TEST(RegistrationTest, MarkersProposedForAFlatPartRegisterItsViews) {
   RecordProperty("registered_with_them", std::to_string(marked.registration->registered()) +
                                              " of " + std::to_string(marked.views.size()));
   EXPECT_EQ(marked.registration->registered(), marked.views.size());
+}
+
+// The cycle of the first k views, read back from plan.json: one time per view, the first
+// view's standing time alone, each further view adding at least its standing time; the
+// path through all of them within a fifth of the plan's own cycle, which walks its 2-opt
+// tour with home and approach moves.
+TEST_F(RegisteredPlan, CycleByViewsRisesByEachViewsStandingTime) {
+  const Plan& plan = *plan_;
+  ASSERT_TRUE(plan.cycle);
+  const std::vector<double>& seconds = plan.cycle->by_views;
+  ASSERT_EQ(seconds.size(), plan.views.size());
+  const double standing = viewSeconds(plan.scanner, spec_->cycle);
+  EXPECT_NEAR(seconds.front(), standing, 1e-9);
+  for (std::size_t k = 1; k < seconds.size(); ++k)
+    EXPECT_GE(seconds[k] - seconds[k - 1], standing - 1e-9) << "view " << k + 1;
+  EXPECT_NEAR(seconds.back(), plan.cycle->total(), 0.2 * plan.cycle->total());
 }
 
 TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {

@@ -193,10 +193,12 @@ json summaryJson(const Plan& plan) {
 }
 
 json cycleJson(const CycleTime& c) {
-  return {{"model", c.model},   {"seconds", c.total()},
-          {"views", c.views},   {"acquisition", c.acquisition},
-          {"motion", c.motion}, {"table", c.table},
-          {"other", c.other}};
+  json result = {{"model", c.model},   {"seconds", c.total()},
+                 {"views", c.views},   {"acquisition", c.acquisition},
+                 {"motion", c.motion}, {"table", c.table},
+                 {"other", c.other}};
+  if (!c.by_views.empty()) result["by_views"] = c.by_views;
+  return result;
 }
 
 json pairJson(const PairCheck& p) {
@@ -798,6 +800,15 @@ struct PlanReader {
       if (!(*parts[k] >= 0 && std::isfinite(*parts[k])))
         throw InputError(path, where + ": '" + names[k] + "' is not a number of seconds");
     }
+    if (entry.contains("by_views")) {
+      c.by_views = field<std::vector<double>>(entry, "by_views", path, where);
+      if (c.by_views.size() != root.value("views", json::array()).size())
+        throw InputError(path, where + ": 'by_views' needs one time per view");
+      for (double s : c.by_views)
+        if (!(s >= 0 && std::isfinite(s)))
+          throw InputError(path,
+                           where + ": 'by_views' holds a time that is not a number of seconds");
+    }
     return c;
   }
 
@@ -934,9 +945,10 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "cycle", "coverage_by_views"},
       path, "summary");
   // clang-format on
-  detail::refuseUnknownKeys(objectAt(objectAt(root, "summary"), "cycle"),
-                            {"model", "seconds", "views", "acquisition", "motion", "table", "other"},
-                            path, "summary cycle");
+  detail::refuseUnknownKeys(
+      objectAt(objectAt(root, "summary"), "cycle"),
+      {"model", "seconds", "views", "acquisition", "motion", "table", "other", "by_views"}, path,
+      "summary cycle");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "reference", "markers", "pairs", "verified",
                              "robot_accuracy", "proposed_markers"},

@@ -372,7 +372,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
              "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
-             "capable_ratio", "lift_capability", "coverage"},
+             "capable_ratio", "lift_capability", "coverage", "objective"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -394,6 +394,12 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
   }
   if (const YAML::Node coverage = node["coverage"]) p.coverage = readCoverage(coverage, reader);
+  if (const YAML::Node objective = node["objective"]) {
+    const auto name = reader.scalar<std::string>(objective, "planner.objective");
+    if (name != "views" && name != "cycle_time")
+      reader.fail("planner.objective must be views or cycle_time, not '" + name + "'");
+    p.objective = name == "views" ? Objective::Views : Objective::CycleTime;
+  }
   if (const YAML::Node rescue = node["rescue"]) {
     checkKeys(rescue, {"step", "rotations"}, reader, "planner.rescue");
     reader.read(rescue, "planner.rescue", "step", p.rescue_step);

@@ -66,11 +66,12 @@ double condition(const Placement& at, const std::vector<PlannedSample>& samples,
 class CoverContext {
  public:
   CoverContext(const Placement& placement, const MeasuredViews& poses,
-               const std::vector<PlannedSample>& planned, const std::vector<Marker>& markers,
-               const Progress& progress)
+               const std::vector<PlannedSample>& planned, const SelectionAim& aimed,
+               const std::vector<Marker>& markers, const Progress& progress)
       : at(placement),
         pool(poses),
         samples(planned),
+        aim(aimed),
         options(registrationOptions(placement.spec.spec)),
         overlaps(at.simulator, options, markers),
         progress_(progress) {
@@ -147,6 +148,7 @@ class CoverContext {
   const Placement& at;
   const MeasuredViews& pool;
   const std::vector<PlannedSample>& samples;
+  const SelectionAim& aim;
   const RegistrationOptions options;  // as the registration stage's
   const Overlaps overlaps;
   std::vector<std::vector<int>> by_sample;     // the poses measuring each sample
@@ -210,7 +212,7 @@ class ConnectedCover {
     const double creep = kCreeps[run_];
     reset(pinned);
     for (std::size_t v = 0; v < pinned; ++v) choose(v);
-    for (;;) {
+    while (!met()) {
       const auto linked = best([&](std::size_t v) { return !partners_[v].empty(); });
       const auto seed = best([&](std::size_t v) { return constrained_[v] != 0; });
       const bool jump = seed && (!linked || total(gain_[*linked]) < creep * total(gain_[*seed]));
@@ -256,6 +258,7 @@ class ConnectedCover {
     covered_.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) covered_[i] = at_.isDone(i);
     newly_covered_ = 0;
+    unmet_ = context_.aim.needs.need;
     used_.assign(pool_.size(), 0);
     partners_.assign(pool_.size(), {});
     chosen_.clear();
@@ -485,6 +488,17 @@ class ConnectedCover {
 
   static double total(const Gain& gain) { return gain.first + gain.second; }
 
+  // Whether every group of the aim has its need.
+  bool met() const {
+    return std::all_of(unmet_.begin(), unmet_.end(), [](double u) { return u <= 0; });
+  }
+
+  // A pose's gain per its cost: (priority, other).
+  std::pair<double, double> rate(std::size_t v) const {
+    const double cost = context_.aim.costs[v];
+    return {gain_[v].first / cost, gain_[v].second / cost};
+  }
+
   int& part(Gain& gain, int sample) const {
     return samples_[sample].sample.role == Role::Priority ? gain.first : gain.second;
   }
@@ -521,14 +535,15 @@ class ConnectedCover {
     return false;
   }
 
-  // The pose passing `allowed` with the largest gain (the first on ties), none gaining.
+  // The pose passing `allowed` with the largest gain per cost (the first on ties), none
+  // gaining.
   template <class Allowed>
   std::optional<std::size_t> best(Allowed allowed) const {
     std::optional<std::size_t> best;
-    Gain best_gain{0, 0};
+    std::pair<double, double> best_rate{0, 0};
     for (std::size_t v = 0; v < pool_.size(); ++v)
-      if (!used_[v] && gain_[v] > best_gain && allowed(v)) {
-        best_gain = gain_[v];
+      if (!used_[v] && rate(v) > best_rate && allowed(v)) {
+        best_rate = rate(v);
         best = v;
       }
     return best;
@@ -542,6 +557,7 @@ class ConnectedCover {
       if (covered_[i]) continue;
       covered_[i] = 1;
       ++newly_covered_;
+      if (const int g = context_.aim.needs.group[i]; g >= 0) --unmet_[g];
       for (int v : by_sample_[i]) --part(gain_[v], i);
     }
     context_.covered(run_, newly_covered_);
@@ -589,6 +605,7 @@ class ConnectedCover {
   std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
   std::size_t newly_covered_ = 0;                   // samples covered not done before
+  std::vector<double> unmet_;                       // per group of the aim: need left
   std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
@@ -602,9 +619,9 @@ class ConnectedCover {
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
-                                        const std::vector<Marker>& markers,
+                                        const SelectionAim& aim, const std::vector<Marker>& markers,
                                         const Progress& progress) {
-  const CoverContext context(at, pool, samples, markers, progress);
+  const CoverContext context(at, pool, samples, aim, markers, progress);
   // The covers of every creep share, in parallel; kept in kCreeps' order.
   std::vector<std::optional<ConnectedCover>> runs(std::size(kCreeps));
   std::vector<std::pair<std::vector<std::size_t>, double>> covers(std::size(kCreeps));

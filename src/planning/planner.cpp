@@ -315,8 +315,8 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
 
 // Orders the views of a plan without a cell by the generic positioning's time (the
 // scanner's shortest paths, mm, each a trapezoid at the cycle's speed and acceleration;
-// lengths in mm), and sets the plan's cycle along that order.
-void sequenceByGenericTime(const detail::Placement& at, Plan& plan) {
+// lengths in mm), and sets the plan's cycle along that order. The seconds between views.
+Eigen::MatrixXd sequenceByGenericTime(const detail::Placement& at, Plan& plan) {
   const CycleSettings& settings = at.spec.spec.cycle;
   const Eigen::MatrixXd paths = shortestPaths(directCosts(at.simulator, plan.views));
   const Eigen::MatrixXd times = paths.unaryExpr(
@@ -330,13 +330,21 @@ void sequenceByGenericTime(const detail::Placement& at, Plan& plan) {
   for (std::size_t k = 1; k < order.size(); ++k)
     moves.push_back(paths(index[order[k - 1]], index[order[k]]));
   plan.cycle = genericCycle(moves, plan.views.size(), at.scanner(), settings);
+  return times;
 }
+
+// The final views' cell solutions (with a cell) and the seconds of the moves between
+// them (shortest paths) by which they were ordered.
+struct Sequenced {
+  CellSolutions solutions;
+  Eigen::MatrixXd times;
+};
 
 // Registers the plan's views, bridging where they fall apart (bridging views measure
 // samples too), and orders them: by the robot's joint travel with a cell, whose
-// solutions for the views it returns, else by the scanner's path.
-CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
-                                  const Progress& progress) {
+// solutions for the views it returns, else by the generic positioning.
+Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
+                              const Progress& progress) {
   plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
   plan.registration = registerWithBridging(at.simulator, plan.views, plan.markers,
@@ -349,18 +357,19 @@ CellSolutions registerAndSequence(const detail::Placement& at, Plan& plan, Stage
   clock.lap("registration");
 
   report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
-  CellSolutions solutions;
+  Sequenced sequenced;
   if (at.cell.cell) {
     // In joint space: the order by the robot's travel time, lengths in mm as always.
-    solutions = cellSolutions(*at.cell.cell, plan.views, at.cell.collisions);
-    plan.sequence = sequenceViews(shortestPaths(jointTravelTimes(*at.cell.cell, solutions)),
-                                  shortestPaths(directCosts(at.simulator, plan.views)), plan.views,
-                                  *plan.registration);
+    sequenced.solutions = cellSolutions(*at.cell.cell, plan.views, at.cell.collisions);
+    sequenced.times = shortestPaths(jointTravelTimes(*at.cell.cell, sequenced.solutions));
+    plan.sequence =
+        sequenceViews(sequenced.times, shortestPaths(directCosts(at.simulator, plan.views)),
+                      plan.views, *plan.registration);
   } else {
-    sequenceByGenericTime(at, plan);
+    sequenced.times = sequenceByGenericTime(at, plan);
   }
   clock.lap("sequencing");
-  return solutions;
+  return sequenced;
 }
 
 // Plans the views for `sampled` (part frame) with the part placed by `part_to_world`;
@@ -410,8 +419,9 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   plan.bound = selection.bound;
   clock.lap("selection");
 
-  CellSolutions solutions;  // of the final views, with a cell
-  if (options.registration) solutions = registerAndSequence(at, plan, clock, progress);
+  Sequenced sequenced;  // with a cell, the final views' solutions
+  if (options.registration) sequenced = registerAndSequence(at, plan, clock, progress);
+  CellSolutions& solutions = sequenced.solutions;
   detail::explainUncoverable(at, visibility, pool, plan.samples);
   clock.lap("not coverable");
   if (cell) {
@@ -425,6 +435,9 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     plan.cell_motion = CellMotion{plan.cycle->motion + plan.cycle->table, program.uncleared};
     clock.lap("robot motion");
   }
+  if (plan.cycle && sequenced.times.rows() == static_cast<Eigen::Index>(plan.views.size()))
+    plan.cycle->by_views =
+        cycleByViews(insertionPathLengths(sequenced.times), at.scanner(), spec.spec.cycle);
   plan.seconds = clock.total();
   return plan;
 }

@@ -3,6 +3,9 @@
 
 #include "planning/stages.h"
 
+#include <scanplan/registration/sequencing.h>
+#include <scanplan/robot/cycle.h>
+#include <scanplan/robot/kinematics.h>
 #include <scanplan/solve/set_cover.h>
 
 #include <tbb/parallel_invoke.h>
@@ -123,13 +126,73 @@ int coverageGroup(const Sample& s) {
                               kTaskTypes.begin());
 }
 
-// What the coverage targets ask of the views after the pinned ones: per sample its group,
-// or -1 when it counts as measured already (done in an earlier placement, or by a pinned
-// view) or no view of the pool measures it; per group the samples still to measure.
-struct CoverageNeed {
-  std::vector<int> group;
-  std::vector<double> need;
-};
+// How many views of `order` (pool indices, by marginal coverage) meet `needs`.
+std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size_t>& order,
+                          const CoverageNeed& needs) {
+  std::vector<double> unmet = needs.need;
+  std::vector<char> covered(needs.group.size(), 0);
+  auto met = [&] {
+    return std::all_of(unmet.begin(), unmet.end(), [](double u) { return u <= 0; });
+  };
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (met()) return k;
+    for (int i : pool.samples[order[k]])
+      if (needs.group[i] >= 0 && !covered[i]) {
+        covered[i] = 1;
+        --unmet[needs.group[i]];
+      }
+  }
+  return order.size();
+}
+
+// What each pose of the pool costs under planner.objective cycle_time
+// (docs/planning.md, "Objective"), seconds: its time standing (viewSeconds) and half the
+// generic moves to its two nearest views of the greedy cover `greedy`, the share of the
+// motion a view takes in a tour through views spaced as the greedy cover's.
+std::vector<double> cycleCosts(const Placement& at, const MeasuredViews& pool,
+                               const std::vector<std::size_t>& greedy) {
+  std::vector<View> near;
+  for (std::size_t v : greedy) near.push_back(pool.views[v]);
+  const Eigen::MatrixXd mm = directCosts(at.simulator, pool.views, near);
+  const CycleSettings& cycle = at.spec.spec.cycle;
+  const double standing = viewSeconds(at.scanner(), cycle);
+  std::vector<double> costs;
+  for (Eigen::Index i = 0; i < mm.rows(); ++i) {
+    std::vector<double> moves;
+    for (std::size_t j = 0; j < greedy.size(); ++j)
+      if (greedy[j] != static_cast<std::size_t>(i))
+        moves.push_back(
+            trapezoidSeconds(mm(i, static_cast<Eigen::Index>(j)), cycle.speed, cycle.acceleration));
+    const std::size_t two = std::min<std::size_t>(2, moves.size());
+    std::partial_sort(moves.begin(), moves.begin() + static_cast<long>(two), moves.end());
+    costs.push_back(
+        standing + std::accumulate(moves.begin(), moves.begin() + static_cast<long>(two), 0.0) / 2);
+  }
+  return costs;
+}
+
+// The selection to coverage targets below 1, or by cycle time: the cheapest views after
+// the `pinned` ones that meet every group's share (minimumPartialCover), CBC starting from
+// the first `prefix` views of the greedy cover `greedy`, which meet them, when they are
+// the better start. Pool indices, the pinned ones first; the cover's result.
+std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
+    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+    const std::vector<PlannedSample>& samples, const SelectionAim& aim,
+    const std::vector<std::size_t>& greedy, std::size_t prefix) {
+  std::vector<int> start;
+  for (std::size_t k = pinned; k < prefix; ++k)
+    start.push_back(static_cast<int>(greedy[k] - pinned));
+  const std::vector<double> costs(aim.costs.begin() + static_cast<long>(pinned), aim.costs.end());
+  const SetCoverResult cover =
+      minimumPartialCover(unpinnedSets(pool, pinned), costs, aim.needs.group, aim.needs.need,
+                          at.settings().selection_seconds, at.settings().selection_nodes, start);
+  std::vector<std::size_t> chosen(pinned);
+  std::iota(chosen.begin(), chosen.end(), 0);
+  for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
+  return {greedyCover(at, pool, chosen, pinned, samples), cover};
+}
+
+}  // namespace
 
 CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                           const std::vector<PlannedSample>& samples) {
@@ -159,48 +222,6 @@ CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::s
   return result;
 }
 
-// How many views of `order` (pool indices, by marginal coverage) meet `needs`.
-std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size_t>& order,
-                          const CoverageNeed& needs) {
-  std::vector<double> unmet = needs.need;
-  std::vector<char> covered(needs.group.size(), 0);
-  auto met = [&] {
-    return std::all_of(unmet.begin(), unmet.end(), [](double u) { return u <= 0; });
-  };
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (met()) return k;
-    for (int i : pool.samples[order[k]])
-      if (needs.group[i] >= 0 && !covered[i]) {
-        covered[i] = 1;
-        --unmet[needs.group[i]];
-      }
-  }
-  return order.size();
-}
-
-// The selection to coverage targets below 1: the fewest views after the `pinned` ones that
-// meet every group's share (minimumPartialCover), CBC starting from the first `prefix`
-// views of the greedy cover `greedy`, which meet them, when they are the better start.
-// Pool indices, the pinned ones first; the cover's result.
-std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
-    const Placement& at, const MeasuredViews& pool, std::size_t pinned,
-    const std::vector<PlannedSample>& samples, const CoverageNeed& needs,
-    const std::vector<std::size_t>& greedy, std::size_t prefix) {
-  const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
-  std::vector<int> start;
-  for (std::size_t k = pinned; k < prefix; ++k)
-    start.push_back(static_cast<int>(greedy[k] - pinned));
-  const SetCoverResult cover =
-      minimumPartialCover(sets, std::vector<double>(sets.size(), 1.0), needs.group, needs.need,
-                          at.settings().selection_seconds, at.settings().selection_nodes, start);
-  std::vector<std::size_t> chosen(pinned);
-  std::iota(chosen.begin(), chosen.end(), 0);
-  for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
-  return {greedyCover(at, pool, chosen, pinned, samples), cover};
-}
-
-}  // namespace
-
 std::vector<char> keptViews(const Placement& at, const MeasuredViews& pool,
                             const std::vector<std::size_t>& chosen, std::size_t pinned,
                             std::size_t samples, const std::function<bool(std::size_t)>& needed,
@@ -229,37 +250,42 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
+  const bool full = at.settings().coverage.full();
+  const bool by_time = at.settings().objective == Objective::CycleTime;
+  const SelectionAim aim{
+      coverageNeed(at, pool, pinned, samples),
+      by_time ? cycleCosts(at, pool, greedy) : std::vector<double>(pool.size(), 1.0)};
   Selection selection;
   PlanBound& bound = selection.bound;
-  bound.greedy_views = greedy.size();
-  if (!at.settings().coverage.full()) {
-    // To coverage targets: a partial cover, registered afterwards (bridging views where
-    // its views fall apart), against the greedy cover's shortest prefix meeting them.
-    const CoverageNeed needs = coverageNeed(at, pool, pinned, samples);
-    bound.greedy_views = prefixMeeting(pool, greedy, needs);
-    const auto [chosen, cover] =
-        partialCover(at, pool, pinned, samples, needs, greedy, bound.greedy_views);
-    selection.views = chosen;
-    bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
-  } else if (registering) {
-    // The cover and the bound of the pool's cover are independent: made side by side.
+  // Against the greedy cover's shortest prefix meeting the targets; the bound on views,
+  // whatever the cost.
+  bound.greedy_views = full ? greedy.size() : prefixMeeting(pool, greedy, aim.needs);
+  const auto viewsBound = [&] {
+    const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
+    return static_cast<double>(pinned) +
+           (full ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples.size()),
+                                      at.settings().selection_seconds)
+                 : partialCoverLowerBound(sets, aim.needs.group, aim.needs.need));
+  };
+  if (registering) {
+    // The cover and the bound are independent: made side by side.
     tbb::parallel_invoke(
         [&] {
-          selection.views = connectedCover(at, pool, pinned, samples, *registering, progress);
+          selection.views = connectedCover(at, pool, pinned, samples, aim, *registering, progress);
         },
-        [&] {
-          bound.lower_bound = static_cast<double>(pinned) +
-                              setCoverLowerBound(unpinnedSets(pool, pinned),
-                                                 requiredSamples(at, pool, pinned, samples.size()),
-                                                 at.settings().selection_seconds);
-        });
+        [&] { bound.lower_bound = viewsBound(); });
   }
-  if (selection.views.empty() && at.settings().coverage.full()) {
+  if (selection.views.empty() && full && !by_time) {
     const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size(), progress);
     const std::vector<std::size_t> chosen =
         withoutRedundant(at, pool, exact, pinned, samples.size());
     selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
     bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
+  } else if (selection.views.empty()) {
+    const auto [chosen, cover] =
+        partialCover(at, pool, pinned, samples, aim, greedy, bound.greedy_views);
+    selection.views = chosen;
+    bound.lower_bound = by_time ? viewsBound() : static_cast<double>(pinned) + cover.lower_bound;
   }
   bound.views = selection.views.size();
   bound.pool = pool.size();

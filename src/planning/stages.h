@@ -92,6 +92,25 @@ MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
 void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
                      const Progress& progress);
 
+// What the coverage targets (planner.coverage) ask of the views after the `pinned` ones:
+// per sample its group (0: the priority samples, 1 + a task type's place in kTaskTypes: that
+// task's others), or -1 when it counts as measured already (done in an earlier placement,
+// or by a pinned view) or no view of the pool measures it; per group the samples still to
+// measure.
+struct CoverageNeed {
+  std::vector<int> group;
+  std::vector<double> need;
+};
+CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+                          const std::vector<PlannedSample>& samples);
+
+// What the selection aims at: the targets' need, and what each pose of the pool costs (all
+// 1: the fewest views; planner.objective cycle_time: its estimated seconds).
+struct SelectionAim {
+  CoverageNeed needs;
+  std::vector<double> costs;  // per pool index
+};
+
 // The views chosen from the pool (indices into it), and how close they are to the fewest.
 struct Selection {
   std::vector<std::size_t> views;
@@ -102,30 +121,33 @@ struct Selection {
 // marginal coverage, priority samples first; improved by CBC on the pool's set cover of
 // every sample some pool view measures (planner.selection_seconds, starting from the
 // greedy cover); views whose samples all others also measure dropped (last first); the
-// rest ordered by marginal coverage, priority samples first. With `registering` (the
-// markers views register by, none: by geometry alone), the connectedCover instead, unless
-// no view of it registers to another; its bound is then the LP relaxation's. Progress
-// shows the connectedCover's, or the share of its budget CBC has used.
+// rest ordered by marginal coverage, priority samples first. Below coverage targets of 1,
+// or by cycle time (planner.objective), CBC solves the partial cover of the targets at the
+// poses' costs instead. With `registering` (the markers views register by, none: by
+// geometry alone), the connectedCover of the same targets and costs, unless no view of it
+// registers to another; its bound is then the LP relaxation's. The bound counts views.
+// Progress shows the connectedCover's, or the share of its budget CBC has used.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
                       const std::optional<std::vector<Marker>>& registering,
                       const Progress& progress);
 
-// The registration-aware cover: views chosen one at a time, the `pinned` first pool views
-// first, each the pose measuring most samples not yet covered (priority first) among the
-// poses that register to a view already chosen (the registration's pair test: `markers`
-// they share, or an overlap constraining ICP); when none of them measures anything new,
-// the best pose something could register to, then any pose. Groups left apart are then
-// joined to the largest through connector poses, each registering to a view of both.
-// Chosen views whose samples others measure too and that no other registers to are
-// dropped. On the cover kept, the groups still apart are joined through chains of poses,
-// each registering to the one before (verified by ICP). Pool indices in the order chosen;
-// none when no view registers to another. Progress shows the share of the samples the
-// covers have covered on average, then the groups the chains were sought for.
+// The registration-aware cover of `aim`: views chosen one at a time, the `pinned` first
+// pool views first, each the pose measuring most samples not yet covered per cost
+// (priority first) among the poses that register to a view already chosen (the
+// registration's pair test: `markers` they share, or an overlap constraining ICP); when
+// none of them measures anything new, the best pose something could register to, then any
+// pose; until every group has its need. Groups left apart are then joined to the largest
+// through connector poses, each registering to a view of both. Chosen views whose samples
+// others measure too and that no other registers to are dropped. On the cover kept, the
+// groups still apart are joined through chains of poses, each registering to the one
+// before (verified by ICP). Pool indices in the order chosen; none when no view registers
+// to another. Progress shows the share of the samples the covers have covered on
+// average, then the groups the chains were sought for.
 std::vector<std::size_t> connectedCover(const Placement& at, const MeasuredViews& pool,
                                         std::size_t pinned,
                                         const std::vector<PlannedSample>& samples,
-                                        const std::vector<Marker>& markers,
+                                        const SelectionAim& aim, const std::vector<Marker>& markers,
                                         const Progress& progress);
 
 // Which views of `chosen` (pool indices) are kept: each one, last first but for the first

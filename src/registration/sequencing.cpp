@@ -11,32 +11,61 @@
 
 namespace scanplan {
 
+namespace {
+
+// Moves that go over the part rise to this height: the clearance above its top.
+double safeHeight(const Simulator& simulator, const SequenceOptions& options) {
+  double top = 0;
+  for (const SurfacePoint& p : simulator.facetPoints()) top = std::max(top, p.position.z());
+  return top + options.clearance;
+}
+
+// The direct cost of the move between views a and b (directCosts); `blocked`: the straight
+// path crosses the scene.
+double moveCost(const Simulator& simulator, const View& a, const View& b, bool blocked, double safe,
+                const SequenceOptions& options) {
+  const Vec3 from = a.camera(), to = b.camera();
+  const bool below = simulator.options().working_plane && (from.z() < 0 || to.z() < 0);
+  double travel = (to - from).norm();
+  if (blocked || below) {
+    const double height = std::max({safe, from.z(), to.z()});
+    travel = (height - from.z()) + (to - from).head<2>().norm() + (height - to.z());
+  }
+  const Eigen::AngleAxisd turn(a.camera_to_world.linear().transpose() * b.camera_to_world.linear());
+  return travel + options.rotation_arm * std::abs(turn.angle());
+}
+
+}  // namespace
+
 Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> views,
                             const SequenceOptions& options) {
   const auto n = static_cast<Eigen::Index>(views.size());
-  double top = 0;
-  for (const SurfacePoint& p : simulator.facetPoints()) top = std::max(top, p.position.z());
-  const double safe = top + options.clearance;
   std::vector<Ray> segments;
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = i + 1; j < n; ++j)
       segments.push_back(Ray{views[i].camera(), views[j].camera() - views[i].camera(), 0, 1});
   const std::vector<bool> blocked = simulator.occluded(segments);
+  const double safe = safeHeight(simulator, options);
   Eigen::MatrixXd cost = Eigen::MatrixXd::Zero(n, n);
   std::size_t k = 0;
   for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = i + 1; j < n; ++j, ++k) {
-      const Vec3 a = views[i].camera(), b = views[j].camera();
-      const bool below = simulator.options().working_plane && (a.z() < 0 || b.z() < 0);
-      double travel = (b - a).norm();
-      if (blocked[k] || below) {
-        const double height = std::max({safe, a.z(), b.z()});
-        travel = (height - a.z()) + (b - a).head<2>().norm() + (height - b.z());
-      }
-      const Eigen::AngleAxisd turn(views[i].camera_to_world.linear().transpose() *
-                                   views[j].camera_to_world.linear());
-      cost(i, j) = cost(j, i) = travel + options.rotation_arm * std::abs(turn.angle());
-    }
+    for (Eigen::Index j = i + 1; j < n; ++j, ++k)
+      cost(i, j) = cost(j, i) = moveCost(simulator, views[i], views[j], blocked[k], safe, options);
+  return cost;
+}
+
+Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> from,
+                            std::span<const View> to, const SequenceOptions& options) {
+  std::vector<Ray> segments;
+  for (const View& a : from)
+    for (const View& b : to) segments.push_back(Ray{a.camera(), b.camera() - a.camera(), 0, 1});
+  const std::vector<bool> blocked = simulator.occluded(segments);
+  const double safe = safeHeight(simulator, options);
+  const auto columns = static_cast<Eigen::Index>(to.size());
+  Eigen::MatrixXd cost(static_cast<Eigen::Index>(from.size()), columns);
+  for (Eigen::Index i = 0; i < cost.rows(); ++i)
+    for (Eigen::Index j = 0; j < columns; ++j)
+      cost(i, j) = moveCost(simulator, from[i], to[j], blocked[i * columns + j], safe, options);
   return cost;
 }
 
@@ -69,6 +98,31 @@ std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
     if (registration.views[v].method == RegistrationMethod::Robot)
       for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = links[w][v] = v != w;
   return links;
+}
+
+std::vector<double> insertionPathLengths(const Eigen::MatrixXd& cost) {
+  std::vector<int> path;
+  std::vector<double> lengths;
+  double length = 0;
+  for (int v = 0; v < static_cast<int>(cost.rows()); ++v) {
+    // At either end, or between two nodes of the path: where it adds least.
+    double best = path.empty() ? 0 : cost(v, path.front());
+    std::size_t where = 0;
+    if (!path.empty() && cost(path.back(), v) < best) {
+      best = cost(path.back(), v);
+      where = path.size();
+    }
+    for (std::size_t k = 1; k < path.size(); ++k) {
+      const double extra = cost(path[k - 1], v) + cost(v, path[k]) - cost(path[k - 1], path[k]);
+      if (extra < best) {
+        best = extra;
+        where = k;
+      }
+    }
+    path.insert(path.begin() + static_cast<long>(where), v);
+    lengths.push_back(length += best);
+  }
+  return lengths;
 }
 
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order) {

@@ -18,6 +18,12 @@ void validate(const CycleSettings& c, const std::string& source) {
 }
 
 CycleTime& CycleTime::operator+=(const CycleTime& more) {
+  if (!by_views.empty() && !more.by_views.empty()) {
+    const double before = total();
+    for (double s : more.by_views) by_views.push_back(before + s);
+  } else {
+    by_views.clear();
+  }
   views += more.views;
   acquisition += more.acquisition;
   motion += more.motion;
@@ -45,6 +51,18 @@ void addViews(CycleTime& cycle, std::size_t views, const Scanner& scanner,
 }
 
 }  // namespace
+
+double viewSeconds(const Scanner& scanner, const CycleSettings& settings) {
+  return scanner.acquisitionSeconds() + settings.settle + settings.handshake;
+}
+
+std::vector<double> cycleByViews(std::span<const double> path, const Scanner& scanner,
+                                 const CycleSettings& settings) {
+  std::vector<double> result;
+  for (std::size_t k = 0; k < path.size(); ++k)
+    result.push_back(static_cast<double>(k + 1) * viewSeconds(scanner, settings) + path[k]);
+  return result;
+}
 
 CycleTime programCycle(const RobotProgram& program, const Scanner& scanner,
                        const CycleSettings& settings) {

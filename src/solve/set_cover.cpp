@@ -6,10 +6,14 @@
 #include <CoinPackedMatrix.hpp>
 #include <OsiClpSolverInterface.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -25,6 +29,49 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point began) {
   return std::chrono::duration<double>(Clock::now() - began).count();
 }
+
+// CLP's sprint, its choice for the LPs of partial covers (far wider than tall), prints
+// to the standard output whatever the log level (Clp 1.17). While such a solve runs, the
+// standard output goes to /dev/null: the first solve to start sends it there, the last to
+// end brings it back. The standard error (progress, errors) is untouched.
+class StdoutSilenced {
+ public:
+  StdoutSilenced() {
+    const std::lock_guard lock(mutex());
+    if (depth()++ > 0) return;
+    std::fflush(stdout);
+    saved() = dup(STDOUT_FILENO);
+    if (const int null = open("/dev/null", O_WRONLY); null >= 0) {
+      dup2(null, STDOUT_FILENO);
+      close(null);
+    }
+  }
+  ~StdoutSilenced() {
+    const std::lock_guard lock(mutex());
+    if (--depth() > 0) return;
+    std::fflush(stdout);
+    if (saved() >= 0) {
+      dup2(saved(), STDOUT_FILENO);
+      close(saved());
+    }
+  }
+  StdoutSilenced(const StdoutSilenced&) = delete;
+  StdoutSilenced& operator=(const StdoutSilenced&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static int& depth() {
+    static int d = 0;
+    return d;
+  }
+  static int& saved() {
+    static int fd = -1;
+    return fd;
+  }
+};
 
 // A set cover instance reduced by dominance (Beasley's reductions): a set whose required
 // elements another set also holds is dropped, and so is an element whose sets include all
@@ -489,6 +536,22 @@ void loadPartial(const PartialInstance& p, const std::vector<double>& costs,
 
 }  // namespace
 
+double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
+                              const std::vector<int>& group, const std::vector<double>& need) {
+  PartialInstance p = partialInstance(sets, group, need);
+  if (p.group_of.empty()) return 0;
+  // At unit costs a set another includes adds nothing to the LP: dropped.
+  Reduced kept;
+  dropDominatedSets(p.columns, static_cast<int>(p.group_of.size()), kept);
+  p.columns = std::move(kept.columns);
+  OsiClpSolverInterface solver;
+  loadPartial(p, std::vector<double>(p.columns.size(), 1.0), solver);
+  solver.getModelPtr()->setMaximumIterations(100000);
+  const StdoutSilenced quiet;
+  solver.initialSolve();
+  return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+}
+
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
                                    const std::vector<double>& need, double time_limit_seconds,
@@ -500,6 +563,7 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
   if (meetsNeed(p, start) && cost(costs, start) < cost(costs, chosen)) chosen = start;
   const bool integral = std::all_of(costs.begin(), costs.end(), [](double c) { return c == 1; });
   if (!p.group_of.empty() && !chosen.empty()) {
+    const StdoutSilenced quiet;
     OsiClpSolverInterface solver;
     loadPartial(p, costs, solver);
     solver.getModelPtr()->setMaximumIterations(100000);

@@ -328,34 +328,42 @@ summaryRows.push(['planning time', `${fmt(summary.seconds, 2)} s`]);
 for (const [stage, seconds] of Object.entries(summary.stage_seconds || {})) summaryRows.push([`  ${stage}`, `${fmt(seconds, 2)} s`]);
 $('summary').append(table([{ title: 'quantity' }, { title: 'value' }], summaryRows));
 
-// Coverage against views: a line of the share measured by the first k views, and the views
-// that reach 90, 95, 98 and 100 %.
-if (summary.coverage_by_views && summary.coverage_by_views.measured.length > 0) {
-  const { coverable, measured } = summary.coverage_by_views;
-  const n = measured.length, w = 480, h = 200, m = 36;
-  const x = (k) => m + (w - 2 * m) * k / n, y = (share) => h - m + (2 * m - h) * share;
+// Coverage against views and against cycle time: a line of the share the first k views
+// measure over their count or their estimated cycle, and where it reaches 90, 95, 98 and
+// 100 %.
+function coverageChart(xs, measured, coverable, unit) {
+  const n = measured.length, w = 480, h = 200, m = 36, top = Math.max(xs[n - 1], 1e-9);
+  const x = (v) => m + (w - 2 * m) * v / top, y = (share) => h - m + (2 * m - h) * share;
   const svg = (tag, attrs) => {
     const e = document.createElementNS('http://www.w3.org/2000/svg', tag);
     for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
     return e;
   };
-  const chart = svg('svg', { width: w, height: h, viewBox: `0 0 ${w} ${h}`, role: 'img' });
-  const points = [[0, 0], ...measured.map((c, k) => [k + 1, c / Math.max(coverable, 1)])];
-  chart.append(svg('polyline', { points: points.map(([k, sh]) => `${x(k)},${y(sh)}`).join(' '),
+  const chart = svg('svg', { width: w, height: h, viewBox: `0 0 ${w} ${h}`, role: 'img', 'data-unit': unit });
+  const points = [[0, 0], ...measured.map((c, k) => [xs[k], c / Math.max(coverable, 1)])];
+  chart.append(svg('polyline', { points: points.map(([v, sh]) => `${x(v)},${y(sh)}`).join(' '),
     fill: 'none', stroke: '#2a6fdb', 'stroke-width': 2 }));
   chart.append(svg('line', { x1: m, y1: h - m, x2: w - m, y2: h - m, stroke: '#888' }),
     svg('line', { x1: m, y1: h - m, x2: m, y2: m, stroke: '#888' }));
   const label = (text, attrs) => { const t = svg('text', { 'font-size': 11, ...attrs }); t.textContent = text; return t; };
-  chart.append(label(`${n} views`, { x: w - m, y: h - m + 16, 'text-anchor': 'end' }), label('100 %', { x: m - 4, y: m + 4, 'text-anchor': 'end' }),
-    label('0', { x: m - 4, y: h - m + 4, 'text-anchor': 'end' }));
+  const amount = (v) => unit === 'views' ? `${v} views` : `${fmt(v)} s`;
+  chart.append(label(amount(xs[n - 1]), { x: w - m, y: h - m + 16, 'text-anchor': 'end' }),
+    label('100 %', { x: m - 4, y: m + 4, 'text-anchor': 'end' }), label('0', { x: m - 4, y: h - m + 4, 'text-anchor': 'end' }));
   const reach = [];
   for (const target of [0.9, 0.95, 0.98, 1]) {
     const k = measured.findIndex((c) => c >= Math.ceil(target * coverable - 1e-9));
     if (k < 0) continue;
-    reach.push(`${Math.round(target * 100)} %: ${k + 1} views`);
-    chart.append(svg('circle', { cx: x(k + 1), cy: y(measured[k] / Math.max(coverable, 1)), r: 3, fill: '#d9534f' }));
+    reach.push(`${Math.round(target * 100)} %: ${amount(xs[k])}`);
+    chart.append(svg('circle', { cx: x(xs[k]), cy: y(measured[k] / Math.max(coverable, 1)), r: 3, fill: '#d9534f' }));
   }
-  $('coverage-curve').append(chart, el('p', {}, reach.join(' · ')));
+  return [chart, el('p', {}, reach.join(' · '))];
+}
+if (summary.coverage_by_views && summary.coverage_by_views.measured.length > 0) {
+  const { coverable, measured } = summary.coverage_by_views;
+  $('coverage-curve').append(...coverageChart(measured.map((_, k) => k + 1), measured, coverable, 'views'));
+  const seconds = summary.cycle && summary.cycle.by_views;
+  if (seconds && seconds.length === measured.length)
+    $('coverage-curve').append(...coverageChart(seconds, measured, coverable, 'seconds'));
 }
 
 // Per task and role: samples, measured, not coverable.

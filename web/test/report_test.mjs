@@ -61,13 +61,15 @@ try {
   // measures of its coverable samples, read from plan.json.
   const planned = JSON.parse(readFileSync(planFile, 'utf8'));
   const curve = planned.summary.coverage_by_views;
-  const curvePoints = await page.evaluate(() => {
-    const line = document.querySelector('#coverage-curve polyline');
-    return line ? line.getAttribute('points').trim().split(/\s+/).length : 0;
-  });
-  check(curvePoints === curve.measured.length + 1 &&
+  const curves = await page.evaluate(() => [...document.querySelectorAll('#coverage-curve svg')].map((chart) => ({
+    unit: chart.dataset.unit, points: chart.querySelector('polyline').getAttribute('points').trim().split(/\s+/).length,
+  })));
+  const curvePoints = curves.length > 0 ? curves[0].points : 0;
+  check(curves.length === (planned.summary.cycle && planned.summary.cycle.by_views ? 2 : 1) &&
+        curves.every((c) => c.points === curvePoints) &&
+        curvePoints === curve.measured.length + 1 &&
         curve.measured[curve.measured.length - 1] === planned.summary.measured,
-        `coverage curve of ${curvePoints} points for ${curve.measured.length} views, ending at ` +
+        `coverage curves ${JSON.stringify(curves)} for ${curve.measured.length} views, ending at ` +
         `${curve.measured[curve.measured.length - 1]} of ${planned.summary.measured} measured`);
 
   // The WebGL canvas: share of pixels off the background colour, and distinct colours.

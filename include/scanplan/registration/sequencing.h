@@ -28,6 +28,10 @@ struct SequenceOptions {
 Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> views,
                             const SequenceOptions& options = {});
 
+// The same from each view of `from` (rows) to each of `to` (columns).
+Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> from,
+                            std::span<const View> to, const SequenceOptions& options = {});
+
 // All-pairs shortest paths (Dijkstra from every view) over the complete graph of `direct`.
 Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct);
 
@@ -35,6 +39,11 @@ Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct);
 // when either is registered by the robot (in the cell's frame, it may come anywhere).
 std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
                                                  const Registration& registration);
+
+// The length of an open path through nodes 0..k-1 of `cost`, for k = 1..n, built by
+// cheapest insertion: each node in turn put where it lengthens the path least (between two
+// nodes or at either end).
+std::vector<double> insertionPathLengths(const Eigen::MatrixXd& cost);
 
 // Length of the open path through `order` (indices into cost).
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order);

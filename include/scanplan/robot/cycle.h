@@ -9,6 +9,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace scanplan {
 
@@ -34,10 +35,24 @@ struct CycleTime {
   double motion = 0;       // moving between views (home, approaches, vias included)
   double table = 0;        // the moves the table's turn makes longer than the arm's
   double other = 0;        // settling and handshakes, over all views
+  // The estimated cycle of the plan's first k views (in its numbering, by marginal
+  // coverage), k = 1..views: their time at the views and the moves of a path through
+  // them (cheapest insertion). Empty when not estimated.
+  std::vector<double> by_views;
   double total() const { return acquisition + motion + table + other; }
-  // Another run after this one (a later rest orientation): the parts add up.
+  // Another run after this one (a later rest orientation): the parts add up, and its
+  // curve continues this one's.
   CycleTime& operator+=(const CycleTime& more);
 };
+
+// The seconds one view takes standing: the scanner's acquisition, the settling before it
+// and the handshake after it.
+double viewSeconds(const Scanner& scanner, const CycleSettings& settings);
+
+// CycleTime::by_views from the motion of a path through the first k views (k = 1..n,
+// seconds): k views' viewSeconds plus path[k - 1].
+std::vector<double> cycleByViews(std::span<const double> path, const Scanner& scanner,
+                                 const CycleSettings& settings);
 
 // One move of the cell from `a` to `b`, every joint and the table synchronised to the
 // slowest: the arm's seconds (the slowest joint's trapezoid) and the table's.

@@ -60,4 +60,10 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& need, double time_limit_seconds,
                                    int max_nodes = 1000000, const std::vector<int>& start = {});
 
+// The optimum of minimumPartialCover's LP relaxation with unit costs, rounded up: a lower
+// bound on the fewest sets meeting the needs; 0 when the LP is not solved within 100,000
+// simplex iterations (a count, so that the bound is the same on every machine).
+double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
+                              const std::vector<int>& group, const std::vector<double>& need);
+
 }  // namespace scanplan

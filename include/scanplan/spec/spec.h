@@ -63,6 +63,12 @@ struct CoverageTargets {
   bool full() const;  // every share 1
 };
 
+// planner.objective (docs/planning.md, "Objective"): what a view of the selection costs.
+enum class Objective {
+  Views,     // one view, one unit: the fewest views
+  CycleTime  // its seconds on the cell: acquisition, settling, handshake and a share of motion
+};
+
 struct PlannerSettings {
   std::uint64_t seed = 1;  // k-means and any other randomness
   double vm_step = 5;      // visibility-map grid step, degrees
@@ -83,6 +89,7 @@ struct PlannerSettings {
   bool lift_capability = false;  // plan again with the characteristics' faces as targets when
                                  // one is covered but not capable; kept if more are capable
   CoverageTargets coverage;      // below 1: the selection is a partial cover
+  Objective objective = Objective::Views;
 };
 
 struct Spec {
