@@ -6,6 +6,10 @@
 
 #include <scanplan/cad/import.h>
 
+#include <gtest/gtest-spi.h>
+
+#include <cstdlib>
+
 #include <map>
 
 namespace scanplan {
@@ -84,6 +88,25 @@ std::string pathOf(const NistCase& c) {
   if (c.file == "nist_ctc_01_asme1_ap242-e1.stp") return test::example("parts/" + c.file);
   if (c.committed) return test::testData(c.file);
   return std::string(SCANPLAN_SHARED_DATA) + "/nist/" + c.file;
+}
+
+// A test that needs a file of the shared data that is not there.
+void needsAMissingSharedFile() {
+  SHARED_FILE_OR_SKIP(std::string("/nonexistent/scanplan-shared/part.stp"));
+}
+
+// Where the shared data is required (as scripts/check.sh requires it in CI), a test whose
+// file of it is missing fails, naming the file, rather than skipping.
+TEST(SharedData, AMissingFileFailsTheTestWhereTheDataIsRequired) {
+  const char* before = std::getenv("SCANPLAN_REQUIRE_SHARED_DATA");
+  const std::string saved = before != nullptr ? before : "";
+  setenv("SCANPLAN_REQUIRE_SHARED_DATA", "1", 1);
+  EXPECT_FATAL_FAILURE(needsAMissingSharedFile(),
+                       "shared data not found: /nonexistent/scanplan-shared/part.stp");
+  if (before != nullptr)
+    setenv("SCANPLAN_REQUIRE_SHARED_DATA", saved.c_str(), 1);
+  else
+    unsetenv("SCANPLAN_REQUIRE_SHARED_DATA");
 }
 
 class NistImport : public testing::TestWithParam<NistCase> {};

@@ -458,6 +458,46 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
   EXPECT_EQ(found.size(), 3u);
 }
 
+// planner.max_failures: how many views may be aimed at a sample before it is given up. The
+// bottom of a 40 x 40 mm pocket 150 mm deep is seen but always lost (as above); with one
+// attempt it is given up after the first round, with three it is aimed at again, and the
+// poses tried on the way join the pool. Either way it ends lost.
+TEST(Planning, MaxFailuresSetsHowOftenALostSampleIsAimedAt) {
+  test::TempDir dir;
+  const TopoDS_Shape block =
+      BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(400, 400, 300).Shape(),
+                      BRepPrimAPI_MakeBox(gp_Pnt(180, 180, 150), 40, 40, 151).Shape())
+          .Shape();
+  BRepTools::Write(block, dir.file("pocket.brep").c_str());
+  const Part part = importPart(dir.file("pocket.brep"));
+  int bottom = 0;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Plane && std::abs(f.bounds.max.z() - 150) < 1e-6 &&
+        std::abs(f.bounds.min.z() - 150) < 1e-6)
+      bottom = f.id;
+  ASSERT_GT(bottom, 0);
+  // The top around the pocket too, which the first round measures.
+  const std::string faces = std::to_string(bottom) + ", " + std::to_string(test::topFace(part));
+  std::map<int, std::size_t> pool;  // per max_failures
+  for (const int attempts : {1, 3}) {
+    const Plan plan =
+        planViews(part,
+                  specWith("tasks:\n  - {type: gdt, faces: [" + faces +
+                               "]}\nplanner: {max_failures: " + std::to_string(attempts) + "}\n",
+                           dir),
+                  PlanningOptions{.registration = false});
+    for (const PlannedSample& s : plan.samples) {
+      if (s.sample.face != bottom) continue;
+      EXPECT_EQ(s.uncoverable, Uncoverable::Lost) << attempts << ": " << toString(s.uncoverable);
+    }
+    ASSERT_TRUE(plan.bound);
+    pool[attempts] = plan.bound->pool;
+  }
+  RecordProperty("pool_1", std::to_string(pool[1]));
+  RecordProperty("pool_3", std::to_string(pool[3]));
+  EXPECT_GT(pool[3], pool[1]);
+}
+
 // The foot of a wall standing on the working plane: the pose aimed at a sample 5 mm above
 // the plane along its normal would put the scanner body through the plane; the plan
 // measures every sample of the wall's foot all the same.

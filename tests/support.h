@@ -37,8 +37,9 @@ inline std::string examplePlan(const std::string& name = "plan.json") {
   return folder + "/" + name;
 }
 
-// True when the shared data must be there (SCANPLAN_REQUIRE_SHARED_DATA set, as .ci/run sets
-// it when ../shared/data exists): a test that needs a missing file then fails.
+// True when the shared data must be there (SCANPLAN_REQUIRE_SHARED_DATA set, as
+// scripts/check.sh sets it in CI and wherever ../shared/data exists): a test that needs a
+// missing file then fails.
 inline bool sharedDataRequired() {
   const char* value = std::getenv("SCANPLAN_REQUIRE_SHARED_DATA");
   return value != nullptr && *value != '\0';
