@@ -153,20 +153,24 @@ std::vector<double> cycleCosts(const Placement& at, const MeasuredViews& pool,
                                const std::vector<std::size_t>& greedy) {
   std::vector<View> near;
   for (std::size_t v : greedy) near.push_back(pool.views[v]);
-  const Eigen::MatrixXd mm = directCosts(at.simulator, pool.views, near);
   const CycleSettings& cycle = at.spec.spec.cycle;
   const double standing = viewSeconds(at.scanner(), cycle);
   std::vector<double> costs;
-  for (Eigen::Index i = 0; i < mm.rows(); ++i) {
-    std::vector<double> moves;
-    for (std::size_t j = 0; j < greedy.size(); ++j)
-      if (greedy[j] != static_cast<std::size_t>(i))
-        moves.push_back(
-            trapezoidSeconds(mm(i, static_cast<Eigen::Index>(j)), cycle.speed, cycle.acceleration));
-    const std::size_t two = std::min<std::size_t>(2, moves.size());
-    std::partial_sort(moves.begin(), moves.begin() + static_cast<long>(two), moves.end());
-    costs.push_back(
-        standing + std::accumulate(moves.begin(), moves.begin() + static_cast<long>(two), 0.0) / 2);
+  constexpr std::size_t kRows = 4096;  // poses whose moves are found at once
+  for (std::size_t first = 0; first < pool.size(); first += kRows) {
+    const auto rows =
+        std::span<const View>(pool.views).subspan(first, std::min(kRows, pool.size() - first));
+    const Eigen::MatrixXd mm = directCosts(at.simulator, rows, near);
+    for (Eigen::Index i = 0; i < mm.rows(); ++i) {
+      std::vector<double> moves;
+      for (std::size_t j = 0; j < greedy.size(); ++j)
+        if (greedy[j] != first + static_cast<std::size_t>(i))
+          moves.push_back(trapezoidSeconds(mm(i, static_cast<Eigen::Index>(j)), cycle.speed,
+                                           cycle.acceleration));
+      const auto two = moves.begin() + static_cast<long>(std::min<std::size_t>(2, moves.size()));
+      std::partial_sort(moves.begin(), two, moves.end());
+      costs.push_back(standing + std::accumulate(moves.begin(), two, 0.0) / 2);
+    }
   }
   return costs;
 }
