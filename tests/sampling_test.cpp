@@ -95,33 +95,33 @@ std::size_t distinct(const std::vector<Sample>& samples, int face, int coordinat
   return values.size();
 }
 
-TEST(SurfaceSampling, SamplesLieOnNistFacesWithOutwardNormals) {
-  std::vector<std::string> parts = {test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"),
-                                    test::testData("nist_ftc_11_asme1_ap242-e1.stp"),
-                                    test::testData("nist_ctc_03_asme1_ap242-e2.stp")};
-  for (const char* name : {"nist_ctc_02_asme1_ap242-e2.stp", "nist_ctc_04_asme1_ap242-e1.stp",
-                           "nist_ftc_06_asme1_ap242-e1.stp", "nist_ftc_07_asme1_ap242-e2.stp",
-                           "nist_ftc_08_asme1_ap242-e1.stp"}) {
-    std::string path = std::string(SCANPLAN_SHARED_DATA) + "/nist/" + name;
-    if (std::filesystem::exists(path))
-      parts.push_back(path);
-    else if (test::sharedDataRequired())
-      ADD_FAILURE() << "shared data not found: " << path
-                    << " (SCANPLAN_REQUIRE_SHARED_DATA is set)";
-    else
-      std::cout << "[ SKIPPED  ] shared data not found: " << path << "\n";
-  }
-  for (const std::string& path : parts) {
-    SCOPED_TRACE(path);
-    Part part = importPart(path);
-    std::vector<Sample> samples =
-        sampleSurface(part, allFaces(part), Role::Priority, TaskType::Gdt);
-    std::set<int> sampled;
-    for (const Sample& s : samples) sampled.insert(s.face);
-    EXPECT_GE(sampled.size(), part.faces.size() * 95 / 100) << "faces without samples";
-    expectOnFacesAndOutward(part, samples, std::max<std::size_t>(1, samples.size() / 400));
-  }
+// Each NIST part on its own (the example, those in tests/data, the rest from the shared
+// data): almost every face sampled, every sample on its face with an outward normal.
+class NistSampling : public testing::TestWithParam<std::string> {};
+
+TEST_P(NistSampling, SamplesLieOnTheFacesWithOutwardNormals) {
+  const std::string& name = GetParam();
+  std::string path =
+      name == "nist_ctc_01_asme1_ap242-e1.stp" ? test::example("parts/" + name)
+      : name == "nist_ftc_11_asme1_ap242-e1.stp" || name == "nist_ctc_03_asme1_ap242-e2.stp"
+          ? test::testData(name)
+          : std::string(SCANPLAN_SHARED_DATA) + "/nist/" + name;
+  SHARED_FILE_OR_SKIP(path);
+  Part part = importPart(path);
+  std::vector<Sample> samples = sampleSurface(part, allFaces(part), Role::Priority, TaskType::Gdt);
+  std::set<int> sampled;
+  for (const Sample& s : samples) sampled.insert(s.face);
+  EXPECT_GE(sampled.size(), part.faces.size() * 95 / 100) << "faces without samples";
+  expectOnFacesAndOutward(part, samples, std::max<std::size_t>(1, samples.size() / 400));
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Nist, NistSampling,
+    testing::Values("nist_ctc_01_asme1_ap242-e1.stp", "nist_ftc_11_asme1_ap242-e1.stp",
+                    "nist_ctc_03_asme1_ap242-e2.stp", "nist_ctc_02_asme1_ap242-e2.stp",
+                    "nist_ctc_04_asme1_ap242-e1.stp", "nist_ftc_06_asme1_ap242-e1.stp",
+                    "nist_ftc_07_asme1_ap242-e2.stp", "nist_ftc_08_asme1_ap242-e1.stp"),
+    [](const testing::TestParamInfo<std::string>& param) { return param.param.substr(0, 11); });
 
 TEST(SurfaceSampling, PlaneCylinderAndBSplineGetSixPerDirection) {
   test::TempDir dir;
