@@ -9,6 +9,7 @@
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
+#include <scanplan/robot/cycle.h>
 #include <scanplan/scanner/visibility.h>
 #include <scanplan/solve/set_cover.h>
 
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -968,6 +970,32 @@ TEST(Planning, CycleTimeObjectiveCoversThePlateOfTwoByTwoFieldsInFourViews) {
   for (const std::vector<int>& seen : measuredPoints(simulator, plan.views, points))
     for (int i : seen) hit[i] = 1;
   EXPECT_EQ(std::count(hit.begin(), hit.end(), 1), static_cast<long>(points.size()));
+}
+
+// A plan without registration is ordered all the same: its sequence visits each of the
+// plate's four views once, and its cycle holds four views' standing time and three moves,
+// each at least the trapezoid over the shortest distance between two of its cameras.
+TEST(Planning, APlanWithoutRegistrationIsSequencedWithItsCycle) {
+  test::TempDir dir;
+  const Part part = plateOfTwoByTwoFields(dir);
+  const Plan plan = gdtPlan(part, test::topFace(part), dir);
+  ASSERT_EQ(plan.views.size(), 4u);
+  ASSERT_TRUE(plan.sequence && plan.cycle);
+  std::vector<int> visited = plan.sequence->views, ids;
+  for (const View& view : plan.views) ids.push_back(view.id);
+  std::sort(visited.begin(), visited.end());
+  EXPECT_EQ(visited, ids);
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const View& a : plan.views)
+    for (const View& b : plan.views)
+      if (a.id != b.id) shortest = std::min(shortest, (a.camera() - b.camera()).norm());
+  const CycleSettings settings;
+  EXPECT_EQ(plan.cycle->views, 4u);
+  EXPECT_GE(plan.cycle->motion,
+            3 * test::steppedMoveSeconds(shortest, settings.speed, settings.acceleration) - 1e-3);
+  EXPECT_NEAR(plan.cycle->acquisition + plan.cycle->other, 4 * viewSeconds(plan.scanner, settings),
+              1e-9);
+  EXPECT_EQ(plan.cycle->by_views.size(), 4u);
 }
 
 // The selection's bookkeeping on a real part: its bound is positive and no more than its

@@ -239,10 +239,6 @@ void addRegistration(const Plan& plan, json& result) {
         std::count_if(registration.views.begin(), registration.views.end(),
                       [&](auto& v) { return v.method == m; });
   summary["registered_by"] = by;
-  if (plan.sequence) {
-    summary["path_length"] = plan.sequence->length;
-    summary["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
-  }
   json pairs = json::array();
   for (const PairCheck& p : registration.pairs) pairs.push_back(pairJson(p));
   result["registration"] = {{"method", toString(registration.method)},
@@ -428,6 +424,10 @@ json planJson(const Plan& plan) {
       {"summary", summaryJson(plan)},
   };
   if (plan.registration) addRegistration(plan, result);
+  if (plan.sequence) {
+    result["summary"]["path_length"] = plan.sequence->length;
+    result["summary"]["nearest_neighbour_path_length"] = plan.sequence->nearest_neighbour_length;
+  }
   if (!plan.orientations.empty()) addOrientations(plan, result);
   if (plan.cell) addCell(plan, result);
   if (!plan.sweeps.empty()) addSweeps(plan, result);

@@ -315,13 +315,15 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
 
 // Orders the views of a plan without a cell by the generic positioning's time (the
 // scanner's shortest paths, mm, each a trapezoid at the cycle's speed and acceleration;
-// lengths in mm), and sets the plan's cycle along that order. The seconds between views.
-Eigen::MatrixXd sequenceByGenericTime(const detail::Placement& at, Plan& plan) {
+// lengths in mm), each after one it registers to by `registration` where it can be, and
+// sets the plan's cycle along that order. The seconds between views.
+Eigen::MatrixXd sequenceByGenericTime(const detail::Placement& at, Plan& plan,
+                                      const Registration& registration) {
   const CycleSettings& settings = at.spec.spec.cycle;
   const Eigen::MatrixXd paths = shortestPaths(directCosts(at.simulator, plan.views));
   const Eigen::MatrixXd times = paths.unaryExpr(
       [&](double mm) { return trapezoidSeconds(mm, settings.speed, settings.acceleration); });
-  plan.sequence = sequenceViews(times, paths, plan.views, *plan.registration);
+  plan.sequence = sequenceViews(times, paths, plan.views, registration);
   std::map<int, Eigen::Index> index;
   for (std::size_t v = 0; v < plan.views.size(); ++v)
     index[plan.views[v].id] = static_cast<Eigen::Index>(v);
@@ -340,9 +342,29 @@ struct Sequenced {
   Eigen::MatrixXd times;
 };
 
+// Orders the plan's views, each after one it registers to by `registration` where it can
+// be: by the robot's joint travel with a cell, whose solutions for the views it returns,
+// else by the generic positioning.
+Sequenced sequence(const detail::Placement& at, Plan& plan, const Registration& registration,
+                   StageClock& clock, const Progress& progress) {
+  report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
+  Sequenced sequenced;
+  if (at.cell.cell) {
+    // In joint space: the order by the robot's travel time, lengths in mm as always.
+    sequenced.solutions = cellSolutions(*at.cell.cell, plan.views, at.cell.collisions);
+    sequenced.times = shortestPaths(jointTravelTimes(*at.cell.cell, sequenced.solutions));
+    plan.sequence =
+        sequenceViews(sequenced.times, shortestPaths(directCosts(at.simulator, plan.views)),
+                      plan.views, registration);
+  } else {
+    sequenced.times = sequenceByGenericTime(at, plan, registration);
+  }
+  clock.lap("sequencing");
+  return sequenced;
+}
+
 // Registers the plan's views, bridging where they fall apart (bridging views measure
-// samples too), and orders them: by the robot's joint travel with a cell, whose
-// solutions for the views it returns, else by the generic positioning.
+// samples too), and orders them (sequence).
 Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
                               const Progress& progress) {
   plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
@@ -355,21 +377,7 @@ Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageCloc
   for (std::size_t b = 0; b < bridges.size(); ++b)
     for (int i : measured[b]) plan.samples[i].measured_by.push_back(bridges[b].id);
   clock.lap("registration");
-
-  report(progress, "sequencing " + std::to_string(plan.views.size()) + " views", 0);
-  Sequenced sequenced;
-  if (at.cell.cell) {
-    // In joint space: the order by the robot's travel time, lengths in mm as always.
-    sequenced.solutions = cellSolutions(*at.cell.cell, plan.views, at.cell.collisions);
-    sequenced.times = shortestPaths(jointTravelTimes(*at.cell.cell, sequenced.solutions));
-    plan.sequence =
-        sequenceViews(sequenced.times, shortestPaths(directCosts(at.simulator, plan.views)),
-                      plan.views, *plan.registration);
-  } else {
-    sequenced.times = sequenceByGenericTime(at, plan);
-  }
-  clock.lap("sequencing");
-  return sequenced;
+  return sequence(at, plan, *plan.registration, clock, progress);
 }
 
 // Plans the views for `sampled` (part frame) with the part placed by `part_to_world`;
@@ -419,8 +427,9 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   plan.bound = selection.bound;
   clock.lap("selection");
 
-  Sequenced sequenced;  // with a cell, the final views' solutions
-  if (options.registration) sequenced = registerAndSequence(at, plan, clock, progress);
+  // Without registration, the views are ordered all the same, none bound to follow another.
+  Sequenced sequenced = options.registration ? registerAndSequence(at, plan, clock, progress)
+                                             : sequence(at, plan, Registration{}, clock, progress);
   CellSolutions& solutions = sequenced.solutions;
   detail::explainUncoverable(at, visibility, pool, plan.samples);
   clock.lap("not coverable");
