@@ -541,11 +541,14 @@ class ConnectedCover {
   std::optional<std::size_t> best(Allowed allowed) const {
     std::optional<std::size_t> best;
     std::pair<double, double> best_rate{0, 0};
-    for (std::size_t v = 0; v < pool_.size(); ++v)
-      if (!used_[v] && rate(v) > best_rate && allowed(v)) {
-        best_rate = rate(v);
+    for (std::size_t v = 0; v < pool_.size(); ++v) {
+      if (used_[v]) continue;
+      const std::pair<double, double> r = rate(v);
+      if (r > best_rate && allowed(v)) {
+        best_rate = r;
         best = v;
       }
+    }
     return best;
   }
 

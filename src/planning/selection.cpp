@@ -162,14 +162,23 @@ std::vector<double> cycleCosts(const Placement& at, const MeasuredViews& pool,
         std::span<const View>(pool.views).subspan(first, std::min(kRows, pool.size() - first));
     const Eigen::MatrixXd mm = directCosts(at.simulator, rows, near);
     for (Eigen::Index i = 0; i < mm.rows(); ++i) {
-      std::vector<double> moves;
-      for (std::size_t j = 0; j < greedy.size(); ++j)
-        if (greedy[j] != first + static_cast<std::size_t>(i))
-          moves.push_back(trapezoidSeconds(mm(i, static_cast<Eigen::Index>(j)), cycle.speed,
-                                           cycle.acceleration));
-      const auto two = moves.begin() + static_cast<long>(std::min<std::size_t>(2, moves.size()));
-      std::partial_sort(moves.begin(), two, moves.end());
-      costs.push_back(standing + std::accumulate(moves.begin(), two, 0.0) / 2);
+      // The two shortest moves, the pose's own view aside: a trapezoid's time rises with
+      // its length, so they are the two quickest.
+      double nearest[2] = {-1, -1};
+      for (std::size_t j = 0; j < greedy.size(); ++j) {
+        const double d = mm(i, static_cast<Eigen::Index>(j));
+        if (greedy[j] == first + static_cast<std::size_t>(i)) continue;
+        if (nearest[0] < 0 || d < nearest[0]) {
+          nearest[1] = nearest[0];
+          nearest[0] = d;
+        } else if (nearest[1] < 0 || d < nearest[1]) {
+          nearest[1] = d;
+        }
+      }
+      double moves = 0;
+      for (const double d : nearest)
+        if (d >= 0) moves += trapezoidSeconds(d, cycle.speed, cycle.acceleration);
+      costs.push_back(standing + moves / 2);
     }
   }
   return costs;
