@@ -141,7 +141,7 @@ double neededViews(const Plan& plan, const std::vector<PoseReach>& reach, Enough
       others.push_back(reach[v].samples);
     }
   if (std::find(required.begin(), required.end(), 1) == required.end()) return 0;
-  return minimumSetCover(others, required, 20).lower_bound;
+  return minimumSetCover(others, required, {1000000, 20}).lower_bound;
 }
 
 // CBC's bound on the views that do not lock at `threshold` which the plan's measured

@@ -147,6 +147,9 @@ int run(const Options& options, const GlobalOptions& global) {
     fmt::print("{:<22} {} views, at least {} needed from {} candidate poses{} (greedy {})\n",
                "selection", b.views, b.lower_bound, b.pool, b.proven_optimal ? ", the fewest" : "",
                b.greedy_views);
+    if (b.time_capped)
+      printWarnings("", {"the selection stopped at planner.selection_seconds before its "
+                         "planner.selection_nodes: this plan depends on the machine's speed"});
   }
   printResultsRow(plan);
   fmt::print("\n");

@@ -381,11 +381,8 @@ void addSweeps(const Plan& plan, json& result) {
 
 json boundJson(const Plan& plan) {
   const PlanBound& b = *plan.bound;
-  return {{"views", b.views},
-          {"greedy_views", b.greedy_views},
-          {"lower_bound", b.lower_bound},
-          {"pool", b.pool},
-          {"proven_optimal", b.proven_optimal}};
+  return {{"views", b.views}, {"greedy_views", b.greedy_views},     {"lower_bound", b.lower_bound},
+          {"pool", b.pool},   {"proven_optimal", b.proven_optimal}, {"time_capped", b.time_capped}};
 }
 
 }  // namespace

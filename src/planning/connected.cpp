@@ -47,6 +47,47 @@ constexpr std::size_t kChainFailures = 10;  // chains failing ICP before the sea
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
 
+// Poses by their rate (priority, other samples gained per cost), the highest first and the
+// lowest index on ties, for a greedy whose gains only fall: an entry is looked at when it
+// comes to the top, and queued again at its pose's present rate when that has fallen
+// (the lazy greedy). A pose that may be picked must have an entry at or above its rate.
+class RateQueue {
+ public:
+  using Rate = std::pair<double, double>;
+  void push(std::size_t v, Rate rate) { heap_.push({rate, v}); }
+
+  // The pose of the highest present rate `rate_of` among those `kept` (an entry of one not
+  // kept is dropped), if that rate is above zero.
+  template <class RateOf, class Kept>
+  std::optional<std::size_t> top(RateOf rate_of, Kept kept) {
+    while (!heap_.empty()) {
+      const Entry entry = heap_.top();
+      if (!kept(entry.pose)) {
+        heap_.pop();
+        continue;
+      }
+      if (const Rate now = rate_of(entry.pose); now != entry.rate) {
+        heap_.pop();
+        heap_.push({now, entry.pose});
+        continue;
+      }
+      if (entry.rate > Rate{0, 0}) return entry.pose;
+      return std::nullopt;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  struct Entry {
+    Rate rate;
+    std::size_t pose;
+    bool operator<(const Entry& other) const {  // the top is the greatest
+      return rate < other.rate || (rate == other.rate && pose > other.pose);
+    }
+  };
+  std::priority_queue<Entry> heap_;
+};
+
 // The condition number of the samples' ICP constraints, each by the area it stands for.
 double condition(const Placement& at, const std::vector<PlannedSample>& samples,
                  const std::vector<int>& measured) {
@@ -190,6 +231,12 @@ class CoverContext {
 // before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
 // rule one out.
 class ConnectedCover {
+  // A chosen view a pose may register to: judged 1 when foreseen to, 0 not yet judged.
+  struct Partner {
+    std::size_t view;
+    signed char judged;
+  };
+
  public:
   // The cover run `run` of kCreeps.
   ConnectedCover(const CoverContext& context, std::size_t run)
@@ -213,8 +260,8 @@ class ConnectedCover {
     reset(pinned);
     for (std::size_t v = 0; v < pinned; ++v) choose(v);
     while (!met()) {
-      const auto linked = best([&](std::size_t v) { return !partners_[v].empty(); });
-      const auto seed = best([&](std::size_t v) { return constrained_[v] != 0; });
+      const auto linked = best(linked_, [&](std::size_t v) { return hasPartner(v); });
+      const auto seed = best(seeds_, [&](std::size_t v) { return constrained_[v] != 0; });
       const bool jump = seed && (!linked || total(gain_[*linked]) < creep * total(gain_[*seed]));
       if (linked && !jump) {
         if (const auto partner = registeredPartner(*linked)) choose(*linked, partner);
@@ -229,7 +276,7 @@ class ConnectedCover {
         }
         continue;
       }
-      const auto next = best([](std::size_t) { return true; });
+      const auto next = best(all_, [](std::size_t) { return true; });
       if (!next) break;
       choose(*next);
     }
@@ -265,6 +312,11 @@ class ConnectedCover {
     parent_.clear();
     links_.clear();
     tested_.clear();
+    linked_ = seeds_ = all_ = {};
+    for (std::size_t v = 0; v < pool_.size(); ++v) {
+      all_.push(v, rate(v));
+      if (constrained_[v]) seeds_.push(v, rate(v));
+    }
   }
 
   // Per chosen view (pool index), the root of its group: the views registering to one
@@ -504,12 +556,18 @@ class ConnectedCover {
   }
 
   // Foreseen to register by the `both` samples they share: enough of them, at least half
-  // min_overlap of what each measures, constraining ICP within ten times the limit.
+  // min_overlap of what each measures (mayShare), constraining ICP within ten times the
+  // limit (constrains).
   bool mayRegister(const std::vector<int>& a, const std::vector<int>& b, std::size_t both) const {
+    return mayShare(a, b, both) && constrains(a, b);
+  }
+  bool mayShare(const std::vector<int>& a, const std::vector<int>& b, std::size_t both) const {
     const double least = options_.min_overlap / 2;
-    if (both < kLeastShared || static_cast<double>(both) < least * static_cast<double>(a.size()) ||
-        static_cast<double>(both) < least * static_cast<double>(b.size()))
-      return false;
+    return both >= kLeastShared &&
+           static_cast<double>(both) >= least * static_cast<double>(a.size()) &&
+           static_cast<double>(both) >= least * static_cast<double>(b.size());
+  }
+  bool constrains(const std::vector<int>& a, const std::vector<int>& b) const {
     std::vector<int> overlap;
     std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(overlap));
     return condition(at_, samples_, overlap) <= 10 * options_.max_condition;
@@ -517,11 +575,28 @@ class ConnectedCover {
 
   const Observation& seen(std::size_t v) const { return context_.seen(v); }
 
+  // Whether partner `p` of pose `v` is foreseen to register to it: by markers, or by the
+  // samples they share, whose ICP constraint is judged here, when first asked.
+  bool foreseen(Partner& p, std::size_t v) const {
+    if (!p.judged) p.judged = constrains(pool_.samples[p.view], pool_.samples[v]) ? 1 : -1;
+    return p.judged > 0;
+  }
+
+  // Whether `v` has a partner foreseen to register to it; those found not to are forgotten.
+  bool hasPartner(std::size_t v) {
+    std::vector<Partner>& partners = partners_[v];
+    while (!partners.empty() && !foreseen(partners.front(), v)) partners.erase(partners.begin());
+    return !partners.empty();
+  }
+
   // The first of `v`'s foreseen partners with which it passes the registration's pair
   // test; none, and they are forgotten, when it passes with none.
   std::optional<std::size_t> registeredPartner(std::size_t v) {
-    for (std::size_t c : partners_[v])
+    for (Partner& p : partners_[v]) {
+      if (!foreseen(p, v)) continue;
+      const std::size_t c = p.view;
       if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
+    }
     partners_[v].clear();
     return std::nullopt;
   }
@@ -535,21 +610,12 @@ class ConnectedCover {
     return false;
   }
 
-  // The pose passing `allowed` with the largest gain per cost (the first on ties), none
-  // gaining.
+  // The pose of `queue` passing `allowed` with the largest gain per cost (the first on
+  // ties), none gaining.
   template <class Allowed>
-  std::optional<std::size_t> best(Allowed allowed) const {
-    std::optional<std::size_t> best;
-    std::pair<double, double> best_rate{0, 0};
-    for (std::size_t v = 0; v < pool_.size(); ++v) {
-      if (used_[v]) continue;
-      const std::pair<double, double> r = rate(v);
-      if (r > best_rate && allowed(v)) {
-        best_rate = r;
-        best = v;
-      }
-    }
-    return best;
+  std::optional<std::size_t> best(RateQueue& queue, Allowed allowed) const {
+    return queue.top([&](std::size_t v) { return rate(v); },
+                     [&](std::size_t v) { return !used_[v] && allowed(v); });
   }
 
   void choose(std::size_t c, std::optional<std::size_t> partner = std::nullopt) {
@@ -564,17 +630,24 @@ class ConnectedCover {
       for (int v : by_sample_[i]) --part(gain_[v], i);
     }
     context_.covered(run_, newly_covered_);
-    std::vector<std::size_t> partnered;  // poses that may register to it
-    for (const auto& [v, both] : sharing(pool_.samples[c], by_sample_))
-      if (!used_[v] && mayRegister(pool_.samples[c], pool_.samples[v], both))
-        partnered.push_back(v);
+    // The poses that may register to it: by markers, or by samples, whose ICP constraint is
+    // judged when it matters (foreseen).
+    std::vector<std::pair<std::size_t, signed char>> partnered;
     if (!markers_seen_.empty())
       for (const auto& [v, both] : sharing(markers_seen_[c], by_marker_))
         if (!used_[v] && both >= static_cast<std::size_t>(options_.min_markers))
-          partnered.push_back(v);
-    std::sort(partnered.begin(), partnered.end());
-    partnered.erase(std::unique(partnered.begin(), partnered.end()), partnered.end());
-    for (std::size_t v : partnered) partners_[v].push_back(c);
+          partnered.push_back({v, 1});
+    for (const auto& [v, both] : sharing(pool_.samples[c], by_sample_))
+      if (!used_[v] && mayShare(pool_.samples[c], pool_.samples[v], both))
+        partnered.push_back({v, 0});
+    std::stable_sort(partnered.begin(), partnered.end(),
+                     [](auto& a, auto& b) { return a.first < b.first; });
+    for (std::size_t k = 0; k < partnered.size(); ++k) {
+      const auto [v, judged] = partnered[k];
+      if (k > 0 && partnered[k - 1].first == v) continue;  // by markers, judged
+      if (partners_[v].empty()) linked_.push(v, rate(v));
+      partners_[v].push_back({c, judged});
+    }
   }
 
   // The poses sharing any of `seen` (samples or markers, measured by the poses `poses_of`
@@ -607,9 +680,12 @@ class ConnectedCover {
   std::vector<int> shared_;        // per pose: what it shares, while sharing() counts
   std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
-  std::size_t newly_covered_ = 0;                   // samples covered not done before
-  std::vector<double> unmet_;                       // per group of the aim: need left
-  std::vector<std::vector<std::size_t>> partners_;  // per pose: chosen views it may register to
+  std::size_t newly_covered_ = 0;               // samples covered not done before
+  std::vector<double> unmet_;                   // per group of the aim: need left
+  std::vector<std::vector<Partner>> partners_;  // per pose: chosen views it may register to
+  RateQueue linked_;                            // poses with partners, by rate
+  RateQueue seeds_;                             // poses something may register to, by rate
+  RateQueue all_;                               // every pose, by rate
   std::size_t pinned_ = 0;
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to

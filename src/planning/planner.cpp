@@ -494,6 +494,7 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
     sum.lower_bound += part.bound->lower_bound;
     sum.pool += part.bound->pool;
     sum.proven_optimal = sum.lower_bound >= static_cast<double>(sum.views);
+    sum.time_capped = sum.time_capped || part.bound->time_capped;
   }
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());

@@ -94,6 +94,12 @@ std::vector<char> requiredSamples(const Placement& at, const MeasuredViews& pool
   return required;
 }
 
+// What the exact selection may spend: planner.selection_nodes decides the plan;
+// planner.selection_seconds caps it for safety.
+SolveLimits selectionLimits(const Placement& at) {
+  return {at.settings().selection_nodes, at.settings().selection_seconds};
+}
+
 // The pool's views after the pinned ones, as sets of samples.
 std::vector<std::vector<int>> unpinnedSets(const MeasuredViews& pool, std::size_t pinned) {
   return {pool.samples.begin() + static_cast<long>(pinned), pool.samples.end()};
@@ -108,10 +114,9 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
   std::vector<int> start;
   for (std::size_t k = pinned; k < greedy.size(); ++k)
     start.push_back(static_cast<int>(greedy[k] - pinned));
-  const SetCoverResult cover =
-      minimumSetCover(unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples),
-                      at.settings().selection_seconds, start, at.settings().selection_nodes,
-                      [&](double share) { report(progress, "selection: exact cover", share); });
+  const SetCoverResult cover = minimumSetCover(
+      unpinnedSets(pool, pinned), requiredSamples(at, pool, pinned, samples), selectionLimits(at),
+      start, [&](double share) { report(progress, "selection: exact cover", share); });
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -198,7 +203,7 @@ std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
   const std::vector<double> costs(aim.costs.begin() + static_cast<long>(pinned), aim.costs.end());
   const SetCoverResult cover =
       minimumPartialCover(unpinnedSets(pool, pinned), costs, aim.needs.group, aim.needs.need,
-                          at.settings().selection_seconds, at.settings().selection_nodes, start);
+                          selectionLimits(at), start);
   std::vector<std::size_t> chosen(pinned);
   std::iota(chosen.begin(), chosen.end(), 0);
   for (int c : cover.chosen) chosen.push_back(static_cast<std::size_t>(c) + pinned);
@@ -276,8 +281,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   const auto viewsBound = [&] {
     const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
     return static_cast<double>(pinned) +
-           (full ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples.size()),
-                                      at.settings().selection_seconds)
+           (full ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples.size()))
                  : partialCoverLowerBound(sets, aim.needs.group, aim.needs.need));
   };
   if (registering) {
@@ -294,11 +298,13 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
         withoutRedundant(at, pool, exact, pinned, samples.size());
     selection.views = greedyCover(at, pool, chosen, pinned, samples);  // by marginal coverage
     bound.lower_bound = static_cast<double>(pinned) + cover.lower_bound;
+    bound.time_capped = cover.time_capped;
   } else if (selection.views.empty()) {
     const auto [chosen, cover] =
         partialCover(at, pool, pinned, samples, aim, greedy, bound.greedy_views);
     selection.views = chosen;
     bound.lower_bound = by_time ? viewsBound() : static_cast<double>(pinned) + cover.lower_bound;
+    bound.time_capped = cover.time_capped;
   }
   bound.views = selection.views.size();
   bound.pool = pool.size();

@@ -11,7 +11,8 @@
 namespace scanplan {
 namespace {
 
-constexpr double kSeconds = 2;  // CBC's time for the proposal and for its bound
+// CBC's search for the proposal and for its bound.
+constexpr SolveLimits kLimits{1000, 60};
 
 // The pairs of views markers must join: a spanning forest over the pairs that see at least
 // `least` candidates in common, the pairs that register already taken first and free, then
@@ -99,7 +100,7 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
     for (int c : pairs[p]) pairs_of[c].push_back(static_cast<int>(p));
   std::vector<char> taken(candidates.size(), 0);
   for (int c :
-       minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers), kSeconds)
+       minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers), kLimits)
            .chosen)
     taken[c] = 1;
   for (const std::vector<int>& pair : pairs) {
@@ -125,7 +126,7 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
     ++proposal.views;
   }
   const SetCoverResult bound =
-      minimumMulticover(views_of, std::vector<int>(proposal.views, options.min_markers), kSeconds);
+      minimumMulticover(views_of, std::vector<int>(proposal.views, options.min_markers), kLimits);
   proposal.lower_bound = static_cast<std::size_t>(bound.lower_bound);
   return proposal;
 }

@@ -1,5 +1,6 @@
 #include <scanplan/solve/set_cover.h>
 
+#include <CbcEventHandler.hpp>
 #include <CbcModel.hpp>
 #include <CbcSolver.hpp>
 #include <ClpSimplex.hpp>
@@ -12,19 +13,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numeric>
 #include <string>
-#include <thread>
 
 namespace scanplan {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+constexpr int kLpIterations = 100000;  // simplex iterations of an LP relaxation
 
 double secondsSince(Clock::time_point began) {
   return std::chrono::duration<double>(Clock::now() - began).count();
@@ -229,28 +230,21 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
   solver.getModelPtr()->setLogLevel(0);
 }
 
-// Shows the share of `seconds` gone by, every tenth of a second, while it lives: CBC
-// raises too few events for its own progress to show (docs/planning.md).
-class TimeShown {
+// Shows the share of the node limit searched, at each node CBC ends: the nodes of the
+// search itself, not of the searches its heuristics run on sub-problems.
+class NodesShown : public CbcEventHandler {
  public:
-  TimeShown(const SetCoverProgress& shown, double seconds) {
-    if (!shown || seconds <= 0) return;
-    thread_ = std::jthread([shown, seconds, this](std::stop_token stop) {
-      const auto began = std::chrono::steady_clock::now();
-      std::unique_lock lock(mutex_);
-      for (;;) {
-        wake_.wait_for(lock, stop, std::chrono::milliseconds(100), [] { return false; });
-        if (stop.stop_requested()) return;
-        const std::chrono::duration<double> gone = std::chrono::steady_clock::now() - began;
-        shown(std::min(gone.count() / seconds, 0.99));
-      }
-    });
+  NodesShown(SetCoverProgress shown, int nodes) : shown_(std::move(shown)), nodes_(nodes) {}
+  CbcAction event(CbcEvent which) override {
+    if (which == node && shown_ && model_ && !model_->parentModel() && nodes_ > 0)
+      shown_(std::min(1.0, model_->getNodeCount() / static_cast<double>(nodes_)));
+    return noAction;
   }
+  CbcEventHandler* clone() const override { return new NodesShown(*this); }
 
  private:
-  std::mutex mutex_;
-  std::condition_variable_any wake_;
-  std::jthread thread_;  // last: stopped and joined first
+  SetCoverProgress shown_;
+  int nodes_;
 };
 
 // The objective of `x` in `solver`.
@@ -262,13 +256,13 @@ double objectiveOf(const OsiClpSolverInterface& solver, const double* x) {
 }
 
 // CBC's own solver (cuts and primal heuristics, as its command line runs them) on the
-// integer program of `solver`, from the feasible solution `start` (every column): the
-// first `sets` columns at 1 in the best solution found (the start's unless one costs
-// less), and whether it is proven least and the bound (rounded up when `integral`), into
-// `result`.
+// integer program of `solver`, from the feasible solution `start` (every column), within
+// `limits`: the first `sets` columns at 1 in the best solution found (the start's unless
+// one costs less), and whether it is proven least, the bound (rounded up when `integral`)
+// and whether the time cap stopped it, into `result`.
 std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector<double> start,
-                                int sets, double seconds, int max_nodes, bool integral,
-                                SetCoverResult& result) {
+                                int sets, const SolveLimits& limits, bool integral,
+                                SetCoverResult& result, const SetCoverProgress& progress = {}) {
   const int columns = solver.getNumCols();
   CbcModel model(solver);
   CbcSolverUsefulData data;
@@ -276,9 +270,11 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector
   model.setLogLevel(0);
   model.messageHandler()->setLogLevel(0);
   model.solver()->messageHandler()->setLogLevel(0);
+  NodesShown shown(progress, limits.nodes);
+  model.passInEventHandler(&shown);
   const double start_cost = objectiveOf(solver, start.data());
   model.setBestSolution(start.data(), columns, start_cost, true);
-  const std::string time = std::to_string(seconds), nodes = std::to_string(max_nodes);
+  const std::string time = std::to_string(limits.seconds), nodes = std::to_string(limits.nodes);
   const char* argv[] = {"scanplan",   "-log",  "0",           "-slog",  "0",    "-sec",
                         time.c_str(), "-maxN", nodes.c_str(), "-solve", "-quit"};
   CbcMain1(static_cast<int>(std::size(argv)), argv, model, nullptr, data);
@@ -289,6 +285,7 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector
   for (int c = 0; c < sets; ++c)
     if (chosen_x[c] > 0.5) chosen.push_back(c);
   result.optimal = model.isProvenOptimal();
+  result.time_capped = result.time_capped || model.isSecondsLimitReached();
   const double bound = model.getBestPossibleObjValue();
   result.lower_bound = std::max(result.lp_bound, integral ? std::ceil(bound - 1e-6) : bound);
   return chosen;
@@ -303,71 +300,138 @@ std::vector<double> indicator(const std::vector<int>& chosen, int columns) {
 
 }  // namespace
 
+namespace {
+
+// The core of an instance whose LP `solver` has solved, its first `sets` columns the sets:
+// the kCoreSets sets of least reduced cost (the first on ties), those of reduced cost at
+// most kCoreReducedCost, those the LP uses and those of `start`; and the least reduced
+// cost of the others (infinity when none is left out).
+std::pair<std::vector<int>, double> lpCore(const OsiClpSolverInterface& solver, int sets,
+                                           const std::vector<int>& start) {
+  const double* reduced_cost = solver.getReducedCost();
+  const double* x = solver.getColSolution();
+  std::vector<int> order(sets);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return reduced_cost[a] < reduced_cost[b]; });
+  std::vector<char> in(sets, 0);
+  for (int k = 0; k < std::min(sets, kCoreSets); ++k) in[order[k]] = 1;
+  for (int c : start) in[c] = 1;
+  std::vector<int> core;
+  double least_out = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < sets; ++c) {
+    if (in[c] || x[c] > 1e-9 || reduced_cost[c] <= kCoreReducedCost)
+      core.push_back(c);
+    else
+      least_out = std::min(least_out, reduced_cost[c]);
+  }
+  return {core, least_out};
+}
+
+// `result`'s bound, CBC's over the core, as a bound on the whole instance: a solution using
+// a set outside the core costs at least the LP optimum `lp` plus `least_out` (rounded up
+// when `integral`); whether the solution of cost `found` is proven least by it.
+void boundWholeInstance(double lp, double least_out, bool integral, double found,
+                        SetCoverResult& result) {
+  const double outside = integral ? std::ceil(lp + least_out - 1e-6) : lp + least_out;
+  result.lower_bound = std::max(result.lp_bound, std::min(result.lower_bound, outside));
+  result.optimal = found <= result.lower_bound + 1e-9;
+}
+
+// The columns `chosen` of the core `core` as columns of the whole, sorted.
+std::vector<int> ofWhole(std::vector<int> chosen, const std::vector<int>& core) {
+  for (int& c : chosen) c = core[c];
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+// Per column of the whole (`columns` of them), its place in the core, or -1.
+std::vector<int> placesIn(const std::vector<int>& core, std::size_t columns) {
+  std::vector<int> place(columns, -1);
+  for (std::size_t k = 0; k < core.size(); ++k) place[core[k]] = static_cast<int>(k);
+  return place;
+}
+
+// The fewest sets of the core `core` of `reduced` covering every row, by CBC within
+// `limits` from the cover `start` (sets of the core), with the bound on the whole
+// instance, whose LP optimum is `lp`, into `result`.
+std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
+                           const std::vector<int>& start, double lp, double least_out,
+                           const SolveLimits& limits, const SetCoverProgress& progress,
+                           SetCoverResult& result) {
+  Reduced sub;
+  sub.rows = reduced.rows;
+  for (int c : core) sub.columns.push_back(reduced.columns[c]);
+  OsiClpSolverInterface solver;
+  loadRelaxation(sub, solver);
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
+  solver.initialSolve();
+  if (!solver.isProvenOptimal()) return start;
+  const std::vector<int> place = placesIn(core, reduced.columns.size());
+  std::vector<int> in_core;
+  for (int c : start) in_core.push_back(place[c]);
+  for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
+  const std::vector<int> chosen =
+      branchAndBound(solver, indicator(in_core, solver.getNumCols()), solver.getNumCols(), limits,
+                     true, result, progress);
+  boundWholeInstance(lp, least_out, true, static_cast<double>(chosen.size()), result);
+  return ofWhole(chosen, core);
+}
+
+}  // namespace
+
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
-                               const std::vector<char>& required, double time_limit_seconds,
-                               const std::vector<int>& given_start, int max_nodes,
+                               const std::vector<char>& required, const SolveLimits& limits,
+                               const std::vector<int>& given_start,
                                const SetCoverProgress& progress) {
   const auto began = Clock::now();
-  auto elapsed = [&] { return secondsSince(began); };
   SetCoverResult result;
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return result;
-  const TimeShown shown(progress, time_limit_seconds);
   // The start in the reduced sets: each set replaced by a kept one that includes it.
   std::vector<int> start;
   for (int s : given_start)
     if (reduced.kept_as[s] >= 0) start.push_back(reduced.kept_as[s]);
   std::sort(start.begin(), start.end());
   start.erase(std::unique(start.begin(), start.end()), start.end());
-  auto original = [&](std::vector<int> chosen) {
-    for (int& c : chosen) c = reduced.set_of[c];
-    std::sort(chosen.begin(), chosen.end());
-    return chosen;
-  };
 
   OsiClpSolverInterface solver;
   loadRelaxation(reduced, solver);
-  // The LP relaxation, in at most half the time; without it, the start is the answer (a
-  // cover rounded from no LP at all when there is none).
-  solver.getModelPtr()->setMaximumSeconds(time_limit_seconds / 2);
-  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
   solver.initialSolve();
   if (solver.isProvenOptimal()) {
-    result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
+    const double lp = solver.getObjValue();
+    result.lp_bound = std::ceil(lp - 1e-6);
     if (std::vector<int> rounded = roundedCover(reduced, solver.getColSolution());
         start.empty() || rounded.size() < start.size())
       start = rounded;
-    // The limits were for the root LP only: a node LP stopped by them would be taken as
-    // infeasible, and the search would cut off covers it has not seen.
-    solver.getModelPtr()->setMaximumSeconds(-1);
-    solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
-    for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    start = branchAndBound(solver, indicator(start, solver.getNumCols()), solver.getNumCols(),
-                           std::max(time_limit_seconds - elapsed(), 0.0), max_nodes, true, result);
+    const auto [core, least_out] = lpCore(solver, solver.getNumCols(), start);
+    start = coreCover(reduced, core, start, lp, least_out, limits, progress, result);
   }
-  // Out of time before the LP and without a start: still a cover, each row by the first set
+  // Without the LP's answer and without a start: still a cover, each row by the first set
   // that holds it, the redundant ones dropped.
   if (start.empty())
     start = roundedCover(reduced, std::vector<double>(reduced.columns.size(), 1).data());
-  result.chosen = original(start);
-  result.seconds = elapsed();
+  for (int& c : start) c = reduced.set_of[c];
+  std::sort(start.begin(), start.end());
+  result.chosen = start;
+  result.seconds = secondsSince(began);
   return result;
 }
 
 double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
-                          const std::vector<char>& required, double time_limit_seconds) {
+                          const std::vector<char>& required) {
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return 0;
   OsiClpSolverInterface solver;
   loadRelaxation(reduced, solver);
-  solver.getModelPtr()->setMaximumSeconds(time_limit_seconds);
-  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
   solver.initialSolve();
   return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
 }
 
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
-                                 const std::vector<int>& demand, double time_limit_seconds) {
+                                 const std::vector<int>& demand, const SolveLimits& limits) {
   const auto began = Clock::now();
   SetCoverResult result;
   // Each element's demand, capped by the sets holding it; no reduction (with demands above
@@ -408,9 +472,8 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
   if (solver.isProvenOptimal()) {
     result.lp_bound = std::ceil(solver.getObjValue() - 1e-6);
     for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-    const double left = time_limit_seconds - secondsSince(began);
     start = branchAndBound(solver, indicator(start, solver.getNumCols()), solver.getNumCols(),
-                           std::max(left, 0.0), 1000000, true, result);
+                           limits, true, result);
   }
   std::sort(start.begin(), start.end());
   result.chosen = start;
@@ -534,6 +597,35 @@ void loadPartial(const PartialInstance& p, const std::vector<double>& costs,
   solver.getModelPtr()->setLogLevel(0);
 }
 
+// The cheapest sets of the core `core` of `p` meeting every need, by CBC within `limits`
+// from the sets `start` (all in the core), which meet them: sets of the whole, and CBC's
+// bound over the core into `result`.
+std::vector<int> corePartialCover(const PartialInstance& p, const std::vector<double>& costs,
+                                  const std::vector<int>& core, const std::vector<int>& start,
+                                  const SolveLimits& limits, bool integral,
+                                  SetCoverResult& result) {
+  PartialInstance sub{{}, p.group_of, p.need};
+  std::vector<double> sub_costs;
+  for (int c : core) {
+    sub.columns.push_back(p.columns[c]);
+    sub_costs.push_back(costs[c]);
+  }
+  OsiClpSolverInterface solver;
+  loadPartial(sub, sub_costs, solver);
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
+  solver.initialSolve();
+  if (!solver.isProvenOptimal()) return start;
+  const int columns = static_cast<int>(core.size());
+  for (int c = 0; c < columns; ++c) solver.setInteger(c);
+  const std::vector<int> place = placesIn(core, p.columns.size());
+  std::vector<double> x(solver.getNumCols(), 0.0);
+  for (int c : start) {
+    x[place[c]] = 1.0;
+    for (int r : p.columns[c]) x[columns + r] = 1.0;  // each row the start covers counts
+  }
+  return ofWhole(branchAndBound(solver, x, columns, limits, integral, result), core);
+}
+
 }  // namespace
 
 double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
@@ -546,7 +638,7 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
   p.columns = std::move(kept.columns);
   OsiClpSolverInterface solver;
   loadPartial(p, std::vector<double>(p.columns.size(), 1.0), solver);
-  solver.getModelPtr()->setMaximumIterations(100000);
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
   const StdoutSilenced quiet;
   solver.initialSolve();
   return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
@@ -554,8 +646,8 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
 
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
-                                   const std::vector<double>& need, double time_limit_seconds,
-                                   int max_nodes, const std::vector<int>& start) {
+                                   const std::vector<double>& need, const SolveLimits& limits,
+                                   const std::vector<int>& start) {
   const auto began = Clock::now();
   SetCoverResult result;
   const PartialInstance p = partialInstance(sets, group, need);
@@ -566,19 +658,14 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
     const StdoutSilenced quiet;
     OsiClpSolverInterface solver;
     loadPartial(p, costs, solver);
-    solver.getModelPtr()->setMaximumIterations(100000);
+    solver.getModelPtr()->setMaximumIterations(kLpIterations);
     solver.initialSolve();
     if (solver.isProvenOptimal()) {
       const double lp = solver.getObjValue();
       result.lp_bound = integral ? std::ceil(lp - 1e-6) : lp;
-      solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
-      const int columns = static_cast<int>(p.columns.size());
-      for (int c = 0; c < columns; ++c) solver.setInteger(c);
-      std::vector<double> x = indicator(chosen, solver.getNumCols());
-      for (int c : chosen)  // each row the start covers counts
-        for (int r : p.columns[c]) x[columns + r] = 1.0;
-      const double left = time_limit_seconds - secondsSince(began);
-      chosen = branchAndBound(solver, x, columns, std::max(left, 0.0), max_nodes, integral, result);
+      const auto [core, least_out] = lpCore(solver, static_cast<int>(p.columns.size()), chosen);
+      chosen = corePartialCover(p, costs, core, chosen, limits, integral, result);
+      boundWholeInstance(lp, least_out, integral, cost(costs, chosen), result);
     }
   }
   std::sort(chosen.begin(), chosen.end());

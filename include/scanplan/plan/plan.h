@@ -29,6 +29,8 @@ struct PlanBound {
   double lower_bound = 0;        // no cover of the pool's reachable samples has fewer views
   std::size_t pool = 0;          // candidate poses, each simulated on the samples
   bool proven_optimal = false;   // views is the minimum over the pool (lower_bound >= views)
+  bool time_capped = false;      // planner.selection_seconds stopped the exact selection before
+                                 // planner.selection_nodes: the plan depends on the machine
 };
 
 // Why a sample is not coverable.

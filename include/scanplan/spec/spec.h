@@ -74,21 +74,21 @@ struct PlannerSettings {
   double vm_step = 5;      // visibility-map grid step, degrees
   double tilt_min = 30;    // preferred tilt of tilted positioning, degrees
   double tilt_max = 50;
-  int max_failures = 3;          // attempts before a sample is declared not coverable
-  double sweep_overlap = 0.3;    // share of the field of view neighbouring sweep tiles share
-  int rotations = 8;             // rotations about the view axis tried per cluster direction
-  double rescue_step = 10;       // rescue: directions on a grid of this step, degrees, ...
-  int rescue_rotations = 8;      // ... each with this many rotations about the view axis
-  int anchors = 1200;            // pool: dense poses around at most this many anchor samples,
-  int pool_rotations = 4;        // ... each with this many rotations about the view axis
-  int selection_nodes = 200;     // the exact selection's branch-and-bound nodes (CBC)
-  double selection_seconds = 8;  // and its time cap, per placement (results depend on
-                                 // the machine when it is reached)
-  int most_views = 10000;        // a part larger than this many fields of view is refused
-  CapabilityOptions capability;  // capable_ratio: planner.capable_ratio
-  bool lift_capability = false;  // plan again with the characteristics' faces as targets when
-                                 // one is covered but not capable; kept if more are capable
-  CoverageTargets coverage;      // below 1: the selection is a partial cover
+  int max_failures = 3;            // attempts before a sample is declared not coverable
+  double sweep_overlap = 0.3;      // share of the field of view neighbouring sweep tiles share
+  int rotations = 8;               // rotations about the view axis tried per cluster direction
+  double rescue_step = 10;         // rescue: directions on a grid of this step, degrees, ...
+  int rescue_rotations = 8;        // ... each with this many rotations about the view axis
+  int anchors = 1200;              // pool: dense poses around at most this many anchor samples,
+  int pool_rotations = 4;          // ... each with this many rotations about the view axis
+  int selection_nodes = 10;        // the exact selection's branch-and-bound nodes (CBC)
+  double selection_seconds = 120;  // a cap for safety, per placement: a plan it stops depends
+                                   // on the machine, and says so (PlanBound::time_capped)
+  int most_views = 10000;          // a part larger than this many fields of view is refused
+  CapabilityOptions capability;    // capable_ratio: planner.capable_ratio
+  bool lift_capability = false;    // plan again with the characteristics' faces as targets when
+                                   // one is covered but not capable; kept if more are capable
+  CoverageTargets coverage;        // below 1: the selection is a partial cover
   Objective objective = Objective::Views;
 };
 
