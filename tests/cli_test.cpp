@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <regex>
@@ -255,6 +256,37 @@ TEST(Cli, PlanWritesPlanJsonAndSummary) {
   EXPECT_NE(json.find("\"format\": \"scanplan.plan\""), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir.file("out/report.html")));
   EXPECT_FALSE(std::filesystem::exists(dir.file("out/plan.png")));
+}
+
+// plan.json of `path` without the seconds anything took, which are the machine's.
+nlohmann::json withoutSeconds(const std::string& path) {
+  std::ifstream in(path);
+  nlohmann::json plan = nlohmann::json::parse(in);
+  const std::function<void(nlohmann::json&)> strip = [&](nlohmann::json& node) {
+    if (node.is_object()) {
+      node.erase("seconds");
+      node.erase("stage_seconds");
+    }
+    if (node.is_structured())
+      for (nlohmann::json& child : node) strip(child);
+  };
+  strip(plan);
+  return plan;
+}
+
+// The plan (registration included) is the same on one thread as on two: every limit that
+// decides it is a count of work, and parallel work is gathered in order.
+TEST(Cli, PlanIsTheSameOnOneThreadAndOnTwo) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  for (const char* threads : {"1", "2"}) {
+    const CommandResult r = run(std::string("-q -j ") + threads + " plan " + part + " -o " +
+                                dir.file(threads) + " --no-report");
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  const nlohmann::json one = withoutSeconds(dir.file("1/plan.json"));
+  EXPECT_GT(one["views"].size(), 1u);
+  EXPECT_EQ(one, withoutSeconds(dir.file("2/plan.json")));
 }
 
 // A run ended by SIGHUP (its terminal closed) leaves no temporary, as one ended by SIGINT

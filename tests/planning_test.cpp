@@ -460,6 +460,72 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
   EXPECT_EQ(found.size(), 3u);
 }
 
+// Per view of `views` valid for `simulator`, whether it measures `point`.
+std::vector<bool> measuring(const Simulator& simulator, const std::vector<View>& views,
+                            const SurfacePoint& point) {
+  std::vector<View> valid;
+  for (const View& view : views)
+    if (poseIsValid(simulator, view)) valid.push_back(view);
+  std::vector<bool> result;
+  for (const auto& losses : simulator.measure(valid, std::vector<SurfacePoint>{point}))
+    result.push_back(losses.front() == Loss::Measured);
+  return result;
+}
+
+// A control point on the floor of a chamber (140 x 140 x 50 mm) under a block's top, 35 mm
+// beside the edge of the 60 x 60 mm opening above it: the roof hides it from every pose
+// along its normal, and a ray from it leaves through the opening only tilted 27 to 40
+// degrees towards the opening, a window narrower than the 25 degrees between camera and
+// projector unless their baseline lies across it. An independent search aims poses at it
+// every 5 degrees of tilt up to 60 and of azimuth, 8 rolls each: a few of those measure it
+// and none along its normal does. The rescue's grid misses it; with planner.rescue.narrow
+// the plan measures it.
+TEST(Planning, APointUnderARoofThatOnlyNarrowTiltedPosesReachIsMeasured) {
+  test::TempDir dir;
+  const TopoDS_Shape chamber =
+      BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(300, 300, 300).Shape(),
+                      BRepPrimAPI_MakeBox(gp_Pnt(80, 80, 200), 140, 140, 50).Shape())
+          .Shape();
+  const TopoDS_Shape block =
+      BRepAlgoAPI_Cut(chamber, BRepPrimAPI_MakeBox(gp_Pnt(120, 120, 249), 60, 60, 52).Shape())
+          .Shape();
+  BRepTools::Write(block, dir.file("chamber.brep").c_str());
+  const Part part = importPart(dir.file("chamber.brep"));
+  test::writeText(dir.file("points.csv"), "95,150,200,0,0,1\n");
+  const auto plan = [&](bool narrow) {
+    return planViews(
+        part,
+        test::specWith(std::string("tasks: [{type: points, file: points.csv}]\n") +
+                           "planner: {rescue: {narrow: " + (narrow ? "true" : "false") + "}}\n",
+                       dir),
+        PlanningOptions{.registration = false});
+  };
+  const Plan looked = plan(true);
+  ASSERT_EQ(looked.samples.size(), 1u);
+  const Simulator simulator = simulatorFor(part, looked);
+  const SurfacePoint corner = looked.samplePoints().front();
+  const std::vector<bool> along =
+      measuring(simulator, aimedPoses(looked.scanner, corner.position, corner.normal, 36), corner);
+  EXPECT_EQ(std::count(along.begin(), along.end(), true), 0);
+  std::vector<View> tilted;
+  const Vec3 side = corner.normal.unitOrthogonal(), other = corner.normal.cross(side);
+  for (int tilt = 5; tilt <= 60; tilt += 5)
+    for (int azimuth = 0; azimuth < 360; azimuth += 5) {
+      const double t = radians(tilt), a = radians(azimuth);
+      const Vec3 direction =
+          std::cos(t) * corner.normal + std::sin(t) * (std::cos(a) * side + std::sin(a) * other);
+      for (const View& view : aimedPoses(looked.scanner, corner.position, direction, 8))
+        tilted.push_back(view);
+    }
+  const std::vector<bool> reached = measuring(simulator, tilted, corner);
+  RecordProperty("tilted_poses_measuring",
+                 std::to_string(std::count(reached.begin(), reached.end(), true)));
+  EXPECT_GT(std::count(reached.begin(), reached.end(), true), 0);
+  EXPECT_FALSE(looked.samples.front().measured_by.empty())
+      << toString(looked.samples.front().uncoverable);
+  EXPECT_TRUE(plan(false).samples.front().measured_by.empty());
+}
+
 // planner.max_failures: how many views may be aimed at a sample before it is given up. The
 // bottom of a 40 x 40 mm pocket 150 mm deep is seen but always lost (as above); with one
 // attempt it is given up after the first round, with three it is aimed at again, and the

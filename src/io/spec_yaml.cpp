@@ -401,9 +401,10 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     p.objective = name == "views" ? Objective::Views : Objective::CycleTime;
   }
   if (const YAML::Node rescue = node["rescue"]) {
-    checkKeys(rescue, {"step", "rotations"}, reader, "planner.rescue");
+    checkKeys(rescue, {"step", "rotations", "narrow"}, reader, "planner.rescue");
     reader.read(rescue, "planner.rescue", "step", p.rescue_step);
     reader.read(rescue, "planner.rescue", "rotations", p.rescue_rotations);
+    reader.read(rescue, "planner.rescue", "narrow", p.rescue_narrow);
   }
   // A visibility map has a cell per vm_step² of the hemisphere, for every sample.
   if (!(p.vm_step >= 1 && p.vm_step <= 45))

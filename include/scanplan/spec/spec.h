@@ -79,6 +79,7 @@ struct PlannerSettings {
   int rotations = 8;               // rotations about the view axis tried per cluster direction
   double rescue_step = 10;         // rescue: directions on a grid of this step, degrees, ...
   int rescue_rotations = 8;        // ... each with this many rotations about the view axis
+  bool rescue_narrow = false;      // ... and through narrow openings, more finely (adding.cpp)
   int anchors = 1200;              // pool: dense poses around at most this many anchor samples,
   int pool_rotations = 4;          // ... each with this many rotations about the view axis
   int selection_nodes = 10;        // the exact selection's branch-and-bound nodes (CBC)
