@@ -231,7 +231,8 @@ class CoverContext {
 // before a pose is chosen: samples are too sparse to judge an overlap by, but cheap to
 // rule one out.
 class ConnectedCover {
-  // A chosen view a pose may register to: judged 1 when foreseen to, 0 not yet judged.
+  // A chosen view a pose may register to: judged 1 when foreseen to (markers it shares
+  // judge at once), -1 when not, 0 while not yet judged.
   struct Partner {
     std::size_t view;
     signed char judged;

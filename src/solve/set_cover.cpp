@@ -328,6 +328,12 @@ std::pair<std::vector<int>, double> lpCore(const OsiClpSolverInterface& solver, 
   return {core, least_out};
 }
 
+// The root LP's iteration limit lifted for the search: a node LP stopped by it would be
+// taken as infeasible, and the search would cut off covers it has not seen.
+void liftIterationLimit(OsiClpSolverInterface& solver) {
+  solver.getModelPtr()->setMaximumIterations(std::numeric_limits<int>::max());
+}
+
 // `result`'s bound, CBC's over the core, as a bound on the whole instance: a solution using
 // a set outside the core costs at least the LP optimum `lp` plus `least_out` (rounded up
 // when `integral`); whether the solution of cost `found` is proven least by it.
@@ -367,6 +373,7 @@ std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
   solver.getModelPtr()->setMaximumIterations(kLpIterations);
   solver.initialSolve();
   if (!solver.isProvenOptimal()) return start;
+  liftIterationLimit(solver);
   const std::vector<int> place = placesIn(core, reduced.columns.size());
   std::vector<int> in_core;
   for (int c : start) in_core.push_back(place[c]);
@@ -615,6 +622,7 @@ std::vector<int> corePartialCover(const PartialInstance& p, const std::vector<do
   solver.getModelPtr()->setMaximumIterations(kLpIterations);
   solver.initialSolve();
   if (!solver.isProvenOptimal()) return start;
+  liftIterationLimit(solver);
   const int columns = static_cast<int>(core.size());
   for (int c = 0; c < columns; ++c) solver.setInteger(c);
   const std::vector<int> place = placesIn(core, p.columns.size());
