@@ -11,13 +11,17 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <string>
+#include <thread>
 
 namespace scanplan {
 
@@ -230,21 +234,55 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
   solver.getModelPtr()->setLogLevel(0);
 }
 
-// Shows the share of the node limit searched, at each node CBC ends: the nodes of the
-// search itself, not of the searches its heuristics run on sub-problems.
-class NodesShown : public CbcEventHandler {
+// The share of the node limit searched, as each node CBC ends: the nodes of the search
+// itself, not of the searches its heuristics run on sub-problems.
+class NodesSearched : public CbcEventHandler {
  public:
-  NodesShown(SetCoverProgress shown, int nodes) : shown_(std::move(shown)), nodes_(nodes) {}
+  NodesSearched(std::shared_ptr<std::atomic<double>> share, int nodes)
+      : share_(std::move(share)), nodes_(nodes) {}
   CbcAction event(CbcEvent which) override {
-    if (which == node && shown_ && model_ && !model_->parentModel() && nodes_ > 0)
-      shown_(std::min(1.0, model_->getNodeCount() / static_cast<double>(nodes_)));
+    if (which == node && model_ && !model_->parentModel() && nodes_ > 0)
+      share_->store(std::min(1.0, model_->getNodeCount() / static_cast<double>(nodes_)));
     return noAction;
   }
-  CbcEventHandler* clone() const override { return new NodesShown(*this); }
+  CbcEventHandler* clone() const override { return new NodesSearched(*this); }
 
  private:
-  SetCoverProgress shown_;
+  std::shared_ptr<std::atomic<double>> share_;
   int nodes_;
+};
+
+// Shows `share` every tenth of a second while it lives, from another thread, and once more
+// at its end: CBC raises no event while it works at the root (its cuts and heuristics),
+// which can take seconds.
+class SharesShown {
+ public:
+  SharesShown(const SetCoverProgress& shown, std::shared_ptr<const std::atomic<double>> share)
+      : shown_(shown), share_(std::move(share)) {
+    if (!shown_) return;
+    ticker_ = std::jthread([this](std::stop_token stop) {
+      std::unique_lock lock(mutex_);
+      while (!stop.stop_requested()) {
+        wake_.wait_for(lock, stop, std::chrono::milliseconds(100), [] { return false; });
+        if (!stop.stop_requested()) shown_(share_->load());
+      }
+    });
+  }
+  ~SharesShown() {
+    if (!shown_) return;
+    ticker_.request_stop();
+    ticker_.join();
+    shown_(share_->load());
+  }
+  SharesShown(const SharesShown&) = delete;
+  SharesShown& operator=(const SharesShown&) = delete;
+
+ private:
+  const SetCoverProgress& shown_;
+  std::shared_ptr<const std::atomic<double>> share_;
+  std::mutex mutex_;
+  std::condition_variable_any wake_;
+  std::jthread ticker_;  // last: started after the rest
 };
 
 // The objective of `x` in `solver`.
@@ -270,8 +308,10 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector
   model.setLogLevel(0);
   model.messageHandler()->setLogLevel(0);
   model.solver()->messageHandler()->setLogLevel(0);
-  NodesShown shown(progress, limits.nodes);
-  model.passInEventHandler(&shown);
+  const auto share = std::make_shared<std::atomic<double>>(0.0);
+  NodesSearched searched(share, limits.nodes);
+  model.passInEventHandler(&searched);
+  const SharesShown shown(progress, share);
   const double start_cost = objectiveOf(solver, start.data());
   model.setBestSolution(start.data(), columns, start_cost, true);
   const std::string time = std::to_string(limits.seconds), nodes = std::to_string(limits.nodes);
