@@ -480,7 +480,7 @@ std::vector<bool> measuring(const Simulator& simulator, const std::vector<View>&
 // every 5 degrees of tilt up to 60 and of azimuth, 8 rolls each: a few of those measure it
 // and none along its normal does. The rescue's grid misses it; with planner.rescue.narrow
 // the plan measures it.
-TEST(Planning, APointUnderARoofThatOnlyNarrowTiltedPosesReachIsMeasured) {
+TEST(Planning, APointOnlyNarrowTiltedPosesReachIsMeasuredByTheNarrowRescue) {
   test::TempDir dir;
   const TopoDS_Shape chamber =
       BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(300, 300, 300).Shape(),
