@@ -157,6 +157,46 @@ bool addRound(const Placement& at, const std::vector<int>& pending,
   return added;
 }
 
+// The first valid pose of `poses`, aimed at sample `i`, that measures it.
+std::optional<View> firstMeasuring(const Placement& at, std::size_t i,
+                                   const std::vector<View>& poses) {
+  const std::vector<SurfacePoint> same(poses.size(), at.points[i]);
+  const std::vector<Loss> losses = at.simulator.measurePairs(poses, same);
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    if (losses[k] == Loss::Measured && poseIsValid(at.simulator, poses[k], at.cell))
+      return poses[k];
+  return std::nullopt;
+}
+
+// At most this many free directions on the fine grid make an opening narrow enough to
+// look through again, more finely: through a wider one the rescue grid's own poses pass,
+// and they are lost for other reasons.
+constexpr std::uint32_t kNarrowCells = 40;
+
+// Poses aimed at sample `i` along the directions of a grid of `step` degrees from which it
+// is seen without occlusion, with `rotations` rotations each, when those are few
+// (kNarrowCells): an opening narrower than the rescue grid's step may let camera and
+// projector both in.
+std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i, double step,
+                                       int rotations) {
+  VisibilityOptions options;
+  options.step = step;
+  options.cone = at.scanner().max_camera_angle;
+  options.reach = at.scanner().standoff;
+  const VisibilityMap free = combinedVisibilityMap(at.simulator, {at.points[i]}, options);
+  std::vector<View> result;
+  const auto seen = static_cast<std::uint32_t>(
+      std::count_if(free.counts.begin(), free.counts.end(), [](std::uint32_t n) { return n > 0; }));
+  if (seen == 0 || seen > kNarrowCells) return result;
+  for (int c = 0; c < free.cells(); ++c) {
+    if (free.counts[c] == 0) continue;
+    const std::vector<View> around =
+        aimedPoses(at.scanner(), at.points[i].position, free.direction(c), rotations);
+    result.insert(result.end(), around.begin(), around.end());
+  }
+  return result;
+}
+
 }  // namespace
 
 std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>& samples,
@@ -178,59 +218,17 @@ std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>
   return state.visibility;
 }
 
-namespace {
-
-// The first valid pose of `poses`, aimed at sample `i`, that measures it.
-std::optional<View> firstMeasuring(const Placement& at, std::size_t i,
-                                   const std::vector<View>& poses) {
-  const std::vector<SurfacePoint> same(poses.size(), at.points[i]);
-  const std::vector<Loss> losses = at.simulator.measurePairs(poses, same);
-  for (std::size_t k = 0; k < poses.size(); ++k)
-    if (losses[k] == Loss::Measured && poseIsValid(at.simulator, poses[k], at.cell))
-      return poses[k];
-  return std::nullopt;
-}
-
-// At most this many free directions on the fine grid make an opening narrow enough to
-// look through again, more finely: through a wider one the rescue grid's own poses pass,
-// and they are lost for other reasons.
-constexpr std::uint32_t kNarrowCells = 40;
-
-// Poses aimed at sample `i` along the directions of `fine` from which it is seen without
-// occlusion, with `rotations` rotations each, when those are few (kNarrowCells): an
-// opening narrower than the rescue grid's step may let camera and projector both in.
-std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i,
-                                       const VisibilityMap& fine, int rotations) {
-  VisibilityOptions options;
-  options.step = fine.step;
-  options.cone = at.scanner().max_camera_angle;
-  options.reach = at.scanner().standoff;
-  const VisibilityMap free = combinedVisibilityMap(at.simulator, {at.points[i]}, options);
-  std::vector<View> result;
-  const auto seen = static_cast<std::uint32_t>(
-      std::count_if(free.counts.begin(), free.counts.end(), [](std::uint32_t n) { return n > 0; }));
-  if (seen == 0 || seen > kNarrowCells) return result;
-  for (int c = 0; c < free.cells(); ++c) {
-    if (free.counts[c] == 0) continue;
-    const std::vector<View> around =
-        aimedPoses(at.scanner(), at.points[i].position, free.direction(c), rotations);
-    result.insert(result.end(), around.begin(), around.end());
-  }
-  return result;
-}
-
-}  // namespace
-
 void rescueViews(const Placement& at, std::vector<PlannedSample>& samples, MeasuredViews& added) {
   const PlannerSettings& settings = at.settings();
-  const VisibilityMap grid(settings.rescue_step), fine(settings.rescue_step / 2);
+  const VisibilityMap grid(settings.rescue_step);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (!samples[i].measured_by.empty() || at.isDone(i)) continue;
     std::optional<View> found = firstMeasuring(
         at, i, densePoses(at.scanner(), at.points[i], grid, settings.rescue_rotations));
     if (!found && settings.rescue_narrow)
-      found =
-          firstMeasuring(at, i, throughNarrowOpening(at, i, fine, 2 * settings.rescue_rotations));
+      found = firstMeasuring(
+          at, i,
+          throughNarrowOpening(at, i, settings.rescue_step / 2, 2 * settings.rescue_rotations));
     if (!found) continue;
     found->task = std::string(toString(samples[i].sample.task));
     addView(*found, measuredBy(at.simulator, *found, at.points), samples, added);

@@ -338,10 +338,6 @@ std::vector<double> indicator(const std::vector<int>& chosen, int columns) {
   return x;
 }
 
-}  // namespace
-
-namespace {
-
 // The core of an instance whose LP `solver` has solved, its first `sets` columns the sets:
 // the kCoreSets sets of least reduced cost (the first on ties), those of reduced cost at
 // most kCoreReducedCost, those the LP uses and those of `start`; and the least reduced
@@ -366,6 +362,14 @@ std::pair<std::vector<int>, double> lpCore(const OsiClpSolverInterface& solver, 
       least_out = std::min(least_out, reduced_cost[c]);
   }
   return {core, least_out};
+}
+
+// Solves the LP loaded into `solver` within kLpIterations simplex iterations: whether it
+// found the optimum.
+bool solveRelaxation(OsiClpSolverInterface& solver) {
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
+  solver.initialSolve();
+  return solver.isProvenOptimal();
 }
 
 // The root LP's iteration limit lifted for the search: a node LP stopped by it would be
@@ -399,30 +403,25 @@ std::vector<int> placesIn(const std::vector<int>& core, std::size_t columns) {
 }
 
 // The fewest sets of the core `core` of `reduced` covering every row, by CBC within
-// `limits` from the cover `start` (sets of the core), with the bound on the whole
-// instance, whose LP optimum is `lp`, into `result`.
+// `limits` from the cover `start` (sets of the core): sets of the whole, and CBC's bound
+// over the core into `result`.
 std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
-                           const std::vector<int>& start, double lp, double least_out,
-                           const SolveLimits& limits, const SetCoverProgress& progress,
-                           SetCoverResult& result) {
+                           const std::vector<int>& start, const SolveLimits& limits,
+                           const SetCoverProgress& progress, SetCoverResult& result) {
   Reduced sub;
   sub.rows = reduced.rows;
   for (int c : core) sub.columns.push_back(reduced.columns[c]);
   OsiClpSolverInterface solver;
   loadRelaxation(sub, solver);
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
-  solver.initialSolve();
-  if (!solver.isProvenOptimal()) return start;
+  if (!solveRelaxation(solver)) return start;
   liftIterationLimit(solver);
   const std::vector<int> place = placesIn(core, reduced.columns.size());
   std::vector<int> in_core;
   for (int c : start) in_core.push_back(place[c]);
   for (int c = 0; c < solver.getNumCols(); ++c) solver.setInteger(c);
-  const std::vector<int> chosen =
-      branchAndBound(solver, indicator(in_core, solver.getNumCols()), solver.getNumCols(), limits,
-                     true, result, progress);
-  boundWholeInstance(lp, least_out, true, static_cast<double>(chosen.size()), result);
-  return ofWhole(chosen, core);
+  return ofWhole(branchAndBound(solver, indicator(in_core, solver.getNumCols()),
+                                solver.getNumCols(), limits, true, result, progress),
+                 core);
 }
 
 }  // namespace
@@ -444,16 +443,15 @@ SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
 
   OsiClpSolverInterface solver;
   loadRelaxation(reduced, solver);
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
-  solver.initialSolve();
-  if (solver.isProvenOptimal()) {
+  if (solveRelaxation(solver)) {
     const double lp = solver.getObjValue();
     result.lp_bound = std::ceil(lp - 1e-6);
     if (std::vector<int> rounded = roundedCover(reduced, solver.getColSolution());
         start.empty() || rounded.size() < start.size())
       start = rounded;
     const auto [core, least_out] = lpCore(solver, solver.getNumCols(), start);
-    start = coreCover(reduced, core, start, lp, least_out, limits, progress, result);
+    start = coreCover(reduced, core, start, limits, progress, result);
+    boundWholeInstance(lp, least_out, true, static_cast<double>(start.size()), result);
   }
   // Without the LP's answer and without a start: still a cover, each row by the first set
   // that holds it, the redundant ones dropped.
@@ -472,9 +470,7 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
   if (reduced.rows == 0) return 0;
   OsiClpSolverInterface solver;
   loadRelaxation(reduced, solver);
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
-  solver.initialSolve();
-  return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+  return solveRelaxation(solver) ? std::ceil(solver.getObjValue() - 1e-6) : 0;
 }
 
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
@@ -659,9 +655,7 @@ std::vector<int> corePartialCover(const PartialInstance& p, const std::vector<do
   }
   OsiClpSolverInterface solver;
   loadPartial(sub, sub_costs, solver);
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
-  solver.initialSolve();
-  if (!solver.isProvenOptimal()) return start;
+  if (!solveRelaxation(solver)) return start;
   liftIterationLimit(solver);
   const int columns = static_cast<int>(core.size());
   for (int c = 0; c < columns; ++c) solver.setInteger(c);
@@ -686,10 +680,8 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
   p.columns = std::move(kept.columns);
   OsiClpSolverInterface solver;
   loadPartial(p, std::vector<double>(p.columns.size(), 1.0), solver);
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
   const StdoutSilenced quiet;
-  solver.initialSolve();
-  return solver.isProvenOptimal() ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+  return solveRelaxation(solver) ? std::ceil(solver.getObjValue() - 1e-6) : 0;
 }
 
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
@@ -706,9 +698,7 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
     const StdoutSilenced quiet;
     OsiClpSolverInterface solver;
     loadPartial(p, costs, solver);
-    solver.getModelPtr()->setMaximumIterations(kLpIterations);
-    solver.initialSolve();
-    if (solver.isProvenOptimal()) {
+    if (solveRelaxation(solver)) {
       const double lp = solver.getObjValue();
       result.lp_bound = integral ? std::ceil(lp - 1e-6) : lp;
       const auto [core, least_out] = lpCore(solver, static_cast<int>(p.columns.size()), chosen);
