@@ -1,6 +1,7 @@
 #pragma once
 // Helpers of the tests that plan: specs from text, a part's top face, coverage against the
-// independent dense reference.
+// dense reference (poses aimed at every sample itself, a wider search than the planner's
+// pool).
 
 #include "support.h"
 
@@ -30,9 +31,10 @@ inline int topFace(const Part& part) {
   return best;
 }
 
-// Samples of `plan` that some valid dense candidate pose measures
-// (coverableByDenseCandidates, an independent simulator), and how many of those the plan
-// measures.
+// Samples of `plan` that some valid pose of the dense reference measures
+// (coverableByDenseCandidates: poses aimed at each sample, simulated by the same model as
+// the plan's, built afresh), and how many of those the plan measures. It confirms that the
+// plan's pool and selection miss nothing those poses reach, not the simulation model.
 inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part,
                                                                 const Plan& plan) {
   SimulationOptions simulation;

@@ -598,7 +598,7 @@ TEST(Planning, FootOfAWallIsMeasuredOffCentre) {
 }
 
 // A blind bore, 40 mm across and 40 deep, in a block: every sample of its wall that some
-// pose aimed at it can measure (the independent dense reference) is measured, and the
+// pose aimed at it can measure (the dense reference, wider than the pool) is measured, and the
 // lower bound of the selection holds.
 TEST(Planning, BoreWallIsMeasuredWhereverAPoseCanMeasureIt) {
   test::TempDir dir;
