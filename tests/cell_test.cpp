@@ -527,6 +527,61 @@ TEST(Cell, ArmThroughAWallIsACollision) {
   EXPECT_EQ(reachView(cell, above, {}, 0, &fixture).failure, CellFailure::Collision);
 }
 
+// Each link is a capsule of its radius grown by the clearance: a small square beside the
+// middle of a link, parallel to its axis, collides when it lies 1 mm inside that reach and
+// is clear 1 mm outside it. The distance is built from the capsule's own ends, so FCL's
+// capsule, its placement or its radius going wrong shows.
+TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
+  Cell cell = irb2400At({-1300, 50, 0});
+  const View above = viewAt({0, 50, 500}, {0, 50, 0});
+  const TriangleMesh nothing;
+  const CellCollisions open(cell, nothing, Pose::Identity(), {}, false, 10);
+  const CellReach free = reachView(cell, above, {}, 0, &open);
+  ASSERT_TRUE(free.reachable());
+  const CellPose& pose = free.poses.front();
+  const std::vector<CellCollisions::Capsule> links = open.links(pose);
+  std::size_t tested = 0;
+  for (std::size_t k = 0; k < links.size(); ++k) {
+    const CellCollisions::Capsule& c = links[k];
+    const Vec3 axis = (c.b - c.a).normalized();
+    // The side away from the other links: of eight around the axis, the one whose square
+    // lies farthest outside their reach.
+    const Vec3 u = axis.unitOrthogonal(), w = axis.cross(u);
+    Vec3 side = u;
+    double best = -std::numeric_limits<double>::infinity();
+    for (int turn = 0; turn < 8; ++turn) {
+      const Vec3 candidate = std::cos(turn * M_PI / 4) * u + std::sin(turn * M_PI / 4) * w;
+      const Vec3 at = 0.5 * (c.a + c.b) + (c.radius + 10) * candidate;
+      double outside = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < links.size(); ++j) {
+        if (j == k) continue;
+        const Vec3 d = links[j].b - links[j].a;
+        const double t = std::clamp((at - links[j].a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        outside = std::min(outside, (at - links[j].a - t * d).norm() - links[j].radius - 10);
+      }
+      if (outside > best) {
+        best = outside;
+        side = candidate;
+      }
+    }
+    if (best <= 20) continue;  // a link too short to have a side clear of its neighbours
+    ++tested;
+    const Vec3 across = axis.cross(side), middle = 0.5 * (c.a + c.b);
+    const double reach = c.radius + 10;
+    for (const double off : {-1.0, 1.0}) {
+      TriangleMesh square;
+      const Vec3 centre = middle + (reach + off) * side;
+      for (const auto& [along, up] : {std::pair{-5, -5}, {5, -5}, {5, 5}, {-5, 5}})
+        square.vertices.push_back(centre + along * axis + up * across);
+      square.triangles = {{0, 1, 2}, {0, 2, 3}};
+      square.triangle_faces = {1, 1};
+      const CellCollisions beside(cell, square, Pose::Identity(), {}, false, 10);
+      EXPECT_EQ(beside.collides(pose), off < 0) << "link " << k << ", " << off << " mm";
+    }
+  }
+  EXPECT_GE(tested, 2u);
+}
+
 TEST(Cell, WorkingPlaneAndClearanceCount) {
   const Cell cell = irb2400At({-1300, 50, 0});
   const TriangleMesh nothing;
