@@ -337,18 +337,17 @@ TEST(Cell, RotaryTableMeasuresTheFarSide) {
 namespace scanplan {
 namespace {
 
-// A NIST part (CTC 03, 303 x 485 x 163 mm) planned for its GD&T and whole shape in a cell
-// with an IRB 4600 1.15 m from it: joints 1 to 5 chosen along the sequence never jump by
-// 180° or more between consecutive views (joint 6 only turns the scanner about its axis,
-// and may turn further where that is quickest).
+// The distance from the point `p` to the segment [u, v].
+double segmentDistance(const Vec3& p, const Vec3& u, const Vec3& v) {
+  const Vec3 d = v - u;
+  const double t = std::clamp((p - u).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (p - (u + t * d)).norm();
+}
+
 // The distance from the point `p` to the triangle (a, b, c), by its plane where `p`
 // projects inside it, else by its nearest edge.
 double triangleDistance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  auto segment = [&](const Vec3& u, const Vec3& v) {
-    const Vec3 d = v - u;
-    const double t = std::clamp((p - u).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
-    return (p - (u + t * d)).norm();
-  };
+  auto segment = [&](const Vec3& u, const Vec3& v) { return segmentDistance(p, u, v); };
   const Vec3 n = (b - a).cross(c - a);
   if (n.squaredNorm() > 1e-24) {
     const Vec3 q = p - n.dot(p - a) / n.squaredNorm() * n;
@@ -384,6 +383,10 @@ double axisDistance(const TriangleMesh& mesh, const Vec3& a, const Vec3& b, doub
   return least;
 }
 
+// A NIST part (CTC 03, 303 x 485 x 163 mm) planned for its GD&T and whole shape in a cell
+// with an IRB 4600 1.15 m from it: joints 1 to 5 chosen along the sequence never jump by
+// 180° or more between consecutive views (joint 6 only turns the scanner about its axis,
+// and may turn further where that is quickest).
 TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBoundedAndItsArmClear) {
   const Part part = importPart(test::testData("nist_ctc_03_asme1_ap242-e2.stp"));
   Spec spec = defaultSpec();
@@ -532,10 +535,11 @@ TEST(Cell, ArmThroughAWallIsACollision) {
 // is clear 1 mm outside it. The distance is built from the capsule's own ends, so FCL's
 // capsule, its placement or its radius going wrong shows.
 TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
+  constexpr double kClearance = 10;  // mm
   Cell cell = irb2400At({-1300, 50, 0});
   const View above = viewAt({0, 50, 500}, {0, 50, 0});
   const TriangleMesh nothing;
-  const CellCollisions open(cell, nothing, Pose::Identity(), {}, false, 10);
+  const CellCollisions open(cell, nothing, Pose::Identity(), {}, false, kClearance);
   const CellReach free = reachView(cell, above, {}, 0, &open);
   ASSERT_TRUE(free.reachable());
   const CellPose& pose = free.poses.front();
@@ -543,7 +547,8 @@ TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
   std::size_t tested = 0;
   for (std::size_t k = 0; k < links.size(); ++k) {
     const CellCollisions::Capsule& c = links[k];
-    const Vec3 axis = (c.b - c.a).normalized();
+    const Vec3 axis = (c.b - c.a).normalized(), middle = 0.5 * (c.a + c.b);
+    const double reach = c.radius + kClearance;
     // The side away from the other links: of eight around the axis, the one whose square
     // lies farthest outside their reach.
     const Vec3 u = axis.unitOrthogonal(), w = axis.cross(u);
@@ -551,23 +556,22 @@ TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
     double best = -std::numeric_limits<double>::infinity();
     for (int turn = 0; turn < 8; ++turn) {
       const Vec3 candidate = std::cos(turn * M_PI / 4) * u + std::sin(turn * M_PI / 4) * w;
-      const Vec3 at = 0.5 * (c.a + c.b) + (c.radius + 10) * candidate;
+      const Vec3 at = middle + reach * candidate;
       double outside = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < links.size(); ++j) {
-        if (j == k) continue;
-        const Vec3 d = links[j].b - links[j].a;
-        const double t = std::clamp((at - links[j].a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-        outside = std::min(outside, (at - links[j].a - t * d).norm() - links[j].radius - 10);
-      }
+      for (std::size_t j = 0; j < links.size(); ++j)
+        if (j != k)
+          outside = std::min(
+              outside, segmentDistance(at, links[j].a, links[j].b) - links[j].radius - kClearance);
       if (outside > best) {
         best = outside;
         side = candidate;
       }
     }
-    if (best <= 20) continue;  // a link too short to have a side clear of its neighbours
+    // The square's corners reach 7 mm from its centre: a link whose neighbours come within
+    // 20 mm of every side is too short to test this way.
+    if (best <= 20) continue;
     ++tested;
-    const Vec3 across = axis.cross(side), middle = 0.5 * (c.a + c.b);
-    const double reach = c.radius + 10;
+    const Vec3 across = axis.cross(side);
     for (const double off : {-1.0, 1.0}) {
       TriangleMesh square;
       const Vec3 centre = middle + (reach + off) * side;
@@ -575,7 +579,7 @@ TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
         square.vertices.push_back(centre + along * axis + up * across);
       square.triangles = {{0, 1, 2}, {0, 2, 3}};
       square.triangle_faces = {1, 1};
-      const CellCollisions beside(cell, square, Pose::Identity(), {}, false, 10);
+      const CellCollisions beside(cell, square, Pose::Identity(), {}, false, kClearance);
       EXPECT_EQ(beside.collides(pose), off < 0) << "link " << k << ", " << off << " mm";
     }
   }
