@@ -216,6 +216,62 @@ TEST(RegistrationTest, PlaneOverlapWithThreeSharedMarkersRegisters) {
   EXPECT_EQ(registerWithBridging(simulator, again, line, {}, {}).components, 2u);
 }
 
+// Markers on the plate of PlateScene, at z = 10, facing up.
+std::vector<Marker> plateMarkers(const std::vector<std::pair<double, double>>& at) {
+  std::vector<Marker> markers;
+  for (const auto& [x, y] : at) markers.push_back({Vec3(x, y, 10), Vec3::UnitZ()});
+  return markers;
+}
+
+RegistrationOptions referencePoints() {
+  RegistrationOptions options;
+  options.method = RegistrationMode::ReferencePoints;
+  options.bridging = false;
+  return options;
+}
+
+// With reference points, each view registers into the markers' frame by the markers it sees
+// itself: the two views of the plate share no marker, and no overlap ICP could register
+// them by, yet both register when each sees three markers in a triangle of its own (the
+// field of view reaches from x = -210 to 90 mm for the first, -90 to 210 for the second).
+TEST(ReferencePointsTest, ViewsSeeingThreeMarkersInATriangleRegisterWithoutSharingOne) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  std::vector<View> views = scene.views;
+  const std::vector<Marker> markers =
+      plateMarkers({{-180, -50}, {-120, -50}, {-150, 60}, {120, -50}, {180, -50}, {150, 60}});
+  const Registration registration =
+      registerWithBridging(simulator, views, markers, referencePoints(), {});
+  ASSERT_EQ(registration.views.size(), 2u);
+  EXPECT_EQ(registration.method, RegistrationMode::ReferencePoints);
+  EXPECT_EQ(registration.views[0].method, RegistrationMethod::ReferencePoints);
+  EXPECT_EQ(registration.views[1].method, RegistrationMethod::ReferencePoints);
+  EXPECT_EQ(registration.registered(), 2u);
+  EXPECT_EQ(registration.components, 1u);
+  // Under the pairs' rule, the same markers register nothing to anything.
+  RegistrationOptions pairs = referencePoints();
+  pairs.method = RegistrationMode::Markers;
+  views = scene.views;
+  EXPECT_EQ(registerWithBridging(simulator, views, markers, pairs, {}).registered(), 1u);
+}
+
+// Three markers on one line leave a view free to turn about it: the second view, which sees
+// only those, does not register; the first, seeing its triangle, does.
+TEST(ReferencePointsTest, AViewSeeingThreeMarkersOnALineDoesNotRegister) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  std::vector<View> views = scene.views;
+  const std::vector<Marker> markers =
+      plateMarkers({{-180, -50}, {-120, -50}, {-150, 60}, {150, -80}, {150, 0}, {150, 80}});
+  const Registration registration =
+      registerWithBridging(simulator, views, markers, referencePoints(), {});
+  ASSERT_EQ(registration.views.size(), 2u);
+  EXPECT_EQ(registration.views[0].method, RegistrationMethod::ReferencePoints);
+  EXPECT_EQ(registration.views[1].method, RegistrationMethod::None);
+  EXPECT_EQ(registration.registered(), 1u);
+  EXPECT_EQ(registration.components, 2u);
+}
+
 // A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at
 // each end, far apart. Each view sees the top, the front and the sides of blocks.
 struct BarScene {
@@ -625,20 +681,21 @@ TEST_F(RegisteredPlan, SequenceVisitsEveryViewOnceAndBeatsNearestNeighbour) {
   EXPECT_GT(straight, 0);
 }
 
-// A slab 400 x 400 x 20 mm, its top a 20 x 20 grid of triangles.
-Part flatSlab() {
+// A slab `length` x `width` x 20 mm (400 x 400 by default), its top a grid of triangles
+// 20 mm apart.
+Part flatSlab(int length = 400, int width = 400) {
   TriangleMesh mesh;
   test::addCube(mesh, Vec3::Zero(), 1, 1);  // the box without its top, then the top as a grid
-  for (Vec3& v : mesh.vertices) v = v.cwiseProduct(Vec3(400, 400, 20));
+  for (Vec3& v : mesh.vertices) v = v.cwiseProduct(Vec3(length, width, 20));
   mesh.triangles.erase(mesh.triangles.begin() + 2, mesh.triangles.begin() + 4);
   mesh.triangle_faces.erase(mesh.triangle_faces.begin() + 2, mesh.triangle_faces.begin() + 4);
-  constexpr int kCells = 20;
+  const int nx = length / 20, ny = width / 20;
   const int base = static_cast<int>(mesh.vertices.size());
-  for (int j = 0; j <= kCells; ++j)
-    for (int i = 0; i <= kCells; ++i) mesh.vertices.emplace_back(20.0 * i, 20.0 * j, 20);
-  for (int j = 0; j < kCells; ++j)
-    for (int i = 0; i < kCells; ++i) {
-      const int a = base + i + (kCells + 1) * j, b = a + 1, c = a + kCells + 2, d = a + kCells + 1;
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) mesh.vertices.emplace_back(20.0 * i, 20.0 * j, 20);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int a = base + i + (nx + 1) * j, b = a + 1, c = a + nx + 2, d = a + nx + 1;
       mesh.triangles.emplace_back(a, b, c);
       mesh.triangles.emplace_back(a, c, d);
       mesh.triangle_faces.insert(mesh.triangle_faces.end(), 2, 2);
@@ -826,6 +883,94 @@ TEST(RegistrationTest, MarkersOnAFlatPartRegisterItsViews) {
   EXPECT_LT(bare.registration->registered(), bare.views.size());
   EXPECT_GT(marked.registration->registered(), bare.registration->registered());
   EXPECT_GT(marked.registeredMeasuredCount(), bare.registeredMeasuredCount());
+}
+
+// The markers of `markers` inside the field of `view` (its width and height at the
+// standoff, growing with depth) and within its depth of field: where the view can see them,
+// judged from the geometry alone.
+std::vector<Vec3> markersInField(const Scanner& scanner, const View& view,
+                                 const std::vector<Marker>& markers) {
+  const Pose world_to_camera = view.camera_to_world.inverse();
+  std::vector<Vec3> inside;
+  for (const Marker& m : markers) {
+    const Vec3 p = world_to_camera * m.position;
+    const double scale = p.z() / scanner.standoff;
+    if (std::abs(p.z() - scanner.standoff) <= scanner.depth_of_field / 2 &&
+        std::abs(p.x()) <= scanner.fov_width / 2 * scale &&
+        std::abs(p.y()) <= scanner.fov_height / 2 * scale)
+      inside.push_back(m.position);
+  }
+  return inside;
+}
+
+// The slab, wider than the field of view, on a marker plate (markers every 40 mm around it,
+// their positions known): with reference points every view registers, each into the plate's
+// frame by three or more markers in its field off one line, and the plan has no more views
+// than the plan made without registration, and measures as much.
+TEST(ReferencePointsTest, EveryViewOfASlabOnAMarkerPlateRegistersWithoutMoreViews) {
+  const Part part = flatSlab();
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"),
+                  "markers: {grid: 40, on: plate}\nregistration: {method: reference_points}\n"
+                  "tasks:\n  - {type: global}\n");
+  const Spec spec = loadSpec(dir.file("spec.yaml"));
+  const Plan framed = planViews(part, spec);
+  const Plan alone = planViews(part, spec, PlanningOptions{.registration = false});
+  RecordProperty("views", std::to_string(framed.views.size()) + " with reference points, " +
+                              std::to_string(alone.views.size()) + " without registration");
+  ASSERT_TRUE(framed.registration);
+  ASSERT_GE(framed.views.size(), 2u);
+  EXPECT_EQ(framed.registration->registered(), framed.views.size());
+  for (const View& view : framed.views) {
+    const std::vector<Vec3> seen = markersInField(framed.scanner, view, framed.markers);
+    EXPECT_TRUE(markersRegister(seen, 3, spec.registration.marker_spread)) << "view " << view.id;
+  }
+  EXPECT_LE(framed.views.size(), alone.views.size());
+  EXPECT_GE(framed.measuredCount(), alone.measuredCount());
+}
+
+// A marker frame around a panel `length` x `width` on the working plane: two rings of
+// markers 40 mm apart, 200 and 240 mm out from its edges.
+std::vector<Marker> markerFrame(double length, double width) {
+  std::vector<Marker> frame;
+  for (double x = -240; x <= length + 240 + 1e-9; x += 40)
+    for (double y = -240; y <= width + 240 + 1e-9; y += 40) {
+      const double out = std::max({-x, x - length, -y, y - width});  // beyond the nearest edge
+      if (out >= 200 - 1e-9) frame.push_back({Vec3(x, y, 0), Vec3::UnitZ()});
+    }
+  return frame;
+}
+
+// A panel 500 x 375 mm in a marker frame: views over its middle see no marker of the frame
+// and only a plane, so they register to nothing. The markers proposed for reference points
+// give each of them three; added to the frame's, every view of the plan made again with
+// them registers, and the proposal is within 1.5 times its bound.
+TEST(ReferencePointsTest, MarkersProposedInAFrameRegisterEveryViewOfAPanel) {
+  const Part part = flatSlab(500, 375);
+  test::TempDir dir;
+  writeMarkers(markerFrame(500, 375), dir.file("frame.csv"));
+  test::writeText(dir.file("spec.yaml"), "markers: " + dir.file("frame.csv") +
+                                             "\nregistration: {method: reference_points}\n"
+                                             "tasks:\n  - {type: global}\n");
+  Spec spec = loadSpec(dir.file("spec.yaml"));
+  const Plan bare = planViews(part, spec);
+  ASSERT_TRUE(bare.proposed_markers);
+  const MarkerProposal& proposal = *bare.proposed_markers;
+  RecordProperty("registered", std::to_string(bare.registration->registered()) + " of " +
+                                   std::to_string(bare.views.size()));
+  RecordProperty("proposed", std::to_string(proposal.markers.size()) + ", bound " +
+                                 std::to_string(proposal.lower_bound));
+  EXPECT_LT(bare.registration->registered(), bare.views.size());
+  ASSERT_GT(proposal.lower_bound, 0u);
+  EXPECT_LE(static_cast<double>(proposal.markers.size()),
+            1.5 * static_cast<double>(proposal.lower_bound));
+
+  spec.placed_markers = proposal.markers;
+  const Plan placed = planViews(part, spec);
+  RecordProperty("registered_with_them", std::to_string(placed.registration->registered()) +
+                                             " of " + std::to_string(placed.views.size()));
+  EXPECT_EQ(placed.markers.size(), markerFrame(500, 375).size() + proposal.markers.size());
+  EXPECT_EQ(placed.registration->registered(), placed.views.size());
 }
 
 // In robot mode, the robot's pose accuracy places views that ICP cannot: within the

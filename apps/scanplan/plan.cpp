@@ -39,14 +39,13 @@ struct Options {
 
 constexpr const char* kProposedMarkers = "proposed-markers.csv";
 
-// The plan made again with the markers it proposed (written to `csv`) as the cell's,
+// The plan made again with the markers it proposed (written to `csv`) added to the cell's,
 // registered by them.
 Plan withProposedMarkers(const Part& part, Spec spec, const Plan& plan, const std::string& csv,
                          const PlanningOptions& planning, const Progress& progress) {
   if (!plan.orientations.empty())
     throw InputError(csv, "--place-markers plans one rest orientation only");
-  spec.markers_file = csv;
-  spec.marker_grid = 0;
+  spec.placed_markers = plan.proposed_markers->markers;
   if (spec.registration.method == RegistrationMode::Geometry)
     spec.registration.method = RegistrationMode::Markers;  // else the markers go unused
   return planViews(part, spec, planning, progress);

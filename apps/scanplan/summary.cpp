@@ -17,8 +17,7 @@ void printRegistration(const Plan& plan, const Registration& r) {
   fmt::print("{:<22} {} ({:.1f}%), by {}\n", "views registered", r.registered(),
              percent(r.registered(), plan.views.size()), toString(r.method));
   std::string by;
-  for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
-                               RegistrationMethod::Icp, RegistrationMethod::Robot})
+  for (RegistrationMethod m : kRegistrationMethods)
     if (const auto n =
             std::count_if(r.views.begin(), r.views.end(), [&](auto& v) { return v.method == m; }))
       by += fmt::format("{}{} {}", by.empty() ? "" : ", ", toString(m), n);

@@ -233,8 +233,7 @@ void addRegistration(const Plan& plan, json& result) {
   summary["unregistrable_views"] = unregistrable;
   summary["registration_components"] = registration.components;
   json by = json::object();
-  for (RegistrationMethod m : {RegistrationMethod::Reference, RegistrationMethod::Markers,
-                               RegistrationMethod::Icp, RegistrationMethod::Robot})
+  for (RegistrationMethod m : kRegistrationMethods)
     by[std::string(toString(m))] =
         std::count_if(registration.views.begin(), registration.views.end(),
                       [&](auto& v) { return v.method == m; });
@@ -579,11 +578,10 @@ struct PlanReader {
       if (!r.is_object()) continue;
       const std::string where = "view " + std::to_string(views[v].id) + " registration";
       ViewRegistration& view = result.views[v];
-      view.method = enumFrom(
-          field<std::string>(r, "method", path, where),
-          std::array{RegistrationMethod::Reference, RegistrationMethod::Markers,
-                     RegistrationMethod::Icp, RegistrationMethod::Robot, RegistrationMethod::None},
-          path, where);
+      const auto method = field<std::string>(r, "method", path, where);
+      view.method = method == toString(RegistrationMethod::None)
+                        ? RegistrationMethod::None
+                        : enumFrom(method, kRegistrationMethods, path, where);
       view.to = fieldOr(r, "to", 0, path, where);
       view.constrained = r.value("constrained", true);
       view.bridge = entries[v].value("bridge", false);
@@ -597,8 +595,7 @@ struct PlanReader {
     result.reference = fieldOr(section, "reference", 0, path, "registration");
     if (section.contains("method"))
       result.method = enumFrom(field<std::string>(section, "method", path, "registration"),
-                               std::array{RegistrationMode::Markers, RegistrationMode::Geometry,
-                                          RegistrationMode::Robot},
+                               kRegistrationModes,
                                path, "registration");
     result.required = section.value("required", true);
     result.robot_accuracy = section.value("robot_accuracy", 0.0);

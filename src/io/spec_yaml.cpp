@@ -534,12 +534,13 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
   RegistrationOptions r;
   if (const YAML::Node method = node["method"]) {
     const auto name = reader.scalar<std::string>(method, "registration.method");
-    constexpr std::array kMethods{RegistrationMode::Markers, RegistrationMode::Geometry,
-                                  RegistrationMode::Robot};
-    const auto found = std::find_if(kMethods.begin(), kMethods.end(),
-                                    [&](RegistrationMode m) { return toString(m) == name; });
-    if (found == kMethods.end())
-      reader.fail("registration.method must be markers, geometry or robot, not '" + name + "'");
+    const auto found =
+        std::find_if(kRegistrationModes.begin(), kRegistrationModes.end(),
+                     [&](RegistrationMode m) { return toString(m) == name; });
+    if (found == kRegistrationModes.end())
+      reader.fail(
+          "registration.method must be markers, geometry, robot or reference_points, not '" +
+          name + "'");
     r.method = *found;
   }
   reader.read(node, "registration", "robot_accuracy", r.robot_accuracy);

@@ -116,6 +116,7 @@ std::vector<Marker> specMarkers(const ResolvedSpec& resolved, const Part& part,
     markers = gridMarkers(markerGridOf(spec), resolved, part, part_to_world);
   const std::vector<Marker> on_fixtures = fixtureMarkers(spec, part_to_world);
   markers.insert(markers.end(), on_fixtures.begin(), on_fixtures.end());
+  markers.insert(markers.end(), spec.placed_markers.begin(), spec.placed_markers.end());
   return markers;
 }
 
@@ -309,8 +310,8 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
   grid.on_part = grid.on_plate = true;
   grid.on_fixture = !spec.fixtures.empty();
   const std::vector<Marker> candidates = gridMarkers(grid, at.spec, at.part, plan.part_to_world);
-  plan.proposed_markers =
-      scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, candidates, options);
+  plan.proposed_markers = scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration,
+                                                   candidates, plan.markers, options);
 }
 
 // Orders the views of a plan without a cell by the generic positioning's time (the

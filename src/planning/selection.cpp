@@ -2,6 +2,7 @@
 // exact set cover that bounds it.
 
 #include "planning/stages.h"
+#include "registration/overlaps.h"
 
 #include <scanplan/registration/sequencing.h>
 #include <scanplan/robot/cycle.h>
@@ -261,38 +262,70 @@ std::vector<char> keptViews(const Placement& at, const MeasuredViews& pool,
   return kept;
 }
 
+namespace {
+
+// The bound on the views of a selection over `pool` that meets `aim`: the pinned views and
+// the LP bound of the set cover of the required samples, or of the partial cover of the
+// targets.
+double viewsBound(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
+                  std::size_t samples, const SelectionAim& aim) {
+  const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
+  return static_cast<double>(pinned) +
+         (at.settings().coverage.full()
+              ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples))
+              : partialCoverLowerBound(sets, aim.needs.group, aim.needs.need));
+}
+
+// What a pose that registers to nothing costs the selection under registration by
+// reference points, against 1 for one that sees enough of the markers: it stands for a view
+// and for the markers that must be placed for it.
+constexpr double kUnframedCost = 2;
+
+// Under registration by reference points, per pose of `pool`: whether it registers into
+// the markers' frame by itself (docs/registration.md); empty in other modes.
+std::vector<char> framedPoses(const Placement& at, const MeasuredViews& pool,
+                              const std::vector<Marker>& markers) {
+  const RegistrationOptions options = registrationOptions(at.spec.spec);
+  if (options.method != RegistrationMode::ReferencePoints || markers.empty()) return {};
+  const Overlaps overlaps(at.simulator, options, markers);
+  const std::vector<std::vector<int>> seen = overlaps.markersSeen(pool.views);
+  std::vector<char> framed(pool.size());
+  for (std::size_t v = 0; v < pool.size(); ++v) framed[v] = overlaps.framed(seen[v]);
+  return framed;
+}
+
+}  // namespace
+
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
                       const std::optional<std::vector<Marker>>& registering,
                       const Progress& progress) {
+  const std::vector<char> framed =
+      registering ? framedPoses(at, pool, *registering) : std::vector<char>{};
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
   const bool full = at.settings().coverage.full();
   const bool by_time = at.settings().objective == Objective::CycleTime;
-  const SelectionAim aim{
-      coverageNeed(at, pool, pinned, samples),
-      by_time ? cycleCosts(at, pool, greedy) : std::vector<double>(pool.size(), 1.0)};
+  const bool weighted = by_time || !framed.empty();  // poses cost other than one each
+  SelectionAim aim{coverageNeed(at, pool, pinned, samples),
+                   by_time ? cycleCosts(at, pool, greedy) : std::vector<double>(pool.size(), 1.0)};
+  for (std::size_t v = 0; v < framed.size(); ++v)
+    if (!framed[v]) aim.costs[v] *= kUnframedCost;
   Selection selection;
   PlanBound& bound = selection.bound;
   // Against the greedy cover's shortest prefix meeting the targets; the bound on views,
   // whatever the cost.
   bound.greedy_views = full ? greedy.size() : prefixMeeting(pool, greedy, aim.needs);
-  const auto viewsBound = [&] {
-    const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
-    return static_cast<double>(pinned) +
-           (full ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples.size()))
-                 : partialCoverLowerBound(sets, aim.needs.group, aim.needs.need));
-  };
-  if (registering) {
+  if (registering && framed.empty()) {
     // The cover and the bound are independent: made side by side.
     tbb::parallel_invoke(
         [&] {
           selection.views = connectedCover(at, pool, pinned, samples, aim, *registering, progress);
         },
-        [&] { bound.lower_bound = viewsBound(); });
+        [&] { bound.lower_bound = viewsBound(at, pool, pinned, samples.size(), aim); });
   }
-  if (selection.views.empty() && full && !by_time) {
+  if (selection.views.empty() && full && !weighted) {
     const auto [exact, cover] = exactCover(at, pool, pinned, greedy, samples.size(), progress);
     const std::vector<std::size_t> chosen =
         withoutRedundant(at, pool, exact, pinned, samples.size());
@@ -303,7 +336,8 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
     const auto [chosen, cover] =
         partialCover(at, pool, pinned, samples, aim, greedy, bound.greedy_views);
     selection.views = chosen;
-    bound.lower_bound = by_time ? viewsBound() : static_cast<double>(pinned) + cover.lower_bound;
+    bound.lower_bound = weighted ? viewsBound(at, pool, pinned, samples.size(), aim)
+                                 : static_cast<double>(pinned) + cover.lower_bound;
     bound.time_capped = cover.time_capped;
   }
   bound.views = selection.views.size();

@@ -125,7 +125,9 @@ struct Selection {
 // or by cycle time (planner.objective), CBC solves the partial cover of the targets at the
 // poses' costs instead. With `registering` (the markers views register by, none: by
 // geometry alone), the connectedCover of the same targets and costs, unless no view of it
-// registers to another; its bound is then the LP relaxation's. The bound counts views.
+// registers to another; its bound is then the LP relaxation's. Under registration by
+// reference points, the partial cover instead, each pose that sees too few of the markers
+// to register by costing twice its cost. The bound counts views.
 // Progress shows the connectedCover's, or the share of its budget CBC has used.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,

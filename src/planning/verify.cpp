@@ -28,8 +28,12 @@ RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) 
 
 // Whether the link the file claims for view `id` is one the check finds: a view registered
 // by markers or ICP to view `claimed.to` must form a pair with it that shares markers
-// registering both, or a stable overlap that ICP, if it was verified, did not fail.
-bool linkHolds(const Registration& found, int id, const ViewRegistration& claimed) {
+// registering both, or a stable overlap that ICP, if it was verified, did not fail; one
+// registered by reference points must see them as the check simulates it.
+bool linkHolds(const Registration& found, int id, const ViewRegistration& claimed,
+               const ViewRegistration& again) {
+  if (claimed.method == RegistrationMethod::ReferencePoints)
+    return again.method == RegistrationMethod::ReferencePoints;
   if (claimed.method != RegistrationMethod::Markers && claimed.method != RegistrationMethod::Icp)
     return true;
   const PairCheck* pair = found.pair(id, claimed.to);
@@ -106,7 +110,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
     const bool state_differs =
         (claimed.method == RegistrationMethod::None) != (found.method == RegistrationMethod::None);
     check.registration_differences +=
-        state_differs || !linkHolds(*again.registration, views[v].id, claimed);
+        state_differs || !linkHolds(*again.registration, views[v].id, claimed, found);
   }
   again.registration->bridging_views = bridges;
   check.unregistered = views.size() - again.registration->registered();

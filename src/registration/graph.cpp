@@ -26,6 +26,7 @@ std::string_view toString(RegistrationMethod method) {
     case RegistrationMethod::Markers: return "markers";
     case RegistrationMethod::Icp: return "icp";
     case RegistrationMethod::Robot: return "robot";
+    case RegistrationMethod::ReferencePoints: return "reference_points";
     case RegistrationMethod::None: return "none";
   }
   return "unknown";
@@ -37,6 +38,7 @@ std::string_view toString(RegistrationMode mode) {
     case RegistrationMode::Markers: return "markers";
     case RegistrationMode::Geometry: return "geometry";
     case RegistrationMode::Robot: return "robot";
+    case RegistrationMode::ReferencePoints: return "reference_points";
   }
   return "unknown";
 }
@@ -195,6 +197,8 @@ bool RegistrationGraph::addJoined(const View& view, const Observation& seen, std
   seen_.resize(index);
   sets_.truncate(index);
   constrained_.resize(index);
+  framed_.resize(index);
+  if (frame_ == static_cast<int>(index)) frame_ = -1;
   pairs_.resize(pairs_.size() - fresh.size());
   ends_.resize(pairs_.size());
   return false;
@@ -219,6 +223,7 @@ std::size_t RegistrationGraph::components() {
 }
 
 int RegistrationGraph::mainComponent() {
+  if (frame_ >= 0) return find(frame_);
   std::map<int, std::size_t> sizes;
   for (std::size_t v = 0; v < views_.size(); ++v) ++sizes[find(static_cast<int>(v))];
   int best = -1;
@@ -253,8 +258,8 @@ Registration RegistrationGraph::result(std::size_t first_bridge) {
     registration.views[v].constrained = constrained_[v];
   registration.bridging_views = views_.size() - first_bridge;
   if (views_.empty()) return registration;
-  // The reference: in the main component, the view that sees the most markers, else the
-  // first.
+  // The reference: in the main component (the frame's, when views see the reference
+  // points), the view that sees the most markers, else the first.
   const int main = mainComponent();
   int reference = -1;
   for (std::size_t v = 0; v < views_.size(); ++v) {
@@ -263,10 +268,21 @@ Registration RegistrationGraph::result(std::size_t first_bridge) {
       reference = static_cast<int>(v);
   }
   registration.reference = views_[reference].id;
-  registration.views[reference].method = RegistrationMethod::Reference;
-  std::vector<int> queue{reference};
+  std::vector<int> queue;
   std::vector<char> reached(views_.size(), 0);
-  reached[reference] = 1;
+  // Views seeing the reference points register into their frame, the reference too; else
+  // the reference fixes the frame.
+  for (std::size_t v = 0; v < views_.size(); ++v)
+    if (framed_[v]) {
+      registration.views[v].method = RegistrationMethod::ReferencePoints;
+      queue.push_back(static_cast<int>(v));
+      reached[v] = 1;
+    }
+  if (queue.empty()) {
+    registration.views[reference].method = RegistrationMethod::Reference;
+    queue.push_back(reference);
+    reached[reference] = 1;
+  }
   for (std::size_t q = 0; q < queue.size(); ++q) {
     const int v = queue[q];
     for (std::size_t p : used_) {
@@ -291,6 +307,12 @@ std::vector<std::size_t> RegistrationGraph::insert(const View& view, const Obser
   seen_.push_back(seen);
   sets_.add();
   constrained_.push_back(overlaps_->constrained(seen));
+  // Views seeing the reference points are one component: each registers into their frame.
+  framed_.push_back(overlaps_->framed(seen.markers));
+  if (framed_.back()) {
+    if (frame_ < 0) frame_ = static_cast<int>(index);
+    sets_.join(static_cast<int>(index), frame_);
+  }
   std::vector<PairCheck> checks(index);
   tbb::parallel_for(std::size_t{0}, index, [&](std::size_t j) {
     checks[j] = check(views_[j], seen_[j], views_[index], seen_[index]);

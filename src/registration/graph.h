@@ -46,7 +46,8 @@ class RegistrationGraph {
   bool addJoined(const View& view, const Observation& seen, std::size_t partner);
 
   std::size_t components();
-  // The root of the largest component (ties: the one with the earliest view).
+  // The root of the component of the views seeing the reference points, if any; else of the
+  // largest component (ties: the one with the earliest view).
   int mainComponent();
   // The roots of the components other than the main one that hold a view something
   // could register to.
@@ -98,6 +99,8 @@ class RegistrationGraph {
   std::vector<std::pair<std::size_t, std::size_t>> ends_;  // view indices of each pair
   DisjointSets sets_;                                      // of view indices, by pairs used
   std::vector<char> constrained_;  // per view: something could register to it
+  std::vector<char> framed_;       // per view: registers by the reference points it sees
+  int frame_ = -1;                 // the first view that does, if any
   std::vector<std::size_t> used_;  // pairs of the spanning tree
   std::shared_ptr<IcpMemo> memo_;
   // The last main component (per view: in it) and each surface point's distance from it,

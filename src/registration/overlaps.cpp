@@ -65,9 +65,7 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
   if (disjoint(oa.box, ob.box)) return pair;
   const std::vector<int> markers = shared(oa.markers, ob.markers);
   pair.shared_markers = markers.size();
-  std::vector<Vec3> positions;
-  for (int m : markers) positions.push_back(markers_.points()[m].position);
-  pair.markers = markersRegister(positions, options_.min_markers, options_.marker_spread);
+  pair.markers = !referencePoints() && registers(markers);
   const std::vector<int> overlap = shared(oa.points, ob.points);
   if (overlap.empty()) return pair;
   pair.overlap_area = static_cast<double>(overlap.size()) * spacing_ * spacing_;
@@ -90,14 +88,26 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
 }
 
 bool Overlaps::constrained(const Observation& seen) const {
-  std::vector<Vec3> p, n, m;
+  std::vector<Vec3> p, n;
   for (int i : seen.points) {
     p.push_back(points()[i].position);
     n.push_back(points()[i].normal);
   }
-  for (int i : seen.markers) m.push_back(markers_.points()[i].position);
-  return icpCondition(p, n) <= options_.max_condition ||
-         markersRegister(m, options_.min_markers, options_.marker_spread);
+  return icpCondition(p, n) <= options_.max_condition || registers(seen.markers);
+}
+
+bool Overlaps::framed(const std::vector<int>& markers) const {
+  return referencePoints() && registers(markers);
+}
+
+bool Overlaps::referencePoints() const {
+  return options_.method == RegistrationMode::ReferencePoints;
+}
+
+bool Overlaps::registers(const std::vector<int>& markers) const {
+  std::vector<Vec3> positions;
+  for (int m : markers) positions.push_back(markers_.points()[m].position);
+  return markersRegister(positions, options_.min_markers, options_.marker_spread);
 }
 
 }  // namespace scanplan::detail

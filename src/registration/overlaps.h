@@ -33,17 +33,27 @@ class Overlaps {
   std::size_t markers() const { return markers_.points().size(); }
 
   // The pair test without ICP verification. The condition number is left out of pairs
-  // that share neither markers nor enough overlap, which cannot be stable.
+  // that share neither markers nor enough overlap, which cannot be stable. With the
+  // ReferencePoints method, the markers two views share do not register them to each other:
+  // each registers to the markers' frame, or not (framed).
   PairCheck check(const View& a, const Observation& oa, const View& b, const Observation& ob) const;
 
   // Something could register to the view: its own surface constrains ICP (condition within
   // the limit) or it sees enough markers.
   bool constrained(const Observation& seen) const;
 
+  // With the ReferencePoints method, whether a view seeing `markers` (indices) registers in
+  // the markers' frame: min_markers of them, not all within marker_spread of one line.
+  bool framed(const std::vector<int>& markers) const;
+
   const std::vector<SurfacePoint>& points() const { return points_.points(); }
   double spacing() const { return spacing_; }
 
  private:
+  bool referencePoints() const;
+  // Whether the markers (indices) are enough and spread enough to register by.
+  bool registers(const std::vector<int>& markers) const;
+
   const Simulator& simulator_;
   const RegistrationOptions& options_;
   double spacing_ = 0;

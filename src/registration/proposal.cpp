@@ -5,6 +5,7 @@
 #include <scanplan/solve/set_cover.h>
 
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <numeric>
 
@@ -79,16 +80,89 @@ int farthestFromLine(const std::vector<Marker>& candidates, const std::vector<in
   return best;
 }
 
+// Adds to `taken` candidates of `seen` (a view's or a pair's), farthest from the line of
+// those taken and of the markers at `placed` first, until they register together
+// (markersRegister) or none is left.
+void spreadOut(const std::vector<Marker>& candidates, const std::vector<int>& seen,
+               std::vector<char>& taken, const RegistrationOptions& options,
+               std::vector<Vec3> placed = {}) {
+  for (int c : seen)
+    if (taken[c]) placed.push_back(candidates[c].position);
+  while (!markersRegister(placed, options.min_markers, options.marker_spread)) {
+    const int c = farthestFromLine(candidates, seen, taken, placed);
+    if (c < 0) break;
+    taken[c] = 1;
+    placed.push_back(candidates[c].position);
+  }
+}
+
+// With reference points, each view registered to nothing that sees min_markers candidates
+// and markers in all needs that many, spread out: the fewest candidates that give them
+// with the markers each sees already (CBC), whose bound is the proposal's.
+MarkerProposal proposeReferencePoints(std::span<const View> views, const Registration& registration,
+                                      const std::vector<Marker>& candidates,
+                                      const std::vector<std::vector<int>>& seen,
+                                      const std::vector<std::vector<Vec3>>& seen_placed,
+                                      const RegistrationOptions& options) {
+  MarkerProposal proposal;
+  std::vector<std::vector<int>> views_of(candidates.size());
+  std::vector<std::size_t> served;  // view indices
+  std::vector<int> need;            // per view served
+  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
+    const auto least = static_cast<std::size_t>(options.min_markers);
+    if (registration.views[v].method != RegistrationMethod::None ||
+        seen[v].size() + seen_placed[v].size() < least)
+      continue;
+    for (int c : seen[v]) views_of[c].push_back(static_cast<int>(served.size()));
+    served.push_back(v);
+    need.push_back(static_cast<int>(least - std::min(least - 1, seen_placed[v].size())));
+  }
+  const SetCoverResult cover = minimumMulticover(views_of, need, kLimits);
+  std::vector<char> taken(candidates.size(), 0);
+  for (int c : cover.chosen) taken[c] = 1;
+  for (std::size_t v : served) spreadOut(candidates, seen[v], taken, options, seen_placed[v]);
+  // Those spread out may leave some of the cover's without use: each is dropped when every
+  // view served that registers still does without it.
+  const auto registers = [&](std::size_t v) {
+    std::vector<Vec3> markers = seen_placed[v];
+    for (int c : seen[v])
+      if (taken[c]) markers.push_back(candidates[c].position);
+    return markersRegister(markers, options.min_markers, options.marker_spread);
+  };
+  std::vector<std::size_t> registering;
+  std::copy_if(served.begin(), served.end(), std::back_inserter(registering), registers);
+  for (int c : cover.chosen) {
+    taken[c] = 0;
+    if (!std::all_of(registering.begin(), registering.end(), registers)) taken[c] = 1;
+  }
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (taken[c]) proposal.markers.push_back(candidates[c]);
+  proposal.views = served.size();
+  proposal.lower_bound = static_cast<std::size_t>(cover.lower_bound);
+  return proposal;
+}
+
 }  // namespace
 
 MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
                               const Registration& registration,
                               const std::vector<Marker>& candidates,
+                              const std::vector<Marker>& placed,
                               const RegistrationOptions& options) {
   MarkerProposal proposal;
-  std::vector<SurfacePoint> points;
-  for (const Marker& m : candidates) points.push_back({m.position, m.normal, 0});
-  const std::vector<std::vector<int>> seen = measuredPoints(simulator, views, points);
+  const auto seenBy = [&](const std::vector<Marker>& markers) {
+    std::vector<SurfacePoint> points;
+    for (const Marker& m : markers) points.push_back({m.position, m.normal, 0});
+    return measuredPoints(simulator, views, points);
+  };
+  const std::vector<std::vector<int>> seen = seenBy(candidates);
+  if (options.method == RegistrationMode::ReferencePoints) {
+    std::vector<std::vector<Vec3>> seen_placed(views.size());
+    const std::vector<std::vector<int>> placed_seen = seenBy(placed);
+    for (std::size_t v = 0; v < views.size(); ++v)
+      for (int m : placed_seen[v]) seen_placed[v].push_back(placed[m].position);
+    return proposeReferencePoints(views, registration, candidates, seen, seen_placed, options);
+  }
   const auto least = static_cast<std::size_t>(options.min_markers);
   const Joins joins = pairsToJoin(views, registration, seen, least);
   const std::vector<std::vector<int>>& pairs = joins.pairs;
@@ -103,17 +177,7 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
        minimumMulticover(pairs_of, std::vector<int>(pairs.size(), options.min_markers), kLimits)
            .chosen)
     taken[c] = 1;
-  for (const std::vector<int>& pair : pairs) {
-    std::vector<Vec3> shared;
-    for (int c : pair)
-      if (taken[c]) shared.push_back(candidates[c].position);
-    while (!markersRegister(shared, options.min_markers, options.marker_spread)) {
-      const int c = farthestFromLine(candidates, pair, taken, shared);
-      if (c < 0) break;
-      taken[c] = 1;
-      shared.push_back(candidates[c].position);
-    }
-  }
+  for (const std::vector<int>& pair : pairs) spreadOut(candidates, pair, taken, options);
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (taken[c]) proposal.markers.push_back(candidates[c]);
 

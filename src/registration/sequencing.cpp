@@ -93,9 +93,11 @@ std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
     if (a != index.end() && b != index.end() && registration.links(pair))
       links[a->second][b->second] = links[b->second][a->second] = 1;
   }
-  // A view the robot registers is in the cell's frame: any order suits it.
+  // A view the robot registers is in the cell's frame, one registered by reference points in
+  // theirs: any order suits it.
   for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v)
-    if (registration.views[v].method == RegistrationMethod::Robot)
+    if (registration.views[v].method == RegistrationMethod::Robot ||
+        registration.views[v].method == RegistrationMethod::ReferencePoints)
       for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = links[w][v] = v != w;
   return links;
 }

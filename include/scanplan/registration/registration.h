@@ -7,6 +7,7 @@
 #include <scanplan/core/view.h>
 #include <scanplan/scanner/simulation.h>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -39,9 +40,17 @@ std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step);
 // - Robot: the robot's pose accuracy, refined by ICP where overlaps constrain the pose. A
 //   view registers when the accuracy is within the tolerance in the directions its
 //   overlaps leave free; with an accuracy within the tolerance, every view does.
+// - ReferencePoints: the markers' positions are known in one frame beforehand (measured by
+//   photogrammetry, or markers on a plate, a table or fixtures): a view registers in that
+//   frame when it sees min_markers of them, not all within marker_spread of one line; the
+//   views that do not are joined by ICP on overlaps.
 // Default: Markers when markers are given, else Geometry.
-enum class RegistrationMode { Default, Markers, Geometry, Robot };
+enum class RegistrationMode { Default, Markers, Geometry, Robot, ReferencePoints };
 std::string_view toString(RegistrationMode mode);
+// The modes a spec or a plan names (every one but Default).
+inline constexpr std::array kRegistrationModes{RegistrationMode::Markers,
+                                               RegistrationMode::Geometry, RegistrationMode::Robot,
+                                               RegistrationMode::ReferencePoints};
 
 struct RegistrationOptions {
   RegistrationMode method = RegistrationMode::Default;
@@ -49,7 +58,9 @@ struct RegistrationOptions {
   // A plan whose views do not all register fails `verify` (exit 3), unless this is false.
   bool required = true;
   // Markers: two views register when they share this many markers, not all within
-  // `marker_spread` of one line.
+  // `marker_spread` of one line; ReferencePoints: a view registers when it sees this many.
+  // 3 is the fewest that fix a rigid transform; 4 adds one to spare, should a marker be
+  // misread.
   int min_markers = 3;
   double marker_spread = 10;  // mm
   // ICP: the surface both views measure, as a share of what each measures, and the
@@ -134,11 +145,19 @@ struct PairCheck {
   bool registrable() const { return markers || (stable && (!icp || icp->passed)); }
 };
 
-enum class RegistrationMethod { Reference, Markers, Icp, Robot, None };
+// How a view is registered: it fixes the frame (Reference), by markers it shares with the
+// view it registers to, by ICP on their overlap, by the robot's accuracy, or by the known
+// markers it sees (ReferencePoints, into their frame).
+enum class RegistrationMethod { Reference, Markers, Icp, Robot, ReferencePoints, None };
 std::string_view toString(RegistrationMethod method);
+// Every method a view may be registered by (every one but None).
+inline constexpr std::array kRegistrationMethods{
+    RegistrationMethod::Reference, RegistrationMethod::Markers, RegistrationMethod::Icp,
+    RegistrationMethod::Robot, RegistrationMethod::ReferencePoints};
 
 // How one view is registered: to the view `to` (an id; 0 for the reference view, which
-// fixes the frame, and for views that cannot be registered).
+// fixes the frame, for views registered by reference points, into the markers' frame, and
+// for views that cannot be registered).
 struct ViewRegistration {
   RegistrationMethod method = RegistrationMethod::None;
   int to = 0;
@@ -187,7 +206,9 @@ Registration registerViews(const Simulator& simulator, std::span<const View> vie
 // forest over pairs of `views` that see enough `candidates` in common (the pairs
 // `registration` links already first), then the fewest candidates giving each of its
 // pairs min_markers in common (minimumMulticover), and more where those lie on a line
-// (markersRegister).
+// (markersRegister). With reference points, the fewest candidates giving each view
+// registered to nothing min_markers, counting the `placed` markers it sees already, and
+// more where those lie on a line.
 struct MarkerProposal {
   std::vector<Marker> markers;
   std::size_t views = 0;        // views registered to nothing that the proposal joins
@@ -204,6 +225,7 @@ struct MarkerProposal {
 MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
                               const Registration& registration,
                               const std::vector<Marker>& candidates,
+                              const std::vector<Marker>& placed,
                               const RegistrationOptions& options);
 
 }  // namespace scanplan

@@ -114,6 +114,8 @@ struct Spec {
   bool markers_on_part = false;        // faces, and/or on the fixture models' upward
   bool markers_on_fixture = false;     // faces
   std::vector<FixtureModel> fixtures;  // fixtures: models with their own files
+  std::vector<Marker> placed_markers;  // world frame: added to the markers above (those a
+                                       // plan proposed, placed: `plan --place-markers`)
   RegistrationOptions registration;    // registration: thresholds of the pair checks
   std::vector<Task> tasks;             // never empty: defaults to one global task
   PlannerSettings planner;
