@@ -91,6 +91,18 @@ TEST(Planning, RestAllMeasuresEverySideOfACube) {
     for (int id : s.measured_by) EXPECT_TRUE(second.count(id)) << id;
   }
   EXPECT_GT(bottom, 0u);
+  // Two setups, counted apart: the views of each, and those registered within it.
+  const std::vector<SetupRegistration> setups = setupRegistration(plan);
+  ASSERT_EQ(setups.size(), 2u);
+  EXPECT_EQ(setups[0].views, first.size());
+  EXPECT_EQ(setups[1].views, second.size());
+  std::size_t registered_second = 0;
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    registered_second += second.count(plan.views[v].id) &&
+                         plan.registration->views[v].method != RegistrationMethod::None;
+  EXPECT_EQ(setups[1].registered, registered_second);
+  EXPECT_EQ(setups[0].registered + setups[1].registered, plan.registration->registered());
+  EXPECT_EQ(planJson(plan)["summary"]["setups"]["joined"], false);
   // Each orientation registers and sequences its own views, one after the other.
   ASSERT_TRUE(plan.registration && plan.sequence);
   EXPECT_EQ(plan.sequence->views.size(), plan.views.size());

@@ -196,6 +196,19 @@ TEST(Report, ViewsCsvRoundTripsAndNamesTheBadLine) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
   }
+  // The last field, the setup, counts from 1.
+  text = readFile(dir.file("views.csv"));
+  ASSERT_EQ(text.substr(text.find('\n') - 6, 6), ",setup");
+  const std::size_t end = text.find('\n', text.find('\n') + 1);  // of the first view's line
+  ASSERT_EQ(text.substr(end - 2, 2), ",1");
+  text.replace(end - 1, 1, "0");
+  test::writeText(dir.file("setup.csv"), text);
+  try {
+    readViewsCsv(dir.file("setup.csv"));
+    FAIL() << "a setup 0 was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2: the setup '0'"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(readViewsCsv(dir.file("missing.csv")), InputError);
 }
 

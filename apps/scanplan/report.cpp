@@ -138,11 +138,16 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
 
 // The plan's views as CSV, in the order the cell visits them.
 void writeViewsInOrder(const Plan& plan, const std::string& out) {
-  std::map<int, const View*> by_id;
-  for (const View& view : plan.views) by_id[view.id] = &view;
+  const std::vector<std::size_t> orientation = viewOrientations(plan);
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) index[plan.views[v].id] = v;
   std::vector<View> in_order;
-  for (int id : visitingOrder(plan)) in_order.push_back(*by_id.at(id));
-  writeViewsCsv(in_order, out);
+  std::vector<std::size_t> setups;
+  for (int id : visitingOrder(plan)) {
+    in_order.push_back(plan.views[index.at(id)]);
+    setups.push_back(orientation[index.at(id)] + 1);
+  }
+  writeViewsCsv(in_order, out, setups);
 }
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 
 namespace scanplan::cli {
@@ -22,6 +23,17 @@ void printRegistration(const Plan& plan, const Registration& r) {
             std::count_if(r.views.begin(), r.views.end(), [&](auto& v) { return v.method == m; }))
       by += fmt::format("{}{} {}", by.empty() ? "" : ", ", toString(m), n);
   if (!by.empty()) fmt::print("{:<22} {}\n", "", by);
+  if (const std::vector<SetupRegistration> setups = setupRegistration(plan); setups.size() > 1) {
+    std::string within;
+    std::size_t most = 0;
+    for (const SetupRegistration& setup : setups) {
+      within +=
+          fmt::format("{}{} of {}", within.empty() ? "" : ", ", setup.registered, setup.views);
+      most = std::max(most, setup.registered);
+    }
+    fmt::print("{:<22} {} not joined, registered within each: {}; {} of {} views in one frame\n",
+               "setups", setups.size(), within, most, plan.views.size());
+  }
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured, registered", plan.registeredMeasuredCount(),
              percent(plan.registeredMeasuredCount(), plan.samples.size()));
   fmt::print("{:<22} {}\n", "bridging views added", r.bridging_views);

@@ -232,6 +232,10 @@ void addRegistration(const Plan& plan, json& result) {
   summary["bridging_views"] = registration.bridging_views;
   summary["unregistrable_views"] = unregistrable;
   summary["registration_components"] = registration.components;
+  json setups = json::array();
+  for (const SetupRegistration& setup : setupRegistration(plan))
+    setups.push_back({{"views", setup.views}, {"registered", setup.registered}});
+  summary["setups"] = {{"joined", false}, {"by_setup", setups}};
   json by = json::object();
   for (RegistrationMethod m : kRegistrationMethods)
     by[std::string(toString(m))] =
@@ -595,8 +599,7 @@ struct PlanReader {
     result.reference = fieldOr(section, "reference", 0, path, "registration");
     if (section.contains("method"))
       result.method = enumFrom(field<std::string>(section, "method", path, "registration"),
-                               kRegistrationModes,
-                               path, "registration");
+                               kRegistrationModes, path, "registration");
     result.required = section.value("required", true);
     result.robot_accuracy = section.value("robot_accuracy", 0.0);
     result.verified =
@@ -934,7 +937,7 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "measured_share", "not_coverable", "not_coverable_by_reason", "views",
        "registrable_views", "seconds", "stage_seconds", "characteristics", "registered_share",
        "measured_by_registered_views", "bridging_views", "unregistrable_views",
-       "registration_components", "registered_by", "path_length",
+       "registration_components", "registered_by", "setups", "path_length",
        "nearest_neighbour_path_length", "orientations", "robot", "sweep_views", "bound",
        "cycle", "coverage_by_views"},
       path, "summary");

@@ -5,18 +5,20 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 namespace scanplan {
 
-void writeViewsCsv(const std::vector<View>& views, const std::string& path) {
+void writeViewsCsv(const std::vector<View>& views, const std::string& path,
+                   const std::vector<std::size_t>& setups) {
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "sequence,id";
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) out << ",m" << r << c;
-    out << ",target_x,target_y,target_z,task\n";
+    out << ",target_x,target_y,target_z,task,setup\n";
     for (std::size_t v = 0; v < views.size(); ++v) {
       const View& view = views[v];
       out << v + 1 << ',' << view.id;
@@ -24,7 +26,7 @@ void writeViewsCsv(const std::vector<View>& views, const std::string& path) {
       for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) out << fmt::format(",{:.17g}", m(r, c));
       for (int k = 0; k < 3; ++k) out << fmt::format(",{:.17g}", view.target[k]);
-      out << ',' << view.task << '\n';
+      out << ',' << view.task << ',' << (v < setups.size() ? setups[v] : 1) << '\n';
     }
   });
 }
@@ -49,8 +51,9 @@ std::vector<View> readViewsCsv(const std::string& path) {
     std::istringstream row(line);
     for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
     if (line.back() == ',') fields.emplace_back();
-    if (fields.size() != 21 + first)
-      fail(fmt::format("{} fields, expected {}", fields.size(), 21 + first));
+    if (fields.size() != 21 + first && fields.size() != 22 + first)
+      fail(fmt::format("{} fields, expected {} or {} (with the setup)", fields.size(), 21 + first,
+                       22 + first));
     auto number_at = [&](std::size_t i) {
       try {
         std::size_t used = 0;
@@ -72,6 +75,12 @@ std::vector<View> readViewsCsv(const std::string& path) {
     view.camera_to_world.matrix() = m;
     for (std::size_t k = 0; k < 3; ++k) view.target[k] = number_at(first + 17 + k);
     view.task = fields[first + 20];
+    if (fields.size() == 22 + first) {
+      const std::string& setup = fields[first + 21];
+      if (setup.empty() || setup.size() > 9 || setup[0] == '0' ||
+          !std::all_of(setup.begin(), setup.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        fail(fmt::format("the setup '{}' is not a whole number from 1", setup));
+    }
     views.push_back(view);
   }
   return views;

@@ -109,6 +109,17 @@ std::vector<std::size_t> viewOrientations(const Plan& plan) {
   return result;
 }
 
+std::vector<SetupRegistration> setupRegistration(const Plan& plan) {
+  std::vector<SetupRegistration> setups(std::max<std::size_t>(1, plan.orientations.size()));
+  const std::vector<std::size_t> setup = viewOrientations(plan);
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    ++setups[setup[v]].views;
+    setups[setup[v]].registered += plan.registration && v < plan.registration->views.size() &&
+                                   plan.registration->views[v].method != RegistrationMethod::None;
+  }
+  return setups;
+}
+
 Pose orientationPlacement(const Plan& plan, std::size_t k) {
   return k < plan.orientations.size() ? plan.orientations[k].rest.part_to_world
                                       : plan.part_to_world;

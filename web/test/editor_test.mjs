@@ -8,9 +8,9 @@
 // 1. `scanplan spec PART` writes the editor; it opens without console errors or network.
 // 2. Two faces clicked go to a trim task, a characteristic picked goes to a gdt task, two
 //    control points are clicked onto the part (one on a cylinder, snapped onto it exactly).
-// 3. spec.yaml and points.csv are downloaded, and `scanplan plan` plans them: its trim and
-//    gdt samples lie on exactly those faces, and each point lies on the part within 0.01 mm
-//    (the distance to where the plan projects it onto the exact face).
+// 3. spec.yaml and points.csv are downloaded, and `scanplan sample` samples them as planning
+//    does: the trim and gdt samples lie on exactly those faces, and each point lies on the
+//    part within 0.01 mm (the distance to where sampling projects it onto the exact face).
 // given: the editor of OUTDIR/given.yaml; the spec downloaded unchanged is written to
 // OUTDIR/roundtrip.yaml (tests/editor_browser_test.sh compares it with the original), then
 // the page is edited (editSettings).
@@ -173,18 +173,16 @@ async function newSpec() {
     await page.screenshot({ path: screenshot });
   }
 
-  // The command line plans the downloaded spec.
-  run('plan', part, '--spec', join(out, 'spec.yaml'), '-o', join(out, 'plan'), '--no-registration', '--no-report');
-  const plan = JSON.parse(readFileSync(join(out, 'plan', 'plan.json'), 'utf8'));
-  const facesOf = (task) => [...new Set(plan.samples.filter((s) => s.task === task).map((s) => s.face))].sort((a, b) => a - b).join(',');
-  check(facesOf('trim') === [...visible].sort((a, b) => a - b).join(','), `the plan's trim task is on faces ${facesOf('trim')}: ${visible.join(', ')} clicked`);
-  check(facesOf('gdt') === characteristic.faces.join(','), `the plan's gdt task is on faces ${facesOf('gdt')}: the characteristic's ${characteristic.faces.join(', ')}`);
+  // The command line samples the downloaded spec, as planning does first.
+  run('sample', part, '--spec', join(out, 'spec.yaml'), '-o', join(out, 'samples.json'));
+  const sampled = JSON.parse(readFileSync(join(out, 'samples.json'), 'utf8')).samples;
+  const facesOf = (task) => [...new Set(sampled.filter((s) => s.task === task).map((s) => s.face))].sort((a, b) => a - b).join(',');
+  check(facesOf('trim') === [...visible].sort((a, b) => a - b).join(','), `the trim task's samples are on faces ${facesOf('trim')}: ${visible.join(', ')} clicked`);
+  check(facesOf('gdt') === characteristic.faces.join(','), `the gdt task's samples are on faces ${facesOf('gdt')}: the characteristic's ${characteristic.faces.join(', ')}`);
   const points = csv.trim().split('\n').slice(1).map((line) => line.split(',').map(Number));
-  const planned = plan.samples.filter((s) => s.task === 'points');
-  // The plan's samples are in the world, where part_to_world puts the part.
-  const m = plan.part.part_to_world;
-  const world = (p) => [0, 1, 2].map((r) => m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]);
-  const gaps = points.map((p, i) => Math.hypot(...planned[i].position.map((x, k) => x - world(p)[k])));
+  const planned = sampled.filter((s) => s.task === 'points');
+  // Samples are in the part's frame, as the CSV is.
+  const gaps = points.map((p, i) => Math.hypot(...planned[i].position.map((x, k) => x - p[k])));
   check(planned.length === 2 && gaps.every((d) => d <= 0.01) && planned.every((s, i) => s.face === pointFaces[i]),
     `the control points lie on the part: ${gaps.map((d) => d.toExponential(1)).join(', ')} mm from the exact faces (at most 0.01), ` +
     `on faces ${planned.map((s) => s.face).join(', ')}`);

@@ -186,6 +186,15 @@ std::vector<int> visitingOrder(const Plan& plan);
 // Per view of `plan` (in its order), the index into Plan::orientations of the rest
 // orientation it was planned in; 0 for every view of a plan with one placement.
 std::vector<std::size_t> viewOrientations(const Plan& plan);
+// Per setup of `plan` (its rest orientations, or the one placement): its views and those
+// registered within it. Setups are not joined: the views of each register into a frame of
+// their own, so no more views register in one frame than in the largest setup.
+struct SetupRegistration {
+  std::size_t views = 0;
+  std::size_t registered = 0;
+};
+std::vector<SetupRegistration> setupRegistration(const Plan& plan);
+
 // Where orientation `k` places the part (Plan::part_to_world for one placement).
 Pose orientationPlacement(const Plan& plan, std::size_t k);
 
