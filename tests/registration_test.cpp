@@ -943,8 +943,8 @@ std::vector<Marker> markerFrame(double length, double width) {
 
 // A panel 500 x 375 mm in a marker frame: views over its middle see no marker of the frame
 // and only a plane, so they register to nothing. The markers proposed for reference points
-// give each of them three; added to the frame's, every view of the plan made again with
-// them registers, and the proposal is within 1.5 times its bound.
+// give each of them three, within 1.5 times the proposal's bound; added to the frame's
+// (and those the plans made again propose), every view of the last plan registers.
 TEST(ReferencePointsTest, MarkersProposedInAFrameRegisterEveryViewOfAPanel) {
   const Part part = flatSlab(500, 375);
   test::TempDir dir;
@@ -965,12 +965,13 @@ TEST(ReferencePointsTest, MarkersProposedInAFrameRegisterEveryViewOfAPanel) {
   EXPECT_LE(static_cast<double>(proposal.markers.size()),
             1.5 * static_cast<double>(proposal.lower_bound));
 
-  spec.placed_markers = proposal.markers;
-  const Plan placed = planViews(part, spec);
-  RecordProperty("registered_with_them", std::to_string(placed.registration->registered()) +
-                                             " of " + std::to_string(placed.views.size()));
-  EXPECT_EQ(placed.markers.size(), markerFrame(500, 375).size() + proposal.markers.size());
-  EXPECT_EQ(placed.registration->registered(), placed.views.size());
+  const PlacedMarkers placed = planWithProposedMarkers(part, spec, bare);
+  RecordProperty("registered_with_them", std::to_string(placed.plan.registration->registered()) +
+                                             " of " + std::to_string(placed.plan.views.size()) +
+                                             ", " + std::to_string(placed.placed.size()) +
+                                             " markers placed");
+  EXPECT_EQ(placed.plan.markers.size(), markerFrame(500, 375).size() + placed.placed.size());
+  EXPECT_EQ(placed.plan.registration->registered(), placed.plan.views.size());
 }
 
 // In robot mode, the robot's pose accuracy places views that ICP cannot: within the

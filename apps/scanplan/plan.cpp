@@ -39,18 +39,6 @@ struct Options {
 
 constexpr const char* kProposedMarkers = "proposed-markers.csv";
 
-// The plan made again with the markers it proposed (written to `csv`) added to the cell's,
-// registered by them.
-Plan withProposedMarkers(const Part& part, Spec spec, const Plan& plan, const std::string& csv,
-                         const PlanningOptions& planning, const Progress& progress) {
-  if (!plan.orientations.empty())
-    throw InputError(csv, "--place-markers plans one rest orientation only");
-  spec.placed_markers = plan.proposed_markers->markers;
-  if (spec.registration.method == RegistrationMode::Geometry)
-    spec.registration.method = RegistrationMode::Markers;  // else the markers go unused
-  return planViews(part, spec, planning, progress);
-}
-
 // The part, then per task and role the samples and those measured.
 void printTaskRows(const Plan& plan, const Part& part) {
   std::map<std::pair<std::string, std::string>, std::array<std::size_t, 2>> rows;
@@ -124,9 +112,14 @@ int run(const Options& options, const GlobalOptions& global) {
   const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
   if (proposed) {
     const std::string staged = outputs.stage(markers_csv);
-    writeMarkers(plan.proposed_markers->markers, staged);
-    if (options.place_markers)
-      plan = withProposedMarkers(part, spec, plan, staged, planning, progress);
+    std::vector<Marker> markers = plan.proposed_markers->markers;
+    if (options.place_markers) {
+      PlacedMarkers placed =
+          planWithProposedMarkers(part, spec, std::move(plan), planning, progress);
+      plan = std::move(placed.plan);
+      markers = std::move(placed.placed);
+    }
+    writeMarkers(markers, staged);
   } else {
     outputs.drop(markers_csv);
   }

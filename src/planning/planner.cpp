@@ -642,4 +642,25 @@ Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& option
   return withinMostViews(capableCount(lifted) > capableCount(plan) ? lifted : plan, part, spec);
 }
 
+PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,
+                                      const PlanningOptions& options, const Progress& progress,
+                                      int rounds) {
+  if (!plan.orientations.empty())
+    throw InputError(part.file, "--place-markers plans one rest orientation only");
+  if (spec.registration.method == RegistrationMode::Geometry)
+    spec.registration.method = RegistrationMode::Markers;
+  PlacedMarkers result{std::move(plan), {}};
+  for (int round = 0; round < rounds; ++round) {
+    const Plan& last = result.plan;
+    if (!last.proposed_markers || last.proposed_markers->markers.empty() ||
+        (last.registration && last.registration->registered() == last.views.size()))
+      break;
+    const std::vector<Marker>& proposed = last.proposed_markers->markers;
+    result.placed.insert(result.placed.end(), proposed.begin(), proposed.end());
+    spec.placed_markers = result.placed;
+    result.plan = planViews(part, spec, options, progress);
+  }
+  return result;
+}
+
 }  // namespace scanplan

@@ -116,11 +116,16 @@ std::vector<std::vector<int>> requiredRows(const std::vector<std::vector<int>>& 
 }
 
 // Sets by size, largest first (the first on ties); each kept unless a kept set includes it.
-void dropDominatedSets(const std::vector<std::vector<int>>& columns, int rows, Reduced& out) {
+// With `costs`, by cost first, cheapest first: a set is dropped only for one that includes
+// it and costs no more, which leaves the cheapest cover's cost unchanged.
+void dropDominatedSets(const std::vector<std::vector<int>>& columns, int rows, Reduced& out,
+                       const std::vector<double>* costs = nullptr) {
   std::vector<int> order(columns.size());
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return columns[a].size() > columns[b].size(); });
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (costs && (*costs)[a] != (*costs)[b]) return (*costs)[a] < (*costs)[b];
+    return columns[a].size() > columns[b].size();
+  });
   out.kept_as.assign(columns.size(), -1);
   std::vector<std::vector<int>> kept_with_row(rows);  // kept sets (reduced index) per row
   for (int s : order) {
@@ -668,6 +673,28 @@ std::vector<int> corePartialCover(const PartialInstance& p, const std::vector<do
   return ofWhole(branchAndBound(solver, x, columns, limits, integral, result), core);
 }
 
+// minimumPartialCover on an instance without dominated sets: the greedy start, or `start`
+// when it meets every need and costs less; the LP's bound; CBC over the LP's core within
+// `limits`, its bound raised to the whole instance, into `result`. The sets chosen.
+std::vector<int> reducedPartialCover(const PartialInstance& p, const std::vector<double>& costs,
+                                     const SolveLimits& limits, const std::vector<int>& start,
+                                     SetCoverResult& result) {
+  std::vector<int> chosen = greedyPartial(p, costs);
+  if (meetsNeed(p, start) && cost(costs, start) < cost(costs, chosen)) chosen = start;
+  const bool integral = std::all_of(costs.begin(), costs.end(), [](double c) { return c == 1; });
+  if (p.group_of.empty() || chosen.empty()) return chosen;
+  const StdoutSilenced quiet;
+  OsiClpSolverInterface solver;
+  loadPartial(p, costs, solver);
+  if (!solveRelaxation(solver)) return chosen;
+  const double lp = solver.getObjValue();
+  result.lp_bound = integral ? std::ceil(lp - 1e-6) : lp;
+  const auto [core, least_out] = lpCore(solver, static_cast<int>(p.columns.size()), chosen);
+  chosen = corePartialCover(p, costs, core, chosen, limits, integral, result);
+  boundWholeInstance(lp, least_out, integral, cost(costs, chosen), result);
+  return chosen;
+}
+
 }  // namespace
 
 double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
@@ -690,22 +717,20 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<int>& start) {
   const auto began = Clock::now();
   SetCoverResult result;
-  const PartialInstance p = partialInstance(sets, group, need);
-  std::vector<int> chosen = greedyPartial(p, costs);
-  if (meetsNeed(p, start) && cost(costs, start) < cost(costs, chosen)) chosen = start;
-  const bool integral = std::all_of(costs.begin(), costs.end(), [](double c) { return c == 1; });
-  if (!p.group_of.empty() && !chosen.empty()) {
-    const StdoutSilenced quiet;
-    OsiClpSolverInterface solver;
-    loadPartial(p, costs, solver);
-    if (solveRelaxation(solver)) {
-      const double lp = solver.getObjValue();
-      result.lp_bound = integral ? std::ceil(lp - 1e-6) : lp;
-      const auto [core, least_out] = lpCore(solver, static_cast<int>(p.columns.size()), chosen);
-      chosen = corePartialCover(p, costs, core, chosen, limits, integral, result);
-      boundWholeInstance(lp, least_out, integral, cost(costs, chosen), result);
-    }
-  }
+  PartialInstance p = partialInstance(sets, group, need);
+  // Sets that a set costing no more includes are dropped; `start`'s replaced by those.
+  Reduced kept;
+  dropDominatedSets(p.columns, static_cast<int>(p.group_of.size()), kept, &costs);
+  p.columns = std::move(kept.columns);
+  std::vector<double> kept_costs;
+  for (int s : kept.set_of) kept_costs.push_back(costs[s]);
+  std::vector<int> kept_start;
+  for (int s : start)
+    if (kept.kept_as[s] >= 0) kept_start.push_back(kept.kept_as[s]);
+  std::sort(kept_start.begin(), kept_start.end());
+  kept_start.erase(std::unique(kept_start.begin(), kept_start.end()), kept_start.end());
+  std::vector<int> chosen = reducedPartialCover(p, kept_costs, limits, kept_start, result);
+  for (int& c : chosen) c = kept.set_of[c];
   std::sort(chosen.begin(), chosen.end());
   result.chosen = chosen;
   result.seconds = secondsSince(began);

@@ -51,6 +51,20 @@ Pose placementFor(const Part& part, const Spec& spec);
 Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options = {},
                const Progress& progress = {});
 
+// `plan` (of `part` by `spec`, one rest orientation) made again with the markers it
+// proposed added to the spec's (Spec::placed_markers; a spec registering by geometry then
+// registers by markers, else they would go unused), and again with those the new plan
+// proposes, until every view registers, nothing more is proposed, or after `rounds` plans.
+// The last plan, its placed_markers the markers added in all. \throw InputError for a plan
+// over several rest orientations.
+struct PlacedMarkers {
+  Plan plan;
+  std::vector<Marker> placed;
+};
+PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,
+                                      const PlanningOptions& options = {},
+                                      const Progress& progress = {}, int rounds = 3);
+
 // Which samples some valid pose of a dense candidate set measures: the camera at the
 // standoff from the sample itself, looking at it, from every direction of a `step`-degree
 // grid within the camera's glancing cone, each with `rotations` rotations about the view

@@ -68,9 +68,10 @@ SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
 // cost (all 1: the fewest sets).
 //   min sum c_s x_s  s.t.  y_e <= sum_{s contains e} x_s,  sum_{e in g} y_e >= need_g,
 //   x_s in {0, 1},  0 <= y_e <= 1.
-// A greedy start (the most unmet need per cost, or `start` when it meets every need and
-// costs less), the LP relaxation's bound (rounded up with unit costs), then CBC within
-// `limits`; the result never costs more than the start.
+// Sets that another costing no more includes are dropped first (the least cost is
+// unchanged). A greedy start (the most unmet need per cost, or `start` when it meets every
+// need and costs less), the LP relaxation's bound (rounded up with unit costs), then CBC
+// within `limits`; the result never costs more than the start.
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
                                    const std::vector<double>& costs, const std::vector<int>& group,
                                    const std::vector<double>& need, const SolveLimits& limits = {},
