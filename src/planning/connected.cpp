@@ -127,11 +127,8 @@ class CoverContext {
       for (int m : markers_seen[v]) by_marker[m].push_back(static_cast<int>(v));
     const auto least_markers = static_cast<std::size_t>(options.min_markers);
     constrained.resize(pool.size());
-    framed.resize(pool.size());
     tbb::parallel_for(std::size_t{0}, pool.size(), [&](std::size_t v) {
-      framed[v] = !markers_seen.empty() && overlaps.framed(markers_seen[v]);
-      constrained[v] = framed[v] ||
-                       condition(at, samples, pool.samples[v]) <= options.max_condition ||
+      constrained[v] = condition(at, samples, pool.samples[v]) <= options.max_condition ||
                        (!markers_seen.empty() && markers_seen[v].size() >= least_markers);
     });
   }
@@ -199,7 +196,6 @@ class CoverContext {
   std::vector<std::vector<int>> markers_seen;  // per pose, when there are markers
   std::vector<std::vector<int>> by_marker;     // the poses measuring each marker
   std::vector<char> constrained;               // per pose: something may register to it
-  std::vector<char> framed;                    // per pose: registers by the reference points
   std::size_t coverable = 0;                   // samples some pose measures, not done before
 
  private:
@@ -236,13 +232,11 @@ class CoverContext {
 // rule one out.
 class ConnectedCover {
   // A chosen view a pose may register to: judged 1 when foreseen to (markers it shares
-  // judge at once), -1 when not, 0 while not yet judged. kFrame for the reference points'
-  // frame: the pose registers into it, as does every chosen view that sees them.
+  // judge at once), -1 when not, 0 while not yet judged.
   struct Partner {
     std::size_t view;
     signed char judged;
   };
-  static constexpr std::size_t kFrame = std::numeric_limits<std::size_t>::max();
 
  public:
   // The cover run `run` of kCreeps.
@@ -258,7 +252,6 @@ class ConnectedCover {
         markers_seen_(context.markers_seen),
         by_marker_(context.by_marker),
         constrained_(context.constrained),
-        framed_(context.framed),
         shared_(context.pool.size()) {}
 
   // One cover, with its run's creep the share below which a new group starts, and the
@@ -272,10 +265,7 @@ class ConnectedCover {
       const auto seed = best(seeds_, [&](std::size_t v) { return constrained_[v] != 0; });
       const bool jump = seed && (!linked || total(gain_[*linked]) < creep * total(gain_[*seed]));
       if (linked && !jump) {
-        if (framed_[*linked] && !frame_)
-          choose(*linked);  // the first view in the reference points' frame
-        else if (const auto partner = registeredPartner(*linked))
-          choose(*linked, partner);
+        if (const auto partner = registeredPartner(*linked)) choose(*linked, partner);
         continue;
       }
       // A new group of views, from a pose that something could register to.
@@ -324,14 +314,9 @@ class ConnectedCover {
     links_.clear();
     tested_.clear();
     linked_ = seeds_ = all_ = {};
-    frame_.reset();
     for (std::size_t v = 0; v < pool_.size(); ++v) {
       all_.push(v, rate(v));
       if (constrained_[v]) seeds_.push(v, rate(v));
-      if (framed_[v]) {  // registers into the reference points' frame, by itself
-        partners_[v].push_back({kFrame, 1});
-        linked_.push(v, rate(v));
-      }
     }
   }
 
@@ -520,9 +505,6 @@ class ConnectedCover {
   // The first of `views` (chosen) that shares samples with pose `v` and with which it
   // passes the registration's pair test.
   std::optional<std::size_t> registeredAmong(std::size_t v, const std::vector<std::size_t>& views) {
-    if (framed_[v])
-      for (std::size_t c : views)
-        if (framed_[c]) return c;
     for (std::size_t c : views) {
       if (!intersect(pool_.samples[c], pool_.samples[v])) continue;
       if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
@@ -612,8 +594,7 @@ class ConnectedCover {
   // test; none, and they are forgotten, when it passes with none.
   std::optional<std::size_t> registeredPartner(std::size_t v) {
     for (Partner& p : partners_[v]) {
-      if (p.view == kFrame && frame_) return frame_;
-      if (p.view == kFrame || !foreseen(p, v)) continue;
+      if (!foreseen(p, v)) continue;
       const std::size_t c = p.view;
       if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
     }
@@ -640,7 +621,6 @@ class ConnectedCover {
 
   void choose(std::size_t c, std::optional<std::size_t> partner = std::nullopt) {
     used_[c] = 1;
-    if (framed_[c] && !frame_) frame_ = c;
     chosen_.push_back(c);
     parent_.push_back(partner);
     for (int i : pool_.samples[c]) {
@@ -654,7 +634,7 @@ class ConnectedCover {
     // The poses that may register to it: by markers, or by samples, whose ICP constraint is
     // judged when it matters (foreseen).
     std::vector<std::pair<std::size_t, signed char>> partnered;
-    if (!markers_seen_.empty() && options_.method != RegistrationMode::ReferencePoints)
+    if (!markers_seen_.empty())
       for (const auto& [v, both] : sharing(markers_seen_[c], by_marker_))
         if (!used_[v] && both >= static_cast<std::size_t>(options_.min_markers))
           partnered.push_back({v, 1});
@@ -697,10 +677,9 @@ class ConnectedCover {
   const std::vector<std::vector<int>>& by_sample_;
   const std::vector<std::vector<int>>& markers_seen_;
   const std::vector<std::vector<int>>& by_marker_;
-  std::vector<char> constrained_;    // per pose: something may still register to it
-  const std::vector<char>& framed_;  // per pose: registers by the reference points it sees
-  std::vector<int> shared_;          // per pose: what it shares, while sharing() counts
-  std::vector<Gain> gain_;           // per pose: samples it measures not yet covered
+  std::vector<char> constrained_;  // per pose: something may still register to it
+  std::vector<int> shared_;        // per pose: what it shares, while sharing() counts
+  std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
   std::vector<char> covered_, used_;
   std::size_t newly_covered_ = 0;               // samples covered not done before
   std::vector<double> unmet_;                   // per group of the aim: need left
@@ -709,7 +688,6 @@ class ConnectedCover {
   RateQueue seeds_;                             // poses something may register to, by rate
   RateQueue all_;                               // every pose, by rate
   std::size_t pinned_ = 0;
-  std::optional<std::size_t> frame_;  // the first chosen view registering by reference points
   std::vector<std::size_t> chosen_;
   std::vector<std::optional<std::size_t>> parent_;  // per chosen view: the one it registers to
   std::vector<std::pair<std::size_t, std::size_t>> links_;      // connector, view of a joined group
