@@ -80,6 +80,37 @@ double writeOutputs(Plan& plan, const Part& part, const Spec& spec, const Option
   return report_seconds;
 }
 
+// Writes to `csv` the markers `plan` proposed; with `planning` (--place-markers), plans
+// again with them (planWithProposedMarkers) into `plan`, and writes every marker added.
+void stageProposedMarkers(const Part& part, const Spec& spec, const PlanningOptions* planning,
+                          const Progress& progress, const std::string& csv, Plan& plan) {
+  std::vector<Marker> markers = plan.proposed_markers->markers;
+  if (planning) {
+    PlacedMarkers placed =
+        planWithProposedMarkers(part, spec, std::move(plan), *planning, progress);
+    plan = std::move(placed.plan);
+    markers = std::move(placed.placed);
+  }
+  writeMarkers(markers, csv);
+}
+
+// The samples not coverable, by reason; the selection against its bound.
+void printCoverageAndBound(const Plan& plan) {
+  fmt::print("{:<22} {}\n", "not coverable", plan.notCoverableCount());
+  std::map<std::string, std::size_t> reasons;
+  for (const PlannedSample& s : plan.samples)
+    if (s.uncoverable != Uncoverable::None) ++reasons[std::string(toString(s.uncoverable))];
+  for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
+  if (!plan.bound) return;
+  const PlanBound& b = *plan.bound;
+  fmt::print("{:<22} {} views, at least {} needed from {} candidate poses{} (greedy {})\n",
+             "selection", b.views, b.lower_bound, b.pool, b.proven_optimal ? ", the fewest" : "",
+             b.greedy_views);
+  if (b.time_capped)
+    printWarnings("", {"the selection stopped at planner.selection_seconds before its "
+                       "planner.selection_nodes: this plan depends on the machine's speed"});
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   const std::vector<std::string> inputs = commandInputs({options.part}, spec);
@@ -110,39 +141,18 @@ int run(const Options& options, const GlobalOptions& global) {
   const std::string path = (outdir / "plan.json").string();
   FileSet outputs;
   const bool proposed = plan.proposed_markers && !plan.proposed_markers->markers.empty();
-  if (proposed) {
-    const std::string staged = outputs.stage(markers_csv);
-    std::vector<Marker> markers = plan.proposed_markers->markers;
-    if (options.place_markers) {
-      PlacedMarkers placed =
-          planWithProposedMarkers(part, spec, std::move(plan), planning, progress);
-      plan = std::move(placed.plan);
-      markers = std::move(placed.placed);
-    }
-    writeMarkers(markers, staged);
-  } else {
+  if (proposed)
+    stageProposedMarkers(part, spec, options.place_markers ? &planning : nullptr, progress,
+                         outputs.stage(markers_csv), plan);
+  else
     outputs.drop(markers_csv);
-  }
   const double report_seconds = writeOutputs(plan, part, spec, options, outputs, progress);
   outputs.commit();
   clearProgress();
 
   printTaskRows(plan, part);
   printPlanSummary(plan, part);
-  fmt::print("{:<22} {}\n", "not coverable", plan.notCoverableCount());
-  std::map<std::string, std::size_t> reasons;
-  for (const PlannedSample& s : plan.samples)
-    if (s.uncoverable != Uncoverable::None) ++reasons[std::string(toString(s.uncoverable))];
-  for (const auto& [reason, count] : reasons) fmt::print("  {:<28} {}\n", reason, count);
-  if (plan.bound) {
-    const PlanBound& b = *plan.bound;
-    fmt::print("{:<22} {} views, at least {} needed from {} candidate poses{} (greedy {})\n",
-               "selection", b.views, b.lower_bound, b.pool, b.proven_optimal ? ", the fewest" : "",
-               b.greedy_views);
-    if (b.time_capped)
-      printWarnings("", {"the selection stopped at planner.selection_seconds before its "
-                         "planner.selection_nodes: this plan depends on the machine's speed"});
-  }
+  printCoverageAndBound(plan);
   printResultsRow(plan);
   fmt::print("\n");
   for (const StageTime& t : plan.times) fmt::print("  {:<16} {:.2f} s\n", t.stage, t.seconds);
