@@ -144,8 +144,9 @@ void writeViewsInOrder(const Plan& plan, const std::string& out) {
   std::vector<View> in_order;
   std::vector<std::size_t> setups;
   for (int id : visitingOrder(plan)) {
-    in_order.push_back(plan.views[index.at(id)]);
-    setups.push_back(orientation[index.at(id)] + 1);
+    const std::size_t v = index.at(id);
+    in_order.push_back(plan.views[v]);
+    setups.push_back(orientation[v] + 1);
   }
   writeViewsCsv(in_order, out, setups);
 }

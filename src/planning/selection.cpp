@@ -287,10 +287,14 @@ std::vector<char> framedPoses(const Placement& at, const MeasuredViews& pool,
                               const std::vector<Marker>& markers) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (options.method != RegistrationMode::ReferencePoints || markers.empty()) return {};
-  const Overlaps overlaps(at.simulator, options, markers);
-  const std::vector<std::vector<int>> seen = overlaps.markersSeen(pool.views);
+  const IndexedPoints points(markerPoints(markers));  // no surface points: markers alone
+  const std::vector<std::vector<int>> seen = points.measured(at.simulator, pool.views);
   std::vector<char> framed(pool.size());
-  for (std::size_t v = 0; v < pool.size(); ++v) framed[v] = overlaps.framed(seen[v]);
+  for (std::size_t v = 0; v < pool.size(); ++v) {
+    std::vector<Vec3> positions;
+    for (int m : seen[v]) positions.push_back(markers[m].position);
+    framed[v] = markersRegister(positions, options.min_markers, options.marker_spread);
+  }
   return framed;
 }
 
