@@ -480,8 +480,8 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     state.counters["views_without_registration"] = static_cast<double>(plain.views.size());
   }
-  const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
+  const Simulator simulator(
+      part, plan.scanner, simulationOptionsFor(resolveSpec(part, spec), part, plan.part_to_world));
   const GeometryReference reference =
       geometryReference(simulator, plan, spec.registration.max_condition);
   state.counters["reference_poses"] = static_cast<double>(reference.poses);

@@ -114,7 +114,7 @@ py::list simulate(const Part& part, const Plan& plan, const py::object& spec,
     const ResolvedSpec placed = resolveSpec(part, resolved);
     for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
       const Simulator simulator(part, resolved.scanner,
-                                simulationOptionsFor(placed, orientationPlacement(plan, k)));
+                                simulationOptionsFor(placed, part, orientationPlacement(plan, k)));
       for (std::size_t v = 0; v < simulated.size(); ++v)
         if (orientation[v] == k) clouds[v] = simulator.cloud(simulated[v], seed);
     }

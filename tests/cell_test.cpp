@@ -420,8 +420,8 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBoundedAndItsArmClear) {
   }
   // Ordered by joint travel, the robot moves for less time than along the order that
   // the scanner's Cartesian motion gives, with joints chosen the same way.
-  const Simulator simulator(part, spec.scanner,
-                            simulationOptionsFor(resolveSpec(part, spec), plan.part_to_world));
+  const Simulator simulator(
+      part, spec.scanner, simulationOptionsFor(resolveSpec(part, spec), part, plan.part_to_world));
   const CellCollisions collisions(cell, part.mesh, plan.part_to_world, {}, true, cell.clearance);
   const Sequence cartesian = sequenceViews(simulator, plan.views, *plan.registration);
   const JointMotion along_cartesian = jointMotion(

@@ -29,7 +29,7 @@ TEST(Door, ControlPointsAllAcquiredAndViewsAlignableByTheFrameMarkers) {
 
   // Every control point can be measured (an independent dense search), and is.
   SimulationOptions placed =
-      simulationOptionsFor(resolveSpec(part, loadSpec(door.spec)), plan.part_to_world);
+      simulationOptionsFor(resolveSpec(part, loadSpec(door.spec)), part, plan.part_to_world);
   const Simulator simulator(part, plan.scanner, placed);
   const std::vector<SurfacePoint> points = plan.samplePoints();
   const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);

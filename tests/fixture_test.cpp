@@ -119,7 +119,7 @@ TEST_F(FixturePlan, ViewsStayClearOfTheBar) {
   const FramedBox scene(kFrameAndBar);
   const ResolvedSpec resolved = resolveSpec(scene.part, scene.spec(""));
   const Simulator simulator(scene.part, planned_->scanner,
-                            simulationOptionsFor(resolved, planned_->part_to_world));
+                            simulationOptionsFor(resolved, scene.part, planned_->part_to_world));
   for (const View& v : framed_->views)
     if (inBar(v)) {
       EXPECT_FALSE(poseIsValid(simulator, v, {})) << "view " << v.id;

@@ -272,6 +272,57 @@ TEST(ReferencePointsTest, AViewSeeingThreeMarkersOnALineDoesNotRegister) {
   EXPECT_EQ(registration.components, 2u);
 }
 
+// The plan's frame turns with the table: at 90 degrees about z through the origin, a marker
+// of the working plane at (100, 0) is seen at (0, -100), its normal along x turned to -y;
+// the table's and the part's markers turn with the part and stay where they are.
+TEST(MarkersTest, PlaneMarkersTurnAgainstTheTableAndTheTablesStay) {
+  TableTurn table;
+  table.origin = Vec3::Zero();
+  table.axis = Vec3::UnitZ();
+  const std::vector<Marker> markers = {{Vec3(100, 0, 5), Vec3::UnitX(), MarkerCarrier::Plane},
+                                       {Vec3(100, 0, 5), Vec3::UnitX(), MarkerCarrier::Table},
+                                       {Vec3(100, 0, 5), Vec3::UnitX(), MarkerCarrier::Part}};
+  const std::vector<Marker> turned = markersAtTableAngle(markers, table, M_PI / 2);
+  ASSERT_EQ(turned.size(), 3u);
+  EXPECT_LT((turned[0].position - Vec3(0, -100, 5)).norm(), 1e-9);
+  EXPECT_LT((turned[0].normal - Vec3(0, -1, 0)).norm(), 1e-9);
+  for (int k : {1, 2}) {
+    EXPECT_LT((turned[k].position - markers[k].position).norm(), 1e-12);
+    EXPECT_LT((turned[k].normal - markers[k].normal).norm(), 1e-12);
+  }
+}
+
+// The second view of the plate is taken with the table turned half a turn about the
+// origin. The three markers of the working plane under the first view are then seen under
+// the second (turned to x = 120..180 mm), which registers by them; markers carried by the
+// table turn with the part and stay out of the second view's field.
+TEST(ReferencePointsTest, AViewAtAnotherTableAngleSeesThePlanesMarkersTurned) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  auto table = std::make_shared<TableTurn>();
+  table->origin = Vec3::Zero();
+  table->axis = Vec3::UnitZ();
+  table->angle = [](const View& view) { return view.id == 2 ? M_PI : 0.0; };
+  RegistrationOptions options = referencePoints();
+  options.table = table;
+  std::vector<Marker> markers = plateMarkers({{-180, -50}, {-120, -50}, {-150, 60}});
+  std::vector<View> views = scene.views;
+  const Registration on_plane = registerWithBridging(simulator, views, markers, options, {});
+  ASSERT_EQ(on_plane.views.size(), 2u);
+  EXPECT_EQ(on_plane.views[0].method, RegistrationMethod::ReferencePoints);
+  EXPECT_EQ(on_plane.views[1].method, RegistrationMethod::ReferencePoints);
+  for (Marker& m : markers) m.on = MarkerCarrier::Table;
+  views = scene.views;
+  const Registration on_table = registerWithBridging(simulator, views, markers, options, {});
+  EXPECT_EQ(on_table.views[0].method, RegistrationMethod::ReferencePoints);
+  EXPECT_EQ(on_table.views[1].method, RegistrationMethod::None);
+  // Without the table, the second view is at angle 0 and sees none of them either.
+  options.table = nullptr;
+  for (Marker& m : markers) m.on = MarkerCarrier::Plane;
+  views = scene.views;
+  EXPECT_EQ(registerWithBridging(simulator, views, markers, options, {}).registered(), 1u);
+}
+
 // A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at
 // each end, far apart. Each view sees the top, the front and the sides of blocks.
 struct BarScene {
@@ -929,6 +980,88 @@ TEST(ReferencePointsTest, EveryViewOfASlabOnAMarkerPlateRegistersWithoutMoreView
   EXPECT_GE(framed.measuredCount(), alone.measuredCount());
 }
 
+// The slab, turned over once (part.rest: all), its two setups registered by reference
+// points. With markers stuck on the part as well as on the plate, each setup has views
+// that see three or more of the part's markers in their field, off one line: every view
+// registers in the part's frame, one for both setups. With markers on the plate alone,
+// each setup registers in a frame of its own, and the plan says the two are not joined.
+// The markers on the part hide the surface they cover.
+TEST(ReferencePointsTest, MarkersOnThePartJoinTheSetupsOfAPartTurnedOver) {
+  const Part part = flatSlab(300, 200);
+  test::TempDir dir;
+  auto planOn = [&](const std::string& on) {
+    test::writeText(dir.file("spec.yaml"),
+                    "part: {rest: all}\nmarkers: {grid: 40, diameter: 16, on: " + on +
+                        "}\nregistration: {method: reference_points}\n"
+                        "tasks:\n  - {type: global}\n");
+    return planViews(part, loadSpec(dir.file("spec.yaml")));
+  };
+  const Plan joined = planOn("both");
+  ASSERT_EQ(joined.orientations.size(), 2u);
+  EXPECT_EQ(joined.registration->registered(), joined.views.size());
+  const std::vector<SetupRegistration> setups = setupRegistration(joined);
+  EXPECT_EQ(setups[0].frame, 0u);
+  EXPECT_EQ(setups[1].frame, 0u);
+  EXPECT_EQ(registeredInOneFrame(setups), joined.views.size());
+  EXPECT_EQ(planJson(joined)["summary"]["setups"]["joined"], true);
+  // Independently of the registration: in each setup, some view has three of the part's
+  // markers in its field, off one line.
+  const std::vector<std::size_t> setup_of = viewOrientations(joined);
+  for (std::size_t k = 0; k < 2; ++k) {
+    std::vector<Marker> on_part;
+    for (const Marker& m : joined.orientations[k].markers)
+      if (m.on == MarkerCarrier::Part) on_part.push_back(m);
+    bool framed = false;
+    for (std::size_t v = 0; v < joined.views.size(); ++v)
+      framed = framed ||
+               (setup_of[v] == k &&
+                markersRegister(markersInField(joined.scanner, joined.views[v], on_part), 3, 10));
+    EXPECT_TRUE(framed) << "setup " << k + 1;
+  }
+  // The same markers on the part in both setups: the second's are the first's turned over.
+  const Pose turn = joined.orientations[1].rest.part_to_world *
+                    joined.orientations[0].rest.part_to_world.inverse();
+  std::size_t same = 0, on_part = 0;
+  for (const Marker& m : joined.orientations[0].markers) {
+    if (m.on != MarkerCarrier::Part) continue;
+    ++on_part;
+    for (const Marker& n : joined.orientations[1].markers)
+      same += n.on == MarkerCarrier::Part && (n.position - turn * m.position).norm() < 1e-6;
+  }
+  EXPECT_GT(on_part, 0u);
+  EXPECT_EQ(same, on_part);
+  // The markers on the part cover its surface: no view measures a sample within 8 mm
+  // (half the diameter) of one on its face, which the plan with the plate's markers alone
+  // measures.
+  std::vector<std::size_t> covered;
+  for (std::size_t i = 0; i < joined.samples.size(); ++i)
+    for (const Marker& m : joined.orientations[0].markers) {
+      const Sample& s = joined.samples[i].sample;
+      if (m.on == MarkerCarrier::Part && (s.position - m.position).norm() < 7.9 &&
+          s.normal.dot(m.normal) > 0.9) {
+        covered.push_back(i);
+        break;
+      }
+    }
+
+  const Plan apart = planOn("plate");
+  ASSERT_EQ(apart.orientations.size(), 2u);
+  const std::vector<SetupRegistration> alone = setupRegistration(apart);
+  EXPECT_EQ(alone[1].frame, 1u);
+  EXPECT_LT(registeredInOneFrame(alone), apart.views.size());
+  EXPECT_EQ(planJson(apart)["summary"]["setups"]["joined"], false);
+  EXPECT_GT(covered.size(), 0u);
+  for (std::size_t i : covered) {
+    EXPECT_TRUE(joined.samples[i].measured_by.empty()) << "sample " << i;
+    EXPECT_FALSE(apart.samples[i].measured_by.empty()) << "sample " << i;
+  }
+  // plan.json keeps each setup's frame and what carries each marker.
+  writePlan(joined, dir.file("plan.json"));
+  const Plan read = readPlan(dir.file("plan.json"));
+  EXPECT_EQ(setupRegistration(read)[1].frame, 0u);
+  EXPECT_EQ(read.orientations[0].markers.front().on, joined.orientations[0].markers.front().on);
+}
+
 // A marker frame around a panel `length` x `width` on the working plane: two rings of
 // markers 40 mm apart, 200 and 240 mm out from its edges.
 std::vector<Marker> markerFrame(double length, double width) {
@@ -1008,9 +1141,10 @@ TEST(RegistrationTest, AnAccurateRobotRegistersViewsOfAPlane) {
 
 // The slab's views see only a plane: the plan proposes markers, at least the bound (each
 // view registered to nothing needs 3 it sees) and at most 3 per pair of views it joins plus
-// one where those lie on a line; with them, the views of the same plan made again register.
-// Measured: 12 markers for 5 views, bound 6 (pairs of views must share their markers),
-// and all 5 views registered with them, 1 without.
+// one where those lie on a line, all on the plate (markers on the slab would hide its
+// surface); placed (`--place-markers`), every view of the plan made again registers.
+// Measured: 16 markers for 5 views, bound 6 (pairs of views must share their markers);
+// 20 placed in two rounds, and all 6 views of the last plan registered; 1 of 5 without.
 TEST(RegistrationTest, MarkersProposedForAFlatPartRegisterItsViews) {
   const Part part = flatSlab();
   test::TempDir dir;
@@ -1028,13 +1162,15 @@ TEST(RegistrationTest, MarkersProposedForAFlatPartRegisterItsViews) {
   EXPECT_GE(proposal.markers.size(), proposal.lower_bound);
   EXPECT_LE(proposal.markers.size(), 4 * (bare.views.size() - 1));
 
-  writeMarkers(proposal.markers, dir.file("markers.csv"));
-  test::writeText(dir.file("marked.yaml"),
-                  "markers: " + dir.file("markers.csv") + "\ntasks:\n  - {type: global}\n");
-  const Plan marked = planViews(part, loadSpec(dir.file("marked.yaml")));
-  RecordProperty("registered_with_them", std::to_string(marked.registration->registered()) +
-                                             " of " + std::to_string(marked.views.size()));
-  EXPECT_EQ(marked.registration->registered(), marked.views.size());
+  // Markers on the slab would hide its surface: the plate serves, so they lie on the plate.
+  for (const Marker& m : proposal.markers) EXPECT_EQ(m.on, MarkerCarrier::Plane);
+
+  const PlacedMarkers marked = planWithProposedMarkers(part, loadSpec(dir.file("spec.yaml")), bare);
+  RecordProperty("registered_with_them", std::to_string(marked.plan.registration->registered()) +
+                                             " of " + std::to_string(marked.plan.views.size()) +
+                                             ", " + std::to_string(marked.placed.size()) +
+                                             " markers placed");
+  EXPECT_EQ(marked.plan.registration->registered(), marked.plan.views.size());
 }
 
 // The cycle of the first k views, read back from plan.json: one time per view, the first

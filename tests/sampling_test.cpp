@@ -399,7 +399,8 @@ TEST(SpecSampling, ResolvedSpecHoldsFaceIds) {
   ASSERT_EQ(resolved.targets.tasks.size(), 2u);
   EXPECT_EQ(resolved.targets.tasks[0].faces, std::vector<int>(gdt.begin() + 1, gdt.end()));
   EXPECT_EQ(resolved.targets.tasks[1].faces, std::vector<int>{gdt.back()});
-  EXPECT_EQ(simulationOptionsFor(resolved, Pose::Identity()).specular_faces, resolved.specular);
+  EXPECT_EQ(simulationOptionsFor(resolved, part, Pose::Identity()).specular_faces,
+            resolved.specular);
   // An unknown face in any role names the spec.
   test::writeText(dir.file("bad.yaml"), "roles: {specular: [9999]}\n");
   EXPECT_THROW(resolveSpec(part, loadSpec(dir.file("bad.yaml"))), InputError);

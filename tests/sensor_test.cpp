@@ -213,7 +213,12 @@ TEST(Scanner, BadSpecs) {
   EXPECT_TRUE(contains(reason("scanner: [1, 2\n"), "not valid YAML"));
   EXPECT_TRUE(contains(reason("markers: {grid: 0}\n"), "markers.grid must be a positive"));
   EXPECT_TRUE(contains(reason("markers: {grid: 50, on: floor}\n"),
-                       "expected plate, part, both or fixture"));
+                       "expected plate, table, part, both or fixture"));
+  EXPECT_TRUE(contains(reason("markers: {grid: 50, on: [plate, table]}\n"), "give one"));
+  EXPECT_TRUE(contains(reason("markers: {grid: 50, diameter: -1}\n"), "from 0 to 100 mm"));
+  test::writeText(dir.file("m.csv"), "x,y,z\n0,0,0\n");
+  EXPECT_TRUE(contains(reason("markers: {file: m.csv, on: floor}\n"), "plate, table or part"));
+  EXPECT_TRUE(contains(reason("markers: {file: m.csv, grid: 5}\n"), "unknown key 'grid'"));
   EXPECT_TRUE(contains(reason("markers: {margin: 50}\n"), "needs grid"));
   EXPECT_TRUE(contains(reason("registration: {min_overlap: 2}\n"), "min_overlap must be in"));
   EXPECT_TRUE(contains(reason("registration: {min_markers: 2}\n"), "at least 3"));
@@ -244,6 +249,12 @@ TEST(Scanner, SpecMarkersAndRegistration) {
   EXPECT_DOUBLE_EQ(b.marker_margin, 80);
   EXPECT_TRUE(b.markers_on_part);
   EXPECT_FALSE(b.markers_on_plate);
+  EXPECT_DOUBLE_EQ(b.marker_diameter, 8);
+  test::writeText(dir.file("c.yaml"), "markers: {file: markers.csv, on: part, diameter: 5}\n");
+  const Spec c = loadSpec(dir.file("c.yaml"));
+  EXPECT_EQ(c.markers_file, dir.file("markers.csv"));
+  EXPECT_EQ(c.markers_file_on, MarkerCarrier::Part);
+  EXPECT_DOUBLE_EQ(c.marker_diameter, 5);
 }
 
 TEST(ViewsFile, PlanFormatAndBareArray) {

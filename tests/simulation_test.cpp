@@ -120,6 +120,24 @@ TEST(MeasurementTest, MeasuringVolumeFaces) {
   }
 }
 
+// A marker stuck on the surface covers what lies within its radius of its centre on its
+// own surface: a point 3.9 mm from the centre of a 4 mm spot is lost under it; one 4.1 mm
+// away is measured, and so is one 3 mm off the spot's plane (another surface). The marker
+// itself (face 0) is seen.
+TEST(MeasurementTest, AMarkerOnTheSurfaceCoversWhatLiesUnderIt) {
+  SimulationOptions options = noPlane();
+  const Vec3 facing(0, 0, -1);
+  options.covered.push_back({centre(), facing, 4});
+  const Simulator simulator(farPart(), scanner(), options);
+  EXPECT_EQ(measureOne(simulator, {centre() + Vec3(3.9, 0, 0), facing, 1}), Loss::UnderMarker);
+  EXPECT_EQ(measureOne(simulator, {centre() + Vec3(0, 4.1, 0), facing, 1}), Loss::Measured);
+  EXPECT_EQ(measureOne(simulator, {centre() + Vec3(1, 0, 3), facing, 1}), Loss::Measured);
+  EXPECT_EQ(measureOne(simulator, {centre(), facing, 0}), Loss::Measured);
+  // Without the spot, the covered point is measured.
+  const Simulator bare(farPart(), scanner(), noPlane());
+  EXPECT_EQ(measureOne(bare, {centre() + Vec3(3.9, 0, 0), facing, 1}), Loss::Measured);
+}
+
 TEST(MeasurementTest, OccluderInFrontOfProjectorOnly) {
   // Target plate at the volume centre; a 20 mm cube halfway along the projector's ray.
   const double b = scanner().baseline();

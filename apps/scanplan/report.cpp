@@ -118,7 +118,7 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
                      "or with link meshes); give a spec with cell.robot (--spec)");
   // KRL wants the program named as its file.
   const std::string name = std::filesystem::path(options.out).stem().string();
-  const SimulationOptions placed = simulationOptionsFor(c.spec, c.plan.part_to_world);
+  const SimulationOptions placed = simulationOptionsFor(c.spec, c.part, c.plan.part_to_world);
   const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
                                   placed.working_plane, cell->clearance);
   // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.

@@ -101,7 +101,8 @@ int run(const Options& options, const GlobalOptions& global) {
     std::error_code ec;
     std::filesystem::create_directories(options.cvm_dir, ec);
     if (ec) throw OutputError(options.cvm_dir, "cannot create the folder: " + ec.message());
-    const SimulationOptions simulation = simulationOptionsFor(resolved, restingPlacement(part));
+    const SimulationOptions simulation =
+        simulationOptionsFor(resolved, part, restingPlacement(part));
     const Simulator simulator(part, spec.scanner, simulation);
     std::vector<Sample> world = samples;
     for (Sample& s : world) {

@@ -43,7 +43,7 @@ int run(const Options& options, const GlobalOptions& global) {
 
   const ResolvedSpec resolved = resolveSpec(part, spec);
   printWarnings("", resolved.warnings);
-  SimulationOptions simulation = simulationOptionsFor(resolved, views.part_to_world);
+  SimulationOptions simulation = simulationOptionsFor(resolved, part, views.part_to_world);
   simulation.working_plane = simulation.working_plane && !options.no_working_plane;
   report(progress, "building ray-casting scene", 0);
   Simulator simulator(part, spec.scanner, simulation);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 
 namespace scanplan::cli {
 
@@ -25,14 +26,18 @@ void printRegistration(const Plan& plan, const Registration& r) {
   if (!by.empty()) fmt::print("{:<22} {}\n", "", by);
   if (const std::vector<SetupRegistration> setups = setupRegistration(plan); setups.size() > 1) {
     std::string within;
-    std::size_t most = 0;
+    std::set<std::size_t> frames;
     for (const SetupRegistration& setup : setups) {
       within +=
           fmt::format("{}{} of {}", within.empty() ? "" : ", ", setup.registered, setup.views);
-      most = std::max(most, setup.registered);
+      frames.insert(setup.frame);
     }
-    fmt::print("{:<22} {} not joined, registered within each: {}; {} of {} views in one frame\n",
-               "setups", setups.size(), within, most, plan.views.size());
+    const std::string joined = frames.size() == 1 ? "joined by markers on the part"
+                               : frames.size() == setups.size()
+                                   ? "not joined"
+                                   : fmt::format("in {} frames", frames.size());
+    fmt::print("{:<22} {} {}, registered within each: {}; {} of {} views in one frame\n", "setups",
+               setups.size(), joined, within, registeredInOneFrame(setups), plan.views.size());
   }
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured, registered", plan.registeredMeasuredCount(),
              percent(plan.registeredMeasuredCount(), plan.samples.size()));

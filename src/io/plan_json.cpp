@@ -45,7 +45,8 @@ json matrix(const Pose& pose) {
 json markersJson(const std::vector<Marker>& markers) {
   json list = json::array();
   for (const Marker& m : markers)
-    list.push_back({{"position", vec(m.position)}, {"normal", vec(m.normal)}});
+    list.push_back(
+        {{"position", vec(m.position)}, {"normal", vec(m.normal)}, {"on", toString(m.on)}});
   return list;
 }
 
@@ -68,8 +69,10 @@ json viewsJson(const Plan& plan) {
                   {"registration", nullptr}};
     if (registration && v < registration->views.size()) {
       const ViewRegistration& r = registration->views[v];
-      entry["registration"] = {
-          {"method", toString(r.method)}, {"to", r.to}, {"constrained", r.constrained}};
+      entry["registration"] = {{"method", toString(r.method)},
+                               {"to", r.to},
+                               {"constrained", r.constrained},
+                               {"markers", r.markers}};
       entry["bridge"] = r.bridge;
     }
     views.push_back(entry);
@@ -233,9 +236,15 @@ void addRegistration(const Plan& plan, json& result) {
   summary["unregistrable_views"] = unregistrable;
   summary["registration_components"] = registration.components;
   json setups = json::array();
-  for (const SetupRegistration& setup : setupRegistration(plan))
-    setups.push_back({{"views", setup.views}, {"registered", setup.registered}});
-  summary["setups"] = {{"joined", false}, {"by_setup", setups}};
+  const std::vector<SetupRegistration> by_setup = setupRegistration(plan);
+  for (const SetupRegistration& setup : by_setup)
+    setups.push_back(
+        {{"views", setup.views}, {"registered", setup.registered}, {"frame", setup.frame + 1}});
+  const bool joined = std::all_of(by_setup.begin(), by_setup.end(),
+                                  [&](const SetupRegistration& s) { return s.frame == 0; });
+  summary["setups"] = {{"joined", joined},
+                       {"registered_in_one_frame", registeredInOneFrame(by_setup)},
+                       {"by_setup", setups}};
   json by = json::object();
   for (RegistrationMethod m : kRegistrationMethods)
     by[std::string(toString(m))] =
@@ -272,6 +281,7 @@ void addOrientations(const Plan& plan, json& result) {
                             {"margin", o.rest.margin},
                             {"views", o.views},
                             {"reference", o.reference},
+                            {"frame", o.frame + 1},
                             {"markers", markersJson(o.markers)}});
   }
   for (json& view : result["views"]) view["orientation"] = orientation_of[view["id"].get<int>()];
@@ -535,7 +545,10 @@ struct PlanReader {
     if (list.is_array())
       for (const json& m : list)
         result.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
-                          detail::vectorFrom(m.value("normal", json()), path, "marker")});
+                          detail::vectorFrom(m.value("normal", json()), path, "marker"),
+                          m.contains("on") ? enumFrom(field<std::string>(m, "on", path, "marker"),
+                                                      kMarkerCarriers, path, "marker")
+                                           : MarkerCarrier::Plane});
     return result;
   }
 
@@ -588,6 +601,7 @@ struct PlanReader {
                         : enumFrom(method, kRegistrationMethods, path, where);
       view.to = fieldOr(r, "to", 0, path, where);
       view.constrained = r.value("constrained", true);
+      view.markers = fieldOr(r, "markers", std::vector<int>{}, path, where);
       view.bridge = entries[v].value("bridge", false);
       registered = true;
     }
@@ -818,6 +832,10 @@ struct PlanReader {
     o.rest.margin = entry.value("margin", 0.0);
     o.views = field<std::vector<int>>(entry, "views", path, where);
     o.reference = fieldOr(entry, "reference", 0, path, where);
+    const int frame = fieldOr(entry, "frame", static_cast<int>(k) + 1, path, where);
+    if (frame < 1 || frame > static_cast<int>(k) + 1)
+      throw InputError(path, where + ": 'frame' must name this orientation or an earlier one");
+    o.frame = static_cast<std::size_t>(frame - 1);
     o.markers = markers(entry.value("markers", json()));
     return o;
   }
@@ -957,7 +975,8 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "signals", "home",   "approach", "motion_step", "link_meshes",   "table"},
       path, "cell");
   checkListKeys(root, "orientations", "orientation",
-                {"id", "part_to_world", "down", "margin", "views", "reference", "markers"}, path);
+                {"id", "part_to_world", "down", "margin", "views", "reference", "frame", "markers"},
+                path);
   checkListKeys(root, "characteristics", "characteristic",
                 {"id", "kind", "dimension", "value", "limits", "datums", "faces", "capability"},
                 path);

@@ -459,7 +459,7 @@ void readPart(const YAML::Node& part, const SpecReader& reader, Spec& spec) {
   }
 }
 
-// markers.on: plate, part, both (plate and part) or fixture, or a list of them.
+// markers.on: plate, table, part, both (plate and part) or fixture, or a list of them.
 void readMarkersOn(const YAML::Node& on, const SpecReader& reader, Spec& spec) {
   std::vector<std::string> places;
   if (on.IsSequence()) {
@@ -468,15 +468,38 @@ void readMarkersOn(const YAML::Node& on, const SpecReader& reader, Spec& spec) {
   } else {
     places.push_back(reader.scalar<std::string>(on, "markers.on"));
   }
-  if (places.empty()) reader.fail("markers.on: expected plate, part, both or fixture");
-  spec.markers_on_plate = spec.markers_on_part = spec.markers_on_fixture = false;
+  constexpr const char* kPlaces = "plate, table, part, both or fixture";
+  if (places.empty()) reader.fail(fmt::format("markers.on: expected {}", kPlaces));
+  spec.markers_on_plate = spec.markers_on_table = spec.markers_on_part = spec.markers_on_fixture =
+      false;
   for (const std::string& place : places) {
-    if (place != "plate" && place != "part" && place != "both" && place != "fixture")
-      reader.fail("markers.on: expected plate, part, both or fixture, got '" + place + "'");
+    if (place != "plate" && place != "table" && place != "part" && place != "both" &&
+        place != "fixture")
+      reader.fail(fmt::format("markers.on: expected {}, got '{}'", kPlaces, place));
     spec.markers_on_plate |= place == "plate" || place == "both";
+    spec.markers_on_table |= place == "table";
     spec.markers_on_part |= place == "part" || place == "both";
     spec.markers_on_fixture |= place == "fixture";
   }
+  if (spec.markers_on_plate && spec.markers_on_table)
+    reader.fail("markers.on: plate and table both put the grid around the part; give one");
+}
+
+// markers: {file, on}: what carries the CSV's markers, plate (the default), table or part.
+void readMarkersFile(const YAML::Node& markers, const SpecReader& reader, Spec& spec) {
+  spec.markers_file =
+      reader.resolvePath(reader.scalar<std::string>(markers["file"], "markers.file"));
+  requireInputFile(spec.markers_file);  // also when registration is off: named, it must be
+  if (!markers["on"]) return;
+  const auto on = reader.scalar<std::string>(markers["on"], "markers.on");
+  if (on == "plate")
+    spec.markers_file_on = MarkerCarrier::Plane;
+  else if (on == "table")
+    spec.markers_file_on = MarkerCarrier::Table;
+  else if (on == "part")
+    spec.markers_file_on = MarkerCarrier::Part;
+  else
+    reader.fail("markers.on: a file's markers lie on plate, table or part, not '" + on + "'");
 }
 
 // fixtures: a list of {file, placement, frame: part or world, markers: CSV}.
@@ -507,10 +530,19 @@ std::vector<FixtureModel> readFixtures(const YAML::Node& node, const SpecReader&
   return fixtures;
 }
 
-// markers: a CSV of markers, or a generated grid.
+// markers: a CSV of markers (or {file, on}), or a generated grid; either with the diameter
+// a marker covers.
 void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec) {
-  if (markers.IsMap()) {
-    checkKeys(markers, {"grid", "margin", "on"}, reader, "markers");
+  if (markers.IsMap() && markers["diameter"]) {
+    spec.marker_diameter = reader.scalar<double>(markers["diameter"], "markers.diameter");
+    if (!(spec.marker_diameter >= 0 && spec.marker_diameter <= 100))
+      reader.fail("markers.diameter must be from 0 to 100 mm");
+  }
+  if (markers.IsMap() && markers["file"]) {
+    checkKeys(markers, {"file", "on", "diameter"}, reader, "markers");
+    readMarkersFile(markers, reader, spec);
+  } else if (markers.IsMap()) {
+    checkKeys(markers, {"grid", "margin", "on", "diameter"}, reader, "markers");
     if (const YAML::Node on = markers["on"]) readMarkersOn(on, reader, spec);
     if (!markers["grid"]) reader.fail("markers: a generated grid needs grid: <step in mm>");
     spec.marker_grid = reader.scalar<double>(markers["grid"], "markers.grid");
@@ -534,13 +566,12 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
   RegistrationOptions r;
   if (const YAML::Node method = node["method"]) {
     const auto name = reader.scalar<std::string>(method, "registration.method");
-    const auto found =
-        std::find_if(kRegistrationModes.begin(), kRegistrationModes.end(),
-                     [&](RegistrationMode m) { return toString(m) == name; });
+    const auto found = std::find_if(kRegistrationModes.begin(), kRegistrationModes.end(),
+                                    [&](RegistrationMode m) { return toString(m) == name; });
     if (found == kRegistrationModes.end())
       reader.fail(
-          "registration.method must be markers, geometry, robot or reference_points, not '" +
-          name + "'");
+          "registration.method must be markers, geometry, robot or reference_points, not '" + name +
+          "'");
     r.method = *found;
   }
   reader.read(node, "registration", "robot_accuracy", r.robot_accuracy);

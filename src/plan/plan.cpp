@@ -1,9 +1,12 @@
 // The plan's own queries.
 
+#include <scanplan/core/disjoint_sets.h>
 #include <scanplan/plan/plan.h>
 
 #include <algorithm>
+#include <iterator>
 #include <map>
+#include <optional>
 
 namespace scanplan {
 
@@ -111,6 +114,8 @@ std::vector<std::size_t> viewOrientations(const Plan& plan) {
 
 std::vector<SetupRegistration> setupRegistration(const Plan& plan) {
   std::vector<SetupRegistration> setups(std::max<std::size_t>(1, plan.orientations.size()));
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k)
+    setups[k].frame = plan.orientations[k].frame;
   const std::vector<std::size_t> setup = viewOrientations(plan);
   for (std::size_t v = 0; v < plan.views.size(); ++v) {
     ++setups[setup[v]].views;
@@ -118,6 +123,119 @@ std::vector<SetupRegistration> setupRegistration(const Plan& plan) {
                                    plan.registration->views[v].method != RegistrationMethod::None;
   }
   return setups;
+}
+
+std::size_t registeredInOneFrame(const std::vector<SetupRegistration>& setups) {
+  std::map<std::size_t, std::size_t> by_frame;
+  for (const SetupRegistration& setup : setups) by_frame[setup.frame] += setup.registered;
+  std::size_t most = 0;
+  for (const auto& [frame, registered] : by_frame) most = std::max(most, registered);
+  return most;
+}
+
+namespace {
+
+// The markers on the part that the views of a plan see, each by one id over every setup
+// (found by its position in the part's frame): per setup, per view registered within it,
+// the ids of those it sees, ascending; and each id's position in the part's frame.
+struct PartMarkersSeen {
+  std::vector<Vec3> positions;
+  std::vector<std::vector<std::vector<int>>> by_setup;
+};
+
+PartMarkersSeen partMarkersSeen(const Plan& plan) {
+  PartMarkersSeen result;
+  result.by_setup.resize(plan.orientations.size());
+  auto identify = [&](const Vec3& p) {
+    for (std::size_t i = 0; i < result.positions.size(); ++i)
+      if ((result.positions[i] - p).norm() < 1e-3) return static_cast<int>(i);
+    result.positions.push_back(p);
+    return static_cast<int>(result.positions.size()) - 1;
+  };
+  std::vector<std::vector<int>> ids(plan.orientations.size());
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k) {
+    const PlannedOrientation& o = plan.orientations[k];
+    const Pose to_part = o.rest.part_to_world.inverse();
+    for (const Marker& m : o.markers)
+      ids[k].push_back(m.on == MarkerCarrier::Part ? identify(to_part * m.position) : -1);
+  }
+  const std::vector<std::size_t> setup = viewOrientations(plan);
+  for (std::size_t v = 0; v < plan.views.size() && v < plan.registration->views.size(); ++v) {
+    const ViewRegistration& r = plan.registration->views[v];
+    if (r.method == RegistrationMethod::None) continue;
+    const std::vector<int>& of_setup = ids[setup[v]];
+    std::vector<int> seen;
+    for (int i : r.markers)
+      if (i >= 0 && i < static_cast<int>(of_setup.size()) && of_setup[i] >= 0)
+        seen.push_back(of_setup[i]);
+    std::sort(seen.begin(), seen.end());
+    result.by_setup[setup[v]].push_back(std::move(seen));
+  }
+  return result;
+}
+
+}  // namespace
+
+namespace {
+
+// Whether the part's markers `ids` (of `seen`) register: enough, and not on one line.
+bool partMarkersRegister(const PartMarkersSeen& seen, const std::vector<int>& ids,
+                         const RegistrationOptions& options) {
+  std::vector<Vec3> positions;
+  for (int id : ids) positions.push_back(seen.positions[id]);
+  return markersRegister(positions, options.min_markers, options.marker_spread);
+}
+
+// Markers: setups join where a registered view of each shares enough of the part's markers.
+void joinBySharedMarkers(const PartMarkersSeen& seen, const RegistrationOptions& options,
+                         DisjointSets& frames) {
+  const std::size_t n = seen.by_setup.size();
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t l = k + 1; l < n; ++l)
+      for (const std::vector<int>& a : seen.by_setup[k])
+        for (const std::vector<int>& b : seen.by_setup[l]) {
+          std::vector<int> shared;
+          std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(shared));
+          if (partMarkersRegister(seen, shared, options))
+            frames.join(static_cast<int>(l), static_cast<int>(k));
+        }
+}
+
+// Reference points: every setup with a registered view that sees enough of the part's
+// markers registers in their frame.
+void joinByKnownMarkers(const PartMarkersSeen& seen, const RegistrationOptions& options,
+                        DisjointSets& frames) {
+  std::optional<int> framed;  // the first setup in the part's frame
+  for (std::size_t k = 0; k < seen.by_setup.size(); ++k) {
+    const auto& views = seen.by_setup[k];
+    if (std::none_of(views.begin(), views.end(), [&](const std::vector<int>& ids) {
+          return partMarkersRegister(seen, ids, options);
+        }))
+      continue;
+    if (framed) frames.join(static_cast<int>(k), *framed);
+    framed = framed.value_or(static_cast<int>(k));
+  }
+}
+
+}  // namespace
+
+void joinSetups(Plan& plan, const RegistrationOptions& options) {
+  const std::size_t n = plan.orientations.size();
+  for (std::size_t k = 0; k < n; ++k) plan.orientations[k].frame = k;
+  if (n < 2 || !plan.registration) return;
+  const PartMarkersSeen seen = partMarkersSeen(plan);
+  DisjointSets frames(n);
+  if (plan.registration->method == RegistrationMode::Markers)
+    joinBySharedMarkers(seen, options, frames);
+  else if (plan.registration->method == RegistrationMode::ReferencePoints)
+    joinByKnownMarkers(seen, options, frames);
+  // Each setup's frame named by the first setup in it.
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (frames.find(static_cast<int>(j)) == frames.find(static_cast<int>(k))) {
+        plan.orientations[k].frame = j;
+        break;
+      }
 }
 
 Pose orientationPlacement(const Plan& plan, std::size_t k) {

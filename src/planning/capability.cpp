@@ -179,7 +179,7 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
     std::vector<View> views;
     for (std::size_t v = 0; v < plan.views.size(); ++v)
       if (orientation[v] == k) views.push_back(plan.views[v]);
-    const Simulator simulator(part, scanner, simulationOptionsFor(spec, placed));
+    const Simulator simulator(part, scanner, simulationOptionsFor(spec, part, placed));
     std::vector<SurfacePoint> points;
     for (const Patch& p : patches)
       points.push_back({placed * p.point.position, placed.linear() * p.point.normal, p.point.face});

@@ -17,7 +17,7 @@ void forEachViewCloud(const Plan& plan, const Part& part, const ResolvedSpec& re
   std::size_t done = 0;
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
     const Pose placement = orientationPlacement(plan, k);
-    const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, placement));
+    const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, part, placement));
     const Pose to_scene = plan.part_to_world * placement.inverse();
     for (std::size_t i = 0; i < plan.views.size(); ++i) {
       if (orientation_of[i] != k) continue;
@@ -50,7 +50,8 @@ std::vector<ClusterMap> clusterMaps(const Plan& plan, const Part& part,
     if (samples.back().cluster >= 0)
       members_of[samples.back().cluster].push_back(static_cast<int>(i));
   }
-  const Simulator simulator(part, plan.scanner, simulationOptionsFor(resolved, plan.part_to_world));
+  const Simulator simulator(part, plan.scanner,
+                            simulationOptionsFor(resolved, part, plan.part_to_world));
   const VisibilityOptions vo =
       plannerVisibility(plan.scanner, spec.planner.vm_step, spec.working_plane);
   std::vector<ClusterMap> clusters;

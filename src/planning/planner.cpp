@@ -18,17 +18,23 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <map>
 #include <memory>
+#include <set>
 
 namespace scanplan {
 
-SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world) {
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Part& part,
+                                       const Pose& part_to_world) {
   SimulationOptions simulation;
   simulation.part_to_world = part_to_world;
   simulation.working_plane = spec.spec.working_plane;
   simulation.specular_faces = spec.specular;
   simulation.fixtures = fixturesInWorld(spec, part_to_world);
+  for (const Marker& m : specMarkers(spec, part, part_to_world))
+    if (m.on == MarkerCarrier::Part)
+      simulation.covered.push_back({m.position, m.normal, spec.spec.marker_diameter / 2});
   return simulation;
 }
 
@@ -61,17 +67,45 @@ std::vector<Marker> fixtureMarkers(const Spec& spec, const Pose& part_to_world) 
   return markers;
 }
 
-// A grid of markers `step` mm apart: on the plate around the part (`margin` mm beyond it), on
-// the part, on the fixtures.
+// A grid of markers `step` mm apart: on the plate (or the rotary table) around the part
+// (`margin` mm beyond it), on the part (as it stands, or in every rest orientation), on
+// the fixtures.
 struct MarkerGrid {
   double step = 0, margin = 0;
-  bool on_plate = true, on_part = false, on_fixture = false;
+  bool on_plate = true, on_table = false, on_part = false, on_fixture = false;
+  bool every_rest = false;
 };
 
 // The spec's marker grid.
 MarkerGrid markerGridOf(const Spec& spec) {
-  return {spec.marker_grid, spec.marker_margin, spec.markers_on_plate, spec.markers_on_part,
-          spec.markers_on_fixture};
+  return {spec.marker_grid,      spec.marker_margin,   spec.markers_on_plate,
+          spec.markers_on_table, spec.markers_on_part, spec.markers_on_fixture,
+          spec.rest_all};
+}
+
+// Markers stuck on the part once for every rest orientation: the grid on the upward faces
+// of each, in the part's frame, those within half a step of one kept before dropped; then
+// placed by `part_to_world`. The same markers, in the same order, in every orientation.
+std::vector<Marker> markersOnEveryRest(const Part& part, double step, const Pose& part_to_world) {
+  std::vector<Marker> markers;
+  for (const RestOrientation& rest : restOrientations(part)) {
+    TriangleMesh world = part.mesh;
+    for (Vec3& v : world.vertices) v = rest.part_to_world * v;
+    const Pose back = rest.part_to_world.inverse();
+    for (Marker m : markersOnPart(world, step)) {
+      m.position = back * m.position;
+      m.normal = back.linear() * m.normal;
+      const bool near = std::any_of(markers.begin(), markers.end(), [&](const Marker& kept) {
+        return (kept.position - m.position).norm() < step / 2;
+      });
+      if (!near) markers.push_back(m);
+    }
+  }
+  for (Marker& m : markers) {
+    m.position = part_to_world * m.position;
+    m.normal = part_to_world.linear() * m.normal;
+  }
+  return markers;
 }
 
 // The markers of `grid` around the part placed by `part_to_world`; errors name `source`.
@@ -91,16 +125,21 @@ std::vector<Marker> gridMarkers(const MarkerGrid& grid, const ResolvedSpec& reso
                                  "than a million markers around this part",
                                  grid.step, grid.margin));
   std::vector<Marker> markers;
-  if (grid.on_part) markers = markersOnPart(world, grid.step);
-  if (grid.on_plate) {
-    const auto plate = markerGrid(box, grid.step, grid.margin);
-    markers.insert(markers.end(), plate.begin(), plate.end());
-  }
-  if (grid.on_fixture)
-    for (const TriangleMesh& fixture : fixturesInWorld(resolved, part_to_world)) {
-      const auto on = markersOnPart(fixture, grid.step);
-      markers.insert(markers.end(), on.begin(), on.end());
+  if (grid.on_part)
+    markers = grid.every_rest ? markersOnEveryRest(part, grid.step, part_to_world)
+                              : markersOnPart(world, grid.step);
+  if (grid.on_plate || grid.on_table)
+    for (Marker m : markerGrid(box, grid.step, grid.margin)) {
+      m.on = grid.on_table ? MarkerCarrier::Table : MarkerCarrier::Plane;
+      markers.push_back(m);
     }
+  if (grid.on_fixture)
+    for (const TriangleMesh& fixture : fixturesInWorld(resolved, part_to_world))
+      for (Marker m : markersOnPart(fixture, grid.step)) {
+        m.on = MarkerCarrier::Plane;
+        m.face = 0;
+        markers.push_back(m);
+      }
   return markers;
 }
 
@@ -110,9 +149,17 @@ std::vector<Marker> specMarkers(const ResolvedSpec& resolved, const Part& part,
                                 const Pose& part_to_world) {
   const Spec& spec = resolved.spec;
   std::vector<Marker> markers;
-  if (!spec.markers_file.empty())
+  if (!spec.markers_file.empty()) {
+    // Markers on the part are given in its frame, and placed with it.
     markers = readMarkers(spec.markers_file);
-  else if (spec.marker_grid > 0)
+    const bool on_part = spec.markers_file_on == MarkerCarrier::Part;
+    for (Marker& m : markers) {
+      m.on = spec.markers_file_on;
+      if (!on_part) continue;
+      m.position = part_to_world * m.position;
+      m.normal = part_to_world.linear() * m.normal;
+    }
+  } else if (spec.marker_grid > 0)
     markers = gridMarkers(markerGridOf(spec), resolved, part, part_to_world);
   const std::vector<Marker> on_fixtures = fixtureMarkers(spec, part_to_world);
   markers.insert(markers.end(), on_fixtures.begin(), on_fixtures.end());
@@ -294,10 +341,24 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
   return specMarkers(at.spec, at.part, at.simulator.options().part_to_world);
 }
 
+// The candidates off the faces the plan samples: on the plate, on fixtures, on faces of the
+// part that are no target.
+std::vector<Marker> offTargets(const std::vector<Marker>& candidates, const Plan& plan) {
+  std::set<int> targets;
+  for (const PlannedSample& s : plan.samples) targets.insert(s.sample.face);
+  std::vector<Marker> off;
+  std::copy_if(candidates.begin(), candidates.end(), std::back_inserter(off), [&](const Marker& m) {
+    return m.on != MarkerCarrier::Part || !targets.count(m.face);
+  });
+  return off;
+}
+
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
 // the upward faces of the part and of the fixture models and on the plate around the part,
 // a fifteenth of the field of view apart (or as far as a million candidates need); none
-// when every view registers or the robot alone registers them.
+// when every view registers or the robot alone registers them. Markers on the part hide
+// the surface they cover, so the candidates off the target faces are tried first; those on
+// them are proposed only when they serve more views.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
@@ -308,10 +369,18 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const double across = at.part.bounds().size().maxCoeff() + 2 * grid.margin;
   grid.step = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
   grid.on_part = grid.on_plate = true;
+  grid.on_table = grid.every_rest = false;
   grid.on_fixture = !spec.fixtures.empty();
   const std::vector<Marker> candidates = gridMarkers(grid, at.spec, at.part, plan.part_to_world);
-  plan.proposed_markers = scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration,
-                                                   candidates, plan.markers, options);
+  const auto propose = [&](const std::vector<Marker>& among) {
+    return scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, among,
+                                    plan.markers, options);
+  };
+  const std::vector<Marker> off = offTargets(candidates, plan);
+  plan.proposed_markers = propose(off);
+  if (off.size() == candidates.size()) return;
+  MarkerProposal anywhere = propose(candidates);
+  if (anywhere.views > plan.proposed_markers->views) plan.proposed_markers = std::move(anywhere);
 }
 
 // Orders the views of a plan without a cell by the generic positioning's time (the
@@ -364,14 +433,35 @@ Sequenced sequence(const detail::Placement& at, Plan& plan, const Registration& 
   return sequenced;
 }
 
+// How registration sees the cell's rotary table: each view at the table angle nearest 0
+// that reaches it (as the cell takes it); none without a table or without markers on the
+// working plane.
+std::shared_ptr<const TableTurn> markerTable(const CellCheck& cell,
+                                             const std::vector<Marker>& markers) {
+  if (!cell.cell || !cell.cell->table ||
+      std::none_of(markers.begin(), markers.end(),
+                   [](const Marker& m) { return m.on == MarkerCarrier::Plane; }))
+    return nullptr;
+  auto table = std::make_shared<TableTurn>();
+  table->origin = cell.cell->table->origin;
+  table->axis = cell.cell->table->axis;
+  table->angle = [cell](const View& view) {
+    const CellReach reach = reachView(*cell.cell, view, {}, 0, cell.collisions);
+    return reach.reachable() ? reach.poses.front().table_angle : 0.0;
+  };
+  return table;
+}
+
 // Registers the plan's views, bridging where they fall apart (bridging views measure
 // samples too), and orders them (sequence).
 Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
                               const Progress& progress) {
   plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
   const std::size_t planned = plan.views.size();
-  plan.registration = registerWithBridging(at.simulator, plan.views, plan.markers,
-                                           registrationOptions(at.spec.spec), at.cell, progress);
+  RegistrationOptions options = registrationOptions(at.spec.spec);
+  options.table = markerTable(at.cell, plan.markers);
+  plan.registration =
+      registerWithBridging(at.simulator, plan.views, plan.markers, options, at.cell, progress);
   proposeMarkers(at, plan);
   const auto bridges = std::span<const View>(plan.views).subspan(planned);
   const auto measured = measuredPoints(at.simulator, bridges, at.points);
@@ -390,7 +480,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   Plan plan = placedPlan(part, spec, sampled, part_to_world);
   StageClock clock(plan);
   report(progress, "building the scene", 0);
-  const Simulator simulator(part, spec.spec.scanner, simulationOptionsFor(spec, part_to_world));
+  const Simulator simulator(part, spec.spec.scanner,
+                            simulationOptionsFor(spec, part, part_to_world));
   const std::optional<Cell>& cell = spec.spec.cell;
   std::unique_ptr<const CellCollisions> collisions;
   if (cell)
@@ -557,6 +648,7 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
     }
     mergeOrientation(merged, std::move(plan), rests[k]);
   }
+  joinSetups(merged, registrationOptions(spec.spec));
   return merged;
 }
 

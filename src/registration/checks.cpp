@@ -11,6 +11,27 @@
 
 namespace scanplan {
 
+std::string_view toString(MarkerCarrier carrier) {
+  switch (carrier) {
+    case MarkerCarrier::Plane: return "plane";
+    case MarkerCarrier::Table: return "table";
+    case MarkerCarrier::Part: return "part";
+  }
+  return "unknown";
+}
+
+std::vector<Marker> markersAtTableAngle(std::vector<Marker> markers, const TableTurn& table,
+                                        double angle) {
+  const Pose turn = Eigen::Translation3d(table.origin) * Eigen::AngleAxisd(-angle, table.axis) *
+                    Eigen::Translation3d(-table.origin);
+  for (Marker& m : markers)
+    if (m.on == MarkerCarrier::Plane) {
+      m.position = turn * m.position;
+      m.normal = turn.linear() * m.normal;
+    }
+  return markers;
+}
+
 std::vector<Marker> markerGrid(const Box& footprint, double step, double margin) {
   if (!(step > 0)) throw InputError("markers", "the marker grid step must be positive");
   if (!(margin >= 0)) throw InputError("markers", "the marker grid margin must not be negative");
@@ -40,7 +61,8 @@ std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step) {
     for (double x = box.min.x() + step / 2; x < box.max.x(); x += step)
       rays.push_back(Ray{Vec3(x, y, box.max.z() + 1), -Vec3::UnitZ()});
   for (const auto& hit : castRays(mesh, rays))
-    if (hit && hit->normal.z() >= std::cos(M_PI / 4)) markers.push_back({hit->point, hit->normal});
+    if (hit && hit->normal.z() >= std::cos(M_PI / 4))
+      markers.push_back({hit->point, hit->normal, MarkerCarrier::Part, hit->face});
   return markers;
 }
 

@@ -254,8 +254,10 @@ Registration RegistrationGraph::result(std::size_t first_bridge) {
   registration.components = components();
   registration.views.resize(views_.size());
   for (std::size_t v = first_bridge; v < views_.size(); ++v) registration.views[v].bridge = true;
-  for (std::size_t v = 0; v < views_.size(); ++v)
+  for (std::size_t v = 0; v < views_.size(); ++v) {
     registration.views[v].constrained = constrained_[v];
+    registration.views[v].markers = seen_[v].markers;
+  }
   registration.bridging_views = views_.size() - first_bridge;
   if (views_.empty()) return registration;
   // The reference: in the main component (the frame's, when views see the reference

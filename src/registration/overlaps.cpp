@@ -3,6 +3,7 @@
 #include "registration/overlaps.h"
 
 #include <algorithm>
+#include <map>
 
 namespace scanplan::detail {
 
@@ -37,10 +38,31 @@ Overlaps::Overlaps(const Simulator& simulator, const RegistrationOptions& option
       options_(options),
       spacing_(pointSpacing(simulator, options)),
       points_(simulator.surfacePoints(spacing_, options.seed)),
+      marker_list_(markers),
       markers_(markerPoints(markers)) {}
 
+std::vector<std::vector<int>> Overlaps::markersSeenAt(std::span<const View> views,
+                                                      double angle) const {
+  if (angle == 0) return markers_.measured(simulator_, views);
+  const IndexedPoints turned(
+      markerPoints(markersAtTableAngle(marker_list_, *options_.table, angle)));
+  return turned.measured(simulator_, views);
+}
+
 std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views) const {
-  return markers_.measured(simulator_, views);
+  if (!options_.table || marker_list_.empty()) return markers_.measured(simulator_, views);
+  // The views grouped by their table angle, each group measured where it puts the markers.
+  std::map<double, std::vector<std::size_t>> at_angle;
+  for (std::size_t v = 0; v < views.size(); ++v)
+    at_angle[options_.table->angle(views[v])].push_back(v);
+  std::vector<std::vector<int>> seen(views.size());
+  for (const auto& [angle, indices] : at_angle) {
+    std::vector<View> group;
+    for (std::size_t v : indices) group.push_back(views[v]);
+    std::vector<std::vector<int>> measured = markersSeenAt(group, angle);
+    for (std::size_t k = 0; k < indices.size(); ++k) seen[indices[k]] = std::move(measured[k]);
+  }
+  return seen;
 }
 
 std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
@@ -51,8 +73,14 @@ std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
     Observation& seen = result[v];
     seen.points = std::move(on_points[v]);
     seen.markers = std::move(on_markers[v]);
+    if (options_.table) seen.table_angle = options_.table->angle(views[v]);
     for (int i : seen.points) seen.box.add(points()[i].position);
-    for (int i : seen.markers) seen.box.add(markers_.points()[i].position);
+    const std::vector<Marker> at =
+        options_.table && seen.table_angle != 0
+            ? markersAtTableAngle(marker_list_, *options_.table, seen.table_angle)
+            : std::vector<Marker>{};
+    for (int i : seen.markers)
+      seen.box.add(at.empty() ? markers_.points()[i].position : at[i].position);
   }
   return result;
 }
@@ -63,7 +91,10 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
   pair.a = std::min(a.id, b.id);
   pair.b = std::max(a.id, b.id);
   if (disjoint(oa.box, ob.box)) return pair;
-  const std::vector<int> markers = shared(oa.markers, ob.markers);
+  std::vector<int> markers = shared(oa.markers, ob.markers);
+  // Views taken at two table angles share only the markers that turn with the part.
+  if (oa.table_angle != ob.table_angle)
+    std::erase_if(markers, [&](int i) { return marker_list_[i].on == MarkerCarrier::Plane; });
   pair.shared_markers = markers.size();
   pair.markers = !referencePoints() && registers(markers);
   const std::vector<int> overlap = shared(oa.points, ob.points);

@@ -15,7 +15,8 @@ namespace scanplan::detail {
 struct Observation {
   std::vector<int> points;
   std::vector<int> markers;
-  Box box;  // around both
+  Box box;                 // around both
+  double table_angle = 0;  // the view is taken at, radians (RegistrationOptions::table)
 };
 
 // Markers as points on the surface, for the simulation to measure (face 0).
@@ -28,7 +29,8 @@ class Overlaps {
            const std::vector<Marker>& markers);
 
   std::vector<Observation> observe(std::span<const View> views) const;
-  // The markers each view measures, indices ascending (observe's, without the surface).
+  // The markers each view measures, indices ascending (observe's, without the surface);
+  // with a table, each where the view's table angle puts it.
   std::vector<std::vector<int>> markersSeen(std::span<const View> views) const;
   std::size_t markers() const { return markers_.points().size(); }
 
@@ -54,11 +56,15 @@ class Overlaps {
   // Whether the markers (indices) are enough and spread enough to register by.
   bool registers(const std::vector<int>& markers) const;
 
+  // The markers each view measures, for views all taken at table angle `angle`.
+  std::vector<std::vector<int>> markersSeenAt(std::span<const View> views, double angle) const;
+
   const Simulator& simulator_;
   const RegistrationOptions& options_;
   double spacing_ = 0;
   IndexedPoints points_;
-  IndexedPoints markers_;  // indexed once: every observation measures them
+  std::vector<Marker> marker_list_;
+  IndexedPoints markers_;  // at table angle 0, indexed once: every observation measures them
 };
 
 }  // namespace scanplan::detail

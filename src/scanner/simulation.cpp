@@ -3,6 +3,8 @@
 #include <scanplan/core/errors.h>
 #include <scanplan/scanner/simulation.h>
 
+#include "core/kd_tree.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -23,6 +25,7 @@ std::string_view toString(Loss loss) {
     case Loss::CameraAngle: return "camera_angle";
     case Loss::ProjectorAngle: return "projector_angle";
     case Loss::Reflection: return "reflection";
+    case Loss::UnderMarker: return "under_marker";
     case Loss::CameraOccluded: return "camera_occluded";
     case Loss::ProjectorOccluded: return "projector_occluded";
   }
@@ -149,9 +152,37 @@ struct Simulator::Impl {
   std::size_t face_count = 0;
   double offset = 0;  // mm
   std::unique_ptr<RayCaster> caster;
+  std::vector<Vec3> spot_centres;  // of options.covered, indexed
+  std::unique_ptr<detail::PointCloudAdaptor> spot_cloud;
+  std::unique_ptr<detail::PointTree> spots;
 
   bool isSpecular(int face) const {
     return face > 0 && face < static_cast<int>(specular.size()) && specular[face];
+  }
+
+  // A spot covers the point: the nearest spot's centre within its radius, the point near
+  // its plane and facing its way.
+  bool isCovered(const SurfacePoint& sp) const {
+    if (!spots || sp.face <= 0) return false;
+    unsigned nearest = 0;
+    double squared = 0;
+    spots->knnSearch(sp.position.data(), 1, &nearest, &squared);
+    const CoveredSpot& spot = options.covered[nearest];
+    return squared <= spot.radius * spot.radius &&
+           std::abs((sp.position - spot.centre).dot(spot.normal)) <= spot.radius / 2 &&
+           sp.normal.dot(spot.normal) > 0.5;
+  }
+
+  // The tests of a point that cast no ray: volume, angles, reflection (in the order of
+  // Loss), a covering spot, the working plane.
+  Loss testWithoutRays(const ViewGeometry& geometry, const SurfacePoint& sp) const {
+    Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face));
+    if (loss == Loss::Measured && isCovered(sp)) loss = Loss::UnderMarker;
+    if (loss == Loss::Measured && planeBlocks(sp.position, geometry.camera))
+      loss = Loss::CameraOccluded;
+    if (loss == Loss::Measured && planeBlocks(sp.position, geometry.projector))
+      loss = Loss::ProjectorOccluded;
+    return loss;
   }
 
   // The working plane z = 0 hides the segment p -> eye when the point lies under it or the
@@ -175,15 +206,7 @@ struct Simulator::Impl {
                             const std::vector<std::size_t>* subset, std::size_t* ray_count) const {
     const ViewGeometry geometry(view, scanner);
     std::vector<Loss> losses(points.size(), Loss::OutsideVolume);
-    auto test = [&](std::size_t i) {
-      const SurfacePoint& sp = points[i];
-      Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face));
-      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.camera))
-        loss = Loss::CameraOccluded;
-      if (loss == Loss::Measured && planeBlocks(sp.position, geometry.projector))
-        loss = Loss::ProjectorOccluded;
-      losses[i] = loss;
-    };
+    auto test = [&](std::size_t i) { losses[i] = testWithoutRays(geometry, points[i]); };
     if (subset) {
       forEach(subset->size(), [&](std::size_t k) { test((*subset)[k]); });
     } else {
@@ -238,6 +261,13 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
   d.solid = !part.solids.empty();
   for (const TriangleMesh& fixture : d.options.fixtures) d.world.append(fixture, 0);
   d.caster = std::make_unique<RayCaster>(d.world);
+  if (!d.options.covered.empty()) {
+    for (const CoveredSpot& spot : d.options.covered) d.spot_centres.push_back(spot.centre);
+    d.spot_cloud =
+        std::make_unique<detail::PointCloudAdaptor>(detail::PointCloudAdaptor{d.spot_centres});
+    d.spots = std::make_unique<detail::PointTree>(3, *d.spot_cloud);
+    d.spots->buildIndex();
+  }
 
   d.facets.resize(d.part_triangles);
   d.facet_area.resize(d.part_triangles);
@@ -323,13 +353,7 @@ std::vector<Loss> Simulator::measurePairs(std::span<const View> views,
   std::vector<Vec3> cameras(points.size()), projectors(points.size());
   tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
     const ViewGeometry geometry(views[i], d.scanner);
-    const SurfacePoint& sp = points[i];
-    Loss loss = geometry.test(sp.position, sp.normal, d.isSpecular(sp.face));
-    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.camera))
-      loss = Loss::CameraOccluded;
-    if (loss == Loss::Measured && d.planeBlocks(sp.position, geometry.projector))
-      loss = Loss::ProjectorOccluded;
-    losses[i] = loss;
+    losses[i] = d.testWithoutRays(geometry, points[i]);
     cameras[i] = geometry.camera;
     projectors[i] = geometry.projector;
   });
@@ -408,9 +432,7 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
       const auto& hit = hits[i];
       if (!hit || hit->triangle >= static_cast<int>(d.part_triangles)) continue;
       SurfacePoint sp{hit->point, hit->normal, hit->face};
-      if (geometry.test(sp.position, sp.normal, d.isSpecular(sp.face)) != Loss::Measured) continue;
-      if (d.planeBlocks(sp.position, camera) || d.planeBlocks(sp.position, geometry.projector))
-        continue;
+      if (d.testWithoutRays(geometry, sp) != Loss::Measured) continue;
       kept.push_back(i);
       surface.push_back(sp);
     }

@@ -129,6 +129,11 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec) {
   }
   if (spec.markers_on_fixture && spec.fixtures.empty() && spec.marker_grid > 0)
     throw InputError(resolved.source, "markers.on: fixture, but the spec has no fixtures");
+  const bool on_table = spec.marker_grid > 0 ? spec.markers_on_table
+                                             : spec.markers_file_on == MarkerCarrier::Table &&
+                                                   !spec.markers_file.empty();
+  if (on_table && !(spec.cell && spec.cell->table))
+    throw InputError(resolved.source, "markers.on: table, but the cell has no rotary table");
   for (const FixtureModel& fixture : spec.fixtures) {
     ImportOptions options;
     options.read_gdt = false;

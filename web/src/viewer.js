@@ -311,6 +311,13 @@ if (summary.path_length !== undefined) {
   summaryRows.push(['path length', `${fmt(summary.path_length)} mm (nearest neighbour: ${fmt(summary.nearest_neighbour_path_length)} mm)`]);
 }
 if (summary.orientations !== undefined) summaryRows.push(['rest orientations', summary.orientations]);
+const setups = summary.setups ? summary.setups.by_setup || [] : [];
+if (setups.length > 1) {
+  const frames = new Set(setups.map((s) => s.frame)).size;
+  const joined = frames === 1 ? 'joined by markers on the part' : frames === setups.length ? 'not joined' : `in ${frames} frames`;
+  summaryRows.push(['setups', `${setups.length}, ${joined}; ${summary.setups.registered_in_one_frame} of ${summary.views} views registered in one frame`],
+    ['  registered within each', setups.map((s) => `${s.registered} of ${s.views}`).join(', ')]);
+}
 if (summary.robot) {
   const r = summary.robot;
   summaryRows.push(['robot', plan.cell ? plan.cell.model : ''],

@@ -80,6 +80,9 @@ struct PlannedOrientation {
   std::vector<int> views;       // ids
   int reference = 0;            // its registration's reference view id
   std::vector<Marker> markers;  // world frame of this orientation
+  // The setup whose frame its views register in (an index into Plan::orientations): its
+  // own, or the first of the setups that markers on the part join with it (joinSetups).
+  std::size_t frame = 0;
 };
 
 enum class Verdict { Capable, Marginal, NotCapable, Untoleranced };
@@ -186,14 +189,26 @@ std::vector<int> visitingOrder(const Plan& plan);
 // Per view of `plan` (in its order), the index into Plan::orientations of the rest
 // orientation it was planned in; 0 for every view of a plan with one placement.
 std::vector<std::size_t> viewOrientations(const Plan& plan);
-// Per setup of `plan` (its rest orientations, or the one placement): its views and those
-// registered within it. Setups are not joined: the views of each register into a frame of
-// their own, so no more views register in one frame than in the largest setup.
+// Per setup of `plan` (its rest orientations, or the one placement): its views, those
+// registered within it, and the frame they register in (PlannedOrientation::frame).
 struct SetupRegistration {
   std::size_t views = 0;
   std::size_t registered = 0;
+  std::size_t frame = 0;
 };
 std::vector<SetupRegistration> setupRegistration(const Plan& plan);
+// The most views of `setups` registered in one frame: those of the setups it joins.
+std::size_t registeredInOneFrame(const std::vector<SetupRegistration>& setups);
+
+// Joins the setups of a plan over several rest orientations where markers stuck on the part
+// (MarkerCarrier::Part), the same in every setup, register them (docs/registration.md):
+// - reference points: the part's markers are known in one frame, so every setup with a
+//   registered view that sees min_markers of them, not all within marker_spread of one
+//   line, registers in it;
+// - markers: two setups join where a registered view of each shares such markers.
+// Overlap of scans across setups is not modelled: other methods join none. Sets each
+// orientation's frame.
+void joinSetups(Plan& plan, const RegistrationOptions& options);
 
 // Where orientation `k` places the part (Plan::part_to_world for one placement).
 Pose orientationPlacement(const Plan& plan, std::size_t k);

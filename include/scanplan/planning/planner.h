@@ -22,8 +22,9 @@ struct PlanningOptions {
 };
 
 // The simulation of the part placed by `part_to_world` as the spec sets it: working plane,
-// specular faces and fixture models.
-SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world);
+// specular faces, fixture models, and the surface its markers on the part cover.
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Part& part,
+                                       const Pose& part_to_world);
 
 // The spec's fixture models in the world, with the part placed by `part_to_world`.
 std::vector<TriangleMesh> fixturesInWorld(const ResolvedSpec& spec, const Pose& part_to_world);

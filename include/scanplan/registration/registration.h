@@ -9,7 +9,9 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -18,11 +20,34 @@
 
 namespace scanplan {
 
+// What carries a marker: the working plane (or a fixture standing on it), the rotary
+// table, or the part itself. Markers on the part travel with it from one rest orientation
+// to the next, so they can join the setups of a plan (docs/registration.md).
+enum class MarkerCarrier { Plane, Table, Part };
+std::string_view toString(MarkerCarrier carrier);  // "plane", "table", "part"
+inline constexpr std::array kMarkerCarriers{MarkerCarrier::Plane, MarkerCarrier::Table,
+                                            MarkerCarrier::Part};
+
 // A reference marker (a retro-reflective dot), world frame.
 struct Marker {
   Vec3 position = Vec3::Zero();  // mm
   Vec3 normal = Vec3::UnitZ();   // unit
+  MarkerCarrier on = MarkerCarrier::Plane;
+  int face = 0;  // the face of the part (or of a fixture) it is stuck on; 0: none, unknown
 };
+
+// A rotary table under the part, as registration sees it. The plan's frame turns with the
+// table, so a view taken at table angle a sees the markers of the working plane turned by
+// -a about the axis; the table's markers and the part's stay where they are.
+struct TableTurn {
+  Vec3 origin = Vec3::Zero();                // world frame at angle 0
+  Vec3 axis = Vec3::UnitZ();                 // unit
+  std::function<double(const View&)> angle;  // the table angle each view is taken at, radians
+};
+
+// `markers` as a view taken at table angle `angle` sees them in the plan's frame.
+std::vector<Marker> markersAtTableAngle(std::vector<Marker> markers, const TableTurn& table,
+                                        double angle);
 
 // Markers on the working plane (z = 0) on a square grid of `step`, over `footprint` (a
 // world box, usually the part's) grown by `margin`; the grid cells under the footprint
@@ -81,6 +106,9 @@ struct RegistrationOptions {
   bool bridging = true;
   int max_bridging_views = 20;
   std::uint64_t seed = 1;
+  // The cell's rotary table, when views are taken at other angles than the plan's and
+  // markers lie on the working plane; none: every view sees the markers where they are.
+  std::shared_ptr<const TableTurn> table;
 };
 
 // \throw InputError naming `source` and the option out of range.
@@ -166,6 +194,7 @@ struct ViewRegistration {
   // limit) or it sees enough markers. A view that is not can only be registered by
   // adding markers.
   bool constrained = true;
+  std::vector<int> markers;  // the markers it sees: indices into the markers registered by
 };
 
 struct Registration {

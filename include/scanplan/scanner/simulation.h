@@ -25,10 +25,11 @@ enum class Loss : std::uint8_t {
   CameraAngle,        // angle between normal and camera direction above the limit
   ProjectorAngle,     // the same for the projector
   Reflection,         // specular face, mirror reflection of the projector near the camera
+  UnderMarker,        // a marker stuck on the surface covers it
   CameraOccluded,     // something (part, fixture, working plane) hides it from the camera
   ProjectorOccluded,  // ... from the projector
 };
-inline constexpr int kLossKinds = 7;
+inline constexpr int kLossKinds = 8;
 std::string_view toString(Loss loss);
 
 // Projector centre of `view` in the world.
@@ -43,6 +44,13 @@ struct SurfacePoint {
   int face = 0;                  // 1-based face id (0: unknown, never specular)
 };
 
+// A spot of the part's surface that something stuck on it covers (a marker), world frame.
+struct CoveredSpot {
+  Vec3 centre = Vec3::Zero();   // mm
+  Vec3 normal = Vec3::UnitZ();  // unit
+  double radius = 0;            // mm
+};
+
 struct SimulationOptions {
   Pose part_to_world = Pose::Identity();  // where the part stands in the cell
   bool working_plane = true;              // the plane z = 0 occludes (world frame)
@@ -51,6 +59,9 @@ struct SimulationOptions {
   double surface_offset = 1e-5;           // ray origin offset along the normal, as a
                                           // fraction of the part's bounding-box diagonal
                                           // (at least 1.1 x the mesh's chordal tolerance)
+  // Points of the part's faces (face >= 1) within a spot's radius of its centre, on its
+  // side and near its plane (within half the radius), are not measured.
+  std::vector<CoveredSpot> covered;
 };
 
 // The measurement of one view over the part's mesh facets (triangles).

@@ -108,11 +108,15 @@ struct Spec {
   bool gdt_from_file = false;          // gdt: from-file (or all)
   bool gdt_dimensions = false;         // gdt: all: the dimensioned faces are targets too
   std::string markers_file;            // markers: a CSV (world frame), resolved, or ""
+  MarkerCarrier markers_file_on = MarkerCarrier::Plane;  // markers: {file, on}
   double marker_grid = 0;              // markers: {grid: step, margin: mm, on: ...}: a
   double marker_margin = 100;          // generated grid (0: none) on the working plane
-  bool markers_on_plate = true;        // around the part, and/or on the part's upward
-  bool markers_on_part = false;        // faces, and/or on the fixture models' upward
-  bool markers_on_fixture = false;     // faces
+  bool markers_on_plate = true;        // around the part (or the same on the rotary
+  bool markers_on_table = false;       // table), and/or on the part's upward faces
+  bool markers_on_part = false;        // (every rest orientation's with part.rest: all),
+  bool markers_on_fixture = false;     // and/or on the fixture models' upward faces
+  double marker_diameter = 8;          // markers.diameter: the surface a marker on the part
+                                       // covers, mm (docs/registration.md)
   std::vector<FixtureModel> fixtures;  // fixtures: models with their own files
   std::vector<Marker> placed_markers;  // world frame: added to the markers above (those a
                                        // plan proposed, placed: `plan --place-markers`)
