@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <map>
 #include <numeric>
+#include <set>
 #include <span>
 
 namespace {
@@ -503,6 +504,64 @@ void registerGlobal(benchmark::State& state, const std::string& relative) {
       static_cast<double>(marked.registration->registered());
 }
 
+// The global task on a marker plate (markers every 40 mm around the part) registered by
+// reference points, against the dense reference of what those markers can frame
+// (framedByDenseCandidates): the plan's measured samples that no pose seeing three plate
+// markers measures, and the plan's views that measure one of them. A view of any plan that
+// measures such a sample cannot register by the plate, so the unframeable samples no view
+// can hold two of (farther apart than the measuring volume's diameter, or with normals
+// more than twice the camera's glancing angle apart: a greedy packing of them) bound the
+// views that cannot from below.
+void frameOnPlate(benchmark::State& state, const std::string& relative) {
+  const std::string path = std::string(SCANPLAN_SHARED_DATA) + "/" + relative;
+  if (!std::filesystem::exists(path)) return state.SkipWithError("shared data not found");
+  const Part part = importPart(path);
+  Spec spec = defaultSpec();
+  spec.marker_grid = 40;
+  spec.registration.method = RegistrationMode::ReferencePoints;
+  Plan plan;
+  for (auto _ : state) plan = planViews(part, spec);
+  const Simulator simulator(
+      part, plan.scanner, simulationOptionsFor(resolveSpec(part, spec), part, plan.part_to_world));
+  const std::vector<SurfacePoint> points = plan.samplePoints();
+  std::vector<SurfacePoint> measured;
+  std::vector<std::size_t> index(plan.samples.size(), SIZE_MAX);
+  for (std::size_t i = 0; i < plan.samples.size(); ++i)
+    if (!plan.samples[i].measured_by.empty()) {
+      index[i] = measured.size();
+      measured.push_back(points[i]);
+    }
+  const std::vector<char> framed =
+      framedByDenseCandidates(simulator, measured, plan.markers, registrationOptions(spec));
+  std::set<int> bound_to_fail;  // views measuring a sample no framed pose measures
+  for (std::size_t i = 0; i < plan.samples.size(); ++i)
+    if (index[i] != SIZE_MAX && !framed[index[i]])
+      bound_to_fail.insert(plan.samples[i].measured_by.begin(), plan.samples[i].measured_by.end());
+  const Scanner& scanner = plan.scanner;
+  const double far = (scanner.standoff + scanner.depth_of_field / 2) / scanner.standoff;
+  const double diameter =
+      std::hypot(scanner.fov_width * far, scanner.fov_height * far, scanner.depth_of_field);
+  const double apart = std::cos(2 * scanner.max_camera_angle * M_PI / 180);
+  std::vector<SurfacePoint> packed;  // unframeable samples no view holds two of
+  for (std::size_t k = 0; k < measured.size(); ++k)
+    if (!framed[k] && std::all_of(packed.begin(), packed.end(), [&](const SurfacePoint& p) {
+          return (p.position - measured[k].position).norm() > diameter ||
+                 p.normal.dot(measured[k].normal) < apart;
+        }))
+      packed.push_back(measured[k]);
+  const auto frameable = static_cast<double>(std::count(framed.begin(), framed.end(), 1));
+  state.counters["views"] = static_cast<double>(plan.views.size());
+  state.counters["registered"] = static_cast<double>(plan.registration->registered());
+  state.counters["framed"] = static_cast<double>(std::count_if(
+      plan.registration->views.begin(), plan.registration->views.end(),
+      [](const ViewRegistration& v) { return v.method == RegistrationMethod::ReferencePoints; }));
+  state.counters["measured"] = static_cast<double>(measured.size());
+  state.counters["frameable_share"] =
+      frameable / std::max(static_cast<double>(measured.size()), 1.0);
+  state.counters["views_unframeable"] = static_cast<double>(bound_to_fail.size());
+  state.counters["unframeable_views_bound"] = static_cast<double>(packed.size());
+}
+
 // verifyPlan of a plan of about 2,000 views: CTC 02's global task with a laser-line
 // scanner whose field is cut to 60 x 38 mm, planned without registration, then verified
 // with registration by geometry (the plan claims no view registered): its coverage, every
@@ -564,6 +623,16 @@ const int registered = [] {
         "mech/asi_repatch-hpdc.stp"})
     benchmark::RegisterBenchmark((std::string("BM_RegisterGlobal/") + name).c_str(),
                                  [name](benchmark::State& state) { registerGlobal(state, name); })
+        ->Unit(benchmark::kSecond)
+        ->Iterations(1);
+  for (const char* name :
+       {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
+        "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
+        "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
+        "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
+        "mech/asi_repatch-hpdc.stp"})
+    benchmark::RegisterBenchmark((std::string("BM_FrameOnPlate/") + name).c_str(),
+                                 [name](benchmark::State& state) { frameOnPlate(state, name); })
         ->Unit(benchmark::kSecond)
         ->Iterations(1);
   benchmark::RegisterBenchmark("BM_VerifyManyViews", verifyManyViews)

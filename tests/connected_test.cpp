@@ -345,5 +345,42 @@ TEST(Stages, MarkerShiftMovesAPoseUntilItSeesEnoughMarkers) {
   }
 }
 
+// Framed poses: of two samples a metre apart on the plate, the first has three markers 200
+// to 240 mm away, beyond the field of the pose above it but within that of a pose with the
+// sample off its centre; the second has them 610 mm away, farther than the measuring
+// volume's diameter (about 510 mm), so no pose measures it while seeing them. Poses that
+// measure the first and see all three markers (simulated again) are added, at most four,
+// and none for the second.
+TEST(Stages, FramedPosesMeasureTheirSampleWhileSeeingTheMarkers) {
+  const Part part = studdedPlate(1000);
+  Spec settings = defaultSpec();
+  settings.registration.method = RegistrationMode::ReferencePoints;
+  const ResolvedSpec spec = resolveSpec(part, settings);
+  const Simulator simulator(part, spec.spec.scanner);
+  const std::vector<PlannedSample> samples = plateSamples({Vec3(100, 150, 10), Vec3(950, 150, 10)});
+  const detail::Placement at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}};
+  std::vector<Marker> markers;
+  for (const Vec3& p : {Vec3(300, 100, 10), Vec3(340, 150, 10), Vec3(300, 200, 10)})
+    markers.push_back({p, Vec3::UnitZ()});
+  const std::vector<SurfacePoint> marker_points = detail::markerPoints(markers);
+  detail::MeasuredViews pool;
+  for (const double x : {100.0, 950.0}) {
+    const View pose = above(simulator.scanner(), x, 150);
+    ASSERT_TRUE(detail::measuredBy(simulator, pose, marker_points).empty()) << x;
+    pool.add(pose, detail::measuredBy(simulator, pose, at.points));
+  }
+  ASSERT_EQ(pool.samples[0], std::vector<int>{0});
+  ASSERT_EQ(pool.samples[1], std::vector<int>{1});
+  detail::addFramedPoses(at, pool, markers, {});
+  ASSERT_GT(pool.size(), 2u);
+  EXPECT_LE(pool.size(), 2u + 4u);
+  for (std::size_t v = 2; v < pool.size(); ++v) {
+    const View& pose = pool.views[v];
+    EXPECT_EQ(detail::measuredBy(simulator, pose, marker_points), (std::vector<int>{0, 1, 2}));
+    EXPECT_EQ(pool.samples[v], detail::measuredBy(simulator, pose, at.points));
+    EXPECT_EQ(pool.samples[v], std::vector<int>{0});
+  }
+}
+
 }  // namespace
 }  // namespace scanplan

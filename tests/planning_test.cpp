@@ -1110,6 +1110,32 @@ TEST(Planning, DenseCandidatesDecideWhatIsCoverable) {
     EXPECT_EQ(coverable[i] != 0, points[i].normal.z() > -0.99) << points[i].position.transpose();
 }
 
+// Three markers on a 1200 x 300 mm plate, 200 to 240 mm from a sample, 50 to 90 mm from
+// another, and 750 mm or more from a third. The first two are framed by some pose of the
+// dense reference (the first only with the sample off the field's centre); the third lies
+// farther from the markers than the measuring volume's diameter (about 510 mm): no pose
+// frames it.
+TEST(Planning, DenseCandidatesFrameTheSamplesWithinReachOfTheMarkers) {
+  TriangleMesh mesh;
+  test::addRectangle(mesh, Vec3(0, 0, 10), Vec3(600, 0, 0), Vec3(0, 150, 0), 1);
+  const Part part = test::meshPart(mesh);
+  const Simulator simulator(part, Scanner{});
+  std::vector<Marker> markers;
+  for (const Vec3& p : {Vec3(200, -40, 10), Vec3(240, 0, 10), Vec3(200, 40, 10)})
+    markers.push_back({p, Vec3::UnitZ()});
+  const std::vector<SurfacePoint> samples = {{Vec3(0, 0, 10), Vec3::UnitZ(), 1},
+                                             {Vec3(150, 0, 10), Vec3::UnitZ(), 1},
+                                             {Vec3(-550, 0, 10), Vec3::UnitZ(), 1}};
+  const std::vector<char> framed =
+      framedByDenseCandidates(simulator, samples, markers, RegistrationOptions{});
+  EXPECT_EQ(framed, (std::vector<char>{1, 1, 0}));
+  // Three markers on a line frame nothing.
+  markers[2].position = Vec3(160, 0, 10);
+  markers[0].position = Vec3(200, 0, 10);
+  EXPECT_EQ(framedByDenseCandidates(simulator, samples, markers, RegistrationOptions{}),
+            (std::vector<char>{0, 0, 0}));
+}
+
 TEST(Planning, RestAutoStandsThePartOnItsSteadiestFace) {
   // A long box lies on one of its two largest faces: the world z extent is its thickness.
   test::TempDir dir;

@@ -323,6 +323,33 @@ TEST(ReferencePointsTest, AViewAtAnotherTableAngleSeesThePlanesMarkersTurned) {
   EXPECT_EQ(registerWithBridging(simulator, views, markers, options, {}).registered(), 1u);
 }
 
+// Under reference points without markers, the plate's first view is the reference and the
+// second registers to nothing. Candidate positions in the second view's field (x = 120 to
+// 200 mm) serve it; candidates under the first view only (x = -200 to -160 mm, outside
+// the second's field, which starts at -90) do not, and the proposal names it.
+TEST(ReferencePointsTest, AProposalNamesTheViewsNoCandidateServes) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  std::vector<View> views = scene.views;
+  const Registration registration =
+      registerWithBridging(simulator, views, {}, referencePoints(), {});
+  ASSERT_EQ(registration.views.size(), 2u);
+  ASSERT_EQ(registration.views[1].method, RegistrationMethod::None);
+  const auto proposal = [&](double x0, double x1) {
+    return proposeMarkers(simulator, views, registration,
+                          plateMarkers({{x0, -60}, {x1, -60}, {x0, 0}, {x1, 60}}), {},
+                          referencePoints());
+  };
+  const MarkerProposal served = proposal(120, 200);
+  EXPECT_EQ(served.views, 1u);
+  EXPECT_TRUE(served.unserved.empty());
+  EXPECT_GE(served.markers.size(), 3u);
+  const MarkerProposal unserved = proposal(-200, -160);
+  EXPECT_EQ(unserved.views, 0u);
+  EXPECT_EQ(unserved.unserved, std::vector<int>{2});
+  EXPECT_TRUE(unserved.markers.empty());
+}
+
 // A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at
 // each end, far apart. Each view sees the top, the front and the sides of blocks.
 struct BarScene {

@@ -1,6 +1,7 @@
 #include "summary.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <map>
@@ -69,10 +70,16 @@ void printRegistration(const Plan& plan, const Registration& r) {
           "cylinder: condition number above the limit, and too few markers): add markers\n",
           "", unconstrained);
   }
-  if (plan.proposed_markers && !plan.proposed_markers->markers.empty())
+  if (!plan.proposed_markers) return;
+  const MarkerProposal& proposal = *plan.proposed_markers;
+  if (!proposal.markers.empty())
     fmt::print("{:<22} {}, for {} of the views registered to nothing (at least {} needed)\n",
-               "proposed markers", plan.proposed_markers->markers.size(),
-               plan.proposed_markers->views, plan.proposed_markers->lower_bound);
+               "proposed markers", proposal.markers.size(), proposal.views, proposal.lower_bound);
+  if (!proposal.unserved.empty())
+    fmt::print(
+        "{:<22} {} view(s), ids {}: no marker position tried serves them (each sees too few "
+        "of the candidate positions on the part's upward faces, the plate and the fixtures)\n",
+        "no marker serves", proposal.unserved.size(), fmt::join(proposal.unserved, ", "));
 }
 
 // Per verdict how many characteristics, then each that is not capable with its reason

@@ -265,7 +265,8 @@ void addRegistration(const Plan& plan, json& result) {
     result["registration"]["proposed_markers"] = {
         {"markers", markersJson(plan.proposed_markers->markers)},
         {"views", plan.proposed_markers->views},
-        {"lower_bound", plan.proposed_markers->lower_bound}};
+        {"lower_bound", plan.proposed_markers->lower_bound},
+        {"unserved", plan.proposed_markers->unserved}};
 }
 
 // The rest orientations of a plan over several, and each view's orientation.
@@ -1043,7 +1044,8 @@ Plan readPlanFields(const std::string& path) {
       plan.proposed_markers = MarkerProposal{
           reader.markers(proposed.value("markers", json())),
           fieldOr(proposed, "views", std::size_t{0}, path, "proposed_markers"),
-          fieldOr(proposed, "lower_bound", std::size_t{0}, path, "proposed_markers")};
+          fieldOr(proposed, "lower_bound", std::size_t{0}, path, "proposed_markers"),
+          fieldOr(proposed, "unserved", std::vector<int>{}, path, "proposed_markers")};
   }
   if (root.contains("orientations")) {
     const json& list = root["orientations"];

@@ -1,6 +1,7 @@
 // Target shift towards markers (docs/planning.md): poses of the pool that see too few
 // markers to register by, moved across their axis until they take in enough, while they
-// still measure every sample they measured.
+// still measure every sample they measured; and poses aimed at the samples that no pose of
+// the pool measures while seeing enough markers (framed poses).
 
 #include "planning/stages.h"
 #include "registration/overlaps.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <span>
 
 namespace scanplan::detail {
 namespace {
@@ -114,6 +116,74 @@ class MarkerShift {
   const IndexedPoints markers_;
 };
 
+// Framed poses: for a sample, poses aimed at it from the directions of a `kFramedStep`
+// grid within the camera's glancing cone, each moved so that the sample lies off the centre
+// of the field (across by 0.35 of it, along by a fifth of the depth of field), that measure
+// it while seeing enough markers.
+constexpr double kFramedStep = 20;      // degrees
+constexpr int kFramedRotations = 4;     // about the view axis
+constexpr std::size_t kFramedKept = 4;  // framed poses kept per sample
+constexpr std::size_t kFramedBatch = 256;
+
+class FramedSearch {
+ public:
+  FramedSearch(const Placement& at, const std::vector<Marker>& markers)
+      : at_(at),
+        options_(registrationOptions(at.spec.spec)),
+        grid_(kFramedStep),
+        offsets_(offsets(at.scanner())),
+        markers_(markerPoints(markers)) {}
+
+  // Whether `view` registers by the markers it sees.
+  bool framed(const std::vector<int>& seen) const {
+    std::vector<Vec3> positions;
+    for (int m : seen) positions.push_back(markers_.points()[m].position);
+    return markersRegister(positions, options_.min_markers, options_.marker_spread);
+  }
+  std::vector<std::vector<int>> seen(std::span<const View> views) const {
+    return markers_.measured(at_.simulator, views);
+  }
+
+  // Up to kFramedKept valid poses measuring `sample` that register by the markers.
+  std::vector<View> posesFor(const SurfacePoint& sample) const {
+    std::vector<View> aimed;
+    for (const View& view : densePoses(at_.scanner(), sample, grid_, kFramedRotations))
+      for (const Vec3& offset : offsets_)
+        aimed.push_back(shiftedPose(view, view.camera_to_world.linear() * offset));
+    const std::vector<SurfacePoint> points(aimed.size(), sample);
+    const std::vector<Loss> losses = at_.simulator.measurePairs(aimed, points);
+    std::vector<View> measuring;
+    for (std::size_t k = 0; k < aimed.size(); ++k)
+      if (losses[k] == Loss::Measured) measuring.push_back(aimed[k]);
+    std::vector<View> kept;
+    for (std::size_t b = 0; b < measuring.size() && kept.size() < kFramedKept; b += kFramedBatch) {
+      const std::span<const View> batch(measuring.data() + b,
+                                        std::min(kFramedBatch, measuring.size() - b));
+      const std::vector<std::vector<int>> on = seen(batch);
+      for (std::size_t k = 0; k < batch.size() && kept.size() < kFramedKept; ++k)
+        if (framed(on[k]) && poseIsValid(at_.simulator, batch[k], at_.cell))
+          kept.push_back(batch[k]);
+    }
+    return kept;
+  }
+
+ private:
+  static std::vector<Vec3> offsets(const Scanner& s) {
+    std::vector<Vec3> offsets;
+    for (double z : {0.0, -0.2, 0.2})
+      for (double x : {0.0, -0.35, 0.35})
+        for (double y : {0.0, -0.35, 0.35})
+          offsets.emplace_back(x * s.fov_width, y * s.fov_height, z * s.depth_of_field);
+    return offsets;
+  }
+
+  const Placement& at_;
+  const RegistrationOptions options_;
+  const VisibilityMap grid_;
+  const std::vector<Vec3> offsets_;
+  const IndexedPoints markers_;
+};
+
 }  // namespace
 
 void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
@@ -130,6 +200,39 @@ void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector
   for (auto& found : moved)
     if (found) pool.add(found->first, std::move(found->second));
   report(progress, "shifting poses towards markers", 1);
+}
+
+void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
+                    const Progress& progress) {
+  if (markers.empty()) return;
+  const FramedSearch search(at, markers);
+  const std::vector<std::vector<int>> seen = search.seen(pool.views);
+  // The samples some pose of the pool measures, and whether a framed one does.
+  std::vector<char> measured(at.points.size(), 0), served(at.points.size(), 0);
+  for (std::size_t v = 0; v < pool.size(); ++v) {
+    const bool framed = search.framed(seen[v]);
+    for (int i : pool.samples[v]) {
+      measured[i] = 1;
+      served[i] |= framed;
+    }
+  }
+  const IndexedPoints samples(at.points);
+  const auto total = static_cast<std::size_t>(std::count(measured.begin(), measured.end(), 1) -
+                                              std::count(served.begin(), served.end(), 1));
+  std::size_t done = 0;
+  for (std::size_t i = 0; i < at.points.size(); ++i) {
+    if (!measured[i] || served[i]) continue;
+    report(progress, "framing poses on markers",
+           static_cast<double>(done++) / static_cast<double>(std::max<std::size_t>(total, 1)));
+    const std::vector<View> found = search.posesFor(at.points[i]);
+    const std::vector<std::vector<int>> on = samples.measured(at.simulator, found);
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      for (int j : on[k]) served[j] = 1;
+      pool.add(found[k], on[k]);
+    }
+    served[i] = 1;  // none found: unframeable by this search
+  }
+  report(progress, "framing poses on markers", 1);
 }
 
 }  // namespace scanplan::detail

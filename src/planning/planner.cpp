@@ -180,31 +180,6 @@ Pose placementFor(const Part& part, const Spec& spec) {
   return restingPlacement(part);
 }
 
-std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
-                                             const std::vector<SurfacePoint>& samples, double step,
-                                             int rotations, const CellCheck& cell) {
-  const VisibilityMap grid(step);
-  std::vector<char> coverable(samples.size(), 0);
-  constexpr std::size_t kBlock = 64;  // samples per batch of poses
-  for (std::size_t first = 0; first < samples.size(); first += kBlock) {
-    std::vector<View> views;
-    std::vector<SurfacePoint> points;
-    std::vector<std::size_t> owner;
-    for (std::size_t i = first; i < std::min(samples.size(), first + kBlock); ++i)
-      for (const View& view : densePoses(simulator.scanner(), samples[i], grid, rotations)) {
-        views.push_back(view);
-        points.push_back(samples[i]);
-        owner.push_back(i);
-      }
-    const std::vector<Loss> losses = simulator.measurePairs(views, points);
-    for (std::size_t k = 0; k < losses.size(); ++k)
-      if (losses[k] == Loss::Measured && !coverable[owner[k]] &&
-          poseIsValid(simulator, views[k], cell))
-        coverable[owner[k]] = 1;
-  }
-  return coverable;
-}
-
 namespace detail {
 
 namespace {
@@ -510,6 +485,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
   const auto registering = registeringMarkers(at, options.registration);
   if (registering) detail::addMarkerShifts(at, pool, *registering, progress);
+  if (registering && registrationOptions(at.spec.spec).method == RegistrationMode::ReferencePoints)
+    detail::addFramedPoses(at, pool, *registering, progress);
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);

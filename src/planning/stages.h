@@ -92,6 +92,14 @@ MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
 void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
                      const Progress& progress);
 
+// Framed poses, under registration by reference points: for each sample that poses of the
+// pool measure but none that sees enough `markers` to register by, up to four valid poses
+// that measure it and register by the markers (aimed at it from a 20-degree grid of
+// directions, with the sample off the centre of the field), added to the pool with the
+// samples each measures. Samples those measure need no search of their own.
+void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
+                    const Progress& progress);
+
 // What the coverage targets (planner.coverage) ask of the views after the `pinned` ones:
 // per sample its group (0: the priority samples, 1 + a task type's place in kTaskTypes: that
 // task's others), or -1 when it counts as measured already (done in an earlier placement,

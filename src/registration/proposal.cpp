@@ -110,9 +110,11 @@ MarkerProposal proposeReferencePoints(std::span<const View> views, const Registr
   std::vector<int> need;            // per view served
   for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
     const auto least = static_cast<std::size_t>(options.min_markers);
-    if (registration.views[v].method != RegistrationMethod::None ||
-        seen[v].size() + seen_placed[v].size() < least)
+    if (registration.views[v].method != RegistrationMethod::None) continue;
+    if (seen[v].size() + seen_placed[v].size() < least) {
+      proposal.unserved.push_back(views[v].id);
       continue;
+    }
     for (int c : seen[v]) views_of[c].push_back(static_cast<int>(served.size()));
     served.push_back(v);
     need.push_back(static_cast<int>(least - std::min(least - 1, seen_placed[v].size())));
@@ -185,7 +187,11 @@ MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> 
   // markers it sees: the multicover's lower bound.
   std::vector<std::vector<int>> views_of(candidates.size());
   for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
-    if (registration.views[v].method != RegistrationMethod::None || !joins.joined[v]) continue;
+    if (registration.views[v].method != RegistrationMethod::None) continue;
+    if (!joins.joined[v]) {
+      proposal.unserved.push_back(views[v].id);
+      continue;
+    }
     for (int c : seen[v]) views_of[c].push_back(static_cast<int>(proposal.views));
     ++proposal.views;
   }

@@ -76,4 +76,17 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
                                              double step = 10, int rotations = 8,
                                              const CellCheck& cell = {});
 
+// Which samples some valid pose of a wider dense set measures while it registers by
+// reference points on `markers` by itself (`options.min_markers` seen, off one line): the
+// poses of coverableByDenseCandidates, each also moved so that the sample lies a quarter or
+// 0.45 of the field off the centre each way and a quarter of the depth of field nearer or
+// further. The
+// reference of what markers can frame in benchmarks: a sample it leaves out is measured by
+// no view of that wider search that the markers register.
+std::vector<char> framedByDenseCandidates(const Simulator& simulator,
+                                          const std::vector<SurfacePoint>& samples,
+                                          const std::vector<Marker>& markers,
+                                          const RegistrationOptions& options, double step = 10,
+                                          int rotations = 8, const CellCheck& cell = {});
+
 }  // namespace scanplan

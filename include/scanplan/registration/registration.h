@@ -243,12 +243,17 @@ struct MarkerProposal {
   std::size_t views = 0;        // views registered to nothing that the proposal joins
   std::size_t lower_bound = 0;  // no proposal giving each of them min_markers is smaller
                                 // (the multicover's bound)
+  // Ids of the views registered to nothing that no candidate position serves: each sees
+  // fewer than min_markers of them (reference points), or shares that many with no view
+  // it could register to (pairs).
+  std::vector<int> unserved;
 
-  // Adds `other`'s markers, views and bound (another rest orientation's proposal).
+  // Adds `other`'s markers, views, bound and views unserved (another rest orientation's).
   void append(const MarkerProposal& other) {
     markers.insert(markers.end(), other.markers.begin(), other.markers.end());
     views += other.views;
     lower_bound += other.lower_bound;
+    unserved.insert(unserved.end(), other.unserved.begin(), other.unserved.end());
   }
 };
 MarkerProposal proposeMarkers(const Simulator& simulator, std::span<const View> views,
