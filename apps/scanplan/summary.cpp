@@ -78,7 +78,7 @@ void printRegistration(const Plan& plan, const Registration& r) {
   if (!proposal.unserved.empty())
     fmt::print(
         "{:<22} {} view(s), ids {}: no marker position tried serves them (each sees too few "
-        "of the candidate positions on the part's upward faces, the plate and the fixtures)\n",
+        "of the candidate positions on the part, the plate and the fixtures)\n",
         "no marker serves", proposal.unserved.size(), fmt::join(proposal.unserved, ", "));
 }
 

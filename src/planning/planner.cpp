@@ -74,6 +74,7 @@ struct MarkerGrid {
   double step = 0, margin = 0;
   bool on_plate = true, on_table = false, on_part = false, on_fixture = false;
   bool every_rest = false;
+  bool on_sides = false;  // on the part's faces facing the four horizontal sides too
 };
 
 // The spec's marker grid.
@@ -128,6 +129,9 @@ std::vector<Marker> gridMarkers(const MarkerGrid& grid, const ResolvedSpec& reso
   if (grid.on_part)
     markers = grid.every_rest ? markersOnEveryRest(part, grid.step, part_to_world)
                               : markersOnPart(world, grid.step);
+  if (grid.on_sides)
+    for (const Vec3& side : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0)})
+      for (const Marker& m : markersOnPart(world, grid.step, side)) markers.push_back(m);
   if (grid.on_plate || grid.on_table)
     for (Marker m : markerGrid(box, grid.step, grid.margin)) {
       m.on = grid.on_table ? MarkerCarrier::Table : MarkerCarrier::Plane;
@@ -329,7 +333,8 @@ std::vector<Marker> offTargets(const std::vector<Marker>& candidates, const Plan
 }
 
 // Markers proposed for the views of `plan` that register to nothing, among candidates on
-// the upward faces of the part and of the fixture models and on the plate around the part,
+// the faces of the part facing up or to the four horizontal sides, on the upward faces of
+// the fixture models and on the plate around the part,
 // a fifteenth of the field of view apart (or as far as a million candidates need); none
 // when every view registers or the robot alone registers them. Markers on the part hide
 // the surface they cover, so the candidates off the target faces are tried first; those on
@@ -337,13 +342,13 @@ std::vector<Marker> offTargets(const std::vector<Marker>& candidates, const Plan
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
-  // A grid on part, plate and fixtures a fifteenth of the field of view apart, coarser on
-  // parts too large for that many candidates.
+  // A grid on part (from above and from the four sides), plate and fixtures a fifteenth of
+  // the field of view apart, coarser on parts too large for that many candidates.
   const Spec& spec = at.spec.spec;
   MarkerGrid grid = markerGridOf(spec);
   const double across = at.part.bounds().size().maxCoeff() + 2 * grid.margin;
   grid.step = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
-  grid.on_part = grid.on_plate = true;
+  grid.on_part = grid.on_plate = grid.on_sides = true;
   grid.on_table = grid.every_rest = false;
   grid.on_fixture = !spec.fixtures.empty();
   const std::vector<Marker> candidates = gridMarkers(grid, at.spec, at.part, plan.part_to_world);
