@@ -39,17 +39,26 @@ BENCHMARK(BM_ImportDoor)->Unit(benchmark::kMillisecond)->Iterations(3);
 // The points plan of the door in its marker frame, after import: with the bench's scanner
 // (range 0), with the default one (range 1), whose field of view does not reach the frame
 // from the middle of the door; with the default one registered by reference points (the
-// frame's markers known in one frame, range 2) and without registration (range 3).
+// frame's markers known in one frame, range 2), the same with the markers it proposes placed
+// (range 4), and without registration (range 3).
 void BM_PlanDoor(benchmark::State& state) {
   const auto& written = door();
   const scanplan::Part part = scanplan::importPart(written.part);
   scanplan::Spec spec = scanplan::loadSpec(written.spec);
   if (state.range(0) >= 1) spec.scanner = scanplan::defaultSpec().scanner;
-  if (state.range(0) == 2) spec.registration.method = scanplan::RegistrationMode::ReferencePoints;
+  if (state.range(0) == 2 || state.range(0) == 4)
+    spec.registration.method = scanplan::RegistrationMode::ReferencePoints;
   scanplan::PlanningOptions options;
   options.registration = state.range(0) != 3;
   scanplan::Plan plan;
-  for (auto _ : state) plan = scanplan::planViews(part, spec, options);
+  std::size_t placed = 0;
+  for (auto _ : state) {
+    plan = scanplan::planViews(part, spec, options);
+    if (state.range(0) != 4) continue;
+    scanplan::PlacedMarkers marked = scanplan::planWithProposedMarkers(part, spec, plan);
+    plan = std::move(marked.plan);
+    placed = marked.placed.size();
+  }
   const scanplan::Plan::ResultsRow row = plan.resultsRow();
   state.counters["model_faces"] = static_cast<double>(row.model_faces);
   state.counters["fixture_faces"] = static_cast<double>(row.fixture_faces);
@@ -58,7 +67,8 @@ void BM_PlanDoor(benchmark::State& state) {
   state.counters["views"] = static_cast<double>(row.views);
   state.counters["alignable"] = static_cast<double>(row.alignable.value_or(0));
   state.counters["plan_s"] = plan.seconds;
+  state.counters["markers_placed"] = static_cast<double>(placed);
 }
-BENCHMARK(BM_PlanDoor)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_PlanDoor)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
