@@ -661,29 +661,6 @@ TEST(MarkersTest, OnThePartWhereItFacesUp) {
   EXPECT_EQ(high, 36u);  // grid lines 50 ... 150 over the top cube
 }
 
-TEST(MarkersTest, OnThePartWhereItFacesASide) {
-  // The same cubes seen from +x: markers on the big cube's +x face (x = 200) over its 200 x
-  // 200 mm, and on the small cube's +x face (x = 160) above it; the tops face up, not +x.
-  TriangleMesh mesh;
-  test::addCube(mesh, Vec3(0, 0, 0), 200, 1);
-  test::addCube(mesh, Vec3(40, 40, 200), 120, 2);
-  const std::vector<Marker> markers = markersOnPart(mesh, 20, Vec3::UnitX());
-  std::size_t low = 0, high = 0;
-  for (const Marker& m : markers) {
-    EXPECT_NEAR(m.normal.x(), 1, 1e-12);
-    if (m.position.z() < 200) {
-      EXPECT_NEAR(m.position.x(), 200, 1e-9);
-      ++low;
-    } else {
-      EXPECT_NEAR(m.position.x(), 160, 1e-9);
-      EXPECT_LT(std::abs(m.position.y() - 100), 60);
-      ++high;
-    }
-  }
-  EXPECT_EQ(low, 100u);  // 10 x 10 over y and z of 0 to 200
-  EXPECT_EQ(high, 36u);  // 6 x 6 over y of 40 to 160, z of 200 to 320
-}
-
 // The bundled NIST CTC 01 planned with the example spec (markers on the plate and on the
 // part), once per test run and read back from its plan.json: the registration, the
 // sequence and the plan file are consistent with each other and with an independent check.

@@ -74,7 +74,6 @@ struct MarkerGrid {
   double step = 0, margin = 0;
   bool on_plate = true, on_table = false, on_part = false, on_fixture = false;
   bool every_rest = false;
-  bool on_sides = false;  // on the part's faces facing the four horizontal sides too
 };
 
 // The spec's marker grid.
@@ -129,9 +128,6 @@ std::vector<Marker> gridMarkers(const MarkerGrid& grid, const ResolvedSpec& reso
   if (grid.on_part)
     markers = grid.every_rest ? markersOnEveryRest(part, grid.step, part_to_world)
                               : markersOnPart(world, grid.step);
-  if (grid.on_sides)
-    for (const Vec3& side : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0)})
-      for (const Marker& m : markersOnPart(world, grid.step, side)) markers.push_back(m);
   if (grid.on_plate || grid.on_table)
     for (Marker m : markerGrid(box, grid.step, grid.margin)) {
       m.on = grid.on_table ? MarkerCarrier::Table : MarkerCarrier::Plane;
@@ -332,26 +328,30 @@ std::vector<Marker> offTargets(const std::vector<Marker>& candidates, const Plan
   return off;
 }
 
-// Markers proposed for the views of `plan` that register to nothing, among candidates on
-// the faces of the part facing up or to the four horizontal sides, on the upward faces of
-// the fixture models and on the plate around the part,
-// a fifteenth of the field of view apart (or as far as a million candidates need); none
-// when every view registers or the robot alone registers them. Markers on the part hide
-// the surface they cover, so the candidates off the target faces are tried first; those on
-// them are proposed only when they serve more views.
+// Markers proposed for the views of `plan` that register to nothing, among candidates
+// spread over the whole surface of the part (one per step² of area on average), on the
+// upward faces of the fixture models and on the plate around the part, a fifteenth of the
+// field of view apart (or as far as a million candidates need); none when every view
+// registers or the robot alone registers them. Markers on the part hide the surface they
+// cover, so the candidates off the target faces are tried first; those on them are
+// proposed only when they serve more views.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
-  // A grid on part (from above and from the four sides), plate and fixtures a fifteenth of
-  // the field of view apart, coarser on parts too large for that many candidates.
+  // A grid on plate and fixtures a fifteenth of the field of view apart, coarser on parts
+  // too large for that many candidates, and as many on the part's surface.
   const Spec& spec = at.spec.spec;
   MarkerGrid grid = markerGridOf(spec);
   const double across = at.part.bounds().size().maxCoeff() + 2 * grid.margin;
   grid.step = std::max(at.scanner().fov_height / 15, 1.01 * across / std::sqrt(kMostMarkers));
-  grid.on_part = grid.on_plate = grid.on_sides = true;
-  grid.on_table = grid.every_rest = false;
+  grid.on_plate = true;
+  grid.on_part = grid.on_table = grid.every_rest = false;
   grid.on_fixture = !spec.fixtures.empty();
-  const std::vector<Marker> candidates = gridMarkers(grid, at.spec, at.part, plan.part_to_world);
+  std::vector<Marker> candidates;
+  for (const SurfacePoint& p : at.simulator.surfacePoints(grid.step))
+    candidates.push_back({p.position, p.normal, MarkerCarrier::Part, p.face});
+  for (const Marker& m : gridMarkers(grid, at.spec, at.part, plan.part_to_world))
+    candidates.push_back(m);
   const auto propose = [&](const std::vector<Marker>& among) {
     return scanplan::proposeMarkers(at.simulator, plan.views, *plan.registration, among,
                                     plan.markers, options);

@@ -50,22 +50,18 @@ std::vector<Marker> markerGrid(const Box& footprint, double step, double margin)
   return markers;
 }
 
-std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step, const Vec3& facing) {
+std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step) {
   if (!(step > 0)) throw InputError("markers", "the marker grid step must be positive");
-  // The grid runs along x and y for markers facing up, across `facing` otherwise.
-  const Vec3 f = facing.normalized();
-  const Vec3 side = f.cross(Vec3::UnitZ());
-  const Vec3 u = side.norm() < 1e-9 ? Vec3::UnitX() : Vec3(side.normalized()), w = f.cross(u);
-  Box box;  // the mesh in the frame (u, w, f)
-  for (const Vec3& v : mesh.vertices) box.add(Vec3(u.dot(v), w.dot(v), f.dot(v)));
+  Box box;
+  for (const Vec3& v : mesh.vertices) box.add(v);
   std::vector<Marker> markers;
   if (box.empty()) return markers;
   std::vector<Ray> rays;
-  for (double b = box.min.y() + step / 2; b < box.max.y(); b += step)
-    for (double a = box.min.x() + step / 2; a < box.max.x(); a += step)
-      rays.push_back(Ray{a * u + b * w + (box.max.z() + 1) * f, -f});
+  for (double y = box.min.y() + step / 2; y < box.max.y(); y += step)
+    for (double x = box.min.x() + step / 2; x < box.max.x(); x += step)
+      rays.push_back(Ray{Vec3(x, y, box.max.z() + 1), -Vec3::UnitZ()});
   for (const auto& hit : castRays(mesh, rays))
-    if (hit && hit->normal.dot(f) >= std::cos(M_PI / 4))
+    if (hit && hit->normal.z() >= std::cos(M_PI / 4))
       markers.push_back({hit->point, hit->normal, MarkerCarrier::Part, hit->face});
   return markers;
 }

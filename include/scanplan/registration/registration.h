@@ -55,10 +55,9 @@ std::vector<Marker> markersAtTableAngle(std::vector<Marker> markers, const Table
 std::vector<Marker> markerGrid(const Box& footprint, double step, double margin);
 
 // Markers stuck on the part: a square grid of `step` over the part as it stands in the
-// world (`mesh`, world frame) seen from `facing` (up by default), each where a ray from
-// that side first meets a surface facing it within 45 degrees.
-std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step,
-                                  const Vec3& facing = Vec3::UnitZ());
+// world (`mesh`, world frame), each where a vertical ray from above first meets a
+// surface facing up within 45 degrees.
+std::vector<Marker> markersOnPart(const TriangleMesh& mesh, double step);
 
 // What the plan relies on to put its views together (docs/registration.md):
 // - Markers: markers the views share, and ICP on overlaps where markers are too few;
