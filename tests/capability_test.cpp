@@ -170,7 +170,7 @@ TEST(Capability, APlanesUncertaintyIsTheFittedPlanesAnalyticError) {
 // orientation measures it.
 TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
   const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
-  const Plan plan = planViews(part, defaultSpec(), PlanningOptions{false});
+  const Plan plan = planViews(part, defaultSpec(), PlanningOptions{.registration = false});
   ASSERT_EQ(plan.characteristics.size(), plan.capabilities.size());
   const auto flatness = std::find_if(plan.characteristics.begin(), plan.characteristics.end(),
                                      [](const Characteristic& c) { return c.kind == "flatness"; });
@@ -199,7 +199,7 @@ TEST(Capability, TheFaceThePartStandsOnNamesTheRestThatReachesIt) {
   // part: {rest: all} plans that orientation too, and the flatness is measured.
   Spec every_rest = defaultSpec();
   every_rest.rest_all = true;
-  const Plan all = planViews(part, every_rest, PlanningOptions{false});
+  const Plan all = planViews(part, every_rest, PlanningOptions{.registration = false});
   const Capability& turned = all.capabilities[flatness - plan.characteristics.begin()];
   EXPECT_GT(all.orientations.size(), 1u);
   EXPECT_GT(turned.covered, 0.9);
@@ -229,11 +229,11 @@ std::size_t capable(const Plan& plan) {
 TEST(Capability, LiftingPlansAgainForTheCharacteristicsFaces) {
   const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
   Spec spec = defaultSpec();
-  const Plan plain = planViews(part, spec, PlanningOptions{false});
+  const Plan plain = planViews(part, spec, PlanningOptions{.registration = false});
   ASSERT_TRUE(std::any_of(plain.capabilities.begin(), plain.capabilities.end(),
                           [](const Capability& k) { return k.reason == Shortfall::TooSparse; }));
   spec.planner.lift_capability = true;
-  const Plan lifted = planViews(part, spec, PlanningOptions{false});
+  const Plan lifted = planViews(part, spec, PlanningOptions{.registration = false});
   EXPECT_GT(capable(lifted), capable(plain));
   for (const Capability& k : lifted.capabilities)
     EXPECT_NE(k.reason, Shortfall::TooSparse) << "characteristic " << k.characteristic;

@@ -487,6 +487,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   clock.lap("rescue");
   const std::vector<View> dense = detail::densePool(at, progress);
   candidates.insert(candidates.end(), dense.begin(), dense.end());
+  candidates.insert(candidates.end(), options.candidates.begin(), options.candidates.end());
   detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
   const auto registering = registeringMarkers(at, options.registration);
   if (registering) detail::addMarkerShifts(at, pool, *registering, progress);
@@ -732,7 +733,9 @@ PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,
     const std::vector<Marker>& proposed = last.proposed_markers->markers;
     result.placed.insert(result.placed.end(), proposed.begin(), proposed.end());
     spec.placed_markers = result.placed;
-    result.plan = planViews(part, spec, options, progress);
+    PlanningOptions again = options;  // the views the markers were proposed for kept at hand
+    again.candidates.insert(again.candidates.end(), last.views.begin(), last.views.end());
+    result.plan = planViews(part, spec, again, progress);
   }
   return result;
 }

@@ -19,6 +19,10 @@ namespace scanplan {
 // cell sections set everything else).
 struct PlanningOptions {
   bool registration = true;  // check registration, bridge, and sequence the views
+  // Poses added to the candidate pool, in the world of the placement planned (a plan of
+  // one rest orientation): an earlier plan's views, so that the plan made again with the
+  // markers proposed for them can keep them.
+  std::vector<View> candidates = {};
 };
 
 // The simulation of the part placed by `part_to_world` as the spec sets it: working plane,
