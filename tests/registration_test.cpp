@@ -326,7 +326,8 @@ TEST(ReferencePointsTest, AViewAtAnotherTableAngleSeesThePlanesMarkersTurned) {
 // Under reference points without markers, the plate's first view is the reference and the
 // second registers to nothing. Candidate positions in the second view's field (x = 120 to
 // 200 mm) serve it; candidates under the first view only (x = -200 to -160 mm, outside
-// the second's field, which starts at -90) do not, and the proposal names it.
+// the second's field, which starts at -90) do not, nor do candidates on one line, and the
+// proposal names it.
 TEST(ReferencePointsTest, AProposalNamesTheViewsNoCandidateServes) {
   const PlateScene scene;
   const Simulator simulator(scene.part, scene.scanner);
@@ -348,6 +349,12 @@ TEST(ReferencePointsTest, AProposalNamesTheViewsNoCandidateServes) {
   EXPECT_EQ(unserved.views, 0u);
   EXPECT_EQ(unserved.unserved, std::vector<int>{2});
   EXPECT_TRUE(unserved.markers.empty());
+  // Candidates in its field but on one line (y = 0) cannot register it either.
+  const MarkerProposal on_a_line =
+      proposeMarkers(simulator, views, registration,
+                     plateMarkers({{120, 0}, {150, 0}, {180, 0}, {200, 0}}), {}, referencePoints());
+  EXPECT_EQ(on_a_line.views, 0u);
+  EXPECT_EQ(on_a_line.unserved, std::vector<int>{2});
 }
 
 // A 1.6 m bar with 40 mm blocks along it every 60 mm, and two groups of views, one at

@@ -33,25 +33,35 @@ std::vector<Vec3> shiftGrid(const Scanner& scanner) {
   return shifts;
 }
 
-class MarkerShift {
+// The markers views register by: those each view measures, and whether they register it.
+class KnownMarkers {
  public:
-  MarkerShift(const Placement& at, const std::vector<Marker>& markers)
-      : at_(at),
-        options_(registrationOptions(at.spec.spec)),
-        shifts_(shiftGrid(at.scanner())),
-        samples_(at.points),
-        markers_(markerPoints(markers)) {}
+  KnownMarkers(const Placement& at, const std::vector<Marker>& markers)
+      : at_(at), options_(registrationOptions(at.spec.spec)), markers_(markerPoints(markers)) {}
 
   // The markers each of `views` measures.
   std::vector<std::vector<int>> seen(std::span<const View> views) const {
     return markers_.measured(at_.simulator, views);
   }
-
+  // Whether the markers `seen` register a view: enough of them, off one line.
   bool registers(const std::vector<int>& seen) const {
     std::vector<Vec3> positions;
     for (int m : seen) positions.push_back(markers_.points()[m].position);
     return markersRegister(positions, options_.min_markers, options_.marker_spread);
   }
+  const std::vector<SurfacePoint>& points() const { return markers_.points(); }
+  const RegistrationOptions& options() const { return options_; }
+
+ private:
+  const Placement& at_;
+  const RegistrationOptions options_;
+  const IndexedPoints markers_;
+};
+
+class MarkerShift : public KnownMarkers {
+ public:
+  MarkerShift(const Placement& at, const std::vector<Marker>& markers)
+      : KnownMarkers(at, markers), at_(at), shifts_(shiftGrid(at.scanner())), samples_(at.points) {}
 
   // `view` moved across its axis, by the least shift that lets it register by markers and
   // keeps its own samples (those of `measured` within a quarter of the field of view of its
@@ -85,7 +95,7 @@ class MarkerShift {
     const Scanner& s = at_.scanner();
     const Pose world_to_camera = view.camera_to_world.inverse();
     std::vector<Vec3> near;
-    for (const SurfacePoint& m : markers_.points()) {
+    for (const SurfacePoint& m : points()) {
       const Vec3 p = world_to_camera * m.position;
       if (std::abs(p.z() - s.standoff) <= s.depth_of_field / 2 && std::abs(p.x()) <= s.fov_width &&
           std::abs(p.y()) <= s.fov_height)
@@ -106,14 +116,12 @@ class MarkerShift {
           std::abs(p.y()) <= 0.45 * s.fov_height * scale)
         inside.push_back(p);
     }
-    return markersRegister(inside, options_.min_markers, options_.marker_spread);
+    return markersRegister(inside, options().min_markers, options().marker_spread);
   }
 
   const Placement& at_;
-  const RegistrationOptions options_;
   const std::vector<Vec3> shifts_;
   const IndexedPoints samples_;
-  const IndexedPoints markers_;
 };
 
 // Framed poses: for a sample, poses aimed at it from the directions of a `kFramedStep`
@@ -125,24 +133,10 @@ constexpr int kFramedRotations = 4;     // about the view axis
 constexpr std::size_t kFramedKept = 4;  // framed poses kept per sample
 constexpr std::size_t kFramedBatch = 256;
 
-class FramedSearch {
+class FramedSearch : public KnownMarkers {
  public:
   FramedSearch(const Placement& at, const std::vector<Marker>& markers)
-      : at_(at),
-        options_(registrationOptions(at.spec.spec)),
-        grid_(kFramedStep),
-        offsets_(offsets(at.scanner())),
-        markers_(markerPoints(markers)) {}
-
-  // Whether `view` registers by the markers it sees.
-  bool framed(const std::vector<int>& seen) const {
-    std::vector<Vec3> positions;
-    for (int m : seen) positions.push_back(markers_.points()[m].position);
-    return markersRegister(positions, options_.min_markers, options_.marker_spread);
-  }
-  std::vector<std::vector<int>> seen(std::span<const View> views) const {
-    return markers_.measured(at_.simulator, views);
-  }
+      : KnownMarkers(at, markers), at_(at), grid_(kFramedStep), offsets_(offsets(at.scanner())) {}
 
   // Up to kFramedKept valid poses measuring `sample` that register by the markers.
   std::vector<View> posesFor(const SurfacePoint& sample) const {
@@ -161,7 +155,7 @@ class FramedSearch {
                                         std::min(kFramedBatch, measuring.size() - b));
       const std::vector<std::vector<int>> on = seen(batch);
       for (std::size_t k = 0; k < batch.size() && kept.size() < kFramedKept; ++k)
-        if (framed(on[k]) && poseIsValid(at_.simulator, batch[k], at_.cell))
+        if (registers(on[k]) && poseIsValid(at_.simulator, batch[k], at_.cell))
           kept.push_back(batch[k]);
     }
     return kept;
@@ -178,10 +172,8 @@ class FramedSearch {
   }
 
   const Placement& at_;
-  const RegistrationOptions options_;
   const VisibilityMap grid_;
   const std::vector<Vec3> offsets_;
-  const IndexedPoints markers_;
 };
 
 }  // namespace
@@ -210,7 +202,7 @@ void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<
   // The samples some pose of the pool measures, and whether a framed one does.
   std::vector<char> measured(at.points.size(), 0), served(at.points.size(), 0);
   for (std::size_t v = 0; v < pool.size(); ++v) {
-    const bool framed = search.framed(seen[v]);
+    const bool framed = search.registers(seen[v]);
     for (int i : pool.samples[v]) {
       measured[i] = 1;
       served[i] |= framed;
@@ -230,7 +222,7 @@ void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<
       for (int j : on[k]) served[j] = 1;
       pool.add(found[k], on[k]);
     }
-    served[i] = 1;  // none found: unframeable by this search
+    served[i] = 1;  // searched, whatever was found
   }
   report(progress, "framing poses on markers", 1);
 }

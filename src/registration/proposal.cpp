@@ -131,15 +131,26 @@ MarkerProposal proposeReferencePoints(std::span<const View> views, const Registr
       if (taken[c]) markers.push_back(candidates[c].position);
     return markersRegister(markers, options.min_markers, options.marker_spread);
   };
+  // A view whose candidates all lie near one line keeps the cover's markers it sees: it
+  // registers by none, and is counted among the views the proposal does not serve.
   std::vector<std::size_t> registering;
-  std::copy_if(served.begin(), served.end(), std::back_inserter(registering), registers);
+  std::vector<char> kept(candidates.size(), 0);
+  for (std::size_t v : served)
+    if (registers(v))
+      registering.push_back(v);
+    else {
+      proposal.unserved.push_back(views[v].id);
+      for (int c : seen[v]) kept[c] = 1;
+    }
   for (int c : cover.chosen) {
+    if (kept[c]) continue;
     taken[c] = 0;
     if (!std::all_of(registering.begin(), registering.end(), registers)) taken[c] = 1;
   }
   for (std::size_t c = 0; c < candidates.size(); ++c)
     if (taken[c]) proposal.markers.push_back(candidates[c]);
-  proposal.views = served.size();
+  std::sort(proposal.unserved.begin(), proposal.unserved.end());
+  proposal.views = registering.size();
   proposal.lower_bound = static_cast<std::size_t>(cover.lower_bound);
   return proposal;
 }

@@ -244,8 +244,8 @@ struct MarkerProposal {
   std::size_t lower_bound = 0;  // no proposal giving each of them min_markers is smaller
                                 // (the multicover's bound)
   // Ids of the views registered to nothing that no candidate position serves: each sees
-  // fewer than min_markers of them (reference points), or shares that many with no view
-  // it could register to (pairs).
+  // fewer than min_markers of them or only ones near a line (reference points), or shares
+  // that many with no view it could register to (pairs).
   std::vector<int> unserved;
 
   // Adds `other`'s markers, views, bound and views unserved (another rest orientation's).
