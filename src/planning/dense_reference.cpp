@@ -7,6 +7,7 @@
 #include <scanplan/planning/poses.h>
 
 #include <algorithm>
+#include <span>
 
 namespace scanplan {
 

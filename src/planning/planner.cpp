@@ -328,13 +328,33 @@ std::vector<Marker> offTargets(const std::vector<Marker>& candidates, const Plan
   return off;
 }
 
+// Candidates on the part three times closer than `step` where the views the proposal
+// does not serve see them: views into narrow slots and bores see too few of the others.
+std::vector<Marker> closerCandidates(const detail::Placement& at, const Plan& plan, double step) {
+  std::vector<View> unserved;
+  for (const View& view : plan.views)
+    if (std::count(plan.proposed_markers->unserved.begin(), plan.proposed_markers->unserved.end(),
+                   view.id))
+      unserved.push_back(view);
+  const std::vector<SurfacePoint> points = at.simulator.surfacePoints(step / 3, 2);
+  std::vector<char> seen(points.size(), 0);
+  for (const std::vector<int>& by_view : measuredPoints(at.simulator, unserved, points))
+    for (int i : by_view) seen[i] = 1;
+  std::vector<Marker> closer;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (seen[i])
+      closer.push_back({points[i].position, points[i].normal, MarkerCarrier::Part, points[i].face});
+  return closer;
+}
+
 // Markers proposed for the views of `plan` that register to nothing, among candidates
 // spread over the whole surface of the part (one per step² of area on average), on the
 // upward faces of the fixture models and on the plate around the part, a fifteenth of the
 // field of view apart (or as far as a million candidates need); none when every view
 // registers or the robot alone registers them. Markers on the part hide the surface they
 // cover, so the candidates off the target faces are tried first; those on them are
-// proposed only when they serve more views.
+// proposed only when they serve more views; and for the views still unserved, candidates
+// three times closer where they look.
 void proposeMarkers(const detail::Placement& at, Plan& plan) {
   const RegistrationOptions options = registrationOptions(at.spec.spec);
   if (plan.registration->registered() == plan.views.size() || robotRegistersAll(options)) return;
@@ -358,9 +378,13 @@ void proposeMarkers(const detail::Placement& at, Plan& plan) {
   };
   const std::vector<Marker> off = offTargets(candidates, plan);
   plan.proposed_markers = propose(off);
-  if (off.size() == candidates.size()) return;
-  MarkerProposal anywhere = propose(candidates);
-  if (anywhere.views > plan.proposed_markers->views) plan.proposed_markers = std::move(anywhere);
+  const auto keepIfMore = [&](MarkerProposal other) {
+    if (other.views > plan.proposed_markers->views) plan.proposed_markers = std::move(other);
+  };
+  if (off.size() != candidates.size()) keepIfMore(propose(candidates));
+  if (plan.proposed_markers->unserved.empty()) return;
+  for (const Marker& m : closerCandidates(at, plan, grid.step)) candidates.push_back(m);
+  keepIfMore(propose(candidates));
 }
 
 // Orders the views of a plan without a cell by the generic positioning's time (the
