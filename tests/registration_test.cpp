@@ -1139,6 +1139,17 @@ TEST(ReferencePointsTest, MarkersProposedInAFrameRegisterEveryViewOfAPanel) {
                                              " markers placed");
   EXPECT_EQ(placed.plan.markers.size(), markerFrame(500, 375).size() + placed.placed.size());
   EXPECT_EQ(placed.plan.registration->registered(), placed.plan.views.size());
+
+  // Written and read back, the markers placed are known as such: verified against the spec,
+  // which lists the frame's alone, every view registers as planned.
+  writePlan(placed.plan, dir.file("placed.json"));
+  const Plan read = readPlan(dir.file("placed.json"));
+  EXPECT_EQ(static_cast<std::size_t>(std::count_if(read.markers.begin(), read.markers.end(),
+                                                   [](const Marker& m) { return m.placed; })),
+            placed.placed.size());
+  const PlanCheck check = verifyPlan(read, part, spec);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.unregistered, 0u);
 }
 
 // In robot mode, the robot's pose accuracy places views that ICP cannot: within the

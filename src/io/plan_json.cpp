@@ -44,9 +44,11 @@ json matrix(const Pose& pose) {
 
 json markersJson(const std::vector<Marker>& markers) {
   json list = json::array();
-  for (const Marker& m : markers)
-    list.push_back(
-        {{"position", vec(m.position)}, {"normal", vec(m.normal)}, {"on", toString(m.on)}});
+  for (const Marker& m : markers) {
+    json entry = {{"position", vec(m.position)}, {"normal", vec(m.normal)}, {"on", toString(m.on)}};
+    if (m.placed) entry["placed"] = true;
+    list.push_back(entry);
+  }
   return list;
 }
 
@@ -544,12 +546,15 @@ struct PlanReader {
   std::vector<Marker> markers(const json& list) const {
     std::vector<Marker> result;
     if (list.is_array())
-      for (const json& m : list)
-        result.push_back({detail::vectorFrom(m.value("position", json()), path, "marker"),
-                          detail::vectorFrom(m.value("normal", json()), path, "marker"),
-                          m.contains("on") ? enumFrom(field<std::string>(m, "on", path, "marker"),
-                                                      kMarkerCarriers, path, "marker")
-                                           : MarkerCarrier::Plane});
+      for (const json& m : list) {
+        Marker marker{detail::vectorFrom(m.value("position", json()), path, "marker"),
+                      detail::vectorFrom(m.value("normal", json()), path, "marker"),
+                      m.contains("on") ? enumFrom(field<std::string>(m, "on", path, "marker"),
+                                                  kMarkerCarriers, path, "marker")
+                                       : MarkerCarrier::Plane};
+        marker.placed = fieldOr(m, "placed", false, path, "marker");
+        result.push_back(marker);
+      }
     return result;
   }
 

@@ -754,8 +754,10 @@ PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,
     if (!last.proposed_markers || last.proposed_markers->markers.empty() ||
         (last.registration && last.registration->registered() == last.views.size()))
       break;
-    const std::vector<Marker>& proposed = last.proposed_markers->markers;
-    result.placed.insert(result.placed.end(), proposed.begin(), proposed.end());
+    for (Marker m : last.proposed_markers->markers) {
+      m.placed = true;
+      result.placed.push_back(m);
+    }
     spec.placed_markers = result.placed;
     PlanningOptions again = options;  // the views the markers were proposed for kept at hand
     again.candidates.insert(again.candidates.end(), last.views.begin(), last.views.end());

@@ -177,7 +177,13 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     throw InputError(part.file, "has " + std::to_string(part.faces.size()) +
                                     " faces where the plan's part has " +
                                     std::to_string(plan.part_faces));
-  const ResolvedSpec resolved = resolveSpec(part, spec);
+  // The spec's markers, and those the plan placed where it proposed them (--place-markers),
+  // which hide the surface under them as they did in the plan.
+  Spec with_placed = spec;
+  std::copy_if(plan.markers.begin(), plan.markers.end(),
+               std::back_inserter(with_placed.placed_markers),
+               [](const Marker& m) { return m.placed; });
+  const ResolvedSpec resolved = resolveSpec(part, with_placed);
   if (plan.orientations.empty()) return verifyPlacement(plan, part, resolved, options, progress);
 
   // Each orientation on its own, then the results merged.

@@ -33,7 +33,8 @@ struct Marker {
   Vec3 position = Vec3::Zero();  // mm
   Vec3 normal = Vec3::UnitZ();   // unit
   MarkerCarrier on = MarkerCarrier::Plane;
-  int face = 0;  // the face of the part (or of a fixture) it is stuck on; 0: none, unknown
+  int face = 0;         // the face of the part (or of a fixture) it is stuck on; 0: none, unknown
+  bool placed = false;  // proposed and placed (--place-markers), not one of the spec's
 };
 
 // A rotary table under the part, as registration sees it. The plan's frame turns with the
