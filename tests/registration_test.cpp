@@ -1189,7 +1189,7 @@ TEST(RegistrationTest, AnAccurateRobotRegistersViewsOfAPlane) {
 // one where those lie on a line, all on the plate (markers on the slab would hide its
 // surface); placed (`--place-markers`), every view of the plan made again registers.
 // Measured: 16 markers for 5 views, bound 6 (pairs of views must share their markers);
-// 20 placed in two rounds, and all 6 views of the last plan registered; 1 of 5 without.
+// 20 placed in two rounds, and all 9 views of the last plan registered; 1 of 5 without.
 TEST(RegistrationTest, MarkersProposedForAFlatPartRegisterItsViews) {
   const Part part = flatSlab();
   test::TempDir dir;
