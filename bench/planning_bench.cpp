@@ -615,26 +615,26 @@ const int registered = [] {
           })
           ->Unit(benchmark::kSecond)
           ->Iterations(1);
-  for (const char* name :
-       {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
-        "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
-        "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
-        "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
-        "mech/asi_repatch-hpdc.stp"})
+  // Every NIST model and the die-cast part, by their paths in the shared data.
+  constexpr std::array kParts = {"nist/nist_ctc_01_asme1_ap242-e1.stp",
+                                 "nist/nist_ctc_02_asme1_ap242-e2.stp",
+                                 "nist/nist_ctc_03_asme1_ap242-e2.stp",
+                                 "nist/nist_ctc_04_asme1_ap242-e1.stp",
+                                 "nist/nist_ftc_06_asme1_ap242-e1.stp",
+                                 "nist/nist_ftc_07_asme1_ap242-e2.stp",
+                                 "nist/nist_ftc_08_asme1_ap242-e1.stp",
+                                 "nist/nist_ftc_11_asme1_ap242-e1.stp",
+                                 "mech/asi_repatch-hpdc.stp"};
+  for (const char* name : kParts) {
     benchmark::RegisterBenchmark((std::string("BM_RegisterGlobal/") + name).c_str(),
                                  [name](benchmark::State& state) { registerGlobal(state, name); })
         ->Unit(benchmark::kSecond)
         ->Iterations(1);
-  for (const char* name :
-       {"nist/nist_ctc_01_asme1_ap242-e1.stp", "nist/nist_ctc_02_asme1_ap242-e2.stp",
-        "nist/nist_ctc_03_asme1_ap242-e2.stp", "nist/nist_ctc_04_asme1_ap242-e1.stp",
-        "nist/nist_ftc_06_asme1_ap242-e1.stp", "nist/nist_ftc_07_asme1_ap242-e2.stp",
-        "nist/nist_ftc_08_asme1_ap242-e1.stp", "nist/nist_ftc_11_asme1_ap242-e1.stp",
-        "mech/asi_repatch-hpdc.stp"})
     benchmark::RegisterBenchmark((std::string("BM_FrameOnPlate/") + name).c_str(),
                                  [name](benchmark::State& state) { frameOnPlate(state, name); })
         ->Unit(benchmark::kSecond)
         ->Iterations(1);
+  }
   benchmark::RegisterBenchmark("BM_VerifyManyViews", verifyManyViews)
       ->Unit(benchmark::kSecond)
       ->Iterations(1)

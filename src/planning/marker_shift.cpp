@@ -194,18 +194,19 @@ void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector
   report(progress, "shifting poses towards markers", 1);
 }
 
-void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
-                    const Progress& progress) {
-  if (markers.empty()) return;
+std::vector<char> addFramedPoses(const Placement& at, MeasuredViews& pool,
+                                 const std::vector<Marker>& markers, const Progress& progress) {
+  if (markers.empty()) return {};
   const FramedSearch search(at, markers);
   const std::vector<std::vector<int>> seen = search.seen(pool.views);
   // The samples some pose of the pool measures, and whether a framed one does.
+  std::vector<char> framed(pool.size());
   std::vector<char> measured(at.points.size(), 0), served(at.points.size(), 0);
   for (std::size_t v = 0; v < pool.size(); ++v) {
-    const bool framed = search.registers(seen[v]);
+    framed[v] = search.registers(seen[v]);
     for (int i : pool.samples[v]) {
       measured[i] = 1;
-      served[i] |= framed;
+      served[i] |= framed[v];
     }
   }
   const IndexedPoints samples(at.points);
@@ -221,10 +222,12 @@ void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<
     for (std::size_t k = 0; k < found.size(); ++k) {
       for (int j : on[k]) served[j] = 1;
       pool.add(found[k], on[k]);
+      framed.push_back(1);
     }
     served[i] = 1;  // searched, whatever was found
   }
   report(progress, "framing poses on markers", 1);
+  return framed;
 }
 
 }  // namespace scanplan::detail

@@ -25,17 +25,22 @@
 
 namespace scanplan {
 
-SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Part& part,
-                                       const Pose& part_to_world) {
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world,
+                                       const std::vector<Marker>& markers) {
   SimulationOptions simulation;
   simulation.part_to_world = part_to_world;
   simulation.working_plane = spec.spec.working_plane;
   simulation.specular_faces = spec.specular;
   simulation.fixtures = fixturesInWorld(spec, part_to_world);
-  for (const Marker& m : specMarkers(spec, part, part_to_world))
+  for (const Marker& m : markers)
     if (m.on == MarkerCarrier::Part)
       simulation.covered.push_back({m.position, m.normal, spec.spec.marker_diameter / 2});
   return simulation;
+}
+
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Part& part,
+                                       const Pose& part_to_world) {
+  return simulationOptionsFor(spec, part_to_world, specMarkers(spec, part, part_to_world));
 }
 
 std::vector<TriangleMesh> fixturesInWorld(const ResolvedSpec& spec, const Pose& part_to_world) {
@@ -313,7 +318,7 @@ std::optional<std::vector<Marker>> registeringMarkers(const detail::Placement& a
   const RegistrationOptions& options = at.spec.spec.registration;
   if (!registration || robotRegistersAll(options)) return std::nullopt;
   if (options.method == RegistrationMode::Geometry) return std::vector<Marker>{};
-  return specMarkers(at.spec, at.part, at.simulator.options().part_to_world);
+  return at.markers;
 }
 
 // The candidates off the faces the plan samples: on the plate, on fixtures, on faces of the
@@ -442,25 +447,19 @@ Sequenced sequence(const detail::Placement& at, Plan& plan, const Registration& 
 // working plane.
 std::shared_ptr<const TableTurn> markerTable(const CellCheck& cell,
                                              const std::vector<Marker>& markers) {
-  if (!cell.cell || !cell.cell->table ||
-      std::none_of(markers.begin(), markers.end(),
-                   [](const Marker& m) { return m.on == MarkerCarrier::Plane; }))
-    return nullptr;
-  auto table = std::make_shared<TableTurn>();
-  table->origin = cell.cell->table->origin;
-  table->axis = cell.cell->table->axis;
-  table->angle = [cell](const View& view) {
-    const CellReach reach = reachView(*cell.cell, view, {}, 0, cell.collisions);
-    return reach.reachable() ? reach.poses.front().table_angle : 0.0;
-  };
-  return table;
+  if (!cell.cell || !cell.cell->table) return nullptr;
+  return tableTurnFor(cell.cell->table->origin, cell.cell->table->axis, markers,
+                      [cell](const View& view) {
+                        const CellReach reach = reachView(*cell.cell, view, {}, 0, cell.collisions);
+                        return reach.reachable() ? reach.poses.front().table_angle : 0.0;
+                      });
 }
 
 // Registers the plan's views, bridging where they fall apart (bridging views measure
 // samples too), and orders them (sequence).
 Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageClock& clock,
                               const Progress& progress) {
-  plan.markers = specMarkers(at.spec, at.part, plan.part_to_world);
+  plan.markers = at.markers;
   const std::size_t planned = plan.views.size();
   RegistrationOptions options = registrationOptions(at.spec.spec);
   options.table = markerTable(at.cell, plan.markers);
@@ -484,8 +483,9 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   Plan plan = placedPlan(part, spec, sampled, part_to_world);
   StageClock clock(plan);
   report(progress, "building the scene", 0);
+  std::vector<Marker> markers = specMarkers(spec, part, part_to_world);
   const Simulator simulator(part, spec.spec.scanner,
-                            simulationOptionsFor(spec, part, part_to_world));
+                            simulationOptionsFor(spec, part_to_world, markers));
   const std::optional<Cell>& cell = spec.spec.cell;
   std::unique_ptr<const CellCollisions> collisions;
   if (cell)
@@ -493,7 +493,8 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
         *cell, part.mesh, part_to_world, simulator.options().fixtures,
         simulator.options().working_plane, cell->clearance);
   const CellCheck cell_check{cell ? &*cell : nullptr, collisions.get()};
-  const detail::Placement at{part, spec, simulator, cell_check, plan.samplePoints(), done};
+  const detail::Placement at{
+      part, spec, simulator, cell_check, plan.samplePoints(), done, std::move(markers)};
   clock.lap("scene");
 
   detail::MeasuredViews added;
@@ -515,13 +516,14 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
   const auto registering = registeringMarkers(at, options.registration);
   if (registering) detail::addMarkerShifts(at, pool, *registering, progress);
+  std::vector<char> framed;  // under reference points, per pose
   if (registering && registrationOptions(at.spec.spec).method == RegistrationMode::ReferencePoints)
-    detail::addFramedPoses(at, pool, *registering, progress);
+    framed = detail::addFramedPoses(at, pool, *registering, progress);
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
   const detail::Selection selection =
-      detail::selectViews(at, pool, pinned, plan.samples, registering, progress);
+      detail::selectViews(at, pool, pinned, plan.samples, registering, framed, progress);
   detail::applySelection(pool, selection.views, plan);
   plan.bound = selection.bound;
   clock.lap("selection");

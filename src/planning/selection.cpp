@@ -2,7 +2,6 @@
 // exact set cover that bounds it.
 
 #include "planning/stages.h"
-#include "registration/overlaps.h"
 
 #include <scanplan/registration/sequencing.h>
 #include <scanplan/robot/cycle.h>
@@ -281,31 +280,12 @@ double viewsBound(const Placement& at, const MeasuredViews& pool, std::size_t pi
 // and for the markers that must be placed for it.
 constexpr double kUnframedCost = 2;
 
-// Under registration by reference points, per pose of `pool`: whether it registers into
-// the markers' frame by itself (docs/registration.md); empty in other modes.
-std::vector<char> framedPoses(const Placement& at, const MeasuredViews& pool,
-                              const std::vector<Marker>& markers) {
-  const RegistrationOptions options = registrationOptions(at.spec.spec);
-  if (options.method != RegistrationMode::ReferencePoints || markers.empty()) return {};
-  const IndexedPoints points(markerPoints(markers));  // no surface points: markers alone
-  const std::vector<std::vector<int>> seen = points.measured(at.simulator, pool.views);
-  std::vector<char> framed(pool.size());
-  for (std::size_t v = 0; v < pool.size(); ++v) {
-    std::vector<Vec3> positions;
-    for (int m : seen[v]) positions.push_back(markers[m].position);
-    framed[v] = markersRegister(positions, options.min_markers, options.marker_spread);
-  }
-  return framed;
-}
-
 }  // namespace
 
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
                       const std::optional<std::vector<Marker>>& registering,
-                      const Progress& progress) {
-  const std::vector<char> framed =
-      registering ? framedPoses(at, pool, *registering) : std::vector<char>{};
+                      const std::vector<char>& framed, const Progress& progress) {
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);

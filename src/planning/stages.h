@@ -32,6 +32,7 @@ struct Placement {
   CellCheck cell;                    // the spec's cell, if any
   std::vector<SurfacePoint> points;  // the samples in the world, as simulation targets
   std::vector<char> done;            // per sample: measured in an earlier placement; or empty
+  std::vector<Marker> markers = {};  // the spec's (specMarkers), world frame
 
   const Scanner& scanner() const { return simulator.scanner(); }
   const PlannerSettings& settings() const { return spec.spec.planner; }
@@ -96,9 +97,10 @@ void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector
 // pool measure but none that sees enough `markers` to register by, up to four valid poses
 // that measure it and register by the markers (aimed at it from a 20-degree grid of
 // directions, with the sample off the centre of the field), added to the pool with the
-// samples each measures. Samples those measure need no search of their own.
-void addFramedPoses(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
-                    const Progress& progress);
+// samples each measures. Samples those measure need no search of their own. Per pose of
+// the pool then, whether it registers by the markers by itself.
+std::vector<char> addFramedPoses(const Placement& at, MeasuredViews& pool,
+                                 const std::vector<Marker>& markers, const Progress& progress);
 
 // What the coverage targets (planner.coverage) ask of the views after the `pinned` ones:
 // per sample its group (0: the priority samples, 1 + a task type's place in kTaskTypes: that
@@ -134,13 +136,14 @@ struct Selection {
 // poses' costs instead. With `registering` (the markers views register by, none: by
 // geometry alone), the connectedCover of the same targets and costs, unless no view of it
 // registers to another; its bound is then the LP relaxation's. Under registration by
-// reference points, the partial cover instead, each pose that sees too few of the markers
-// to register by costing twice its cost. The bound counts views.
+// reference points (`framed`: per pose, whether it registers by the markers by itself, as
+// addFramedPoses gives it), the partial cover instead, each pose not framed costing twice
+// its cost. The bound counts views.
 // Progress shows the connectedCover's, or the share of its budget CBC has used.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
                       const std::optional<std::vector<Marker>>& registering,
-                      const Progress& progress);
+                      const std::vector<char>& framed, const Progress& progress);
 
 // The registration-aware cover of `aim`: views chosen one at a time, the `pinned` first
 // pool views first, each the pose measuring most samples not yet covered per cost

@@ -15,21 +15,15 @@ namespace {
 // How the plan's cell turns its markers: each view at the table angle the plan takes it at;
 // none without a table or without markers on the working plane.
 std::shared_ptr<const TableTurn> planTable(const Plan& plan, const std::vector<Marker>& markers) {
-  if (!plan.cell || !plan.cell->table ||
-      std::none_of(markers.begin(), markers.end(),
-                   [](const Marker& m) { return m.on == MarkerCarrier::Plane; }))
-    return nullptr;
-  auto table = std::make_shared<TableTurn>();
-  table->origin = plan.cell->table->origin;
-  table->axis = plan.cell->table->axis;
+  if (!plan.cell || !plan.cell->table) return nullptr;
   std::map<int, double> angles;
   for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v)
     if (plan.cell_poses[v]) angles[plan.views[v].id] = plan.cell_poses[v]->table_angle;
-  table->angle = [angles](const View& view) {
-    const auto it = angles.find(view.id);
-    return it == angles.end() ? 0.0 : it->second;
-  };
-  return table;
+  return tableTurnFor(plan.cell->table->origin, plan.cell->table->axis, markers,
+                      [angles](const View& view) {
+                        const auto it = angles.find(view.id);
+                        return it == angles.end() ? 0.0 : it->second;
+                      });
 }
 
 // The registration options a plan is checked with: the spec's, without bridging, with the
@@ -96,8 +90,9 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   Plan& again = check.plan;
   again = plan;
   again.fixture_faces = resolved.fixtureFaces();
+  const std::vector<Marker> spec_markers = specMarkers(resolved, part, plan.part_to_world);
   const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(resolved, part, plan.part_to_world));
+                            simulationOptionsFor(resolved, plan.part_to_world, spec_markers));
 
   report(progress, "simulating " + std::to_string(plan.views.size()) + " views", 0);
   const std::vector<SurfacePoint> points = plan.samplePoints();
@@ -116,7 +111,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   std::vector<View> views = plan.views;
   RegistrationOptions registration = checkOptions(spec, *plan.registration);
   if (!spec.markers_file.empty() || spec.marker_grid > 0 || !spec.fixtures.empty())
-    again.markers = specMarkers(resolved, part, plan.part_to_world);
+    again.markers = spec_markers;
   registration.table = planTable(plan, again.markers);
   again.registration =
       registerWithBridging(simulator, views, again.markers, registration, CellCheck{}, progress);

@@ -20,10 +20,18 @@ std::string_view toString(MarkerCarrier carrier) {
   return "unknown";
 }
 
+std::shared_ptr<const TableTurn> tableTurnFor(const Vec3& origin, const Vec3& axis,
+                                              const std::vector<Marker>& markers,
+                                              std::function<double(const View&)> angle) {
+  if (std::none_of(markers.begin(), markers.end(),
+                   [](const Marker& m) { return m.on == MarkerCarrier::Plane; }))
+    return nullptr;
+  return std::make_shared<const TableTurn>(TableTurn{origin, axis, std::move(angle)});
+}
+
 std::vector<Marker> markersAtTableAngle(std::vector<Marker> markers, const TableTurn& table,
                                         double angle) {
-  const Pose turn = Eigen::Translation3d(table.origin) * Eigen::AngleAxisd(-angle, table.axis) *
-                    Eigen::Translation3d(-table.origin);
+  const Pose turn = turnAbout(table.origin, table.axis, -angle);
   for (Marker& m : markers)
     if (m.on == MarkerCarrier::Plane) {
       m.position = turn * m.position;

@@ -49,12 +49,33 @@ std::vector<std::vector<int>> Overlaps::markersSeenAt(std::span<const View> view
   return turned.measured(simulator_, views);
 }
 
+std::vector<double> Overlaps::tableAngles(std::span<const View> views) const {
+  std::vector<double> angles(views.size(), 0.0);
+  if (options_.table)
+    for (std::size_t v = 0; v < views.size(); ++v) angles[v] = options_.table->angle(views[v]);
+  return angles;
+}
+
+std::vector<Vec3> Overlaps::markerPositionsAt(double angle) const {
+  std::vector<Vec3> positions;
+  if (angle == 0)
+    for (const SurfacePoint& p : markers_.points()) positions.push_back(p.position);
+  else
+    for (const Marker& m : markersAtTableAngle(marker_list_, *options_.table, angle))
+      positions.push_back(m.position);
+  return positions;
+}
+
 std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views) const {
+  return markersSeen(views, tableAngles(views));
+}
+
+std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views,
+                                                    const std::vector<double>& angles) const {
   if (!options_.table || marker_list_.empty()) return markers_.measured(simulator_, views);
   // The views grouped by their table angle, each group measured where it puts the markers.
   std::map<double, std::vector<std::size_t>> at_angle;
-  for (std::size_t v = 0; v < views.size(); ++v)
-    at_angle[options_.table->angle(views[v])].push_back(v);
+  for (std::size_t v = 0; v < views.size(); ++v) at_angle[angles[v]].push_back(v);
   std::vector<std::vector<int>> seen(views.size());
   for (const auto& [angle, indices] : at_angle) {
     std::vector<View> group;
@@ -66,21 +87,22 @@ std::vector<std::vector<int>> Overlaps::markersSeen(std::span<const View> views)
 }
 
 std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
+  const std::vector<double> angles = tableAngles(views);
   std::vector<std::vector<int>> on_points = points_.measured(simulator_, views);
-  std::vector<std::vector<int>> on_markers = markersSeen(views);
+  std::vector<std::vector<int>> on_markers = markersSeen(views, angles);
+  std::map<double, std::vector<Vec3>> positions;  // of the markers, per table angle met
   std::vector<Observation> result(views.size());
   for (std::size_t v = 0; v < views.size(); ++v) {
     Observation& seen = result[v];
     seen.points = std::move(on_points[v]);
     seen.markers = std::move(on_markers[v]);
-    if (options_.table) seen.table_angle = options_.table->angle(views[v]);
+    seen.table_angle = angles[v];
     for (int i : seen.points) seen.box.add(points()[i].position);
-    const std::vector<Marker> at =
-        options_.table && seen.table_angle != 0
-            ? markersAtTableAngle(marker_list_, *options_.table, seen.table_angle)
-            : std::vector<Marker>{};
-    for (int i : seen.markers)
-      seen.box.add(at.empty() ? markers_.points()[i].position : at[i].position);
+    if (seen.markers.empty()) continue;
+    auto at = positions.find(seen.table_angle);
+    if (at == positions.end())
+      at = positions.emplace(seen.table_angle, markerPositionsAt(seen.table_angle)).first;
+    for (int i : seen.markers) seen.box.add(at->second[i]);
   }
   return result;
 }

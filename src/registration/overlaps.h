@@ -56,6 +56,13 @@ class Overlaps {
   // Whether the markers (indices) are enough and spread enough to register by.
   bool registers(const std::vector<int>& markers) const;
 
+  // The table angle each view is taken at (0 without a table).
+  std::vector<double> tableAngles(std::span<const View> views) const;
+  // The markers' positions as a view taken at table angle `angle` sees them.
+  std::vector<Vec3> markerPositionsAt(double angle) const;
+  // The markers each view measures, the view taken at `angles`' angle.
+  std::vector<std::vector<int>> markersSeen(std::span<const View> views,
+                                            const std::vector<double>& angles) const;
   // The markers each view measures, for views all taken at table angle `angle`.
   std::vector<std::vector<int>> markersSeenAt(std::span<const View> views, double angle) const;
 

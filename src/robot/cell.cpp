@@ -61,9 +61,7 @@ void validate(const Cell& c, const std::string& source) {
 
 Pose tableTurn(const Cell& cell, double angle) {
   if (!cell.table) return Pose::Identity();
-  const RotaryTable& t = *cell.table;
-  return Eigen::Translation3d(t.origin) * Eigen::AngleAxisd(angle, t.axis) *
-         Eigen::Translation3d(-t.origin);
+  return turnAbout(cell.table->origin, cell.table->axis, angle);
 }
 
 Pose flangeFor(const Cell& cell, const View& view, double table_angle) {

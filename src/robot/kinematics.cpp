@@ -204,14 +204,10 @@ std::array<Pose, 3> linkMotions(const RobotModel& r, const Joints& joints) {
     const std::array<Pose, 6> zero = detail::offsetWristFrames(*r.offset_wrist, Joints{});
     return {at[1] * zero[1].inverse(), at[2] * zero[2].inverse(), at[5] * zero[5].inverse()};
   }
-  auto about = [](const Vec3& point, const Vec3& axis, double angle) {
-    return Pose(Eigen::Translation3d(point) * Eigen::AngleAxisd(angle, axis) *
-                Eigen::Translation3d(-point));
-  };
   const Vec3 shoulder(r.a1, r.b, r.c1), elbow(r.a1, r.b, r.c1 + r.c2);
   const Pose upper =
-      Pose(Eigen::AngleAxisd(q[0], Vec3::UnitZ())) * about(shoulder, Vec3::UnitY(), q[1]);
-  const Pose fore = upper * about(elbow, Vec3::UnitY(), q[2]);
+      Pose(Eigen::AngleAxisd(q[0], Vec3::UnitZ())) * turnAbout(shoulder, Vec3::UnitY(), q[1]);
+  const Pose fore = upper * turnAbout(elbow, Vec3::UnitY(), q[2]);
   const Pose wrist =
       forwardKinematics(r, joints) * forwardKinematics(r, controllerJoints(r, Joints{})).inverse();
   return {upper, fore, wrist};

@@ -9,6 +9,13 @@ namespace scanplan {
 
 using Pose = Eigen::Isometry3d;
 
+// The turn by `angle` (radians, right-handed) about the line through `point` along `axis`
+// (unit).
+inline Pose turnAbout(const Vec3& point, const Vec3& axis, double angle) {
+  return Pose(Eigen::Translation3d(point) * Eigen::AngleAxisd(angle, axis) *
+              Eigen::Translation3d(-point));
+}
+
 struct View {
   int id = 0;  // 1-based, as in plan.json
   Pose camera_to_world = Pose::Identity();

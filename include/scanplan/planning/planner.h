@@ -29,6 +29,9 @@ struct PlanningOptions {
 // specular faces, fixture models, and the surface its markers on the part cover.
 SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Part& part,
                                        const Pose& part_to_world);
+// The same with the spec's markers (specMarkers) known already.
+SimulationOptions simulationOptionsFor(const ResolvedSpec& spec, const Pose& part_to_world,
+                                       const std::vector<Marker>& markers);
 
 // The spec's fixture models in the world, with the part placed by `part_to_world`.
 std::vector<TriangleMesh> fixturesInWorld(const ResolvedSpec& spec, const Pose& part_to_world);

@@ -46,6 +46,13 @@ struct TableTurn {
   std::function<double(const View&)> angle;  // the table angle each view is taken at, radians
 };
 
+// The table turning about `axis` through `origin`, each view taken at `angle`'s; none when
+// no marker lies on the working plane (the others turn with the part, so every view sees
+// them where they are).
+std::shared_ptr<const TableTurn> tableTurnFor(const Vec3& origin, const Vec3& axis,
+                                              const std::vector<Marker>& markers,
+                                              std::function<double(const View&)> angle);
+
 // `markers` as a view taken at table angle `angle` sees them in the plan's frame.
 std::vector<Marker> markersAtTableAngle(std::vector<Marker> markers, const TableTurn& table,
                                         double angle);
