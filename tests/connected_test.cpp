@@ -371,7 +371,7 @@ TEST(Stages, FramedPosesMeasureTheirSampleWhileSeeingTheMarkers) {
   }
   ASSERT_EQ(pool.samples[0], std::vector<int>{0});
   ASSERT_EQ(pool.samples[1], std::vector<int>{1});
-  detail::addFramedPoses(at, pool, markers, {});
+  detail::addFramedPoses(at, pool, markers, std::vector<char>(pool.size(), 0), {});
   ASSERT_GT(pool.size(), 2u);
   EXPECT_LE(pool.size(), 2u + 4u);
   for (std::size_t v = 2; v < pool.size(); ++v) {

@@ -178,32 +178,36 @@ class FramedSearch : public KnownMarkers {
 
 }  // namespace
 
-void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
-                     const Progress& progress) {
-  if (markers.empty()) return;
+std::vector<char> addMarkerShifts(const Placement& at, MeasuredViews& pool,
+                                  const std::vector<Marker>& markers, const Progress& progress) {
+  if (markers.empty()) return {};
   report(progress, "shifting poses towards markers", 0);
   const MarkerShift shift(at, markers);
   const std::vector<std::vector<int>> seen = shift.seen(pool.views);
+  std::vector<char> framed(pool.size());
   std::vector<std::optional<std::pair<View, std::vector<int>>>> moved(pool.size());
   tbb::parallel_for(std::size_t{0}, pool.size(), [&](std::size_t v) {
-    if (!pool.samples[v].empty() && !shift.registers(seen[v]))
+    framed[v] = shift.registers(seen[v]);
+    if (!pool.samples[v].empty() && !framed[v])
       moved[v] = shift.shifted(pool.views[v], pool.samples[v]);
   });
   for (auto& found : moved)
-    if (found) pool.add(found->first, std::move(found->second));
+    if (found) {
+      pool.add(found->first, std::move(found->second));
+      framed.push_back(1);  // shifted until it registers
+    }
   report(progress, "shifting poses towards markers", 1);
+  return framed;
 }
 
 std::vector<char> addFramedPoses(const Placement& at, MeasuredViews& pool,
-                                 const std::vector<Marker>& markers, const Progress& progress) {
+                                 const std::vector<Marker>& markers, std::vector<char> framed,
+                                 const Progress& progress) {
   if (markers.empty()) return {};
   const FramedSearch search(at, markers);
-  const std::vector<std::vector<int>> seen = search.seen(pool.views);
   // The samples some pose of the pool measures, and whether a framed one does.
-  std::vector<char> framed(pool.size());
   std::vector<char> measured(at.points.size(), 0), served(at.points.size(), 0);
   for (std::size_t v = 0; v < pool.size(); ++v) {
-    framed[v] = search.registers(seen[v]);
     for (int i : pool.samples[v]) {
       measured[i] = 1;
       served[i] |= framed[v];

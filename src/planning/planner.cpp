@@ -515,10 +515,12 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   candidates.insert(candidates.end(), options.candidates.begin(), options.candidates.end());
   detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
   const auto registering = registeringMarkers(at, options.registration);
-  if (registering) detail::addMarkerShifts(at, pool, *registering, progress);
-  std::vector<char> framed;  // under reference points, per pose
+  std::vector<char> framed;  // per pose: registers by the markers by itself
+  if (registering) framed = detail::addMarkerShifts(at, pool, *registering, progress);
   if (registering && registrationOptions(at.spec.spec).method == RegistrationMode::ReferencePoints)
-    framed = detail::addFramedPoses(at, pool, *registering, progress);
+    framed = detail::addFramedPoses(at, pool, *registering, std::move(framed), progress);
+  else
+    framed.clear();  // the selection prices poses by it under reference points only
   clock.lap("candidate pool");
 
   report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);

@@ -90,17 +90,21 @@ MeasuredViews candidatePool(const Placement& at, MeasuredViews added,
 // few `markers` to register by, moved across its axis (up to half the field of view) by
 // the least shift that takes in enough of them and keeps measuring its own samples (those
 // within a quarter of the field of view of its target), is added to the pool so moved.
-void addMarkerShifts(const Placement& at, MeasuredViews& pool, const std::vector<Marker>& markers,
-                     const Progress& progress);
+// Per pose of the pool then, whether it registers by the markers by itself (none without
+// markers).
+std::vector<char> addMarkerShifts(const Placement& at, MeasuredViews& pool,
+                                  const std::vector<Marker>& markers, const Progress& progress);
 
 // Framed poses, under registration by reference points: for each sample that poses of the
 // pool measure but none that sees enough `markers` to register by, up to four valid poses
 // that measure it and register by the markers (aimed at it from a 20-degree grid of
 // directions, with the sample off the centre of the field), added to the pool with the
-// samples each measures. Samples those measure need no search of their own. Per pose of
-// the pool then, whether it registers by the markers by itself.
+// samples each measures. Samples those measure need no search of their own. `framed`: per
+// pose of the pool, whether it registers by the markers by itself (addMarkerShifts'); so
+// extended to the poses added.
 std::vector<char> addFramedPoses(const Placement& at, MeasuredViews& pool,
-                                 const std::vector<Marker>& markers, const Progress& progress);
+                                 const std::vector<Marker>& markers, std::vector<char> framed,
+                                 const Progress& progress);
 
 // What the coverage targets (planner.coverage) ask of the views after the `pinned` ones:
 // per sample its group (0: the priority samples, 1 + a task type's place in kTaskTypes: that
