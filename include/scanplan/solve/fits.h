@@ -1,0 +1,46 @@
+#pragma once
+// Fits of ideal geometry to measured points, as inspection software evaluates features
+// (docs/capability.md, "Virtual inspection"): least-squares (Gaussian) planes and
+// cylinders, and the minimum-zone (Chebyshev) flatness of ISO 1101.
+
+#include <scanplan/core/geometry.h>
+
+#include <span>
+
+namespace scanplan {
+
+struct PlaneFit {
+  Vec3 point = Vec3::Zero();    // the points' centroid
+  Vec3 normal = Vec3::UnitZ();  // unit
+  double rms = 0;               // of the points' distances to the plane, mm
+  bool determined = false;      // at least 3 points, not all on one line
+};
+
+// The least-squares plane of `points`, its normal turned to the side of `towards`.
+PlaneFit fitPlane(std::span<const Vec3> points, const Vec3& towards);
+
+// The width of the narrowest pair of parallel planes holding every point (minimum zone),
+// found as a linear programme over the planes near `normal`. 0 for fewer than 3 points.
+double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal);
+
+struct CylinderFit {
+  Vec3 point = Vec3::Zero();  // on the axis, nearest the points' centroid
+  Vec3 axis = Vec3::UnitZ();  // unit
+  double radius = 0;          // mm
+  double rms = 0;             // of the points' radial residuals, mm
+  bool determined = false;    // the fit converged on points that fix it
+};
+
+// The least-squares cylinder of `points` (the sum of squared radial residuals), by
+// Gauss-Newton from `start`: a cylinder near the points, the nominal one, say.
+CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start);
+
+// The cylinder surface `points` with their outward `normals` lie on, without noise: the
+// axis along which the normals do not turn, its point and radius by least squares. For a
+// start to fitCylinder; `determined` false when the normals do not fix an axis.
+CylinderFit cylinderFromNormals(std::span<const Vec3> points, std::span<const Vec3> normals);
+
+// The distance from `p` to the axis of `cylinder`, mm.
+double axisDistance(const CylinderFit& cylinder, const Vec3& p);
+
+}  // namespace scanplan

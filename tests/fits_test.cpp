@@ -1,0 +1,128 @@
+// Fits of ideal geometry against closed-form answers.
+
+#include <scanplan/solve/fits.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+using namespace scanplan;
+
+namespace {
+
+// A square grid of n x n points over side `side` in z = 0, each with Gaussian noise in z.
+std::vector<Vec3> noisyGrid(int n, double side, double sigma, std::mt19937_64& random) {
+  std::normal_distribution<double> noise(0, sigma);
+  std::vector<Vec3> points;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      points.push_back({side * ((i + 0.5) / n - 0.5), side * ((j + 0.5) / n - 0.5), noise(random)});
+  return points;
+}
+
+double standardDeviation(const std::vector<double>& values) {
+  double mean = 0, squares = 0;
+  for (double v : values) mean += v / static_cast<double>(values.size());
+  for (double v : values) squares += (v - mean) * (v - mean);
+  return std::sqrt(squares / static_cast<double>(values.size() - 1));
+}
+
+}  // namespace
+
+// A least-squares plane through N points of noise sigma: its offset has the deviation
+// sigma / sqrt(N), and each slope sigma / sqrt(sum u^2), sum u^2 = N side^2 / 12 on a
+// uniform grid (less the grid's own discreteness, (n^2 - 1) / n^2).
+TEST(Fits, PlaneFitsSpreadIsTheClosedFormUnderKnownNoise) {
+  std::mt19937_64 random(7);
+  const int n = 20;
+  const double side = 100, sigma = 0.01;
+  std::vector<double> offsets, slopes;
+  for (int draw = 0; draw < 400; ++draw) {
+    const std::vector<Vec3> points = noisyGrid(n, side, sigma, random);
+    const PlaneFit fit = fitPlane(points, Vec3::UnitZ());
+    ASSERT_TRUE(fit.determined);
+    offsets.push_back(fit.point.z());
+    slopes.push_back(fit.normal.x() / fit.normal.z());
+  }
+  const double count = n * n;
+  const double spread_u = side * side / 12 * (1 - 1.0 / (n * n));
+  EXPECT_NEAR(standardDeviation(offsets), sigma / std::sqrt(count), 0.1 * sigma / std::sqrt(count));
+  const double slope = sigma / std::sqrt(count * spread_u);
+  EXPECT_NEAR(standardDeviation(slopes), slope, 0.1 * slope);
+}
+
+// Points on a bowl z = b (1 - r^2 / R^2) over a disc of radius R, tilted: whatever the
+// tilt, the narrowest zone is b (the vertex against the rim), where the least-squares
+// plane's peak to valley is larger once the bowl is tilted off the fit's plane.
+TEST(Fits, MinimumZoneFlatnessOfABowIsTheBow) {
+  const double bow = 0.05, radius = 50;
+  std::vector<Vec3> points;
+  for (int ring = 0; ring <= 10; ++ring)
+    for (int k = 0; k < 36; ++k) {
+      const double r = radius * ring / 10, a = 2 * std::numbers::pi * k / 36;
+      const double x = r * std::cos(a), y = r * std::sin(a);
+      points.push_back({x, y, bow * (1 - r * r / (radius * radius)) + 0.001 * x});
+    }
+  EXPECT_NEAR(minimumZoneFlatness(points, Vec3::UnitZ()), bow, 1e-6);
+  EXPECT_NEAR(minimumZoneFlatness(points, Vec3(0.05, 0.02, 1).normalized()), bow, 1e-6);
+  std::vector<Vec3> flat = points;
+  for (Vec3& p : flat) p.z() = 0.001 * p.x();
+  EXPECT_NEAR(minimumZoneFlatness(flat, Vec3::UnitZ()), 0, 1e-9);
+}
+
+// A full circle of N points of radial noise sigma: the fitted radius has the deviation
+// sigma / sqrt(N); a tilted, shifted nominal start converges on the true axis.
+TEST(Fits, CylinderFitsRadiusSpreadIsTheClosedFormAndTheAxisIsFound) {
+  std::mt19937_64 random(11);
+  const double radius = 17.5, sigma = 0.01;
+  const Vec3 axis = Vec3(0.1, -0.2, 1).normalized(), origin(30, -20, 5);
+  const Vec3 e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
+  std::normal_distribution<double> noise(0, sigma);
+  std::vector<double> radii;
+  const int around = 40, along = 10;
+  for (int draw = 0; draw < 300; ++draw) {
+    std::vector<Vec3> points;
+    for (int k = 0; k < around; ++k)
+      for (int h = 0; h < along; ++h) {
+        const double a = 2 * std::numbers::pi * (k + 0.5) / around;
+        points.push_back(origin + 3.0 * h * axis +
+                         (radius + noise(random)) * (std::cos(a) * e1 + std::sin(a) * e2));
+      }
+    CylinderFit start;
+    start.point = origin + Vec3(0.5, 0.3, 0);
+    start.axis = Vec3::UnitZ();
+    start.radius = 18;
+    const CylinderFit fit = fitCylinder(points, start);
+    ASSERT_TRUE(fit.determined);
+    ASSERT_GT(std::abs(fit.axis.dot(axis)), 1 - 1e-6);
+    ASSERT_LT(axisDistance(fit, origin), 0.01);
+    radii.push_back(fit.radius);
+  }
+  const double expected = sigma / std::sqrt(around * along);
+  EXPECT_NEAR(standardDeviation(radii), expected, 0.12 * expected);
+}
+
+// A hole's wall (normals towards the axis) over a third of its circle: the axis and radius
+// from the normals alone.
+TEST(Fits, ACylindersAxisAndRadiusFollowFromItsNormals) {
+  const double radius = 12;
+  const Vec3 axis = Vec3::UnitY(), centre(5, 0, -3);
+  std::vector<Vec3> points, normals;
+  for (int k = 0; k < 30; ++k)
+    for (int h = 0; h < 4; ++h) {
+      const double a = 2 * std::numbers::pi / 3 * k / 29;
+      const Vec3 out(std::cos(a), 0, std::sin(a));
+      points.push_back(centre + 5.0 * h * axis + radius * out);
+      normals.push_back(-out);
+    }
+  const CylinderFit fit = cylinderFromNormals(points, normals);
+  ASSERT_TRUE(fit.determined);
+  EXPECT_GT(std::abs(fit.axis.dot(axis)), 1 - 1e-9);
+  EXPECT_NEAR(fit.radius, radius, 1e-9);
+  EXPECT_NEAR(axisDistance(fit, centre), 0, 1e-9);
+  std::vector<Vec3> flat(points.size(), Vec3::UnitZ());
+  EXPECT_FALSE(cylinderFromNormals(points, flat).determined);
+}
