@@ -1,6 +1,7 @@
 // Characteristics against the STEP files' own PMI entities, and measurement capability
 // against analytic least-squares results on a plane.
 
+#include "planning/registration_error.h"
 #include "support.h"
 
 #include <scanplan/cad/gdt.h>
@@ -163,6 +164,122 @@ TEST(Capability, APlanesUncertaintyIsTheFittedPlanesAnalyticError) {
   ASSERT_GT(sparse.capability.ratio, 1);
   EXPECT_EQ(sparse.capability.verdict, Verdict::Marginal);
   EXPECT_EQ(sparse.capability.reason, Shortfall::TooNoisy);
+}
+
+// Four markers at (+-a, +-a, 0), centres measured with sigma per axis: the rigid fit's
+// translation has the variance sigma^2 / 4 on each axis, its turn about z sigma^2 / (8 a^2)
+// and about x or y sigma^2 / (4 a^2) (sum |p|^2 and sum y^2 of the markers).
+TEST(ErrorBudget, TheRigidFitOfFourMarkersHasTheClosedFormCovariance) {
+  const double a = 50, sigma = 0.01;
+  const std::vector<Vec3> markers = {{a, a, 0}, {-a, a, 0}, {a, -a, 0}, {-a, -a, 0}};
+  const detail::TwistCovariance c = detail::rigidFitCovariance(markers, sigma);
+  for (int axis = 3; axis < 6; ++axis)
+    EXPECT_NEAR(c(axis, axis), sigma * sigma / 4, 1e-6 * sigma * sigma);
+  EXPECT_NEAR(c(2, 2), sigma * sigma / (8 * a * a), 1e-6 * sigma * sigma / (a * a));
+  EXPECT_NEAR(c(0, 0), sigma * sigma / (4 * a * a), 1e-6 * sigma * sigma / (a * a));
+}
+
+// ICP on three orthogonal planes through the origin, each a centred grid of m points of
+// variance v along its normal: a translation along x is fixed by the plane x = 0 alone,
+// variance v / m; the turns do not mix in, since each grid is centred.
+TEST(ErrorBudget, IcpOnACornerOfThreePlanesHasTheClosedFormCovariance) {
+  std::vector<Vec3> points, normals;
+  const double v = 1e-4;
+  int m = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int i = -5; i <= 5; ++i)
+      for (int j = -5; j <= 5; ++j) {
+        Vec3 p = Vec3::Zero();
+        p[(axis + 1) % 3] = 10.0 * i;
+        p[(axis + 2) % 3] = 10.0 * j;
+        points.push_back(p);
+        normals.push_back(Vec3::Unit(axis));
+        m += axis == 0;
+      }
+  const std::vector<double> variances(points.size(), v);
+  const detail::TwistCovariance c = detail::icpCovariance(points, normals, variances);
+  for (int axis = 3; axis < 6; ++axis) EXPECT_NEAR(c(axis, axis), v / m, 1e-6 * v / m);
+}
+
+// The 200 x 100 mm top of a plate (flatness 0.2), seen straight on by a scanner of a
+// 100 x 100 mm field, noise 0.01 mm and a flatness error of 0.02 mm: by `views` views spread
+// along x, the first the reference and the others placed by a robot of accuracy 0.1 mm.
+Capability twoHalvesCase(const test::TempDir& dir, int views) {
+  BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 100;
+  spec.scanner.point_spacing = 2;
+  spec.scanner.flatness_error = 0.02;
+  Plan plan;
+  plan.scanner = spec.scanner;
+  Registration registration;
+  registration.method = RegistrationMode::Robot;
+  registration.robot_accuracy = 0.1;
+  for (int k = 0; k < views; ++k) {
+    View view;
+    view.id = k + 1;
+    const double x = views == 1 ? 100 : 45 + 110 * k;
+    view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
+    view.camera_to_world.translation() = Vec3(x, 50, 10 + spec.scanner.standoff);
+    view.target = Vec3(x, 50, 10);
+    plan.views.push_back(view);
+    ViewRegistration placed;
+    placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
+    registration.views.push_back(placed);
+  }
+  plan.registration = registration;
+  Characteristic flatness;
+  flatness.id = 1;
+  flatness.kind = "flatness";
+  flatness.value = flatness.upper = 0.2;
+  for (const Face& f : part.faces)
+    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  return capabilities(part, resolveSpec(part, spec), plan, {flatness}).front();
+}
+
+// The registration's share of U. Two views, each on one half of the face, the second
+// placed by the robot: their offset along the normal, sigma s = 0.1 / 2.7955 (95% of the
+// robot's position errors within its accuracy), shows as a step. A least-squares plane
+// leaves residuals spanning 0.81 of the step over four sample columns a half (as the
+// surface sampler lays them on this face, 25 mm apart) and the whole step over a continuous
+// surface, so the flatness' U from the registration is 0.81 to 1 times 1.96 s. One view,
+// moved as a whole, leaves the form as it is: none. The scanner's
+// flatness error (0.02) is a uniform error within it: U = 2 x 0.02 / sqrt 3, and the whole
+// U is never below it.
+TEST(Capability, ARegistrationStepBetweenTwoViewsShowsInTheFlatnessAndOneViewLeavesIt) {
+  test::TempDir dir;
+  const Capability two = twoHalvesCase(dir, 2);
+  const Capability one = twoHalvesCase(dir, 1);
+  const double s = 0.1 / 2.7955;
+  RecordProperty("registration_u_two_views", std::to_string(two.budget.registration));
+  EXPECT_NEAR(two.covered, 1, 0.02);
+  EXPECT_GT(two.budget.registration, 0.81 * 1.96 * s * 0.9);  // the draws' own spread: 10%
+  EXPECT_LT(two.budget.registration, 1.96 * s * 1.1);
+  EXPECT_NEAR(one.budget.registration, 0, 1e-9);
+  EXPECT_NEAR(two.budget.scanner, 2 * 0.02 / std::sqrt(3.0), 1e-12);
+  EXPECT_GE(one.uncertainty, 0.02);
+  EXPECT_NEAR(two.uncertainty,
+              std::hypot(two.budget.noise, two.budget.registration, two.budget.scanner), 1e-12);
+  EXPECT_LT(two.ratio, one.ratio);
+}
+
+// A characteristic the import linked to no face is not "uncovered": it is "not linked".
+TEST(Capability, ACharacteristicWithoutFacesIsNotLinked) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  Plan plan;
+  plan.scanner = defaultSpec().scanner;
+  Characteristic straightness;
+  straightness.id = 1;
+  straightness.kind = "straightness";
+  straightness.value = straightness.upper = 0.1;
+  const Capability k =
+      capabilities(part, resolveSpec(part, defaultSpec()), plan, {straightness}).front();
+  EXPECT_EQ(k.verdict, Verdict::NotCapable);
+  EXPECT_EQ(k.reason, Shortfall::NotLinked);
+  EXPECT_EQ(toString(k.reason), "not_linked");
 }
 
 // FTC 11 stands on its datum A face (flatness 0.3): no view measures it, and the plan says

@@ -97,9 +97,10 @@ void printCharacteristics(const Plan& plan) {
     if (k.verdict == Verdict::Capable || k.verdict == Verdict::Untoleranced) continue;
     const Characteristic& c = plan.characteristics[i];
     fmt::print(
-        "  {:>3} {:<22} {:>8.3f}  {:>5.1f}% covered, U {:.4f}, ratio {:.2f}: {} ({}){}\n", c.id,
-        c.kind, c.width(), 100 * k.covered, k.uncertainty, k.ratio, toString(k.verdict),
-        toString(k.reason),
+        "  {:>3} {:<22} {:>8.3f}  {:>5.1f}% covered, U {:.4f} (noise {:.4f}, registration "
+        "{:.4f}, scanner {:.4f}), ratio {:.2f}: {} ({}){}\n",
+        c.id, c.kind, c.width(), 100 * k.covered, k.uncertainty, k.budget.noise,
+        k.budget.registration, k.budget.scanner, k.ratio, toString(k.verdict), toString(k.reason),
         k.rest ? fmt::format("; rest orientation {} reaches it (part: {{rest: all}})", *k.rest + 1)
                : "");
   }

@@ -109,6 +109,10 @@ json capabilityJson(const Capability& k) {
           {"density", k.density},
           {"largest_gap", finite(k.largest_gap)},
           {"uncertainty", k.uncertainty},
+          {"budget",
+           {{"noise", k.budget.noise},
+            {"registration", k.budget.registration},
+            {"scanner", k.budget.scanner}}},
           {"ratio", k.ratio},
           {"verdict", toString(k.verdict)},
           {"reason", toString(k.reason)},
@@ -771,7 +775,14 @@ struct PlanReader {
     c.uncertainty = field<double>(section, "uncertainty", path, where);
     c.ratio = field<double>(section, "ratio", path, where);
     c.verdict = named<Verdict>(field<std::string>(section, "verdict", path, where), 4, where);
-    c.reason = named<Shortfall>(field<std::string>(section, "reason", path, where), 4, where);
+    c.reason =
+        named<Shortfall>(field<std::string>(section, "reason", path, where), kShortfalls, where);
+    if (const json budget = section.value("budget", json()); budget.is_object()) {
+      const std::string in = where + " budget";
+      c.budget = {field<double>(budget, "noise", path, in),
+                  field<double>(budget, "registration", path, in),
+                  field<double>(budget, "scanner", path, in)};
+    }
     if (const json rest = section.value("rest_orientation", json()); rest.is_number_integer())
       c.rest = rest.get<std::size_t>() - 1;
     return c;

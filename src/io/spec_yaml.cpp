@@ -559,9 +559,9 @@ void readMarkers(const YAML::Node& markers, const SpecReader& reader, Spec& spec
 RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& reader,
                                      const std::string& path) {
   checkKeys(node,
-            {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "min_overlap",
-             "max_condition", "point_spacing", "verify", "cloud_spacing", "perturbation",
-             "tolerance", "bridging", "max_bridging_views"},
+            {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "marker_sigma",
+             "min_overlap", "max_condition", "point_spacing", "verify", "cloud_spacing",
+             "perturbation", "tolerance", "bridging", "max_bridging_views"},
             reader, "registration");
   RegistrationOptions r;
   if (const YAML::Node method = node["method"]) {
@@ -578,6 +578,7 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
   reader.read(node, "registration", "required", r.required);
   reader.read(node, "registration", "min_markers", r.min_markers);
   reader.read(node, "registration", "marker_spread", r.marker_spread);
+  reader.read(node, "registration", "marker_sigma", r.marker_sigma);
   reader.read(node, "registration", "min_overlap", r.min_overlap);
   reader.read(node, "registration", "max_condition", r.max_condition);
   reader.read(node, "registration", "point_spacing", r.point_spacing);

@@ -13,6 +13,7 @@
 // U is the error that 95% of the draws stay under.
 
 #include "core/kd_tree.h"
+#include "planning/registration_error.h"
 
 #include <scanplan/cad/localization.h>
 #include <scanplan/planning/capability.h>
@@ -38,6 +39,8 @@ constexpr double kMostlyUncovered = 0.5;
 // What a view measures at a sample: the noise of its points and how many there are.
 struct Look {
   double sigma = 0, points = 0;
+  std::size_t view = 0;                                  // into the plan's views
+  Vec3 position = Vec3::Zero(), normal = Vec3::UnitZ();  // in the view's world
 };
 
 // A sample of a characteristic's faces (part frame) and the views' looks at it.
@@ -109,59 +112,227 @@ Fit fitOf(const std::vector<const Patch*>& patches) {
   return fit;
 }
 
-// One draw of the noise's error on the characteristic's value: the fitted geometry's
-// displacement from the true one, as the characteristic measures it.
-double drawError(Effect effect, const std::vector<const Patch*>& patches, const Fit& fit,
-                 std::mt19937_64& random) {
-  std::normal_distribution<double> normal;
-  std::vector<double> noise(patches.size());
-  Row pull = Row::Zero();
-  for (std::size_t i = 0; i < patches.size(); ++i) {
-    noise[i] = fit.sigmas[i] * normal(random);
-    pull += fit.rows[i] * noise[i] / (fit.sigmas[i] * fit.sigmas[i]);
-  }
-  const Row fitted = fit.normal.solve(pull);
-  if (effect == Effect::Diameter) return 2 * std::abs(fitted[0]);
-  if (effect == Effect::Radius) return std::abs(fitted[0]);
-  if (effect == Effect::Size) {  // a distance between faces: each face's offset adds
-    std::map<int, std::pair<double, double>> faces;  // weighted offset sum, weight
-    for (std::size_t i = 0; i < patches.size(); ++i) {
-      const double w = 1 / (fit.sigmas[i] * fit.sigmas[i]);
-      faces[patches[i]->point.face].first += w * noise[i];
-      faces[patches[i]->point.face].second += w;
+// The rigid motion that best explains the datum patches' displacements `d` along their
+// normals (weighted least squares), the directions the datum leaves free held at 0: its
+// effect on `p` along `n`.
+class DatumMotion {
+ public:
+  explicit DatumMotion(const std::vector<const Patch*>& datum) {
+    Normal6 normal = Normal6::Zero();
+    for (const Patch* p : datum) {
+      const auto row = detail::alongNormal(p->point.position, p->point.normal);
+      const double w = 1 / (p->meanSigma() * p->meanSigma());
+      rows_.push_back(row);
+      weights_.push_back(w);
+      normal += row.transpose() * row * w;
     }
-    double squares = 0;
-    for (const auto& [face, f] : faces) squares += (f.first / f.second) * (f.first / f.second);
-    return std::sqrt(squares);
+    normal += 1e-9 * (normal.trace() + 1) * Normal6::Identity();
+    normal_.compute(normal);
   }
-  double high = -std::numeric_limits<double>::infinity(), low = -high;
-  for (const Row& row : fit.rows) {
-    const double d = row.dot(fitted);
-    high = std::max(high, d);
-    low = std::min(low, d);
+  bool empty() const { return rows_.empty(); }
+  detail::Twist motion(const std::vector<double>& d) const {
+    detail::Twist pull = detail::Twist::Zero();
+    for (std::size_t j = 0; j < rows_.size(); ++j)
+      pull += rows_[j].transpose() * d[j] * weights_[j];
+    return normal_.solve(pull);
   }
-  if (effect == Effect::Angle) return degrees(std::atan((high - low) / fit.extent));
-  return effect == Effect::Form ? high - low : 2 * std::max(high, -low);
+
+ private:
+  using Normal6 = Eigen::Matrix<double, 6, 6>;
+  std::vector<Eigen::Matrix<double, 1, 6>> rows_;
+  std::vector<double> weights_;
+  Eigen::LDLT<Normal6> normal_;
+};
+
+// What a characteristic's draws read: its measured patches and their fit, and its datum
+// features' patches (none without datums).
+struct Measured {
+  std::vector<const Patch*> feature, datum;
+  Fit fit;
+  DatumMotion datum_motion;
+  Measured(std::vector<const Patch*> f, std::vector<const Patch*> d)
+      : feature(std::move(f)), datum(std::move(d)), fit(fitOf(feature)), datum_motion(datum) {}
+};
+
+// `d` (per feature patch) less the datum features' fitted motion under their `datum_d`.
+void relativeToDatums(const Measured& m, const std::vector<double>& datum_d,
+                      std::vector<double>& d) {
+  if (m.datum_motion.empty()) return;
+  const detail::Twist motion = m.datum_motion.motion(datum_d);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    d[i] -= detail::alongNormal(m.feature[i]->point.position, m.feature[i]->point.normal) * motion;
 }
 
-// U: the error 95% of the draws stay under.
-double uncertainty(const Characteristic& c, const std::vector<const Patch*>& patches,
-                   const CapabilityOptions& options, std::uint64_t seed) {
-  const Fit fit = fitOf(patches);
-  std::mt19937_64 random(seed + static_cast<std::uint64_t>(c.id));
-  std::vector<double> errors;
-  for (int k = 0; k < options.draws; ++k)
-    errors.push_back(drawError(effectOf(c), patches, fit, random));
+// The fitted geometry's displacement at each patch, and what it leaves of `d`.
+struct Fitted {
+  std::vector<double> at, residual;
+  double offset = 0;  // the fitted size offset
+};
+Fitted fitted(const Fit& fit, const std::vector<double>& d) {
+  Row pull = Row::Zero();
+  for (std::size_t i = 0; i < d.size(); ++i)
+    pull += fit.rows[i] * d[i] / (fit.sigmas[i] * fit.sigmas[i]);
+  const Row x = fit.normal.solve(pull);
+  Fitted f;
+  f.offset = x[0];
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    f.at.push_back(fit.rows[i].dot(x));
+    f.residual.push_back(d[i] - f.at.back());
+  }
+  return f;
+}
+
+double range(const std::vector<double>& values) {
+  if (values.empty()) return 0;
+  const auto [low, high] = std::minmax_element(values.begin(), values.end());
+  return *high - *low;
+}
+double largestMagnitude(const std::vector<double>& values) {
+  double m = 0;
+  for (double v : values) m = std::max(m, std::abs(v));
+  return m;
+}
+
+// Per face of the patches, the weighted mean of `d`: a face's offset.
+std::vector<double> faceOffsets(const Measured& m, const std::vector<double>& d) {
+  std::map<int, std::pair<double, double>> faces;  // weighted offset sum, weight
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const double w = 1 / (m.fit.sigmas[i] * m.fit.sigmas[i]);
+    faces[m.feature[i]->point.face].first += w * d[i];
+    faces[m.feature[i]->point.face].second += w;
+  }
+  std::vector<double> offsets;
+  for (const auto& [face, f] : faces) offsets.push_back(f.first / f.second);
+  return offsets;
+}
+
+// One draw of the noise's error on the characteristic's value: the fitted geometry's
+// displacement from the true one (relative to its datums' fit), as the characteristic
+// measures it.
+double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
+  std::normal_distribution<double> normal;
+  std::vector<double> d, datum_d;
+  for (const Patch* p : m.feature) d.push_back(p->meanSigma() * normal(random));
+  for (const Patch* p : m.datum) datum_d.push_back(p->meanSigma() * normal(random));
+  relativeToDatums(m, datum_d, d);
+  const Fitted f = fitted(m.fit, d);
+  switch (effect) {
+    case Effect::Diameter: return 2 * std::abs(f.offset);
+    case Effect::Radius: return std::abs(f.offset);
+    case Effect::Size: {  // a distance between faces: each face's offset adds
+      double squares = 0;
+      for (double o : faceOffsets(m, d)) squares += o * o;
+      return std::sqrt(squares);
+    }
+    case Effect::Angle: return degrees(std::atan(range(f.at) / m.fit.extent));
+    case Effect::Form: return range(f.at);
+    case Effect::Profile: return 2 * largestMagnitude(f.at);
+  }
+  return 0;
+}
+
+// One draw of the registration's error on the value: each view moved by a draw of its
+// error, each patch by the mean of its views' motions. A rigid motion of the whole does not
+// change a form, a size or an angle: only the views' motions against one another, and
+// against the datums' views, do.
+double registrationError(Effect effect, const Measured& m,
+                         const std::vector<detail::Twist>& moves) {
+  const auto moved = [&](const Patch* p) {
+    double sum = 0, weight = 0;
+    for (const Look& l : p->looks) {
+      const double w = l.points / (l.sigma * l.sigma);
+      sum += w * (detail::alongNormal(l.position, l.normal) * moves[l.view])(0);
+      weight += w;
+    }
+    return weight > 0 ? sum / weight : 0.0;
+  };
+  std::vector<double> d, datum_d;
+  for (const Patch* p : m.feature) d.push_back(moved(p));
+  for (const Patch* p : m.datum) datum_d.push_back(moved(p));
+  relativeToDatums(m, datum_d, d);
+  const bool relative = !m.datum.empty();
+  const Fitted f = fitted(m.fit, d);
+  switch (effect) {
+    case Effect::Diameter: return 2 * std::abs(f.offset);
+    case Effect::Radius: return std::abs(f.offset);
+    case Effect::Size: {  // opposite faces moved alike keep their distance
+      double sum = 0;
+      for (double o : faceOffsets(m, d)) sum += o;
+      return std::abs(sum);
+    }
+    case Effect::Angle: return degrees(std::atan(range(f.residual) / m.fit.extent));
+    case Effect::Form: return relative ? range(f.at) + range(f.residual) : range(f.residual);
+    case Effect::Profile: return 2 * largestMagnitude(relative ? d : f.residual);
+  }
+  return 0;
+}
+
+// The value 95% of `errors` stay under.
+double percentile95(std::vector<double> errors) {
+  if (errors.empty()) return 0;
   const auto at =
       errors.begin() + static_cast<std::ptrdiff_t>(0.95 * static_cast<double>(errors.size() - 1));
   std::nth_element(errors.begin(), at, errors.end());
   return *at;
 }
 
-// The characteristics' faces, sampled once (part frame), each sample a patch.
+// The scanner's acceptance figure that bounds the characteristic's value (a maximum
+// permissible error, mm; 0: the preset states none): the flatness error for the form and
+// orientation of planes, the probing error of form for curved form, of size for sizes, the
+// sphere-spacing error for distances, locations and profiles.
+double acceptanceFigure(const Characteristic& c, Effect effect, const Scanner& s) {
+  switch (effect) {
+    case Effect::Diameter: return s.probing_size;
+    case Effect::Radius: return s.probing_size / 2;
+    case Effect::Size: return s.sphere_spacing;
+    case Effect::Angle: return 0;
+    case Effect::Profile: return std::max(s.sphere_spacing, s.probing_form);
+    case Effect::Form:
+      return c.kind == "circularity" || c.kind == "cylindricity" ||
+                     c.kind.find("runout") != c.kind.npos
+                 ? s.probing_form
+                 : s.flatness_error;
+  }
+  return 0;
+}
+
+// The budget and U of a characteristic measured as `m`: the noise's and the registration's
+// by Monte Carlo, the scanner's from its acceptance figure as a uniform distribution
+// within it (U = 2 MPE / sqrt 3); U their root sum of squares.
+ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& scanner,
+                     const detail::TwistDraws& moves, const CapabilityOptions& options,
+                     std::uint64_t seed) {
+  const Effect effect = effectOf(c);
+  std::mt19937_64 random(seed + static_cast<std::uint64_t>(c.id));
+  std::vector<double> noise, registration;
+  for (int k = 0; k < options.draws; ++k) {
+    noise.push_back(noiseError(effect, m, random));
+    registration.push_back(registrationError(effect, m, moves.draw(random)));
+  }
+  return {percentile95(std::move(noise)), percentile95(std::move(registration)),
+          2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
+}
+
+// The faces a characteristic's datum letters name.
+std::vector<int> datumFaces(const Part& part, const Characteristic& c) {
+  std::vector<int> faces;
+  for (const std::string& letter : c.datums)
+    for (const Datum& d : part.gdt.datums)
+      if (d.name == letter) faces.insert(faces.end(), d.faces.begin(), d.faces.end());
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// The characteristics' faces and their datums', sampled once (part frame), each sample a
+// patch.
 std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>& list) {
   std::set<int> faces;
-  for (const Characteristic& c : list) faces.insert(c.faces.begin(), c.faces.end());
+  for (const Characteristic& c : list) {
+    faces.insert(c.faces.begin(), c.faces.end());
+    if (!c.dimension)
+      for (int f : datumFaces(part, c)) faces.insert(f);
+  }
   std::vector<Patch> patches;
   for (const Sample& s :
        sampleSurface(part, {faces.begin(), faces.end()}, Role::Priority, TaskType::Gdt))
@@ -177,8 +348,12 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
     const Pose placed = orientationPlacement(plan, k);
     std::vector<View> views;
+    std::vector<std::size_t> indices;  // into plan.views
     for (std::size_t v = 0; v < plan.views.size(); ++v)
-      if (orientation[v] == k) views.push_back(plan.views[v]);
+      if (orientation[v] == k) {
+        views.push_back(plan.views[v]);
+        indices.push_back(v);
+      }
     const Simulator simulator(part, scanner, simulationOptionsFor(spec, part, placed));
     std::vector<SurfacePoint> points;
     for (const Patch& p : patches)
@@ -188,9 +363,53 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
       for (int i : measured[v]) {
         const PointQuality q =
             pointQuality(scanner, views[v], points[i].position, points[i].normal);
-        patches[i].looks.push_back({q.sigma, patches[i].area * q.density});
+        patches[i].looks.push_back({q.sigma, patches[i].area * q.density, indices[v],
+                                    points[i].position, points[i].normal});
       }
   }
+}
+
+// A characteristic's patches as the views placed in one frame measure them: the frame whose
+// views measure most of its area (and its datums'). `lost_*`: the area measured otherwise,
+// by views of other setups not joined to that one, or by views that register to nothing.
+struct InOneFrame {
+  std::vector<Patch> feature, datum;
+  double lost_to_setups = 0, lost_unregistered = 0;
+};
+InOneFrame inOneFrame(const std::vector<const Patch*>& feature,
+                      const std::vector<const Patch*>& datum,
+                      const std::vector<detail::ViewError>& errors) {
+  std::map<std::size_t, double> area_by_frame;
+  for (const auto* list : {&feature, &datum})
+    for (const Patch* p : *list) {
+      std::set<std::size_t> frames;
+      for (const Look& l : p->looks)
+        if (errors[l.view].placed) frames.insert(errors[l.view].frame);
+      for (std::size_t f : frames) area_by_frame[f] += p->area;
+    }
+  std::size_t frame = 0;
+  double most = -1;
+  for (const auto& [f, area] : area_by_frame)
+    if (area > most) frame = f, most = area;
+  InOneFrame result;
+  const auto keep = [&](const Patch* p, bool count) {
+    Patch kept = *p;
+    kept.looks.clear();
+    bool placed_elsewhere = false;
+    for (const Look& l : p->looks)
+      if (!errors[l.view].placed)
+        continue;
+      else if (errors[l.view].frame == frame)
+        kept.looks.push_back(l);
+      else
+        placed_elsewhere = true;
+    if (count && kept.looks.empty() && !p->looks.empty())
+      (placed_elsewhere ? result.lost_to_setups : result.lost_unregistered) += p->area;
+    return kept;
+  };
+  for (const Patch* p : feature) result.feature.push_back(keep(p, true));
+  for (const Patch* p : datum) result.datum.push_back(keep(p, false));
+  return result;
 }
 
 // The farthest a patch lies from a measured one, and the measured points' own pitch.
@@ -277,6 +496,9 @@ std::string_view toString(Shortfall reason) {
     case Shortfall::Uncovered: return "uncovered";
     case Shortfall::TooSparse: return "too_sparse";
     case Shortfall::TooNoisy: return "too_noisy";
+    case Shortfall::NotLinked: return "not_linked";
+    case Shortfall::NotRegistered: return "not_registered";
+    case Shortfall::SetupsNotJoined: return "setups_not_joined";
   }
   return "?";
 }
@@ -287,15 +509,26 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
   const CapabilityOptions& options = spec.spec.planner.capability;
   std::vector<Patch> patches = patchesOf(part, characteristics);
   look(part, spec, plan, patches);
+  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  const detail::TwistDraws moves(errors);
   const std::vector<RestOrientation> rests = restOrientations(part);
   std::vector<Capability> result;
   for (const Characteristic& c : characteristics) {
-    std::vector<const Patch*> mine;
-    for (const Patch& p : patches)
-      if (std::binary_search(c.faces.begin(), c.faces.end(), p.point.face)) mine.push_back(&p);
+    const auto on = [&](const std::vector<int>& faces) {
+      std::vector<const Patch*> mine;
+      for (const Patch& p : patches)
+        if (std::binary_search(faces.begin(), faces.end(), p.point.face)) mine.push_back(&p);
+      return mine;
+    };
+    const std::vector<const Patch*> all = on(c.faces);
+    const InOneFrame framed = inOneFrame(
+        all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part, c)), errors);
+    std::vector<const Patch*> mine, measured, datum;
+    for (const Patch& p : framed.feature) mine.push_back(&p);
+    for (const Patch& p : framed.datum)
+      if (!p.looks.empty()) datum.push_back(&p);
     Capability k;
     k.characteristic = c.id;
-    std::vector<const Patch*> measured;
     double covered = 0;
     for (const Patch* p : mine) {
       k.area += p->area;
@@ -307,10 +540,23 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
     k.covered = k.area > 0 ? covered / k.area : 0;
     k.density = covered > 0 ? k.points / covered : 0;
     k.largest_gap = largestGap(mine);
-    if (!measured.empty())
-      k.uncertainty = uncertainty(c, measured, options, spec.spec.planner.seed);
+    if (!measured.empty()) {
+      k.budget = budgetOf(c, Measured(measured, datum), plan.scanner, moves, options,
+                          spec.spec.planner.seed);
+      k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
+    }
     judge(c, k, options);
-    if (k.covered < kCoveredEnough) k.rest = restFor(mine, rests, plan.part_to_world);
+    if (c.faces.empty()) {
+      k.reason = Shortfall::NotLinked;
+    } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {
+      // Measured enough, but partly in views the frame cannot take.
+      const double lost = framed.lost_to_setups + framed.lost_unregistered;
+      const double enough = k.reason == Shortfall::Uncovered ? kMostlyUncovered : kCoveredEnough;
+      if (lost > 0 && (covered + lost) / k.area >= enough)
+        k.reason = framed.lost_to_setups >= framed.lost_unregistered ? Shortfall::SetupsNotJoined
+                                                                     : Shortfall::NotRegistered;
+    }
+    if (k.covered < kCoveredEnough) k.rest = restFor(all, rests, plan.part_to_world);
     result.push_back(k);
   }
   return result;

@@ -49,6 +49,7 @@ void validate(const RegistrationOptions& o, const std::string& source) {
   };
   require(o.min_markers >= 3, "min_markers must be at least 3");
   require(o.marker_spread > 0, "marker_spread must be positive");
+  require(o.marker_sigma >= 0 && o.marker_sigma < 10, "marker_sigma must be in [0, 10) mm");
   require(o.min_overlap > 0 && o.min_overlap <= 1, "min_overlap must be in (0, 1]");
   require(o.max_condition >= 1, "max_condition must be at least 1");
   require(o.point_spacing >= 0 && o.cloud_spacing >= 0, "spacings must not be negative");

@@ -76,6 +76,14 @@ void validate(const Scanner& s, const std::string& source) {
   if (!(s.exposure > 0 && s.exposure <= 10)) fail("exposure must be within (0, 10] s");
   if (!(s.sweep_speed == 0 || (s.sweep_speed >= 1 && s.sweep_speed <= 10000)))
     fail("sweep_speed must be 0 (a fringe head) or within [1, 10000] mm/s");
+  for (const auto& [value, name] : {std::pair{s.probing_form, "probing_form"},
+                                    {s.probing_size, "probing_size"},
+                                    {s.sphere_spacing, "sphere_spacing"},
+                                    {s.flatness_error, "flatness_error"}})
+    if (!(value >= 0 && value < s.depth_of_field))
+      fail(std::string(name) +
+           " must be zero (not stated) or a positive number of mm, less "
+           "than the depth of field");
   if (!(s.depth_of_field < 2 * s.standoff))
     fail(
         "depth_of_field must be shorter than twice the standoff (the volume would reach the "
@@ -91,8 +99,8 @@ void validate(const Scanner& s, const std::string& source) {
                     std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
 }
 
-const std::array<ScannerParameter, 15>& scannerParameters() {
-  static const std::array<ScannerParameter, 15> table = {{
+const std::array<ScannerParameter, 19>& scannerParameters() {
+  static const std::array<ScannerParameter, 19> table = {{
       {"standoff", &Scanner::standoff},
       {"depth_of_field", &Scanner::depth_of_field},
       {"fov_width", &Scanner::fov_width},
@@ -108,6 +116,10 @@ const std::array<ScannerParameter, 15>& scannerParameters() {
       {"patterns", &Scanner::patterns},
       {"exposure", &Scanner::exposure},
       {"sweep_speed", &Scanner::sweep_speed},
+      {"probing_form", &Scanner::probing_form},
+      {"probing_size", &Scanner::probing_size},
+      {"sphere_spacing", &Scanner::sphere_spacing},
+      {"flatness_error", &Scanner::flatness_error},
   }};
   return table;
 }

@@ -404,6 +404,11 @@ function selectCharacteristic(index) {
     rows.push(['covered', pct(k.covered, 1)], ['points', `${fmt(k.points, 0)} (${fmt(k.density, 2)} per mm²)`],
       ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (k = 2)', `${fmt(k.uncertainty, 4)} mm`],
       ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)]);
+    if (k.budget) {
+      rows.push(['U from the noise', `${fmt(k.budget.noise, 4)} mm`],
+        ['U from the registration', `${fmt(k.budget.registration, 4)} mm`],
+        ['U from the scanner\'s acceptance figures', `${fmt(k.budget.scanner, 4)} mm`]);
+    }
   }
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
 }
@@ -411,7 +416,7 @@ function limits(c) {
   return c.dimension ? `${fmt(c.value, 3)} (${fmt(c.limits[0], 3)} to ${fmt(c.limits[1], 3)})` : fmt(c.value, 3);
 }
 function verdictText(k) {
-  return `${k.verdict.replace('_', ' ')}${k.reason !== 'none' ? ` (${k.reason.replace('_', ' ')})` : ''}` +
+  return `${k.verdict.replaceAll('_', ' ')}${k.reason !== 'none' ? ` (${k.reason.replaceAll('_', ' ')})` : ''}` +
     (k.rest_orientation ? `; rest orientation ${k.rest_orientation} reaches it` : '');
 }
 // Paints the cameras and frusta of the views `ids` magenta, the others by their state.

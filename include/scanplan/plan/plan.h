@@ -89,9 +89,30 @@ enum class Verdict { Capable, Marginal, NotCapable, Untoleranced };
 std::string_view toString(Verdict verdict);  // "capable", "marginal", "not_capable", ...
 
 // Why a characteristic is not capable: most of its faces unmeasured, too few points or too
-// much of the faces left out, or points too noisy for the tolerance.
-enum class Shortfall { None, Uncovered, TooSparse, TooNoisy };
-std::string_view toString(Shortfall reason);  // "none", "uncovered", "too_sparse", "too_noisy"
+// much of the faces left out, or the error budget too large for the tolerance; or, behind
+// "uncovered", the import linked it to no face, its faces are measured only by views that
+// register to nothing, or they are measured in setups whose frames are not joined.
+enum class Shortfall {
+  None,
+  Uncovered,
+  TooSparse,
+  TooNoisy,
+  NotLinked,
+  NotRegistered,
+  SetupsNotJoined
+};
+constexpr int kShortfalls = 7;
+// "none", "uncovered", "too_sparse", "too_noisy", "not_linked", "not_registered",
+// "setups_not_joined"
+std::string_view toString(Shortfall reason);
+
+// What U is made of (docs/capability.md, "Error budget"), each the expanded uncertainty
+// (95%) of the characteristic's value from that source alone, mm (degrees for an angle).
+struct ErrorBudget {
+  double noise = 0;         // the scanner's random noise at each point
+  double registration = 0;  // the views' registration errors, along their chains
+  double scanner = 0;       // the scanner's acceptance figures (VDI/VDE 2634 part 2)
+};
 
 struct Capability {
   int characteristic = 0;  // its id
@@ -100,8 +121,9 @@ struct Capability {
   double points = 0;       // points the views measure on it (expected count)
   double density = 0;      // points per mm² of the covered area
   double largest_gap = 0;  // mm: the farthest a point of the faces lies from a measured one
-  double uncertainty = 0;  // U, mm: the noise's error on the value, not exceeded in 95% of draws
-  double ratio = 0;        // width / (2 U)
+  double uncertainty = 0;  // U, mm: the budget's sources together (root sum of squares)
+  ErrorBudget budget;
+  double ratio = 0;  // width / (2 U)
   Verdict verdict = Verdict::NotCapable;
   Shortfall reason = Shortfall::None;
   // Where its faces lie unmeasured on the working plane: the index (into

@@ -96,6 +96,10 @@ struct RegistrationOptions {
   // misread.
   int min_markers = 3;
   double marker_spread = 10;  // mm
+  // The standard deviation of a marker centre as a view measures it, per axis, mm, for the
+  // registration's error (docs/capability.md, "Error budget"); 0: a twentieth of the
+  // scanner's point spacing, the centroiding precision assumed for a circular marker.
+  double marker_sigma = 0;
   // ICP: the surface both views measure, as a share of what each measures, and the
   // condition number of its 6x6 point-to-plane covariance (Gelfand et al. 2003).
   double min_overlap = 0.2;

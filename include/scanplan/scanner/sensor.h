@@ -35,6 +35,14 @@ struct Scanner {
   double patterns = 10;
   double exposure = 0.05;  // s
   double sweep_speed = 0;  // mm/s; 0: a fringe head
+  // Acceptance figures after VDI/VDE 2634 part 2, as a data sheet states them (maximum
+  // permissible errors, mm; 0: not stated): probing error of form (PF) and of size (PS) on
+  // a sphere, the sphere-spacing error (SD) and the flatness measurement error (F). The
+  // error budget adds them to the noise (docs/capability.md, "Error budget").
+  double probing_form = 0;
+  double probing_size = 0;
+  double sphere_spacing = 0;
+  double flatness_error = 0;
 
   // Distance from camera to projector: standoff * tan(triangulation_angle), mm.
   double baseline() const;
@@ -51,13 +59,14 @@ struct ScannerParameter {
   const char* name;
   double Scanner::*value;
 };
-const std::array<ScannerParameter, 15>& scannerParameters();
+const std::array<ScannerParameter, 19>& scannerParameters();
 
 // \throw InputError naming `source` and the parameter when a value is out of range:
 //        sizes must be positive, angles within (0, 90) degrees (the reflection cone
 //        within [0, 90)), and the depth of field shorter than twice the standoff; the
 //        patterns a whole number within [1, 1000], the exposure within (0, 10] s, the
-//        sweep speed 0 or within [1, 10000] mm/s.
+//        sweep speed 0 or within [1, 10000] mm/s, the acceptance figures 0 or positive
+//        and less than the depth of field.
 void validate(const Scanner& scanner, const std::string& source);
 
 // The scanner presets' names, sorted: those compiled into the library (data/scanners/ of

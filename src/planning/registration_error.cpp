@@ -1,0 +1,283 @@
+// Each view's registration error (docs/capability.md, "Error budget"):
+// - the reference view fixes its setup's frame: none;
+// - reference points: the rigid fit of the known markers it sees, their centres measured
+//   with registration.marker_sigma;
+// - markers shared with the view it registers to: the same fit, both views' centres noisy;
+// - ICP: point-to-plane ICP on the overlap, each overlap point standing for the points the
+//   views lay there with both views' noise, plus the residual its verification left;
+// - the robot: its pose accuracy, taken as the radius holding 95% of a view's position
+//   errors (isotropic, no turn);
+// and along a chain the errors of the links add.
+
+#include "planning/registration_error.h"
+
+#include <scanplan/planning/planner.h>
+#include <scanplan/registration/registration.h>
+#include <scanplan/scanner/simulation.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace scanplan::detail {
+namespace {
+
+// The radius holding 95% of a 3-D isotropic Gaussian's draws, in its sigmas (the chi
+// distribution with 3 degrees of freedom).
+constexpr double kRadius95 = 2.7955;
+
+Eigen::Matrix3d cross(const Vec3& p) {
+  Eigen::Matrix3d m;
+  m << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+  return m;
+}
+
+// The inverse of an information matrix; directions it leaves free get a large variance
+// rather than an infinity.
+TwistCovariance inverted(const TwistCovariance& information) {
+  const double scale = std::max(information.trace(), 1e-300);
+  return (information + 1e-12 * scale * TwistCovariance::Identity())
+      .ldlt()
+      .solve(TwistCovariance::Identity());
+}
+
+// The markers a view of orientation `k` registers by, where it sees them: those of the
+// working plane turned against the table angle it is taken at.
+std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v) {
+  std::vector<Marker> markers =
+      plan.orientations.empty() ? plan.markers : plan.orientations[k].markers;
+  if (plan.cell && plan.cell->table && v < plan.cell_poses.size() && plan.cell_poses[v]) {
+    const TableTurn table{plan.cell->table->origin, plan.cell->table->axis, {}};
+    markers = markersAtTableAngle(std::move(markers), table, plan.cell_poses[v]->table_angle);
+  }
+  std::vector<Vec3> positions;
+  for (const Marker& m : markers) positions.push_back(m.position);
+  return positions;
+}
+
+// A covariance that marks a view whose error cannot be told (the plan's markers or overlap
+// not found again): it is left out, as a view registered to nothing.
+constexpr double kUnknown = -1;
+
+// The rigid fit's covariance over the markers, unknown for fewer than 3.
+TwistCovariance markerFit(const std::vector<Vec3>& positions, double sigma) {
+  if (positions.size() < 3) return TwistCovariance::Identity() * kUnknown;
+  return rigidFitCovariance(positions, sigma);
+}
+
+std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<int>& indices) {
+  std::vector<Vec3> chosen;
+  for (int i : indices)
+    if (i >= 0 && static_cast<std::size_t>(i) < all.size()) chosen.push_back(all[i]);
+  return chosen;
+}
+
+// The ICP covariance of every view of orientation `k` registered by ICP, against the view
+// it registers to: the overlap sampled as the registration samples it.
+void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std::size_t k,
+               const std::vector<std::size_t>& orientation, std::vector<TwistCovariance>& own) {
+  const Registration& registration = *plan.registration;
+  std::map<int, std::size_t> index;  // view id: its place in the plan
+  std::vector<View> views;
+  std::vector<std::size_t> places;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    index[plan.views[v].id] = v;
+    if (orientation[v] != k) continue;
+    views.push_back(plan.views[v]);
+    places.push_back(v);
+  }
+  const bool any = std::any_of(places.begin(), places.end(), [&](std::size_t v) {
+    return registration.views[v].method == RegistrationMethod::Icp;
+  });
+  if (!any) return;
+  const RegistrationOptions options = registrationOptions(spec.spec);
+  const double spacing =
+      options.point_spacing > 0 ? options.point_spacing : plan.scanner.fov_height / 40;
+  const Simulator simulator(part, plan.scanner,
+                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  const std::vector<SurfacePoint> points = simulator.surfacePoints(spacing, options.seed);
+  const std::vector<std::vector<int>> measured = measuredPoints(simulator, views, points);
+  std::map<std::size_t, std::size_t> local;  // plan index: index into views
+  for (std::size_t i = 0; i < places.size(); ++i) local[places[i]] = i;
+  for (std::size_t i = 0; i < places.size(); ++i) {
+    const std::size_t v = places[i];
+    const ViewRegistration& r = registration.views[v];
+    if (r.method != RegistrationMethod::Icp || !index.count(r.to)) continue;
+    const auto to = local.find(index[r.to]);
+    if (to == local.end()) continue;
+    std::vector<int> both;
+    std::set_intersection(measured[i].begin(), measured[i].end(), measured[to->second].begin(),
+                          measured[to->second].end(), std::back_inserter(both));
+    std::vector<Vec3> p, n;
+    std::vector<double> variances;
+    for (int s : both) {
+      const PointQuality a =
+          pointQuality(plan.scanner, views[i], points[s].position, points[s].normal);
+      const PointQuality b =
+          pointQuality(plan.scanner, views[to->second], points[s].position, points[s].normal);
+      const double count = std::max(std::min(a.density, b.density) * spacing * spacing, 1.0);
+      p.push_back(points[s].position);
+      n.push_back(points[s].normal);
+      variances.push_back((a.sigma * a.sigma + b.sigma * b.sigma) / count);
+    }
+    if (p.size() < 6) {  // too little overlap to say: the view is left out
+      own[v] = TwistCovariance::Identity() * kUnknown;
+      continue;
+    }
+    own[v] = icpCovariance(p, n, variances);
+    if (const PairCheck* pair = registration.pair(plan.views[v].id, r.to);
+        pair && pair->icp && std::isfinite(pair->icp->error))
+      own[v].bottomRightCorner<3, 3>() +=
+          Eigen::Matrix3d::Identity() * pair->icp->error * pair->icp->error / 3;
+  }
+}
+
+}  // namespace
+
+Vec3 displacement(const Twist& twist, const Vec3& p) {
+  return Vec3(twist.head<3>()).cross(p) + twist.tail<3>();
+}
+
+Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
+  Eigen::Matrix<double, 1, 6> row;
+  row << p.cross(n).transpose(), n.transpose();
+  return row;
+}
+
+TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma) {
+  TwistCovariance information = TwistCovariance::Zero();
+  for (const Vec3& p : points) {
+    Eigen::Matrix<double, 3, 6> jacobian;
+    jacobian << -cross(p), Eigen::Matrix3d::Identity();
+    information += jacobian.transpose() * jacobian / (sigma * sigma);
+  }
+  return inverted(information);
+}
+
+TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3> normals,
+                              std::span<const double> variances) {
+  TwistCovariance information = TwistCovariance::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto row = alongNormal(points[i], normals[i]);
+    information += row.transpose() * row / variances[i];
+  }
+  return inverted(information);
+}
+
+namespace {
+
+// A view's own link: the error of its registration to the view `parent` (none: to its
+// setup's frame), and whether it is placed at all.
+struct Link {
+  TwistCovariance own = TwistCovariance::Zero();
+  std::optional<std::size_t> parent;
+  bool placed = true;
+};
+
+// The link of view `v` by the markers it registers by (the ICP links' errors are found
+// beforehand, into `link.own`).
+void markLink(const Plan& plan, std::size_t v, std::size_t orientation,
+              const std::map<int, std::size_t>& index, double sigma, Link& link) {
+  const Registration& registration = *plan.registration;
+  const ViewRegistration& r = registration.views[v];
+  const auto to = index.find(r.to);
+  switch (r.method) {
+    case RegistrationMethod::None: link.placed = false; break;
+    case RegistrationMethod::Reference: break;
+    case RegistrationMethod::Robot: {
+      const double s = registration.robot_accuracy / kRadius95;
+      link.own.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * s * s;
+      break;
+    }
+    case RegistrationMethod::ReferencePoints:
+      link.own = markerFit(positionsOf(markerPositions(plan, orientation, v), r.markers), sigma);
+      break;
+    case RegistrationMethod::Markers: {
+      if (to == index.end()) break;
+      std::vector<int> shared, mine = r.markers, theirs = registration.views[to->second].markers;
+      std::sort(mine.begin(), mine.end());
+      std::sort(theirs.begin(), theirs.end());
+      std::set_intersection(mine.begin(), mine.end(), theirs.begin(), theirs.end(),
+                            std::back_inserter(shared));
+      link.own = markerFit(positionsOf(markerPositions(plan, orientation, v), shared),
+                           std::sqrt(2.0) * sigma);
+      link.parent = to->second;
+      break;
+    }
+    case RegistrationMethod::Icp:
+      if (to != index.end()) link.parent = to->second;
+      break;
+  }
+  if (link.own(0, 0) == kUnknown) {
+    link.placed = false;
+    link.own.setZero();
+  }
+}
+
+// Along each chain, to the view that fixes the frame, the links' errors add.
+void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
+  const std::size_t n = links.size();
+  std::vector<char> done(n, 0);
+  const auto settle = [&](std::size_t v, auto& self, std::size_t depth) -> void {
+    if (done[v]) return;
+    done[v] = 1;
+    errors[v].covariance = links[v].own;
+    errors[v].placed = links[v].placed;
+    if (!links[v].parent || depth > n) return;
+    const std::size_t parent = *links[v].parent;
+    self(parent, self, depth + 1);
+    errors[v].covariance += errors[parent].covariance;
+    errors[v].placed = errors[v].placed && errors[parent].placed;
+  };
+  for (std::size_t v = 0; v < n; ++v) settle(v, settle, 0);
+}
+
+}  // namespace
+
+std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& spec,
+                                          const Plan& plan) {
+  const std::size_t n = plan.views.size();
+  std::vector<ViewError> errors(n);
+  const std::vector<std::size_t> orientation = viewOrientations(plan);
+  for (std::size_t v = 0; v < n; ++v)
+    if (!plan.orientations.empty()) errors[v].frame = plan.orientations[orientation[v]].frame;
+  if (!plan.registration || plan.registration->views.size() != n) return errors;
+  const RegistrationOptions options = registrationOptions(spec.spec);
+  const double sigma =
+      options.marker_sigma > 0 ? options.marker_sigma : plan.scanner.point_spacing / 20;
+  std::vector<TwistCovariance> icp(n, TwistCovariance::Zero());
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
+    icpErrors(part, spec, plan, k, orientation, icp);
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < n; ++v) index[plan.views[v].id] = v;
+  std::vector<Link> links(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    links[v].own = icp[v];
+    markLink(plan, v, orientation[v], index, sigma, links[v]);
+  }
+  chain(links, errors);
+  return errors;
+}
+
+TwistDraws::TwistDraws(const std::vector<ViewError>& errors) {
+  for (const ViewError& e : errors) {
+    const Eigen::SelfAdjointEigenSolver<TwistCovariance> eigen(e.covariance);
+    roots_.push_back(eigen.eigenvectors() *
+                     eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal());
+  }
+}
+
+std::vector<Twist> TwistDraws::draw(std::mt19937_64& random) const {
+  std::normal_distribution<double> normal;
+  std::vector<Twist> draws;
+  for (const TwistCovariance& root : roots_) {
+    Twist z;
+    for (int i = 0; i < 6; ++i) z[i] = normal(random);
+    draws.push_back(root * z);
+  }
+  return draws;
+}
+
+}  // namespace scanplan::detail

@@ -1,0 +1,63 @@
+#pragma once
+// How far each view of a plan may lie from where its registration puts it
+// (docs/capability.md, "Error budget"): the covariance of a small rigid motion per view,
+// from the method that registers it and the chain of views it registers through.
+
+#include <scanplan/cad/part.h>
+#include <scanplan/plan/plan.h>
+#include <scanplan/spec/spec.h>
+
+#include <Eigen/Core>
+
+#include <random>
+#include <span>
+#include <vector>
+
+namespace scanplan::detail {
+
+// A small rigid motion (rotation w, radians, then translation t, mm, about the world's
+// origin): a point p moves by w x p + t.
+using Twist = Eigen::Matrix<double, 6, 1>;
+using TwistCovariance = Eigen::Matrix<double, 6, 6>;
+
+// The motion of `p` under `twist`.
+Vec3 displacement(const Twist& twist, const Vec3& p);
+// The row mapping a twist to the displacement of `p` along `n`: n . (w x p + t).
+Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
+
+// Covariance of the rigid fit that maps measured points onto known ones, each measured
+// with independent noise of `sigma` mm per axis (point to point, first order).
+TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma);
+
+// Covariance of point-to-plane ICP on an overlap: per point its position, normal and the
+// variance of its distance along the normal (both views' noise, over the points it stands
+// for).
+TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3> normals,
+                              std::span<const double> variances);
+
+// A view's registration error: the covariance of its motion in the frame of its setup,
+// through the chain of views it registers by; `placed` false when it registers to nothing
+// (its points join no frame).
+struct ViewError {
+  TwistCovariance covariance = TwistCovariance::Zero();
+  bool placed = true;
+  std::size_t frame = 0;  // its setup's frame (PlannedOrientation::frame)
+};
+
+// Per view of `plan` (in its order). Without a registration in the plan every view is
+// placed, without error: the plan assumed them registered.
+std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& spec,
+                                          const Plan& plan);
+
+// Draws of each view's motion from its covariance.
+class TwistDraws {
+ public:
+  explicit TwistDraws(const std::vector<ViewError>& errors);
+  // One draw for every view, of its own.
+  std::vector<Twist> draw(std::mt19937_64& random) const;
+
+ private:
+  std::vector<TwistCovariance> roots_;  // L with L L^T the covariance
+};
+
+}  // namespace scanplan::detail
