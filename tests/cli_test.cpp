@@ -456,6 +456,52 @@ TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
     EXPECT_LT((plan.markers[k].position - proposed[k].position).norm(), 1e-6);
 }
 
+// inspect: every characteristic of the plan in inspection.json beside it, a value per run
+// or the reason it has none; a deviations file at fault is refused with its name and the
+// entry, nothing written.
+TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  CommandResult r =
+      run("plan " + part + " -o " + dir.file("out") + " --no-report --no-registration -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("inspect " + dir.file("out/plan.json") + " " + part + " --runs 3 -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("3 runs"), std::string::npos) << r.out;
+  std::ifstream in(dir.file("out/inspection.json"));
+  const nlohmann::json inspection = nlohmann::json::parse(in);
+  const Plan plan = readPlan(dir.file("out/plan.json"));
+  ASSERT_EQ(inspection["characteristics"].size(), plan.characteristics.size());
+  std::size_t evaluated = 0;
+  for (const nlohmann::json& c : inspection["characteristics"]) {
+    if (c["evaluated"]) {
+      ++evaluated;
+      EXPECT_EQ(c["values"].size(), 3u) << c.dump();
+    } else {
+      EXPECT_FALSE(c["not_evaluated"].get<std::string>().empty()) << c.dump();
+    }
+  }
+  EXPECT_GT(evaluated, 0u);
+  const auto refused = [&](const std::string& text, const std::string& says) {
+    test::writeText(dir.file("deviations.yaml"), text);
+    const CommandResult bad =
+        run("inspect " + dir.file("out/plan.json") + " " + part + " --runs 2 -q -o " +
+            dir.file("bad.json") + " --deviations " + dir.file("deviations.yaml"));
+    EXPECT_EQ(bad.code, 2) << bad.out;
+    EXPECT_NE(bad.out.find(says), std::string::npos) << bad.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file("bad.json")));
+  };
+  refused("deviations:\n  - {faces: [1], twist: 0.1}\n", "deviation 1: unknown key 'twist'");
+  refused("deviations:\n  - {faces: [100000], offset: 0.1}\n", "has no face 100000");
+  refused("deviations:\n  - {faces: [1], offset: 0.1, bow: 0.2}\n", "exactly one of");
+  refused("deviations:\n  - {faces: [1], offset: .nan}\n", "within [-100, 100]");
+  refused("nothing: here\n", "no 'deviations:' list");
+  const CommandResult missing = run("inspect " + dir.file("out/plan.json") + " " + part +
+                                    " -q --deviations " + dir.file("none.yaml"));
+  EXPECT_EQ(missing.code, 2) << missing.out;
+  EXPECT_NE(missing.out.find("none.yaml"), std::string::npos) << missing.out;
+}
+
 TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");

@@ -34,6 +34,9 @@ void addSampleCommand(CLI::App& app, const GlobalOptions& global, Action& select
 // scanplan verify plan.json PART [--spec spec.yaml]
 void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 
+// scanplan inspect plan.json PART [--spec spec.yaml] [--deviations FILE] [--runs N] [-o FILE]
+void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan report plan.json [PART] [-o report.html] [--png picture.png]
 void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 

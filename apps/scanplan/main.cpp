@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   cli::addSampleCommand(app, global, action);
   cli::addSimulateCommand(app, global, action);
   cli::addVerifyCommand(app, global, action);
+  cli::addInspectCommand(app, global, action);
   cli::addReportCommand(app, global, action);
   cli::addExportCommand(app, global, action);
   cli::addSpecCommand(app, global, action);

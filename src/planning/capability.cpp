@@ -19,6 +19,7 @@
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/planner.h>
 #include <scanplan/scanner/simulation.h>
+#include <scanplan/solve/fits.h>
 
 #include <Eigen/Dense>
 
@@ -324,6 +325,15 @@ std::vector<int> datumFaces(const Part& part, const Characteristic& c) {
   return faces;
 }
 
+// Whether every datum of a geometric tolerance names faces: else its frame cannot be fitted.
+bool datumsLinked(const Part& part, const Characteristic& c) {
+  if (c.dimension) return true;
+  return std::all_of(c.datums.begin(), c.datums.end(), [&](const std::string& letter) {
+    return std::any_of(part.gdt.datums.begin(), part.gdt.datums.end(),
+                       [&](const Datum& d) { return d.name == letter && !d.faces.empty(); });
+  });
+}
+
 // The characteristics' faces and their datums', sampled once (part frame), each sample a
 // patch.
 std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>& list) {
@@ -367,6 +377,26 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                     points[i].position, points[i].normal});
       }
   }
+}
+
+// Whether the measured patches of a diameter or radius on cylinders determine its fit:
+// they span kLeastArc of the circle about the faces' axis.
+bool cylinderFitted(const Part& part, const Characteristic& c, const std::vector<const Patch*>& all,
+                    const std::vector<const Patch*>& measured) {
+  const Effect effect = effectOf(c);
+  if ((effect != Effect::Diameter && effect != Effect::Radius) || all.size() < 5) return false;
+  for (int f : c.faces)
+    if (f < 1 || f > static_cast<int>(part.faces.size()) ||
+        part.faces[f - 1].type != SurfaceType::Cylinder)
+      return false;
+  std::vector<Vec3> points, normals, seen;
+  for (const Patch* p : all) {
+    points.push_back(p->point.position);
+    normals.push_back(p->point.normal);
+  }
+  for (const Patch* p : measured) seen.push_back(p->point.position);
+  const CylinderFit axis = cylinderFromNormals(points, normals);
+  return axis.determined && arcAbout(axis, seen) >= kLeastArc;
 }
 
 // A characteristic's patches as the views placed in one frame measure them: the frame whose
@@ -462,12 +492,14 @@ std::optional<std::size_t> restFor(const std::vector<const Patch*>& patches,
   return best;
 }
 
-void judge(const Characteristic& c, Capability& k, const CapabilityOptions& options) {
+// `fitted`: what is measured determines the size's fit whatever share of the faces it is
+// (a cylinder's band measured all round), so the share measured does not judge it.
+void judge(const Characteristic& c, Capability& k, const CapabilityOptions& options, bool fitted) {
   k.ratio = k.uncertainty > 0 ? c.width() / (2 * k.uncertainty) : 0;
-  const bool sparse = k.covered < kCoveredEnough || k.points < kMinPoints;
+  const bool sparse = (!fitted && k.covered < kCoveredEnough) || k.points < kMinPoints;
   if (!(c.width() > 0)) {
     k.verdict = Verdict::Untoleranced;
-  } else if (k.covered < kMostlyUncovered) {
+  } else if (!fitted && k.covered < kMostlyUncovered) {
     k.verdict = Verdict::NotCapable;
     k.reason = Shortfall::Uncovered;
   } else if (k.ratio >= options.capable_ratio && !sparse) {
@@ -545,8 +577,9 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
                           spec.spec.planner.seed);
       k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
     }
-    judge(c, k, options);
-    if (c.faces.empty()) {
+    judge(c, k, options, cylinderFitted(part, c, mine, measured));
+    if (c.faces.empty() || !datumsLinked(part, c)) {  // nothing to fit, or no frame to fit in
+      k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
       k.reason = Shortfall::NotLinked;
     } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {
       // Measured enough, but partly in views the frame cannot take.

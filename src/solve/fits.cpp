@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
 #include <vector>
 
 namespace scanplan {
@@ -41,39 +44,36 @@ PlaneFit fitPlane(std::span<const Vec3> points, const Vec3& towards) {
   return fit;
 }
 
-double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal) {
-  if (points.size() < 3) return 0;
-  const Vec3 n = normal.normalized();
-  const auto [e1, e2] = across(n);
-  const Vec3 centre = centroidOf(points);
-  // Columns a, b, d, t: the plane w = a u + b v + d, the zone's height t along n.
-  // Rows 2i and 2i+1: w_i - (a u_i + b v_i + d) within [-t/2, t/2].
-  const auto rows = static_cast<int>(2 * points.size());
+namespace {
+
+// The narrowest zone w = a u + b v + d +- t/2 holding the points `rows` of (u, v, w): the
+// linear programme's columns a, b, d, t; rows 2i and 2i+1 the zone's two sides.
+Eigen::Vector4d zoneOf(const std::vector<Vec3>& uvw, const std::vector<std::size_t>& rows) {
+  const auto count = static_cast<int>(2 * rows.size());
   std::vector<int> row_index, column_start{0};
-  std::vector<double> element, row_lower(rows), row_upper(rows);
-  std::vector<std::vector<double>> column(4, std::vector<double>(rows));
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3 d = points[i] - centre;
-    const double u = d.dot(e1), v = d.dot(e2), w = d.dot(n);
+  std::vector<double> element, row_lower(count), row_upper(count);
+  std::vector<std::vector<double>> column(4, std::vector<double>(count));
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Vec3& p = uvw[rows[k]];
     for (int side = 0; side < 2; ++side) {
-      const std::size_t r = 2 * i + side;
-      column[0][r] = -u;
-      column[1][r] = -v;
+      const std::size_t r = 2 * k + side;
+      column[0][r] = -p.x();
+      column[1][r] = -p.y();
       column[2][r] = -1;
       column[3][r] = side == 0 ? -0.5 : 0.5;
-      row_lower[r] = side == 0 ? -COIN_DBL_MAX : -w;
-      row_upper[r] = side == 0 ? -w : COIN_DBL_MAX;
+      row_lower[r] = side == 0 ? -COIN_DBL_MAX : -p.z();
+      row_upper[r] = side == 0 ? -p.z() : COIN_DBL_MAX;
     }
   }
   for (const std::vector<double>& values : column) {
-    for (int r = 0; r < rows; ++r) {
+    for (int r = 0; r < count; ++r) {
       row_index.push_back(r);
       element.push_back(values[r]);
     }
     column_start.push_back(static_cast<int>(row_index.size()));
   }
-  const std::vector<int> lengths(4, rows);
-  const CoinPackedMatrix matrix(true, rows, 4, static_cast<CoinBigIndex>(element.size()),
+  const std::vector<int> lengths(4, count);
+  const CoinPackedMatrix matrix(true, count, 4, static_cast<CoinBigIndex>(element.size()),
                                 element.data(), row_index.data(), column_start.data(),
                                 lengths.data());
   const double column_lower[] = {-COIN_DBL_MAX, -COIN_DBL_MAX, -COIN_DBL_MAX, 0};
@@ -84,8 +84,63 @@ double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal) {
   lp.loadProblem(matrix, column_lower, column_upper, objective, row_lower.data(), row_upper.data());
   lp.dual();
   const double* x = lp.primalColumnSolution();
-  // The zone measured along n, across the plane's own normal (a, b, -1) instead.
-  return x[3] / std::sqrt(1 + x[0] * x[0] + x[1] * x[1]);
+  return {x[0], x[1], x[2], x[3]};
+}
+
+}  // namespace
+
+double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal) {
+  if (points.size() < 3) return 0;
+  const Vec3 n = normal.normalized();
+  const auto [e1, e2] = across(n);
+  const Vec3 centre = centroidOf(points);
+  std::vector<Vec3> uvw;
+  for (const Vec3& p : points) {
+    const Vec3 d = p - centre;
+    uvw.push_back({d.dot(e1), d.dot(e2), d.dot(n)});
+  }
+  // The zone of a few points first, those farthest from the points' mean height on either
+  // side; then of those and the points left outside it, until none is: the same zone as of
+  // all the points, from much smaller programmes.
+  constexpr std::size_t kBatch = 400;
+  std::vector<std::size_t> order(uvw.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return uvw[a].z() < uvw[b].z(); });
+  std::vector<char> taken(uvw.size(), 0);
+  std::vector<std::size_t> rows;
+  for (std::size_t k = 0; k < std::min(kBatch, order.size()); ++k)
+    for (const std::size_t i : {order[k], order[order.size() - 1 - k]})
+      if (!taken[i]) taken[i] = 1, rows.push_back(i);
+  while (true) {
+    const Eigen::Vector4d zone = zoneOf(uvw, rows);
+    std::vector<std::pair<double, std::size_t>> outside;  // (how far, point)
+    for (std::size_t i = 0; i < uvw.size(); ++i) {
+      const double off =
+          std::abs(uvw[i].z() - zone[0] * uvw[i].x() - zone[1] * uvw[i].y() - zone[2]) -
+          zone[3] / 2;
+      if (!taken[i] && off > 1e-12 * (1 + zone[3])) outside.push_back({off, i});
+    }
+    if (outside.empty())  // the zone measured along n, across the planes' own normal instead
+      return zone[3] / std::sqrt(1 + zone[0] * zone[0] + zone[1] * zone[1]);
+    std::sort(outside.rbegin(), outside.rend());
+    for (std::size_t k = 0; k < std::min(kBatch, outside.size()); ++k) {
+      taken[outside[k].second] = 1;
+      rows.push_back(outside[k].second);
+    }
+  }
+}
+
+double arcAbout(const CylinderFit& cylinder, std::span<const Vec3> points) {
+  constexpr int kBins = 36;
+  const auto [e1, e2] = across(cylinder.axis);
+  std::vector<char> bins(kBins, 0);
+  for (const Vec3& p : points) {
+    const Vec3 d = p - cylinder.point;
+    const double turn =
+        (std::atan2(d.dot(e2), d.dot(e1)) + std::numbers::pi) / (2 * std::numbers::pi);
+    bins[std::clamp(static_cast<int>(turn * kBins), 0, kBins - 1)] = 1;
+  }
+  return 360.0 / kBins * static_cast<double>(std::count(bins.begin(), bins.end(), 1));
 }
 
 double axisDistance(const CylinderFit& cylinder, const Vec3& p) {
@@ -102,7 +157,9 @@ CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start) 
   using Vec5 = Eigen::Matrix<double, 5, 1>;
   using Mat5 = Eigen::Matrix<double, 5, 5>;
   constexpr int kIterations = 50;
-  for (int iteration = 0; iteration < kIterations; ++iteration) {
+  double last = std::numeric_limits<double>::infinity();  // the last step's size
+  for (int iteration = 0; iteration < kIterations && last > 1e-12 * (1 + std::abs(fit.radius));
+       ++iteration) {
     const auto [e1, e2] = across(fit.axis);
     Mat5 normal = Mat5::Zero();
     Vec5 gradient = Vec5::Zero();
@@ -124,11 +181,10 @@ CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start) 
     fit.axis = (fit.axis + step[2] * e1 + step[3] * e2).normalized();
     fit.radius += step[4];
     fit.point += (centre - fit.point).dot(fit.axis) * fit.axis;
-    if (step.norm() < 1e-12 * (1 + std::abs(fit.radius))) {
-      fit.determined = true;
-      break;
-    }
+    last = step.norm();
   }
+  // Converged: its steps have shrunk to nothing against the radius.
+  fit.determined = last < 1e-9 * (1 + std::abs(fit.radius));
   double squares = 0;
   for (const Vec3& p : points) squares += std::pow(axisDistance(fit, p) - fit.radius, 2);
   fit.rms = std::sqrt(squares / static_cast<double>(points.size()));

@@ -23,6 +23,10 @@ PlaneFit fitPlane(std::span<const Vec3> points, const Vec3& towards);
 // found as a linear programme over the planes near `normal`. 0 for fewer than 3 points.
 double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal);
 
+// A cylinder's fit is taken as determined by points spread over this much of its circle,
+// degrees: a band measured all round fixes it, a strip along one side does not.
+constexpr double kLeastArc = 90;
+
 struct CylinderFit {
   Vec3 point = Vec3::Zero();  // on the axis, nearest the points' centroid
   Vec3 axis = Vec3::UnitZ();  // unit
@@ -39,6 +43,9 @@ CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start);
 // axis along which the normals do not turn, its point and radius by least squares. For a
 // start to fitCylinder; `determined` false when the normals do not fix an axis.
 CylinderFit cylinderFromNormals(std::span<const Vec3> points, std::span<const Vec3> normals);
+
+// How much of the circle about the cylinder's axis `points` cover, in degrees (by 10° bins).
+double arcAbout(const CylinderFit& cylinder, std::span<const Vec3> points);
 
 // The distance from `p` to the axis of `cylinder`, mm.
 double axisDistance(const CylinderFit& cylinder, const Vec3& p);

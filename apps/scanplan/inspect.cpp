@@ -1,0 +1,122 @@
+// scanplan inspect: a virtual inspection of a plan on its part, each characteristic
+// measured over Monte Carlo runs of the plan's scans (docs/capability.md).
+
+#include "commands.h"
+#include "files.h"
+#include "terminal.h"
+
+#include <scanplan/cad/import.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/io/inspection_files.h>
+#include <scanplan/io/plan_json.h>
+#include <scanplan/io/spec_yaml.h>
+#include <scanplan/planning/inspection.h>
+#include <scanplan/spec/spec.h>
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+namespace scanplan::cli {
+namespace {
+
+struct Options {
+  std::string plan;
+  std::string part;
+  std::string spec;
+  std::string deviations;
+  std::string out;
+  int runs = 20;
+  double spacing = 0;
+};
+
+// The planned capability of characteristic `id`, if the plan has it.
+const Capability* planned(const Plan& plan, int id) {
+  for (const Capability& k : plan.capabilities)
+    if (k.characteristic == id) return &k;
+  return nullptr;
+}
+
+void printInspection(const Inspection& inspection, const Plan& plan) {
+  fmt::print(
+      "{:<22} {} runs, points {:.2f} mm apart{}\n", "inspection", inspection.runs,
+      inspection.spacing,
+      inspection.views_left_out > 0
+          ? fmt::format(", {} views left out (registered to nothing)", inspection.views_left_out)
+          : "");
+  fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>7}  {:<14} {}\n", "id", "kind",
+             "width", "true", "measured", "bias", "U", "ratio", "verdict", "planned U, verdict");
+  for (std::size_t i = 0; i < inspection.characteristics.size(); ++i) {
+    const InspectedCharacteristic& k = inspection.characteristics[i];
+    const Characteristic& c = plan.characteristics[i];
+    const Capability* p = planned(plan, c.id);
+    const std::string plan_side =
+        p ? fmt::format("{:.4f}, {}", p->uncertainty, toString(p->verdict)) : "-";
+    if (!k.evaluated) {
+      fmt::print("  {:>3} {:<22} {:>8.3f}  not evaluated: {}\n", c.id, c.kind, c.width(),
+                 k.not_evaluated);
+      continue;
+    }
+    fmt::print(
+        "  {:>3} {:<22} {:>8.3f} {:>10.4f} {:>10.4f} {:>9.4f} {:>8.4f} {:>7.2f}  {:<14} {}\n", c.id,
+        c.kind, c.width(), k.true_value, k.mean, k.bias, k.uncertainty, k.ratio,
+        toString(k.verdict), plan_side);
+  }
+}
+
+int run(const Options& options, const GlobalOptions& global) {
+  Progress progress = terminalProgress(global);
+  const Plan plan = readPlan(options.plan);
+  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  InspectionOptions inspection;
+  inspection.runs = options.runs;
+  inspection.spacing = options.spacing;
+  if (!options.deviations.empty()) inspection.deviations = loadDeviations(options.deviations);
+  const std::string out =
+      options.out.empty()
+          ? (std::filesystem::path(options.plan).parent_path() / "inspection.json").string()
+          : options.out;
+  refuseInputAsOutput(out, commandInputs({options.plan, options.part, options.deviations}, spec));
+  const Part part = importWithWarnings(options.part, {}, progress);
+  const ResolvedSpec resolved = resolveSpec(part, spec);
+  const Inspection result = inspectPlan(part, resolved, plan, inspection, progress);
+  writeInspection(result, plan, out);
+  clearProgress();
+  fmt::print("{:<22} {}\n", "plan", options.plan);
+  fmt::print("{:<22} {}\n", "part", part.file);
+  printInspection(result, plan);
+  fmt::print("{:<22} {}\n", "written", out);
+  return kExitOk;
+}
+
+}  // namespace
+
+void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selected) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command = app.add_subcommand(
+      "inspect",
+      "Inspect a plan virtually: each characteristic measured over Monte Carlo runs of its "
+      "scans, with the scanner's errors and the registration's");
+  command->add_option("plan", options->plan, "plan.json")->required();
+  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("--spec", options->spec, "Inspection spec (YAML) the plan was made with")
+      ->check(kNamedFile);
+  command
+      ->add_option("--deviations", options->deviations,
+                   "Deviations of the simulated part (YAML: faces offset, bowed, moved, a "
+                   "diameter changed)")
+      ->check(kNamedFile);
+  command->add_option("--runs", options->runs, "Monte Carlo runs (default 20)")
+      ->check(CLI::Range(2, 10000));
+  command
+      ->add_option("--spacing", options->spacing,
+                   "Simulated points' spacing at the standoff, mm (default fov_height / 100)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("-o,--output", options->out,
+                      "Results (JSON; default inspection.json beside the plan)");
+  command->callback([options, &global, &selected] {
+    selected = [options, &global] { return run(*options, global); };
+  });
+}
+
+}  // namespace scanplan::cli

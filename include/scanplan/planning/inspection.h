@@ -1,0 +1,33 @@
+#pragma once
+// scanplan inspect: a virtual inspection of a plan (docs/capability.md, "Virtual
+// inspection"). Per Monte Carlo run, every registered view's cloud is simulated with the
+// scanner's noise and acceptance errors, moved by a draw of its registration error, and
+// merged in its setup's frame; each characteristic is then evaluated from the points by
+// its definition, against a datum reference frame fitted to its datum features.
+
+#include <scanplan/cad/part.h>
+#include <scanplan/core/progress.h>
+#include <scanplan/plan/inspection.h>
+#include <scanplan/plan/plan.h>
+#include <scanplan/spec/spec.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace scanplan {
+
+struct InspectionOptions {
+  int runs = 20;
+  // The simulated points' spacing at the standoff, mm; each stands for the mean of the
+  // scanner's points around it, its noise so much less. 0: fov_height / 100.
+  double spacing = 0;
+  std::uint64_t seed = 1;
+  std::vector<Deviation> deviations;
+};
+
+// \throw InputError when a deviation names a face the part does not have, or a diameter
+// change a face that is not a cylinder; or the options are out of range.
+Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                       const InspectionOptions& options, const Progress& progress = {});
+
+}  // namespace scanplan

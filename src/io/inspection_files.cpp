@@ -1,0 +1,146 @@
+#include "scanner/sensor_yaml.h"
+
+#include <scanplan/core/atomic_file.h>
+#include <scanplan/core/errors.h>
+#include <scanplan/core/input_file.h>
+#include <scanplan/io/inspection_files.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+namespace scanplan {
+namespace {
+
+double number(const YAML::Node& node, const std::string& path, const std::string& where) {
+  double value = 0;
+  try {
+    value = node.as<double>();
+  } catch (const YAML::Exception&) {
+    throw InputError(path, where + " must be a number");
+  }
+  if (!std::isfinite(value) || std::abs(value) > 100)
+    throw InputError(path, where + " must be a number of mm within [-100, 100]");
+  return value;
+}
+
+Deviation deviationOf(const YAML::Node& entry, const std::string& path, const std::string& where) {
+  if (!entry.IsMap()) throw InputError(path, where + " is not a map");
+  Deviation d;
+  const YAML::Node faces = entry["faces"];
+  if (!faces || !faces.IsSequence() || faces.size() == 0)
+    throw InputError(path, where + ": faces must be a list of face ids");
+  for (const YAML::Node& f : faces) {
+    int id = 0;
+    try {
+      id = f.as<int>();
+    } catch (const YAML::Exception&) {
+      throw InputError(path, where + ": face ids are whole numbers 1, 2, ...");
+    }
+    if (id < 1) throw InputError(path, where + ": face ids are whole numbers 1, 2, ...");
+    d.faces.push_back(id);
+  }
+  int kinds = 0;
+  for (const auto& item : entry) {
+    const std::string key = item.first.as<std::string>();
+    if (key == "faces") continue;
+    ++kinds;
+    if (key == "offset" || key == "bow" || key == "diameter") {
+      d.kind = key == "offset" ? Deviation::Kind::Offset
+               : key == "bow"  ? Deviation::Kind::Bow
+                               : Deviation::Kind::Diameter;
+      d.amount = number(item.second, path, where + ": " + key);
+    } else if (key == "move") {
+      if (!item.second.IsSequence() || item.second.size() != 3)
+        throw InputError(path, where + ": move must be [x, y, z] in mm");
+      d.kind = Deviation::Kind::Move;
+      for (int a = 0; a < 3; ++a) d.move[a] = number(item.second[a], path, where + ": move");
+    } else {
+      throw InputError(
+          path, where + ": unknown key '" + key + "' (offset, bow, move or diameter, with faces)");
+    }
+  }
+  if (kinds != 1)
+    throw InputError(path, where + ": give exactly one of offset, bow, move or diameter");
+  return d;
+}
+
+std::string_view kindName(Deviation::Kind kind) {
+  switch (kind) {
+    case Deviation::Kind::Offset: return "offset";
+    case Deviation::Kind::Bow: return "bow";
+    case Deviation::Kind::Move: return "move";
+    case Deviation::Kind::Diameter: return "diameter";
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::vector<Deviation> loadDeviations(const std::string& path) {
+  requireInputFile(path);
+  std::ifstream in(path, std::ios::binary);
+  YAML::Node root;
+  try {
+    root = loadOneDocument({std::istreambuf_iterator<char>(in), {}}, path, "a deviations file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, "not valid YAML: " + std::string(e.what()));
+  }
+  const YAML::Node list = root.IsMap() ? root["deviations"] : YAML::Node();
+  if (!list || !list.IsSequence())
+    throw InputError(path, "no 'deviations:' list of {faces, offset | bow | move | diameter}");
+  std::vector<Deviation> result;
+  for (std::size_t k = 0; k < list.size(); ++k)
+    result.push_back(deviationOf(list[k], path, "deviation " + std::to_string(k + 1)));
+  return result;
+}
+
+nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
+  using nlohmann::json;
+  json deviations = json::array();
+  for (const Deviation& d : inspection.deviations) {
+    json entry = {{"faces", d.faces}, {"kind", kindName(d.kind)}};
+    if (d.kind == Deviation::Kind::Move)
+      entry["move"] = {d.move.x(), d.move.y(), d.move.z()};
+    else
+      entry["amount"] = d.amount;
+    deviations.push_back(entry);
+  }
+  json list = json::array();
+  for (const InspectedCharacteristic& k : inspection.characteristics) {
+    json entry = {{"id", k.characteristic}, {"evaluated", k.evaluated}};
+    for (const Characteristic& c : plan.characteristics)
+      if (c.id == k.characteristic) {
+        entry["kind"] = c.kind;
+        entry["limits"] = {c.lower, c.upper};
+        entry["datums"] = c.datums;
+      }
+    if (!k.evaluated) {
+      entry["not_evaluated"] = k.not_evaluated;
+    } else {
+      entry.update({{"true_value", k.true_value},
+                    {"mean", k.mean},
+                    {"bias", k.bias},
+                    {"uncertainty", k.uncertainty},
+                    {"ratio", k.ratio},
+                    {"verdict", toString(k.verdict)},
+                    {"points", k.points},
+                    {"values", k.values}});
+    }
+    list.push_back(entry);
+  }
+  return {{"runs", inspection.runs},
+          {"spacing", inspection.spacing},
+          {"views_left_out", inspection.views_left_out},
+          {"deviations", deviations},
+          {"characteristics", list}};
+}
+
+void writeInspection(const Inspection& inspection, const Plan& plan, const std::string& path) {
+  const nlohmann::json root = inspectionJson(inspection, plan);
+  writeFileAtomically(path, [&](std::ostream& out) { out << root.dump(1) << '\n'; });
+}
+
+}  // namespace scanplan

@@ -1,0 +1,390 @@
+// Characteristics evaluated from points by their definitions (docs/capability.md,
+// "Virtual inspection").
+
+#include "planning/evaluation.h"
+
+#include "core/kd_tree.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <set>
+
+namespace scanplan::detail {
+
+namespace {
+
+// Each datum weighs this many times the next (primary, secondary, tertiary).
+constexpr double kPrecedence = 100;
+// Cross-sections of circularity and circular runout, mm along the axis.
+constexpr double kSlice = 3;
+constexpr std::size_t kLeastPoints = 12;
+
+// A feature: faces of one geometry (one plane, one cylinder), as designed.
+struct Feature {
+  SurfaceType type = SurfaceType::Other;
+  std::vector<int> faces;
+  const NominalFace* nominal = nullptr;  // its first face's
+  // As designed, fitted to its faces' designed points as the measured ones are fitted.
+  PlaneFit plane;
+  CylinderFit cylinder;
+};
+
+bool sameGeometry(const NominalFace& a, const NominalFace& b) {
+  // Faces of one feature, as the mesh gives them (each face's chords its own).
+  constexpr double kAlong = 1e-3, kApart = 0.1;
+  if (a.type != b.type) return false;
+  if (a.type == SurfaceType::Plane)
+    return std::abs(std::abs(a.normal.dot(b.normal)) - 1) < kAlong &&
+           std::abs(a.normal.dot(b.centroid - a.centroid)) < kApart;
+  if (a.type == SurfaceType::Cylinder)
+    return std::abs(std::abs(a.cylinder.axis.dot(b.cylinder.axis)) - 1) < kAlong &&
+           axisDistance(a.cylinder, b.cylinder.point) < kApart &&
+           std::abs(a.cylinder.radius - b.cylinder.radius) < kApart;
+  return false;
+}
+
+// `faces` grouped into features.
+std::vector<Feature> featuresOf(const std::vector<int>& faces, const Nominal& nominal) {
+  std::vector<Feature> features;
+  for (int f : faces) {
+    const NominalFace* face = nominal.face(f);
+    if (!face) continue;
+    const auto same = std::find_if(features.begin(), features.end(), [&](const Feature& g) {
+      return sameGeometry(*g.nominal, *face);
+    });
+    if (same != features.end())
+      same->faces.push_back(f);
+    else
+      features.push_back({face->type, {f}, face, {}, {}});
+  }
+  for (Feature& g : features) {
+    std::vector<Vec3> points;
+    for (int f : g.faces)
+      points.insert(points.end(), nominal.face(f)->points.begin(), nominal.face(f)->points.end());
+    g.plane = fitPlane(points, g.nominal->normal);
+    if (g.type == SurfaceType::Cylinder) g.cylinder = fitCylinder(points, g.nominal->cylinder);
+  }
+  return features;
+}
+
+std::vector<Vec3> pointsOn(const std::vector<int>& faces, const FacePoints& points) {
+  std::vector<Vec3> all;
+  for (int f : faces)
+    if (const auto found = points.find(f); found != points.end())
+      all.insert(all.end(), found->second.begin(), found->second.end());
+  return all;
+}
+
+// The feature's cylinder fitted to its points, if they fix it.
+std::optional<CylinderFit> cylinderOf(const Feature& f, const std::vector<Vec3>& points) {
+  if (f.type != SurfaceType::Cylinder || points.size() < kLeastPoints) return std::nullopt;
+  const CylinderFit fit = fitCylinder(points, f.cylinder);
+  if (!fit.determined || arcAbout(fit, points) < kLeastArc) return std::nullopt;
+  return fit;
+}
+
+// Along the axis, the points' extent: the fitted axis' ends.
+std::pair<Vec3, Vec3> axisEnds(const CylinderFit& c, const std::vector<Vec3>& points) {
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const Vec3& p : points) {
+    low = std::min(low, (p - c.point).dot(c.axis));
+    high = std::max(high, (p - c.point).dot(c.axis));
+  }
+  return {c.point + low * c.axis, c.point + high * c.axis};
+}
+
+double perpendicular(const Vec3& d, const Vec3& axis) { return (d - d.dot(axis) * axis).norm(); }
+
+// The largest range of the radial distances about `axis` over cross-sections along it.
+double largestSectionRange(const CylinderFit& axis, const std::vector<Vec3>& points) {
+  std::map<long, std::pair<double, double>> sections;  // low, high radial distance
+  std::map<long, std::size_t> counts;
+  for (const Vec3& p : points) {
+    const long k = std::lround((p - axis.point).dot(axis.axis) / kSlice);
+    const double r = axisDistance(axis, p);
+    auto [it, fresh] = sections.try_emplace(k, r, r);
+    it->second = {std::min(it->second.first, r), std::max(it->second.second, r)};
+    ++counts[k];
+  }
+  double largest = 0;
+  for (const auto& [k, range] : sections)
+    if (counts[k] >= kLeastPoints / 2) largest = std::max(largest, range.second - range.first);
+  return largest;
+}
+
+double radialRange(const CylinderFit& axis, const std::vector<Vec3>& points) {
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const Vec3& p : points) {
+    low = std::min(low, axisDistance(axis, p));
+    high = std::max(high, axisDistance(axis, p));
+  }
+  return high - low;
+}
+
+// `points` moved by `twist`.
+FacePoints moved(const FacePoints& points, const Twist& twist) {
+  FacePoints result = points;
+  for (auto& [face, list] : result)
+    for (Vec3& p : list) p += displacement(twist, p);
+  return result;
+}
+
+// The least-squares motion that brings the points of `features` onto them as designed:
+// what a best fit does before a profile without datums is judged.
+Twist bestFit(const std::vector<Feature>& features, const Nominal& nominal,
+              const FacePoints& points) {
+  Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+  Twist pull = Twist::Zero();
+  for (const Feature& f : features)
+    for (int face : f.faces)
+      if (const auto found = points.find(face); found != points.end())
+        for (const Vec3& p : found->second) {
+          const auto [normal_at, distance] = nominal.nearest(face, p);
+          const auto row = alongNormal(p, normal_at);
+          normal += row.transpose() * row;
+          pull -= row.transpose() * distance;
+        }
+  normal += 1e-12 * (normal.trace() + 1) * Eigen::Matrix<double, 6, 6>::Identity();
+  return normal.ldlt().solve(pull);
+}
+
+// Twice the largest distance of the features' points from their faces as designed.
+double profileZone(const std::vector<Feature>& features, const Nominal& nominal,
+                   const FacePoints& points) {
+  double largest = 0;
+  for (const Feature& f : features)
+    for (int face : f.faces)
+      if (const auto found = points.find(face); found != points.end())
+        for (const Vec3& p : found->second)
+          largest = std::max(largest, std::abs(nominal.nearest(face, p).second));
+  return 2 * largest;
+}
+
+// Where a feature lies for a distance: a plane's measured centroid, a cylinder's axis.
+struct Located {
+  Vec3 point = Vec3::Zero();
+  Vec3 direction = Vec3::UnitZ();  // a plane's normal, a cylinder's axis
+  bool plane = false;
+};
+std::optional<Located> locate(const Feature& f, const std::vector<Vec3>& points) {
+  if (f.type == SurfaceType::Plane) {
+    if (points.size() < kLeastPoints) return std::nullopt;
+    const PlaneFit fit = fitPlane(points, f.plane.normal);
+    if (!fit.determined) return std::nullopt;
+    return Located{fit.point, fit.normal, true};
+  }
+  if (const auto c = cylinderOf(f, points)) return Located{c->point, c->axis, false};
+  return std::nullopt;
+}
+
+double distanceBetween(const Located& a, const Located& b) {
+  const Vec3 d = b.point - a.point;
+  if (a.plane) return std::abs(a.direction.dot(d));
+  if (b.plane) return std::abs(b.direction.dot(d));
+  return perpendicular(d, a.direction);
+}
+
+Evaluation notFound(const std::string& why) { return {std::nullopt, why}; }
+
+// A dimension between two features: their distance, or the angle between them.
+Evaluation dimensionBetween(const Characteristic& c, const std::vector<Feature>& features,
+                            const FacePoints& points) {
+  if (features.size() != 2) return notFound("its faces are not two features");
+  const auto a = locate(features[0], pointsOn(features[0].faces, points));
+  const auto b = locate(features[1], pointsOn(features[1].faces, points));
+  if (!a || !b) return notFound("a feature is not measured enough to fit");
+  if (c.kind.find("angular") != std::string::npos)
+    return {degrees(std::acos(std::clamp(std::abs(a->direction.dot(b->direction)), 0.0, 1.0))), {}};
+  return {distanceBetween(*a, *b), {}};
+}
+
+// The datum axis of a characteristic's frame, as designed: its first cylindrical datum.
+std::optional<CylinderFit> datumAxis(const Characteristic& c, const Gdt& gdt,
+                                     const Nominal& nominal) {
+  for (const std::string& letter : c.datums)
+    for (const Datum& d : gdt.datums)
+      if (d.name == letter)
+        for (const Feature& f : featuresOf(d.faces, nominal))
+          if (f.type == SurfaceType::Cylinder) return f.cylinder;
+  return std::nullopt;
+}
+
+// A geometric tolerance's value on points already in its datums' frame.
+Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
+                          const std::vector<Feature>& features, const FacePoints& points) {
+  const Feature& f = features.front();
+  const std::vector<Vec3> on = pointsOn(c.faces, points);
+  if (on.size() < kLeastPoints) return notFound("too few points on its faces");
+  const std::string& kind = c.kind;
+  if (kind == "profile_of_surface" || kind == "profile_of_line")
+    return {
+        profileZone(features, nominal,
+                    c.datums.empty() ? moved(points, bestFit(features, nominal, points)) : points),
+        {}};
+  if (features.size() != 1) return notFound("its faces are not one feature");
+  const auto cylinder = cylinderOf(f, on);
+  if (kind == "flatness") {
+    if (f.type != SurfaceType::Plane) return notFound("flatness of a face that is not a plane");
+    return {minimumZoneFlatness(on, f.plane.normal), {}};
+  }
+  if (kind == "circularity" || kind == "cylindricity") {
+    if (!cylinder) return notFound("its cylinder is not measured enough to fit");
+    return {kind == "circularity" ? largestSectionRange(*cylinder, on) : radialRange(*cylinder, on),
+            {}};
+  }
+  if (kind == "perpendicularity" || kind == "parallelism" || kind == "angularity") {
+    if (f.type == SurfaceType::Plane) {  // the zone of planes at the designed orientation
+      double low = std::numeric_limits<double>::infinity(), high = -low;
+      for (const Vec3& p : on) {
+        low = std::min(low, f.plane.normal.dot(p));
+        high = std::max(high, f.plane.normal.dot(p));
+      }
+      return {high - low, {}};
+    }
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    const auto [a, b] = axisEnds(*cylinder, on);  // a cylinder's zone about the designed axis
+    return {perpendicular(b - a, f.cylinder.axis), {}};
+  }
+  if (kind == "position") {
+    if (f.type == SurfaceType::Plane) {
+      double largest = 0;
+      for (const Vec3& p : on)
+        largest = std::max(largest, std::abs(f.plane.normal.dot(p - f.plane.point)));
+      return {2 * largest, {}};
+    }
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    const auto [a, b] = axisEnds(*cylinder, on);
+    const CylinderFit& designed = f.cylinder;
+    return {2 * std::max(perpendicular(a - designed.point, designed.axis),
+                         perpendicular(b - designed.point, designed.axis)),
+            {}};
+  }
+  if (kind.find("runout") != std::string::npos || kind == "concentricity" || kind == "coaxiality") {
+    const auto axis = datumAxis(c, gdt, nominal);
+    if (!axis) return notFound("no cylindrical datum gives its axis");
+    if (kind == "concentricity" || kind == "coaxiality") {
+      if (!cylinder) return notFound("its axis is not measured enough to fit");
+      const auto [a, b] = axisEnds(*cylinder, on);
+      return {2 * std::max(perpendicular(a - axis->point, axis->axis),
+                           perpendicular(b - axis->point, axis->axis)),
+              {}};
+    }
+    return {kind == "circular_runout" ? largestSectionRange(*axis, on) : radialRange(*axis, on),
+            {}};
+  }
+  return notFound(kind + " is not evaluated");
+}
+
+}  // namespace
+
+struct Nominal::Trees {
+  std::map<int, std::unique_ptr<PointCloudAdaptor>> clouds;
+  std::map<int, std::unique_ptr<PointTree>> trees;
+};
+
+Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
+    : trees_(std::make_unique<Trees>()) {
+  for (const SurfacePoint& p : points) {
+    if (p.face < 1 || p.face > static_cast<int>(part.faces.size())) continue;
+    NominalFace& f = faces_[p.face];
+    f.type = part.faces[p.face - 1].type;
+    f.points.push_back(p.position);
+    f.normals.push_back(p.normal);
+  }
+  for (auto& [id, f] : faces_) {
+    Vec3 mean_normal = Vec3::Zero();
+    for (const Vec3& n : f.normals) mean_normal += n;
+    const PlaneFit plane = fitPlane(f.points, mean_normal);
+    f.centroid = plane.point;
+    f.normal = plane.normal;
+    for (const Vec3& p : f.points) f.rim = std::max(f.rim, perpendicular(p - f.centroid, f.normal));
+    if (f.type == SurfaceType::Cylinder) f.cylinder = cylinderFromNormals(f.points, f.normals);
+    auto& cloud = trees_->clouds[id] =
+        std::make_unique<PointCloudAdaptor>(PointCloudAdaptor{f.points});
+    auto& tree = trees_->trees[id] =
+        std::make_unique<PointTree>(3, *cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree->buildIndex();
+  }
+}
+
+Nominal::~Nominal() = default;
+
+const NominalFace* Nominal::face(int id) const {
+  const auto found = faces_.find(id);
+  return found == faces_.end() ? nullptr : &found->second;
+}
+
+std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
+  const NominalFace& f = faces_.at(id);
+  unsigned index = 0;
+  double squared = 0;
+  trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
+  return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+}
+
+Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
+                         const Nominal& nominal, const FacePoints& points) {
+  Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
+  Twist pull = Twist::Zero();
+  double weight = 1;
+  for (const std::string& letter : datums) {
+    const auto datum = std::find_if(gdt.datums.begin(), gdt.datums.end(),
+                                    [&](const Datum& d) { return d.name == letter; });
+    const std::string unfit = "datum " + letter + " is not measured enough to fit";
+    if (datum == gdt.datums.end())
+      return {std::nullopt, "datum " + letter + " is linked to no face"};
+    const std::vector<Feature> features = featuresOf(datum->faces, nominal);
+    if (features.empty()) return {std::nullopt, "datum " + letter + " is linked to no face"};
+    const Feature& f = features.front();
+    const std::vector<Vec3> on = pointsOn(datum->faces, points);
+    const auto add = [&](const Eigen::Matrix<double, 1, 6>& row, double residual, double w) {
+      normal += w * row.transpose() * row;
+      pull -= w * row.transpose() * residual;
+    };
+    if (f.type == SurfaceType::Plane) {
+      if (on.size() < kLeastPoints) return {std::nullopt, unfit};
+      for (const Vec3& p : on)
+        add(alongNormal(p, f.plane.normal), f.plane.normal.dot(p - f.plane.point),
+            weight / static_cast<double>(on.size()));
+    } else {
+      const auto cylinder = cylinderOf(f, on);
+      if (!cylinder) return {std::nullopt, unfit};
+      const CylinderFit& designed = f.cylinder;
+      const Vec3 e1 = designed.axis.unitOrthogonal(), e2 = designed.axis.cross(e1);
+      const auto [a, b] = axisEnds(*cylinder, on);
+      for (const Vec3& end : {a, b})
+        for (const Vec3& e : {e1, e2})
+          add(alongNormal(end, e), e.dot(end - designed.point), weight);
+    }
+    weight /= kPrecedence;
+  }
+  normal += 1e-14 * (normal.trace() + 1) * Eigen::Matrix<double, 6, 6>::Identity();
+  return {Twist(normal.ldlt().solve(pull)), {}};
+}
+
+Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
+                    const FacePoints& points) {
+  if (c.faces.empty()) return notFound("linked to no face");
+  const std::vector<Feature> features = featuresOf(c.faces, nominal);
+  if (features.empty()) return notFound("its faces are not known");
+  if (c.dimension) {
+    if (c.kind == "diameter" || c.kind == "radius") {
+      if (features.size() != 1 || features.front().type != SurfaceType::Cylinder)
+        return notFound("a " + c.kind + " of faces that are not one cylinder is not evaluated");
+      const auto cylinder = cylinderOf(features.front(), pointsOn(c.faces, points));
+      if (!cylinder) return notFound("its cylinder is not measured enough to fit");
+      return {c.kind == "diameter" ? 2 * cylinder->radius : cylinder->radius, {}};
+    }
+    return dimensionBetween(c, features, points);
+  }
+  if (c.datums.empty()) return toleranceValue(c, gdt, nominal, features, points);
+  const Alignment alignment = datumAlignment(c.datums, gdt, nominal, points);
+  if (!alignment.motion) return notFound(alignment.why_not);
+  return toleranceValue(c, gdt, nominal, features, moved(points, *alignment.motion));
+}
+
+}  // namespace scanplan::detail

@@ -1,0 +1,72 @@
+#pragma once
+// A characteristic's value from measured points, by its definition (docs/capability.md,
+// "Virtual inspection"): its features fitted (least-squares planes and cylinders, the
+// minimum zone for flatness), located in a datum reference frame fitted to its datum
+// features.
+
+#include "planning/registration_error.h"
+
+#include <scanplan/cad/gdt.h>
+#include <scanplan/cad/part.h>
+#include <scanplan/scanner/simulation.h>
+#include <scanplan/solve/fits.h>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace scanplan::detail {
+
+// Points by the face they lie on (part frame).
+using FacePoints = std::map<int, std::vector<Vec3>>;
+
+// A face as designed, sampled densely (part frame).
+struct NominalFace {
+  SurfaceType type = SurfaceType::Other;
+  std::vector<Vec3> points, normals;
+  Vec3 centroid = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();  // a plane's
+  CylinderFit cylinder;         // a cylinder's
+  double rim = 0;               // the farthest its points lie from the centroid, across it
+};
+
+// The part's faces as designed, from points sampled densely on them (part frame).
+class Nominal {
+ public:
+  Nominal(const Part& part, std::span<const SurfacePoint> points);
+  ~Nominal();
+  const NominalFace* face(int id) const;
+  // The normal of face `id` at its sample nearest `p`, and the signed distance from `p`
+  // to it along that normal.
+  std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
+
+ private:
+  struct Trees;
+  std::map<int, NominalFace> faces_;
+  std::unique_ptr<Trees> trees_;
+};
+
+// The value of `c` from `points`, or why it cannot be found: its features not measured or
+// not fitted, or a kind the evaluation does not know.
+struct Evaluation {
+  std::optional<double> value;
+  std::string why_not;
+};
+Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
+                    const FacePoints& points);
+
+// The small rigid motion that puts the measured datum features `datums` (in precedence)
+// where the nominal ones lie: least squares, each datum a hundred times the next, the
+// directions none fixes left at 0. Planes by their points' distances, cylinders by their
+// fitted axes. None, and why, when a datum is not measured enough to fit.
+struct Alignment {
+  std::optional<Twist> motion;
+  std::string why_not;
+};
+Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
+                         const Nominal& nominal, const FacePoints& points);
+
+}  // namespace scanplan::detail

@@ -1,0 +1,277 @@
+// The virtual inspection (docs/capability.md, "Virtual inspection"). Each run simulates
+// every registered view's cloud at the inspection's spacing, its noise that of the mean of
+// the scanner's points each simulated point stands for; puts on it the scanner's
+// acceptance errors drawn for that view (a bow over the field within the flatness error, a
+// scale within the sphere-spacing error over the volume's diagonal, an offset along the
+// surface within half the probing error of size); moves it by a draw of its registration
+// error; and applies the declared deviations. Each characteristic is evaluated from the
+// points of one frame, the one holding most of its faces' and datums' points, as the
+// evaluation defines it; the part's own value comes from the same evaluation on the
+// deviated surface, sampled densely, without error.
+
+#include "planning/evaluation.h"
+#include "planning/registration_error.h"
+
+#include <scanplan/core/errors.h>
+#include <scanplan/planning/inspection.h>
+#include <scanplan/planning/planner.h>
+#include <scanplan/scanner/simulation.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <random>
+#include <set>
+
+namespace scanplan {
+namespace {
+
+using detail::FacePoints;
+
+// Samples of the faces as designed, mm apart.
+constexpr double kNominalSpacing = 1;
+
+// Every face the characteristics and their datums name.
+std::set<int> facesOf(const Part& part, const std::vector<Characteristic>& list) {
+  std::set<int> faces;
+  for (const Characteristic& c : list) {
+    faces.insert(c.faces.begin(), c.faces.end());
+    for (const std::string& letter : c.datums)
+      for (const Datum& d : part.gdt.datums)
+        if (d.name == letter) faces.insert(d.faces.begin(), d.faces.end());
+  }
+  return faces;
+}
+
+// The deviations, checked against the part and the nominal faces.
+void checkDeviations(const Part& part, const std::vector<Deviation>& deviations,
+                     const detail::Nominal& nominal) {
+  for (std::size_t k = 0; k < deviations.size(); ++k) {
+    const Deviation& d = deviations[k];
+    const std::string where = "deviation " + std::to_string(k + 1);
+    for (int f : d.faces) {
+      if (f < 1 || f > static_cast<int>(part.faces.size()))
+        throw InputError(part.file, where + ": the part has no face " + std::to_string(f));
+      if (d.kind == Deviation::Kind::Diameter && part.faces[f - 1].type != SurfaceType::Cylinder)
+        throw InputError(part.file, where + ": face " + std::to_string(f) + " is not a cylinder");
+    }
+    (void)nominal;
+  }
+}
+
+// A point of face `face` (part frame, outward normal `n`) where the deviations put it.
+Vec3 deviated(const std::vector<Deviation>& deviations, const detail::Nominal& nominal, int face,
+              const Vec3& p, const Vec3& n) {
+  Vec3 q = p;
+  for (const Deviation& d : deviations) {
+    if (std::find(d.faces.begin(), d.faces.end(), face) == d.faces.end()) continue;
+    const detail::NominalFace* f = nominal.face(face);
+    switch (d.kind) {
+      case Deviation::Kind::Offset: q += d.amount * n; break;
+      case Deviation::Kind::Move: q += d.move; break;
+      case Deviation::Kind::Bow: {
+        if (!f || f->rim <= 0) break;
+        const Vec3 across = (p - f->centroid) - (p - f->centroid).dot(f->normal) * f->normal;
+        const double r = across.norm() / f->rim;
+        q += d.amount * (1 - r * r) * n;
+        break;
+      }
+      case Deviation::Kind::Diameter: {
+        if (!f) break;
+        const Vec3 from = p - f->cylinder.point;
+        const Vec3 radial = from - from.dot(f->cylinder.axis) * f->cylinder.axis;
+        q += d.amount / 2 * radial.normalized();
+        break;
+      }
+    }
+  }
+  return q;
+}
+
+// The surface as designed (part frame), densely, on `faces`.
+std::vector<SurfacePoint> designedPoints(const Part& part, const ResolvedSpec& spec,
+                                         const std::set<int>& faces) {
+  const Simulator simulator(part, spec.spec.scanner,
+                            simulationOptionsFor(spec, part, Pose::Identity()));
+  std::vector<SurfacePoint> points;
+  for (const SurfacePoint& p : simulator.surfacePoints(kNominalSpacing, 1))
+    if (faces.count(p.face)) points.push_back(p);
+  return points;
+}
+
+// The scanner's acceptance errors drawn for one view: applied to a world point with its
+// normal.
+struct AcceptanceErrors {
+  double bow = 0, scale = 0, offset = 0;
+  Vec3 apply(const Scanner& s, const View& view, const Vec3& p, const Vec3& n) const {
+    const Vec3 local = view.camera_to_world.inverse() * p;
+    const double at = local.z() / s.standoff;  // the field grows with the depth
+    const double u = 2 * local.x() / (s.fov_width * at), v = 2 * local.y() / (s.fov_height * at);
+    const Vec3 ray = view.camera_to_world.linear().col(2);
+    Vec3 q = p + bow * (u * u + v * v) / 2 * ray;
+    q = view.target + (1 + scale) * (q - view.target);
+    return q + offset * n;
+  }
+};
+AcceptanceErrors drawAcceptance(const Scanner& s, std::mt19937_64& random) {
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double diagonal = std::hypot(s.fov_width, s.fov_height, s.depth_of_field);
+  return {s.flatness_error * unit(random), s.sphere_spacing / diagonal * unit(random),
+          s.probing_size / 2 * unit(random)};
+}
+
+// One run's points: per frame, by face (part frame).
+using RunPoints = std::map<std::size_t, FacePoints>;
+
+struct Setup {
+  const Part& part;
+  const ResolvedSpec& spec;
+  const Plan& plan;
+  const InspectionOptions& options;
+  const detail::Nominal& nominal;
+  const std::set<int>& faces;
+  const std::vector<detail::ViewError>& errors;
+  double spacing;
+};
+
+RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
+                      const detail::TwistDraws& draws, int run) {
+  const std::vector<std::size_t> orientation = viewOrientations(s.plan);
+  std::mt19937_64 random(s.options.seed * 1000003 + static_cast<std::uint64_t>(run));
+  const std::vector<detail::Twist> moves = draws.draw(random);
+  std::vector<AcceptanceErrors> acceptance;
+  for (std::size_t v = 0; v < s.plan.views.size(); ++v)
+    acceptance.push_back(drawAcceptance(s.plan.scanner, random));
+  RunPoints points;
+  std::mutex mutex;
+  tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
+    if (!s.errors[v].placed) return;
+    const View& view = s.plan.views[v];
+    const std::size_t k = orientation[v];
+    const Pose to_part = orientationPlacement(s.plan, k).inverse();
+    const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
+                               static_cast<std::uint64_t>(view.id);
+    const PointCloud cloud = simulators[k].cloud(view, seed, s.spacing);
+    FacePoints mine;
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+      const int face = cloud.faces[i];
+      if (!s.faces.count(face)) continue;
+      Vec3 p = acceptance[v].apply(s.plan.scanner, view, cloud.points[i], cloud.normals[i]);
+      p += detail::displacement(moves[v], p);
+      const Vec3 in_part = to_part * p, normal = to_part.linear() * cloud.normals[i];
+      mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
+    }
+    const std::lock_guard lock(mutex);
+    FacePoints& frame = points[s.errors[v].frame];
+    for (auto& [face, list] : mine) frame[face].insert(frame[face].end(), list.begin(), list.end());
+  });
+  return points;
+}
+
+// The frame holding most of the characteristic's faces' and datums' points.
+const FacePoints& frameFor(const Characteristic& c, const Part& part, const RunPoints& run) {
+  static const FacePoints none;
+  const std::set<int> faces = facesOf(part, {c});
+  const FacePoints* best = &none;
+  std::size_t most = 0;
+  for (const auto& [frame, by_face] : run) {
+    std::size_t count = 0;
+    for (int f : faces)
+      if (const auto found = by_face.find(f); found != by_face.end()) count += found->second.size();
+    if (count > most) best = &by_face, most = count;
+  }
+  return *best;
+}
+
+// Mean, bias, U and verdict from the runs' values.
+void judge(const Characteristic& c, const CapabilityOptions& capability,
+           InspectedCharacteristic& k) {
+  const double n = static_cast<double>(k.values.size());
+  double mean = 0, squares = 0;
+  for (double x : k.values) mean += x / n;
+  for (double x : k.values) squares += (x - mean) * (x - mean);
+  k.mean = mean;
+  k.bias = mean - k.true_value;
+  k.uncertainty = n > 1 ? 2 * std::sqrt(squares / (n - 1)) : 0;
+  const double spread = k.uncertainty + std::abs(k.bias);
+  k.ratio = c.width() > 0 && spread > 0 ? c.width() / (2 * spread) : 0;
+  k.verdict = !(c.width() > 0)                       ? Verdict::Untoleranced
+              : k.ratio >= capability.capable_ratio  ? Verdict::Capable
+              : k.ratio >= capability.marginal_ratio ? Verdict::Marginal
+                                                     : Verdict::NotCapable;
+}
+
+}  // namespace
+
+Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                       const InspectionOptions& options, const Progress& progress) {
+  if (options.runs < 2 || options.runs > 10000)
+    throw InputError(plan.part_file, "inspection runs must be within [2, 10000]");
+  if (!(options.spacing >= 0) || options.spacing > plan.scanner.fov_height)
+    throw InputError(plan.part_file, "inspection spacing must be within [0, fov_height]");
+  Inspection result;
+  result.runs = options.runs;
+  result.spacing = options.spacing > 0 ? options.spacing : plan.scanner.fov_height / 100;
+  result.deviations = options.deviations;
+  const std::vector<Characteristic>& list = plan.characteristics;
+  const std::set<int> faces = facesOf(part, list);
+  const std::vector<SurfacePoint> designed = designedPoints(part, spec, faces);
+  const detail::Nominal nominal(part, designed);
+  checkDeviations(part, options.deviations, nominal);
+  // The part simulated: the designed surface where the deviations put it.
+  FacePoints truth;
+  for (const SurfacePoint& p : designed)
+    truth[p.face].push_back(deviated(options.deviations, nominal, p.face, p.position, p.normal));
+
+  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;
+  const detail::TwistDraws draws(errors);
+  // Each simulated point the mean of the scanner's points around it.
+  Scanner averaged = plan.scanner;
+  averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / result.spacing);
+  std::vector<Simulator> simulators;
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
+    simulators.emplace_back(part, averaged,
+                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  const Setup setup{part, spec, plan, options, nominal, faces, errors, result.spacing};
+
+  for (const Characteristic& c : list) {
+    InspectedCharacteristic k;
+    k.characteristic = c.id;
+    const detail::Evaluation value = detail::evaluate(c, part.gdt, nominal, truth);
+    k.evaluated = value.value.has_value();
+    if (value.value) k.true_value = *value.value;
+    k.not_evaluated = value.why_not;
+    result.characteristics.push_back(k);
+  }
+  for (int run = 0; run < options.runs; ++run) {
+    report(progress,
+           "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
+           static_cast<double>(run) / options.runs);
+    const RunPoints points = simulateRun(setup, simulators, draws, run);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      InspectedCharacteristic& k = result.characteristics[i];
+      if (!k.evaluated) continue;
+      const FacePoints& frame = frameFor(list[i], part, points);
+      for (int f : list[i].faces)
+        if (const auto found = frame.find(f); found != frame.end())
+          k.points += static_cast<double>(found->second.size()) / options.runs;
+      const detail::Evaluation value = detail::evaluate(list[i], part.gdt, nominal, frame);
+      if (!value.value) {
+        k.evaluated = false;
+        k.not_evaluated = "in run " + std::to_string(run + 1) + ", " + value.why_not;
+        continue;
+      }
+      k.values.push_back(*value.value);
+    }
+  }
+  report(progress, "inspecting", 1);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (result.characteristics[i].evaluated)
+      judge(list[i], spec.spec.planner.capability, result.characteristics[i]);
+  return result;
+}
+
+}  // namespace scanplan
