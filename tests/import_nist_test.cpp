@@ -185,6 +185,28 @@ TEST(NistGdt, Ftc06FlatnessOfDatumA) {
   EXPECT_EQ(part.face(flatness.faces.front()).type, SurfaceType::Plane);
 }
 
+// FTC 08 names two common datums (COMMON_DATUM_LIST in its text: E with F, H with J, each
+// in the second compartment after D): they read as one reference, "E-F", not as a
+// secondary and a tertiary; the profile's 48 faces are referred to D then E-F.
+TEST(NistGdt, Ftc08CommonDatumsReadAsOneReference) {
+  SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_08_asme1_ap242-e1.stp");
+  const Part part = importPart(path);
+  std::size_t common = 0;
+  for (const GeometricTolerance& t : part.gdt.tolerances) {
+    for (const std::string& d : t.datums) common += d.find('-') != std::string::npos;
+    if (t.faces.size() == 48) {
+      EXPECT_EQ(t.datums, (std::vector<std::string>{"D", "E-F"}));
+    }
+  }
+  EXPECT_EQ(common, 2u);
+  EXPECT_EQ(datumLetters("E-F"), (std::vector<std::string>{"E", "F"}));
+  std::vector<int> both = datumFaces(part.gdt, "E");
+  for (int f : datumFaces(part.gdt, "F")) both.push_back(f);
+  std::sort(both.begin(), both.end());
+  EXPECT_EQ(datumFaces(part.gdt, "E-F"), both);
+  EXPECT_FALSE(both.empty());
+}
+
 // FTC 06 gives its dimensions in inches as 'nominal value' items; the 12 in distance
 // between faces 22 and 107 (datum B) is the part's width along x.
 TEST(NistGdt, Ftc06DimensionsAreInMillimetres) {

@@ -42,4 +42,21 @@ std::vector<Characteristic> characteristics(const Gdt& gdt) {
   return result;
 }
 
+std::vector<std::string> datumLetters(const std::string& reference) {
+  std::vector<std::string> letters;
+  std::size_t start = 0;
+  for (std::size_t dash; (dash = reference.find('-', start)) != std::string::npos; start = dash + 1)
+    letters.push_back(reference.substr(start, dash - start));
+  letters.push_back(reference.substr(start));
+  return letters;
+}
+
+std::vector<int> datumFaces(const Gdt& gdt, const std::string& reference) {
+  std::vector<int> faces;
+  for (const std::string& letter : datumLetters(reference))
+    for (const Datum& d : gdt.datums)
+      if (d.name == letter) faces.insert(faces.end(), d.faces.begin(), d.faces.end());
+  return sortedUnique(faces);
+}
+
 }  // namespace scanplan

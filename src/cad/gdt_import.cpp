@@ -100,6 +100,33 @@ std::string datumName(const TDF_Label& label) {
   return object->GetName()->String().ToCString();
 }
 
+// Where a datum stands in its tolerance's reference frame: 1 primary, 2 secondary, ...; 0
+// when the file does not say.
+int datumPosition(const TDF_Label& label) {
+  Handle(XCAFDoc_Datum) datum;
+  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return 0;
+  Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
+  return object.IsNull() ? 0 : object->GetPosition();
+}
+
+// A tolerance's datum references in precedence: datums the file puts at the same place of
+// the frame (a common datum, COMMON_DATUM_LIST) joined as "A-B".
+std::vector<std::string> datumReferences(const TDF_LabelSequence& datums) {
+  std::vector<std::string> references;
+  int last = -1;
+  for (const TDF_Label& datum : datums) {
+    const int position = datumPosition(datum);
+    if (position > 0 && position == last && !references.empty()) {
+      const std::string name = datumName(datum);
+      references.back().append(1, '-').append(name);
+    } else {
+      references.push_back(datumName(datum));
+    }
+    last = position;
+  }
+  return references;
+}
+
 bool isAngular(const std::string& dimension_type) {
   return dimension_type == "angular_location" || dimension_type == "angular_size";
 }
@@ -135,7 +162,7 @@ Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
     }
     TDF_LabelSequence datums;
     tool->GetDatumWithObjectOfTolerLabels(label, datums);
-    for (const TDF_Label& datum : datums) tolerance.datums.push_back(datumName(datum));
+    tolerance.datums = datumReferences(datums);
     tolerance.faces = attachedFaces(tool, label, lookup);
     gdt.tolerances.push_back(std::move(tolerance));
   }

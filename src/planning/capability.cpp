@@ -314,12 +314,11 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// The faces a characteristic's datum letters name.
+// The faces a characteristic's datum references name.
 std::vector<int> datumFaces(const Part& part, const Characteristic& c) {
   std::vector<int> faces;
-  for (const std::string& letter : c.datums)
-    for (const Datum& d : part.gdt.datums)
-      if (d.name == letter) faces.insert(faces.end(), d.faces.begin(), d.faces.end());
+  for (const std::string& reference : c.datums)
+    for (int f : datumFaces(part.gdt, reference)) faces.push_back(f);
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   return faces;
@@ -328,9 +327,11 @@ std::vector<int> datumFaces(const Part& part, const Characteristic& c) {
 // Whether every datum of a geometric tolerance names faces: else its frame cannot be fitted.
 bool datumsLinked(const Part& part, const Characteristic& c) {
   if (c.dimension) return true;
-  return std::all_of(c.datums.begin(), c.datums.end(), [&](const std::string& letter) {
-    return std::any_of(part.gdt.datums.begin(), part.gdt.datums.end(),
-                       [&](const Datum& d) { return d.name == letter && !d.faces.empty(); });
+  return std::all_of(c.datums.begin(), c.datums.end(), [&](const std::string& reference) {
+    const std::vector<std::string> letters = datumLetters(reference);
+    return std::all_of(letters.begin(), letters.end(), [&](const std::string& letter) {
+      return !datumFaces(part.gdt, letter).empty();
+    });
   });
 }
 

@@ -205,11 +205,9 @@ Evaluation dimensionBetween(const Characteristic& c, const std::vector<Feature>&
 // The datum axis of a characteristic's frame, as designed: its first cylindrical datum.
 std::optional<CylinderFit> datumAxis(const Characteristic& c, const Gdt& gdt,
                                      const Nominal& nominal) {
-  for (const std::string& letter : c.datums)
-    for (const Datum& d : gdt.datums)
-      if (d.name == letter)
-        for (const Feature& f : featuresOf(d.faces, nominal))
-          if (f.type == SurfaceType::Cylinder) return f.cylinder;
+  for (const std::string& reference : c.datums)
+    for (const Feature& f : featuresOf(datumFaces(gdt, reference), nominal))
+      if (f.type == SurfaceType::Cylinder) return f.cylinder;
   return std::nullopt;
 }
 
@@ -326,44 +324,66 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   return {f.normals[index], f.normals[index].dot(p - f.points[index])};
 }
 
-Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
-                         const Nominal& nominal, const FacePoints& points) {
+namespace {
+
+// The least-squares normal equations of a datum alignment.
+struct Constraints {
   Eigen::Matrix<double, 6, 6> normal = Eigen::Matrix<double, 6, 6>::Zero();
   Twist pull = Twist::Zero();
+  void add(const Eigen::Matrix<double, 1, 6>& row, double residual, double weight) {
+    normal += weight * row.transpose() * row;
+    pull -= weight * row.transpose() * residual;
+  }
+};
+
+// Constrains the alignment by datum `letter` at `weight`: a plane by its points' distances
+// from the designed plane, a cylinder by its fitted axis' ends off the designed axis. Why
+// not, when it cannot.
+std::string constrain(const std::string& letter, double weight, const Gdt& gdt,
+                      const Nominal& nominal, const FacePoints& points, Constraints& into) {
+  const std::vector<int> faces = datumFaces(gdt, letter);
+  const std::vector<Feature> features = featuresOf(faces, nominal);
+  if (features.empty()) return "datum " + letter + " is linked to no face";
+  const Feature& f = features.front();
+  const std::vector<Vec3> on = pointsOn(faces, points);
+  const std::string unfit = "datum " + letter + " is not measured enough to fit";
+  if (f.type == SurfaceType::Plane) {
+    if (on.size() < kLeastPoints) return unfit;
+    for (const Vec3& p : on)
+      into.add(alongNormal(p, f.plane.normal), f.plane.normal.dot(p - f.plane.point),
+               weight / static_cast<double>(on.size()));
+    return {};
+  }
+  const auto cylinder = cylinderOf(f, on);
+  if (!cylinder) return unfit;
+  const CylinderFit& designed = f.cylinder;
+  const Vec3 e1 = designed.axis.unitOrthogonal(), e2 = designed.axis.cross(e1);
+  const auto [a, b] = axisEnds(*cylinder, on);
+  for (const Vec3& end : {a, b})
+    for (const Vec3& e : {e1, e2})
+      into.add(alongNormal(end, e), e.dot(end - designed.point), weight);
+  return {};
+}
+
+}  // namespace
+
+Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
+                         const Nominal& nominal, const FacePoints& points) {
+  Constraints constraints;
   double weight = 1;
-  for (const std::string& letter : datums) {
-    const auto datum = std::find_if(gdt.datums.begin(), gdt.datums.end(),
-                                    [&](const Datum& d) { return d.name == letter; });
-    const std::string unfit = "datum " + letter + " is not measured enough to fit";
-    if (datum == gdt.datums.end())
-      return {std::nullopt, "datum " + letter + " is linked to no face"};
-    const std::vector<Feature> features = featuresOf(datum->faces, nominal);
-    if (features.empty()) return {std::nullopt, "datum " + letter + " is linked to no face"};
-    const Feature& f = features.front();
-    const std::vector<Vec3> on = pointsOn(datum->faces, points);
-    const auto add = [&](const Eigen::Matrix<double, 1, 6>& row, double residual, double w) {
-      normal += w * row.transpose() * row;
-      pull -= w * row.transpose() * residual;
-    };
-    if (f.type == SurfaceType::Plane) {
-      if (on.size() < kLeastPoints) return {std::nullopt, unfit};
-      for (const Vec3& p : on)
-        add(alongNormal(p, f.plane.normal), f.plane.normal.dot(p - f.plane.point),
-            weight / static_cast<double>(on.size()));
-    } else {
-      const auto cylinder = cylinderOf(f, on);
-      if (!cylinder) return {std::nullopt, unfit};
-      const CylinderFit& designed = f.cylinder;
-      const Vec3 e1 = designed.axis.unitOrthogonal(), e2 = designed.axis.cross(e1);
-      const auto [a, b] = axisEnds(*cylinder, on);
-      for (const Vec3& end : {a, b})
-        for (const Vec3& e : {e1, e2})
-          add(alongNormal(end, e), e.dot(end - designed.point), weight);
-    }
+  for (const std::string& reference : datums) {
+    // A common datum's features together, each at a share of the reference's weight.
+    const std::vector<std::string> letters = datumLetters(reference);
+    for (const std::string& letter : letters)
+      if (const std::string why = constrain(letter, weight / static_cast<double>(letters.size()),
+                                            gdt, nominal, points, constraints);
+          !why.empty())
+        return {std::nullopt, why};
     weight /= kPrecedence;
   }
+  Eigen::Matrix<double, 6, 6>& normal = constraints.normal;
   normal += 1e-14 * (normal.trace() + 1) * Eigen::Matrix<double, 6, 6>::Identity();
-  return {Twist(normal.ldlt().solve(pull)), {}};
+  return {Twist(normal.ldlt().solve(constraints.pull)), {}};
 }
 
 Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,

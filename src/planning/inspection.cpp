@@ -38,9 +38,8 @@ std::set<int> facesOf(const Part& part, const std::vector<Characteristic>& list)
   std::set<int> faces;
   for (const Characteristic& c : list) {
     faces.insert(c.faces.begin(), c.faces.end());
-    for (const std::string& letter : c.datums)
-      for (const Datum& d : part.gdt.datums)
-        if (d.name == letter) faces.insert(d.faces.begin(), d.faces.end());
+    for (const std::string& reference : c.datums)
+      for (int f : datumFaces(part.gdt, reference)) faces.insert(f);
   }
   return faces;
 }

@@ -9,10 +9,12 @@ namespace scanplan {
 
 // A geometric tolerance (ASME Y14.5 / ISO 1101 characteristic) on one or more faces.
 struct GeometricTolerance {
-  std::string type;                 // "flatness", "position", "profile_of_surface", ...
-  double value = 0;                 // tolerance zone size, mm (or degrees for angularity)
-  std::vector<std::string> datums;  // datum references in order of precedence: "A", "B"
-  std::vector<int> faces;           // 1-based ids of the toleranced faces
+  std::string type;  // "flatness", "position", "profile_of_surface", ...
+  double value = 0;  // tolerance zone size, mm (or degrees for angularity)
+  // Datum references in order of precedence: "A", "B"; a common datum (two datum features
+  // taken as one, COMMON_DATUM_LIST) as "A-B".
+  std::vector<std::string> datums;
+  std::vector<int> faces;  // 1-based ids of the toleranced faces
 };
 
 // A dimension with its tolerance (size or location).
@@ -60,5 +62,10 @@ struct Characteristic {
 // The characteristics of `gdt`: every geometric tolerance, then every dimension with a
 // value, each with its faces.
 std::vector<Characteristic> characteristics(const Gdt& gdt);
+
+// The datum letters of a datum reference: "A" for "A", "A" and "B" for a common "A-B".
+std::vector<std::string> datumLetters(const std::string& reference);
+// The faces of the datum features a reference names, sorted; none when a letter names none.
+std::vector<int> datumFaces(const Gdt& gdt, const std::string& reference);
 
 }  // namespace scanplan
