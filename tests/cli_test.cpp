@@ -482,6 +482,18 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
     }
   }
   EXPECT_GT(evaluated, 0u);
+  // The report shows it; an inspection file at fault is refused, naming it.
+  r = run("report " + dir.file("out/plan.json") + " " + part + " -q");
+  EXPECT_EQ(r.code, 0) << r.out;
+  test::writeText(
+      dir.file("broken.json"),
+      R"({"runs": 3, "spacing": 2, "characteristics": [{"id": 999, "evaluated": false}]})");
+  r = run("report " + dir.file("out/plan.json") + " " + part + " -q -o " + dir.file("r.html") +
+          " --inspection " + dir.file("broken.json"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("broken.json: characteristic 1: the plan has no characteristic 999"),
+            std::string::npos)
+      << r.out;
   const auto refused = [&](const std::string& text, const std::string& says) {
     test::writeText(dir.file("deviations.yaml"), text);
     const CommandResult bad =

@@ -8,6 +8,7 @@
 
 #include <scanplan/cad/import.h>
 #include <scanplan/core/errors.h>
+#include <scanplan/io/inspection_files.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_csv.h>
@@ -21,6 +22,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 
 namespace scanplan::cli {
 namespace {
@@ -82,7 +84,22 @@ struct ReportCommand {
   Input input;
   std::string out;
   std::string png;
+  std::string inspection;
 };
+
+// The inspection the report shows: the one named, else inspection.json beside the plan if
+// there is one.
+std::optional<Inspection> inspectionFor(const ReportCommand& options, const Plan& plan) {
+  std::string file = options.inspection;
+  if (file.empty()) {
+    const std::filesystem::path beside =
+        std::filesystem::path(options.input.plan).parent_path() / "inspection.json";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(beside, ec)) return std::nullopt;
+    file = beside.string();
+  }
+  return readInspection(file, plan);
+}
 
 int runReport(const ReportCommand& options, const GlobalOptions& global) {
   const std::string out =
@@ -92,9 +109,12 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
   const Spec spec = specOf(options.input);
   refuseOwnInput(out, options.input, spec);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input, spec);
+  if (!options.inspection.empty()) refuseInputAsOutput(out, {options.inspection});
   Progress progress = terminalProgress(global);
   const Checked c = check(options.input, spec, progress);
-  writeReport(c.plan, c.part, c.spec, out, {}, progress);
+  ReportEvidence evidence = reportEvidence(c.plan, c.part, c.spec, {}, progress);
+  evidence.inspection = inspectionFor(options, c.plan);
+  writeReport(c.plan, c.part, c.spec, evidence, out);
   if (!options.png.empty()) writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.png);
   clearProgress();
   fmt::print("report     {}\n", out);
@@ -188,6 +208,11 @@ void addReportCommand(CLI::App& app, const GlobalOptions& global, Action& select
   addInput(*command, options->input);
   command->add_option("-o,--out", options->out, "HTML file (default: report.html beside the plan)");
   command->add_option("--png", options->png, "Also write a picture of the scene to this PNG file");
+  command
+      ->add_option("--inspection", options->inspection,
+                   "Results of scanplan inspect to show (default: inspection.json beside the "
+                   "plan, if there is one)")
+      ->check(kNamedFile);
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return runReport(*options, global); };
   });

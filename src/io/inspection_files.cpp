@@ -1,3 +1,4 @@
+#include "io/json_values.h"
 #include "scanner/sensor_yaml.h"
 
 #include <scanplan/core/atomic_file.h>
@@ -7,6 +8,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -77,7 +79,73 @@ std::string_view kindName(Deviation::Kind kind) {
   return "?";
 }
 
+// The number `key` of `object`. \throw InputError naming `where`.
+double numberAt(const nlohmann::json& object, const char* key, const std::string& path,
+                const std::string& where) {
+  if (!object.contains(key) || !object[key].is_number())
+    throw InputError(path, where + ": '" + key + "' is not a number");
+  return object[key].get<double>();
+}
+
+InspectedCharacteristic inspectedFrom(const nlohmann::json& entry, const Plan& plan,
+                                      const std::string& path, const std::string& where) {
+  if (!entry.is_object() || !entry.contains("id") || !entry["id"].is_number_integer() ||
+      !entry.contains("evaluated") || !entry["evaluated"].is_boolean())
+    throw InputError(path, where + ": needs an integer 'id' and a true or false 'evaluated'");
+  InspectedCharacteristic k;
+  k.characteristic = entry["id"].get<int>();
+  if (std::none_of(plan.characteristics.begin(), plan.characteristics.end(),
+                   [&](const Characteristic& c) { return c.id == k.characteristic; }))
+    throw InputError(
+        path, where + ": the plan has no characteristic " + std::to_string(k.characteristic));
+  k.evaluated = entry["evaluated"].get<bool>();
+  if (!k.evaluated) {
+    if (entry.contains("not_evaluated") && entry["not_evaluated"].is_string())
+      k.not_evaluated = entry["not_evaluated"].get<std::string>();
+    return k;
+  }
+  k.true_value = numberAt(entry, "true_value", path, where);
+  k.mean = numberAt(entry, "mean", path, where);
+  k.bias = numberAt(entry, "bias", path, where);
+  k.uncertainty = numberAt(entry, "uncertainty", path, where);
+  k.ratio = numberAt(entry, "ratio", path, where);
+  k.points = numberAt(entry, "points", path, where);
+  const std::string verdict = entry.value("verdict", std::string());
+  bool known = false;
+  for (Verdict v :
+       {Verdict::Capable, Verdict::Marginal, Verdict::NotCapable, Verdict::Untoleranced})
+    if (toString(v) == verdict) k.verdict = v, known = true;
+  if (!known) throw InputError(path, where + ": unknown verdict '" + verdict + "'");
+  const nlohmann::json& values = entry.value("values", nlohmann::json());
+  if (!values.is_array()) throw InputError(path, where + ": 'values' is not a list");
+  for (const nlohmann::json& v : values) {
+    if (!v.is_number()) throw InputError(path, where + ": a value is not a number");
+    k.values.push_back(v.get<double>());
+  }
+  return k;
+}
+
 }  // namespace
+
+Inspection readInspection(const std::string& path, const Plan& plan) {
+  requireInputFile(path);
+  std::ifstream in(path, std::ios::binary);
+  const nlohmann::json root = detail::parseJson(in, path);
+  if (!root.is_object() || !root.contains("runs") || !root["runs"].is_number_integer() ||
+      !root.contains("characteristics") || !root["characteristics"].is_array())
+    throw InputError(path, "not an inspection: needs 'runs' and a 'characteristics' list");
+  Inspection inspection;
+  inspection.runs = root["runs"].get<int>();
+  if (inspection.runs < 2) throw InputError(path, "'runs' must be at least 2");
+  inspection.spacing = numberAt(root, "spacing", path, "the inspection");
+  if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
+    inspection.views_left_out = root["views_left_out"].get<std::size_t>();
+  const nlohmann::json& list = root["characteristics"];
+  for (std::size_t k = 0; k < list.size(); ++k)
+    inspection.characteristics.push_back(
+        inspectedFrom(list[k], plan, path, "characteristic " + std::to_string(k + 1)));
+  return inspection;
+}
 
 std::vector<Deviation> loadDeviations(const std::string& path) {
   requireInputFile(path);

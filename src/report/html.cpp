@@ -5,6 +5,7 @@
 #include "io/page.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/io/inspection_files.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning/evidence.h>
 #include <scanplan/report/report.h>
@@ -218,6 +219,7 @@ void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolve
     palette[std::string(toString(s))] = colour(s);
   palette["fixture"] = kFixtureColour;
   data["palette"] = palette;
+  if (evidence.inspection) data["inspection"] = inspectionJson(*evidence.inspection, plan);
 
   detail::writePage(assets::report_html, assets::viewer_js, data, path);
 }

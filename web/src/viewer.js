@@ -391,6 +391,12 @@ if (summary.coverage_by_views && summary.coverage_by_views.measured.length > 0) 
 // ---- characteristics and what is missing -------------------------------------------------------
 const characteristics = plan.characteristics || [];
 const characteristicRows = [];
+// What scanplan inspect measured of each characteristic, by id, when the report has it.
+const inspected = new Map(((data.inspection || {}).characteristics || []).map((k) => [k.id, k]));
+function inspectedText(k) {
+  if (!k) return '–';
+  return k.evaluated ? k.verdict.replaceAll('_', ' ') : `not evaluated: ${k.not_evaluated}`;
+}
 function selectCharacteristic(index) {
   const c = characteristics[index], k = c.capability || {};
   characteristicRows.forEach((row, i) => row.classList.toggle('selected', i === index));
@@ -409,6 +415,14 @@ function selectCharacteristic(index) {
         ['U from the registration', `${fmt(k.budget.registration, 4)} mm`],
         ['U from the scanner\'s acceptance figures', `${fmt(k.budget.scanner, 4)} mm`]);
     }
+  }
+  const m = inspected.get(c.id);
+  if (m && m.evaluated) {
+    rows.push(['inspected: value of the part', fmt(m.true_value, 4)], ['inspected: measured', fmt(m.mean, 4)],
+      ['inspected: bias', fmt(m.bias, 4)], ['inspected: U (k = 2)', `${fmt(m.uncertainty, 4)} mm`],
+      ['inspected: ratio', fmt(m.ratio, 2)], ['inspected: verdict', inspectedText(m)]);
+  } else if (m) {
+    rows.push(['inspected', inspectedText(m)]);
   }
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
 }
@@ -436,14 +450,25 @@ function viewName(v) { return v.order > 0 ? `${v.order} (id ${v.id})` : `id ${v.
 if (characteristics.length === 0) {
   $('characteristics').append(el('p', { class: 'muted' }, 'The part carries no GD&T the reader found.'));
 } else {
-  $('characteristics').append(el('div', { class: 'scroll' }, table([{ title: 'id', num: true }, { title: 'kind' },
+  const columns = [{ title: 'id', num: true }, { title: 'kind' },
     { title: 'value', num: true }, { title: 'faces' }, { title: 'covered', num: true }, { title: 'points', num: true },
-    { title: 'U mm', num: true }, { title: 'ratio', num: true }, { title: 'verdict' }],
-  characteristics.map((c) => {
-    const k = c.capability;
-    return [c.id, c.kind, limits(c), c.faces.join(', '), k ? pct(k.covered, 1) : '–', k ? fmt(k.points, 0) : '–',
-      k ? fmt(k.uncertainty, 4) : '–', k ? fmt(k.ratio, 2) : '–', k ? verdictText(k) : '–'];
-  }), selectCharacteristic)));
+    { title: 'U mm', num: true }, { title: 'ratio', num: true }, { title: 'verdict' }];
+  if (inspected.size > 0) {
+    columns.push({ title: 'inspected bias', num: true }, { title: 'inspected U mm', num: true },
+      { title: 'inspected verdict' });
+  }
+  $('characteristics').append(el('div', { class: 'scroll' }, table(columns,
+    characteristics.map((c) => {
+      const k = c.capability;
+      const row = [c.id, c.kind, limits(c), c.faces.join(', '), k ? pct(k.covered, 1) : '–', k ? fmt(k.points, 0) : '–',
+        k ? fmt(k.uncertainty, 4) : '–', k ? fmt(k.ratio, 2) : '–', k ? verdictText(k) : '–'];
+      if (inspected.size > 0) {
+        const m = inspected.get(c.id);
+        row.push(m && m.evaluated ? fmt(m.bias, 4) : '–', m && m.evaluated ? fmt(m.uncertainty, 4) : '–',
+          inspectedText(m));
+      }
+      return row;
+    }), selectCharacteristic)));
   characteristicRows.push(...$('characteristics').querySelectorAll('tbody tr'));
 }
 

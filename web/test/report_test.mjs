@@ -7,7 +7,7 @@
 // Exits 0 when every check passes, 1 otherwise, printing each check.
 
 import { chromium } from 'playwright-core';
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 import { pathToFileURL } from 'node:url';
 
 const [report, planFile, screenshot] = process.argv.slice(2);
@@ -121,6 +121,18 @@ try {
           picked.highlighted === characteristics[0].faces.length && picked.views === measuring.size,
           `clicking characteristic 1 selects its ${picked.highlighted} faces (it has ${characteristics[0].faces.length}) ` +
           `and ${picked.views} views (${measuring.size} measure its samples)`);
+  }
+  // With an inspection beside the plan (scanplan inspect), each row gives its inspected
+  // verdict, as inspection.json has it.
+  const inspectionFile = planFile.replace(/plan\.json$/, 'inspection.json');
+  if (existsSync(inspectionFile)) {
+    const inspection = JSON.parse(readFileSync(inspectionFile, 'utf8'));
+    const cells = await page.evaluate(() => [...document.querySelectorAll('#characteristics tbody tr')]
+      .map((row) => row.lastElementChild.textContent));
+    const expected = inspection.characteristics.map((k) =>
+      (k.evaluated ? k.verdict.replaceAll('_', ' ') : `not evaluated: ${k.not_evaluated}`));
+    check(cells.length === expected.length && cells.every((c, i) => c === expected[i]),
+          `inspected verdicts in the table: ${JSON.stringify(cells)} against ${JSON.stringify(expected)}`);
   }
   // The missing panel lists the faces left unmeasured, and a click flies to one.
   const unmeasured = plan.samples.filter((s) => s.measured_by.length === 0).length;

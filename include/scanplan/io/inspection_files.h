@@ -20,5 +20,8 @@ std::vector<Deviation> loadDeviations(const std::string& path);
 nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan);
 // \throw OutputError naming `path`.
 void writeInspection(const Inspection& inspection, const Plan& plan, const std::string& path);
+// An inspection written by writeInspection, its characteristics those of `plan`.
+// \throw InputError naming `path` and the field at fault.
+Inspection readInspection(const std::string& path, const Plan& plan);
 
 }  // namespace scanplan

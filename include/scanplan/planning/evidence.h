@@ -5,12 +5,14 @@
 
 #include <scanplan/cad/part.h>
 #include <scanplan/core/progress.h>
+#include <scanplan/plan/inspection.h>
 #include <scanplan/plan/plan.h>
 #include <scanplan/scanner/simulation.h>
 #include <scanplan/scanner/visibility.h>
 #include <scanplan/spec/spec.h>
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace scanplan {
@@ -47,6 +49,7 @@ struct EvidenceOptions {
 struct ReportEvidence {
   std::vector<PointCloud> clouds;  // per view, in plan order; none without clouds
   std::vector<ClusterMap> clusters;
+  std::optional<Inspection> inspection;  // of the plan, when one was made (scanplan inspect)
 };
 
 // The clusters of the planner's first round of iterative adding (Sample::cluster, as
