@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include <map>
+#include <set>
 
 namespace scanplan {
 namespace {
@@ -234,6 +235,55 @@ TEST(NistGdt, Ctc01ToleranceMagnitudes) {
   for (const GeometricTolerance& t : part.gdt.tolerances) values[t.type].push_back(t.value);
   EXPECT_EQ(values["flatness"], std::vector<double>{0.2});
   EXPECT_EQ(values["position"], (std::vector<double>{0.75, 0.75}));
+}
+
+// CTC 01 names the faces of its datum features B and C by ITEM_IDENTIFIED_REPRESENTATION_USAGE
+// of a SET_REPRESENTATION_ITEM (#28: feature #35, datum B, faces #854 and #853; #29: #36,
+// datum C, faces #839 and #840), which OCCT 7.6 reads as no face. Each pair is the two
+// halves of a Ø35 bore, the two bores apart, and each carries one of the file's Ø35
+// diameters (whose faces OCCT links by GEOMETRIC_ITEM_SPECIFIC_USAGE, another path).
+TEST(NistGdt, Ctc01DatumsBAndCAreTwoBoresOfTheFilesDiameters) {
+  const Part part = importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
+  std::set<int> seen;
+  for (const std::string letter : {"B", "C"}) {
+    SCOPED_TRACE(letter);
+    const std::vector<int> faces = datumFaces(part.gdt, letter);
+    ASSERT_EQ(faces.size(), 2u);
+    Box bore;
+    for (int f : faces) {
+      EXPECT_EQ(part.face(f).type, SurfaceType::Cylinder);
+      EXPECT_TRUE(seen.insert(f).second);
+      bore.add(part.face(f).bounds);
+    }
+    const Vec3 size = bore.size();
+    const double across = std::max(
+        {std::min(size.x(), size.y()), std::min(size.y(), size.z()), std::min(size.x(), size.z())});
+    EXPECT_NEAR(across, 35, 0.5);
+    const bool dimensioned = std::any_of(
+        part.gdt.dimensions.begin(), part.gdt.dimensions.end(), [&](const Dimension& d) {
+          return d.type == "diameter" && std::abs(d.value - 35) < 1e-9 && d.faces == faces;
+        });
+    EXPECT_TRUE(dimensioned);
+  }
+}
+
+// CTC 02's datum A is three target points (#102-#104, datum #125 'A'), placed by the file at
+// (0, 705.44, -330), (180, 75.44, -330) and (-180, 75.44, -330): datum A is the plane face
+// at z = -330 that holds them.
+TEST(NistGdt, Ctc02DatumAIsTheFaceItsTargetPointsLieOn) {
+  SHARED_DATA_OR_SKIP(path, "nist/nist_ctc_02_asme1_ap242-e2.stp");
+  const Part part = importPart(path);
+  const std::vector<int> faces = datumFaces(part.gdt, "A");
+  ASSERT_EQ(faces.size(), 1u);
+  EXPECT_EQ(part.face(faces.front()).type, SurfaceType::Plane);
+  const Box& face = part.face(faces.front()).bounds;
+  EXPECT_NEAR(face.min.z(), -330, 1e-6);
+  EXPECT_NEAR(face.max.z(), -330, 1e-6);
+  for (const Vec3& target :
+       {Vec3(0, 705.44388876, -330), Vec3(180, 75.44388876, -330), Vec3(-180, 75.44388876, -330)})
+    EXPECT_TRUE((target.array() >= face.min.array() - 1e-6).all() &&
+                (target.array() <= face.max.array() + 1e-6).all())
+        << target.transpose();
 }
 
 }  // namespace

@@ -1,7 +1,12 @@
 #include "cad/xde.h"
 
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <Bnd_Box.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TDF_LabelSequence.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <XCAFDimTolObjects_DatumObject.hxx>
 #include <XCAFDimTolObjects_DimensionObject.hxx>
 #include <XCAFDimTolObjects_GeomToleranceObject.hxx>
@@ -92,14 +97,6 @@ std::vector<int> attachedFaces(const Handle(XCAFDoc_DimTolTool) & tool, const TD
   return ids;
 }
 
-std::string datumName(const TDF_Label& label) {
-  Handle(XCAFDoc_Datum) datum;
-  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
-  Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
-  if (object.IsNull() || object->GetName().IsNull()) return {};
-  return object->GetName()->String().ToCString();
-}
-
 // Where a datum stands in its tolerance's reference frame: 1 primary, 2 secondary, ...; 0
 // when the file does not say.
 int datumPosition(const TDF_Label& label) {
@@ -131,7 +128,43 @@ bool isAngular(const std::string& dimension_type) {
   return dimension_type == "angular_location" || dimension_type == "angular_size";
 }
 
+// How far from a face a datum target's point may lie and still be on it, mm.
+constexpr double kOnFace = 0.01;
+
+// The faces a datum target point lies on (NIST CTC 02's datums A, B and C are three, two and
+// one target points): those within kOnFace of it. The faces stand for the datum, which is
+// the plane or line through its targets. Targets of other kinds (lines, areas) are placed
+// by a corner or an end that may lie on a neighbouring face, and are left unlinked.
+std::vector<int> targetFaces(const TDF_Label& label, const BRepModel& model) {
+  Handle(XCAFDoc_Datum) datum;
+  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
+  const Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
+  if (object.IsNull() || !object->IsDatumTarget() || !object->HasDatumTargetParams() ||
+      object->GetDatumTargetType() != XCAFDimTolObjects_DatumTargetType_Point)
+    return {};
+  const gp_Pnt at = object->GetDatumTargetAxis().Location();
+  const TopoDS_Vertex point = BRepBuilderAPI_MakeVertex(at);
+  std::vector<int> ids;
+  for (int id = 1; id <= model.faces.Extent(); ++id) {
+    Bnd_Box box;
+    BRepBndLib::Add(model.faces(id), box);
+    box.Enlarge(kOnFace);
+    if (box.IsOut(at)) continue;
+    BRepExtrema_DistShapeShape distance(point, model.faces(id));
+    if (distance.IsDone() && distance.Value() <= kOnFace) ids.push_back(id);
+  }
+  return ids;
+}
+
 }  // namespace
+
+std::string datumName(const TDF_Label& label) {
+  Handle(XCAFDoc_Datum) datum;
+  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
+  Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
+  if (object.IsNull() || object->GetName().IsNull()) return {};
+  return object->GetName()->String().ToCString();
+}
 
 Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
             const std::string& path) {
@@ -195,6 +228,7 @@ Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
                              [&](const Datum& d) { return d.name == name; });
     if (same == gdt.datums.end()) same = gdt.datums.insert(gdt.datums.end(), Datum{name, {}});
     std::vector<int> faces = attachedFaces(tool, label, lookup);
+    if (faces.empty()) faces = targetFaces(label, *lookup.model);
     same->faces.insert(same->faces.end(), faces.begin(), faces.end());
     std::sort(same->faces.begin(), same->faces.end());
     same->faces.erase(std::unique(same->faces.begin(), same->faces.end()), same->faces.end());

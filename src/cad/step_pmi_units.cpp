@@ -1,5 +1,6 @@
 #include "cad/step_pmi_units.h"
 
+#include <cctype>
 #include <fstream>
 #include <iterator>
 #include <regex>
@@ -113,6 +114,36 @@ StepPmiMeasures scanStepPmiMeasures(const std::string& path) {
     if (uses > 1) result.tolerance_magnitudes.erase(name);
   if (nominal_scales.size() == 1) result.nominal_value_scale = *nominal_scales.begin();
   return result;
+}
+
+std::map<long, std::vector<long>> scanSetItemUsages(const std::string& path) {
+  static const std::regex head(
+      R"(^\s*ITEM_IDENTIFIED_REPRESENTATION_USAGE\(\s*'(?:[^']|'')*'\s*,\s*(?:\$|'(?:[^']|'')*')\s*,)"
+      R"(\s*#(\d+)\s*,\s*#\d+\s*,\s*$)");
+  const std::string set = "SET_REPRESENTATION_ITEM((";
+  std::map<long, std::vector<long>> usages;
+  for (const auto& [id, record] : readRecords(path)) {
+    const std::size_t at = record.find(set);
+    std::smatch m;
+    const std::string before = at == std::string::npos ? std::string() : record.substr(0, at);
+    if (at == std::string::npos || !std::regex_search(before, m, head)) continue;
+    std::vector<long> items;
+    std::size_t i = at + set.size();
+    for (;;) {  // "#854, #853)": the item ids up to the list's closing parenthesis
+      i = record.find_first_not_of(" ,", i);
+      if (i == std::string::npos || record[i] != '#') break;
+      std::size_t end = i + 1;
+      while (end < record.size() && std::isdigit(static_cast<unsigned char>(record[end]))) ++end;
+      if (end == i + 1 || end - i > 12) break;
+      items.push_back(std::stol(record.substr(i + 1, end - i - 1)));
+      i = end;
+    }
+    if (i != std::string::npos && record[i] == ')') {
+      std::vector<long>& all = usages[std::stol(m[1])];
+      all.insert(all.end(), items.begin(), items.end());
+    }
+  }
+  return usages;
 }
 
 }  // namespace scanplan::detail

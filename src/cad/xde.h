@@ -8,6 +8,7 @@
 #include <TDF_Label.hxx>
 #include <TDocStd_Document.hxx>
 #include <TopLoc_Location.hxx>
+#include <XSControl_WorkSession.hxx>
 
 #include <map>
 #include <string>
@@ -27,10 +28,18 @@ struct XdeFaceLookup {
 
 std::string labelEntry(const TDF_Label& label);
 std::string labelName(const TDF_Label& label);  // TDataStd_Name, or ""
+std::string datumName(const TDF_Label& label);  // a datum label's letter, or ""
 
 // Geometric tolerances, dimensions and datums of the document's AP242 semantic PMI, with
 // the values OCCT misses taken from the measures of the STEP file at `path`
 // (scanStepPmiMeasures), scanned only when the document has tolerances or dimensions.
+// Links the document's datums that have no face to the faces their features identify by an
+// ITEM_IDENTIFIED_REPRESENTATION_USAGE of a SET_REPRESENTATION_ITEM, which OCCT 7.6's
+// translation leaves out, from the session that read and transferred the STEP file at
+// `path` into `doc`.
+void linkDatumsByItemUsage(XSControl_WorkSession& session, const Handle(TDocStd_Document) & doc,
+                           const std::string& path);
+
 Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
             const std::string& path);
 

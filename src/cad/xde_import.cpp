@@ -251,6 +251,7 @@ Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::st
     if (!lengths.IsEmpty()) part.file_unit = lowercase(lengths.First().ToCString());
     if (!reader.Transfer(doc))
       throw InputError(path, "no geometry could be transferred from the STEP file");
+    if (options.read_gdt) linkDatumsByItemUsage(*reader.ChangeReader().WS(), doc, path);
   } else {
     IGESCAFControl_Reader reader;
     reader.SetColorMode(true);
