@@ -126,3 +126,46 @@ TEST(Fits, ACylindersAxisAndRadiusFollowFromItsNormals) {
   std::vector<Vec3> flat(points.size(), Vec3::UnitZ());
   EXPECT_FALSE(cylinderFromNormals(points, flat).determined);
 }
+
+// Points on a parabola w = k u^2 over u in [-50, 50] bow by k 50^2 = 0.05 mm; the minimum zone
+// holds them between the line through its ends and the tangent at its vertex: 0.05, however
+// the element is turned in its plane.
+TEST(Fits, MinimumZoneStraightnessOfABowIsItsSagitta) {
+  const double k = 0.05 / (50.0 * 50.0);
+  for (const double turn : {0.0, 0.01, -0.2}) {
+    std::vector<Vec3> points;
+    for (double u = -50; u <= 50; u += 0.5) {
+      const double w = k * u * u;
+      points.push_back(
+          {std::cos(turn) * u - std::sin(turn) * w, 3.0, std::sin(turn) * u + std::cos(turn) * w});
+    }
+    EXPECT_NEAR(minimumZoneStraightness(points, Vec3::UnitX(), Vec3::UnitZ()), 0.05, 1e-6)
+        << "turned " << turn;
+  }
+  EXPECT_EQ(
+      minimumZoneStraightness(std::vector<Vec3>(2, Vec3::Zero()), Vec3::UnitX(), Vec3::UnitZ()), 0);
+}
+
+// Seven points on a circle of radius 0.03 about (0.01, -0.02) and forty inside it: the
+// smallest circle holding them is that circle. Two points: their distance; three on a line:
+// the farthest two's.
+TEST(Fits, TheSmallestEnclosingCircleOfPointsOnACircleIsThatCircle) {
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const Eigen::Vector2d centre(0.01, -0.02);
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 40; ++i) {
+    const double a = 2 * std::numbers::pi * unit(random), r = 0.03 * std::sqrt(unit(random));
+    points.push_back(centre + r * 0.99 * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  for (int i = 0; i < 7; ++i) {
+    const double a = 2 * std::numbers::pi * i / 7;
+    points.insert(points.begin() + 5 * i,
+                  centre + 0.03 * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  EXPECT_NEAR(enclosingCircleDiameter(points), 0.06, 1e-12);
+  const std::vector<Eigen::Vector2d> two = {{0, 0}, {0.3, 0.4}};
+  EXPECT_NEAR(enclosingCircleDiameter(two), 0.5, 1e-12);
+  const std::vector<Eigen::Vector2d> line = {{0, 0}, {2, 0}, {1, 0}};
+  EXPECT_NEAR(enclosingCircleDiameter(line), 2, 1e-12);
+}

@@ -112,6 +112,94 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
+// A position on a pattern of two holes (2X) holds each hole's axis in its own zone: with
+// one hole moved 0.1 mm and the other 0.04 mm, the pattern's value is the first's, 0.2.
+TEST(Inspection, APatternsPositionIsItsWorstFeatures) {
+  test::TempDir dir;
+  TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 20).Shape();
+  for (const double x : {50.0, 150.0})
+    plate =
+        BRepAlgoAPI_Cut(
+            plate,
+            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape())
+            .Shape();
+  BRepTools::Write(plate, dir.file("pattern.brep").c_str());
+  Part part = importPart(dir.file("pattern.brep"));
+  std::vector<int> left, right;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Cylinder)
+      (f.bounds.center().x() < 100 ? left : right).push_back(f.id);
+  ASSERT_FALSE(left.empty() || right.empty());
+  std::vector<int> both = left;
+  both.insert(both.end(), right.begin(), right.end());
+  std::sort(both.begin(), both.end());
+  const Characteristic position{1, "position", false, 0.5, 0, 0.5, {}, both};
+  SimulationOptions options;
+  options.working_plane = false;
+  std::vector<SurfacePoint> all;
+  detail::FacePoints points;
+  for (const SurfacePoint& s :
+       Simulator(part, defaultSpec().scanner, options).surfacePoints(1, 1)) {
+    all.push_back(s);
+    points[s.face].push_back(s.position);
+  }
+  const detail::Nominal nominal(part, all);
+  shift(points, left, {0.1, 0, 0});
+  shift(points, right, {0, 0.04, 0});
+  const detail::Evaluation e = detail::evaluate(position, part.gdt, nominal, points);
+  ASSERT_TRUE(e.value) << e.why_not;
+  EXPECT_NEAR(*e.value, 0.2, 0.004);
+}
+
+// Straightness by its definition. The plate's top bowed by 0.05 mm along x (its longest
+// extent, 200 mm) has line elements of that bow, the minimum zone of each strip of it. A
+// 120 mm bore of Ø30 through a block, its axis bent in x by 0.04 mm to a parabola, has a
+// derived median line of straightness 0.04: its sections' centres lie on the parabola, less
+// each section's own spread along it (at most k 1.5² = 0.00001 mm). As designed, both 0.
+TEST(Inspection, StraightnessOfABowedFaceAndABentBoreIsTheBow) {
+  test::TempDir dir;
+  const HolePlate p = holePlate(dir);
+  std::vector<SurfacePoint> all;
+  detail::FacePoints points = designed(p, all);
+  const detail::Nominal nominal(p.part, all);
+  const Characteristic flat{4, "straightness", false, 0.1, 0, 0.1, {}, {p.top}};
+  const auto value = [](const Characteristic& c, const Part& part, const detail::Nominal& n,
+                        const detail::FacePoints& on) {
+    const detail::Evaluation e = detail::evaluate(c, part.gdt, n, on);
+    EXPECT_TRUE(e.value) << e.why_not;
+    return e.value.value_or(-1);
+  };
+  EXPECT_NEAR(value(flat, p.part, nominal, points), 0, 1e-6);
+  for (Vec3& q : points[p.top]) q.z() += 0.05 * (1 - std::pow((q.x() - 100) / 100, 2));
+  EXPECT_NEAR(value(flat, p.part, nominal, points), 0.05, 0.001);
+
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(-30, -30, 0), 60, 60, 120).Shape();
+  const TopoDS_Shape drill =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp_Dir(0, 0, 1)), 15, 122).Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(block, drill).Shape(), dir.file("bore.brep").c_str());
+  const Part bored = importPart(dir.file("bore.brep"));
+  SimulationOptions options;
+  options.working_plane = false;
+  const std::vector<SurfacePoint> samples =
+      Simulator(bored, defaultSpec().scanner, options).surfacePoints(1, 1);
+  const detail::Nominal drilled(bored, samples);
+  Characteristic axis{5, "straightness", false, 0.1, 0, 0.1, {}, {}};
+  for (const Face& f : bored.faces)
+    if (f.type == SurfaceType::Cylinder) axis.faces.push_back(f.id);
+  ASSERT_EQ(axis.faces.size(), 1u);
+  // Points on the exact bore, 1 mm apart (the mesh's chords would bring their own).
+  detail::FacePoints bore;
+  for (double z = 0.5; z < 120; z += 1)
+    for (int i = 0; i < 94; ++i) {
+      const double a = 2 * std::numbers::pi * (i + 0.5 * (static_cast<int>(z) % 2)) / 94;
+      bore[axis.faces.front()].push_back({15 * std::cos(a), 15 * std::sin(a), z});
+    }
+  EXPECT_NEAR(value(axis, bored, drilled, bore), 0, 1e-6);
+  for (auto& [face, list] : bore)
+    for (Vec3& q : list) q.x() += 0.04 * std::pow((q.z() - 60) / 60, 2);
+  EXPECT_NEAR(value(axis, bored, drilled, bore), 0.04, 0.002);
+}
+
 // A plan of four views tilted 50° about the hole, the first the reference and the others
 // placed by a robot of 0.01 mm; the plate inspected as designed and with deviations
 // declared: the top bowed by 0.05, the hole moved by 0.2 in x, its diameter 0.1 over.

@@ -211,7 +211,81 @@ std::optional<CylinderFit> datumAxis(const Characteristic& c, const Gdt& gdt,
   return std::nullopt;
 }
 
-// A geometric tolerance's value on points already in its datums' frame.
+// A section's share of turning its normals must hold in each direction across the axis
+// for its centre to be found: the smaller eigenvalue of the mean n nᵀ, about 0.18 for a
+// 90° arc (kLeastArc), 0.5 all round.
+constexpr double kLeastTurn = 0.15;
+
+// The straightness of a cylinder's axis (its derived median line): each cross-section's
+// centre, as the shift across the axis that best explains its points' radial distances at
+// the fitted radius; the diameter of the smallest circle holding the centres' offsets.
+Evaluation axisStraightness(const CylinderFit& cylinder, const std::vector<Vec3>& points) {
+  struct Section {
+    Eigen::Matrix2d turn = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d pull = Eigen::Vector2d::Zero();
+    std::size_t count = 0;
+  };
+  const Vec3 e1 = cylinder.axis.unitOrthogonal(), e2 = cylinder.axis.cross(e1);
+  std::map<long, Section> sections;
+  for (const Vec3& p : points) {
+    const Vec3 d = p - cylinder.point;
+    const Eigen::Vector2d radial(d.dot(e1), d.dot(e2));
+    if (radial.norm() <= 0) continue;
+    Section& s = sections[std::lround(d.dot(cylinder.axis) / kSlice)];
+    const Eigen::Vector2d n = radial.normalized();
+    s.turn += n * n.transpose();
+    s.pull += n * (radial.norm() - cylinder.radius);
+    ++s.count;
+  }
+  std::vector<double> along;
+  std::vector<Eigen::Vector2d> centres;
+  for (const auto& [k, s] : sections) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(s.turn);
+    if (s.count < kLeastPoints / 2 ||
+        eigen.eigenvalues()[0] < kLeastTurn * static_cast<double>(s.count))
+      continue;
+    along.push_back(static_cast<double>(k) * kSlice);
+    centres.push_back(s.turn.ldlt().solve(s.pull));
+  }
+  if (centres.size() < 2) return notFound("fewer than two of its sections are measured all round");
+  // Offsets from the centres' own least-squares line, so that what the fitted axis leaves
+  // of a turn does not count.
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(centres.size()), 2);
+  Eigen::MatrixXd b(static_cast<Eigen::Index>(centres.size()), 2);
+  for (std::size_t i = 0; i < centres.size(); ++i) {
+    a.row(static_cast<Eigen::Index>(i)) << 1, along[i];
+    b.row(static_cast<Eigen::Index>(i)) = centres[i].transpose();
+  }
+  const Eigen::MatrixXd line = a.colPivHouseholderQr().solve(b);
+  const Eigen::MatrixXd offsets = b - a * line;
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    centres[i] = offsets.row(static_cast<Eigen::Index>(i)).transpose();
+  return {enclosingCircleDiameter(centres), {}};
+}
+
+// The straightness of a plane's line elements, along the direction its designed points
+// spread farthest: strips kSlice wide across it, the largest minimum zone of a strip.
+Evaluation lineStraightness(const Feature& f, const Nominal& nominal,
+                            const std::vector<Vec3>& points) {
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (int face : f.faces)
+    for (const Vec3& q : nominal.face(face)->points)
+      scatter += (q - f.plane.point) * (q - f.plane.point).transpose();
+  const Vec3 along = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  const Vec3 strip = f.plane.normal.cross(along);
+  std::map<long, std::vector<Vec3>> strips;
+  for (const Vec3& p : points)
+    strips[std::lround((p - f.plane.point).dot(strip) / kSlice)].push_back(p);
+  double largest = -1;
+  for (const auto& [k, list] : strips)
+    if (list.size() >= kLeastPoints / 2)
+      largest = std::max(largest, minimumZoneStraightness(list, along, f.plane.normal));
+  if (largest < 0) return notFound("no line element of it is measured");
+  return {largest, {}};
+}
+
+// A geometric tolerance's value on points already in its datums' frame; of a pattern of
+// features, the largest of theirs.
 Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
                           const std::vector<Feature>& features, const FacePoints& points) {
   const Feature& f = features.front();
@@ -223,11 +297,26 @@ Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal
         profileZone(features, nominal,
                     c.datums.empty() ? moved(points, bestFit(features, nominal, points)) : points),
         {}};
-  if (features.size() != 1) return notFound("its faces are not one feature");
+  if (features.size() > 1) {  // a pattern (2X, say): each feature within the zone
+    double largest = 0;
+    for (const Feature& g : features) {
+      Characteristic one = c;
+      one.faces = g.faces;
+      const Evaluation e = toleranceValue(one, gdt, nominal, {g}, points);
+      if (!e.value) return e;
+      largest = std::max(largest, *e.value);
+    }
+    return {largest, {}};
+  }
   const auto cylinder = cylinderOf(f, on);
   if (kind == "flatness") {
     if (f.type != SurfaceType::Plane) return notFound("flatness of a face that is not a plane");
     return {minimumZoneFlatness(on, f.plane.normal), {}};
+  }
+  if (kind == "straightness") {
+    if (f.type == SurfaceType::Plane) return lineStraightness(f, nominal, on);
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    return axisStraightness(*cylinder, on);
   }
   if (kind == "circularity" || kind == "cylindricity") {
     if (!cylinder) return notFound("its cylinder is not measured enough to fit");

@@ -44,9 +44,8 @@ std::set<int> facesOf(const Part& part, const std::vector<Characteristic>& list)
   return faces;
 }
 
-// The deviations, checked against the part and the nominal faces.
-void checkDeviations(const Part& part, const std::vector<Deviation>& deviations,
-                     const detail::Nominal& nominal) {
+// The deviations, checked against the part's faces.
+void checkDeviations(const Part& part, const std::vector<Deviation>& deviations) {
   for (std::size_t k = 0; k < deviations.size(); ++k) {
     const Deviation& d = deviations[k];
     const std::string where = "deviation " + std::to_string(k + 1);
@@ -56,7 +55,6 @@ void checkDeviations(const Part& part, const std::vector<Deviation>& deviations,
       if (d.kind == Deviation::Kind::Diameter && part.faces[f - 1].type != SurfaceType::Cylinder)
         throw InputError(part.file, where + ": face " + std::to_string(f) + " is not a cylinder");
     }
-    (void)nominal;
   }
 }
 
@@ -210,6 +208,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
     throw InputError(plan.part_file, "inspection runs must be within [2, 10000]");
   if (!(options.spacing >= 0) || options.spacing > plan.scanner.fov_height)
     throw InputError(plan.part_file, "inspection spacing must be within [0, fov_height]");
+  checkDeviations(part, options.deviations);
   Inspection result;
   result.runs = options.runs;
   result.spacing = options.spacing > 0 ? options.spacing : plan.scanner.fov_height / 100;
@@ -218,7 +217,6 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const std::set<int> faces = facesOf(part, list);
   const std::vector<SurfacePoint> designed = designedPoints(part, spec, faces);
   const detail::Nominal nominal(part, designed);
-  checkDeviations(part, options.deviations, nominal);
   // The part simulated: the designed surface where the deviations put it.
   FacePoints truth;
   for (const SurfacePoint& p : designed)

@@ -222,4 +222,81 @@ CylinderFit cylinderFromNormals(std::span<const Vec3> points, std::span<const Ve
   return fit;
 }
 
+double minimumZoneStraightness(std::span<const Vec3> points, const Vec3& along,
+                               const Vec3& across) {
+  if (points.size() < 3) return 0;
+  std::vector<Eigen::Vector2d> uw;
+  for (const Vec3& p : points) uw.push_back({p.dot(along), p.dot(across)});
+  // The zone's height across lines of slope a is convex in a: a golden-section search over
+  // slopes up to 45° either way, then the height measured square to the lines.
+  const auto width = [&](double a) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const Eigen::Vector2d& q : uw) {
+      low = std::min(low, q.y() - a * q.x());
+      high = std::max(high, q.y() - a * q.x());
+    }
+    return high - low;
+  };
+  double lo = -1, hi = 1;
+  const double golden = (std::sqrt(5.0) - 1) / 2;
+  for (int k = 0; k < 200 && hi - lo > 1e-12; ++k) {
+    const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
+    if (width(a) < width(b))
+      hi = b;
+    else
+      lo = a;
+  }
+  const double slope = (lo + hi) / 2;
+  return width(slope) / std::sqrt(1 + slope * slope);
+}
+
+namespace {
+
+struct Circle {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 0;
+  bool holds(const Eigen::Vector2d& p) const {
+    return (p - centre).norm() <= radius * (1 + 1e-12) + 1e-15;
+  }
+};
+
+Circle circleThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return {(a + b) / 2, (a - b).norm() / 2};
+}
+
+// The circle through three points; for points on one line, that through the farthest two.
+Circle circleThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  const Eigen::Vector2d ab = b - a, ac = c - a;
+  const double d = 2 * (ab.x() * ac.y() - ab.y() * ac.x());
+  if (std::abs(d) < 1e-15 * (ab.squaredNorm() + ac.squaredNorm())) {
+    Circle best = circleThrough(a, b);
+    for (const Circle& other : {circleThrough(a, c), circleThrough(b, c)})
+      if (other.radius > best.radius) best = other;
+    return best;
+  }
+  const Eigen::Vector2d centre(ac.y() * ab.squaredNorm() - ab.y() * ac.squaredNorm(),
+                               ab.x() * ac.squaredNorm() - ac.x() * ab.squaredNorm());
+  return {a + centre / d, (centre / d).norm()};
+}
+
+}  // namespace
+
+double enclosingCircleDiameter(std::span<const Eigen::Vector2d> points) {
+  if (points.empty()) return 0;
+  // Welzl's incremental construction: each point outside the circle so far lies on the
+  // smallest circle of the points up to it.
+  Circle circle{points[0], 0};
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    if (circle.holds(points[i])) continue;
+    circle = {points[i], 0};
+    for (std::size_t j = 0; j < i; ++j) {
+      if (circle.holds(points[j])) continue;
+      circle = circleThrough(points[i], points[j]);
+      for (std::size_t k = 0; k < j; ++k)
+        if (!circle.holds(points[k])) circle = circleThrough(points[i], points[j], points[k]);
+    }
+  }
+  return 2 * circle.radius;
+}
+
 }  // namespace scanplan

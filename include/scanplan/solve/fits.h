@@ -1,7 +1,7 @@
 #pragma once
 // Fits of ideal geometry to measured points, as inspection software evaluates features
 // (docs/capability.md, "Virtual inspection"): least-squares (Gaussian) planes and
-// cylinders, and the minimum-zone (Chebyshev) flatness of ISO 1101.
+// cylinders, and the minimum-zone (Chebyshev) flatness and straightness of ISO 1101.
 
 #include <scanplan/core/geometry.h>
 
@@ -22,6 +22,15 @@ PlaneFit fitPlane(std::span<const Vec3> points, const Vec3& towards);
 // The width of the narrowest pair of parallel planes holding every point (minimum zone),
 // found as a linear programme over the planes near `normal`. 0 for fewer than 3 points.
 double minimumZoneFlatness(std::span<const Vec3> points, const Vec3& normal);
+
+// The straightness of a line element (ISO 1101, minimum zone): the width of the narrowest
+// pair of parallel lines, in the plane of `along` and `across` (unit, at right angles), that
+// holds the points, as they lie in that plane. 0 for fewer than 3 points.
+double minimumZoneStraightness(std::span<const Vec3> points, const Vec3& along, const Vec3& across);
+
+// The diameter of the smallest circle holding `points` (of a plane): the straightness zone
+// of an axis whose section centres lie at these offsets from a line. 0 when empty.
+double enclosingCircleDiameter(std::span<const Eigen::Vector2d> points);
 
 // A cylinder's fit is taken as determined by points spread over this much of its circle,
 // degrees: a band measured all round fixes it, a strip along one side does not.
