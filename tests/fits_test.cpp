@@ -169,3 +169,28 @@ TEST(Fits, TheSmallestEnclosingCircleOfPointsOnACircleIsThatCircle) {
   const std::vector<Eigen::Vector2d> line = {{0, 0}, {2, 0}, {1, 0}};
   EXPECT_NEAR(enclosingCircleDiameter(line), 2, 1e-12);
 }
+
+// A band 3 mm high of a Ø63 cylinder about (0.2, -0.1) (the rim of NIST FTC 11, say), its
+// axis held along z: the fit finds the centre and the radius, and leaves the axis as it was
+// started, tilted 0.01 rad off z as the start is. Without holding, the fit turns the axis.
+TEST(Fits, AShortBandHeldOnItsAxisIsFittedAsACircle) {
+  std::vector<Vec3> points;
+  for (double z = 0; z <= 3; z += 0.5)
+    for (int i = 0; i < 180; ++i) {
+      const double a = 2 * std::numbers::pi * i / 180;
+      points.push_back({0.2 + 31.5 * std::cos(a), -0.1 + 31.5 * std::sin(a), z});
+    }
+  CylinderFit start;
+  start.axis = Vec3(0.01, 0, 1).normalized();
+  start.radius = 31.4;
+  const CylinderFit held = fitCylinder(points, start, true);
+  ASSERT_TRUE(held.determined);
+  EXPECT_NEAR((held.axis - start.axis).norm(), 0, 1e-12);
+  EXPECT_NEAR(held.radius, 31.5, 0.01);  // about the tilted axis: the band's ellipse
+  EXPECT_NEAR(held.point.x() - held.point.z() * start.axis.x() / start.axis.z(), 0.2, 0.02);
+  EXPECT_NEAR(held.point.y(), -0.1, 1e-6);
+  const CylinderFit free = fitCylinder(points, start);
+  ASSERT_TRUE(free.determined);
+  EXPECT_NEAR(free.axis.z(), 1, 1e-9);
+  EXPECT_NEAR(free.radius, 31.5, 1e-9);
+}

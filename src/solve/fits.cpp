@@ -148,7 +148,7 @@ double axisDistance(const CylinderFit& cylinder, const Vec3& p) {
   return (d - d.dot(cylinder.axis) * cylinder.axis).norm();
 }
 
-CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start) {
+CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start, bool hold_axis) {
   CylinderFit fit = start;
   fit.axis.normalize();
   fit.determined = false;
@@ -173,6 +173,14 @@ CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start) 
       row << -u.dot(e1), -u.dot(e2), -s * u.dot(e1), -s * u.dot(e2), -1;
       normal += row * row.transpose();
       gradient += row * (rho - fit.radius);
+    }
+    if (hold_axis) {  // the shift across the axis and the radius alone: a circle's fit
+      for (int k : {2, 3}) {
+        normal.row(k).setZero();
+        normal.col(k).setZero();
+        normal(k, k) = normal.trace();
+        gradient[k] = 0;
+      }
     }
     const Eigen::SelfAdjointEigenSolver<Mat5> eigen(normal);
     if (!(eigen.eigenvalues()[0] > 1e-12 * eigen.eigenvalues()[4])) return fit;

@@ -45,8 +45,11 @@ struct CylinderFit {
 };
 
 // The least-squares cylinder of `points` (the sum of squared radial residuals), by
-// Gauss-Newton from `start`: a cylinder near the points, the nominal one, say.
-CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start);
+// Gauss-Newton from `start`: a cylinder near the points, the nominal one, say. With
+// `hold_axis`, the axis keeps the start's direction and only its place and the radius are
+// fitted: the least-squares circle of a band too short to turn the axis.
+CylinderFit fitCylinder(std::span<const Vec3> points, const CylinderFit& start,
+                        bool hold_axis = false);
 
 // The cylinder surface `points` with their outward `normals` lie on, without noise: the
 // axis along which the normals do not turn, its point and radius by least squares. For a
