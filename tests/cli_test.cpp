@@ -514,6 +514,34 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
   EXPECT_NE(missing.out.find("none.yaml"), std::string::npos) << missing.out;
 }
 
+// FTC 11 planned on both its faces (rest: all) has two setups that nothing joins: its
+// profile to A | B lies on the bottom face, datum B (the bore) is measured from the top.
+// The inspection says so rather than fitting datums across frames; the flatness of the top
+// face (datum A), seen in one frame, is measured.
+TEST(Cli, InspectNamesCharacteristicsSplitOverSetupsNotJoined) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("spec.yaml"),
+                  "gdt: from-file\npart: {rest: all}\ntasks:\n  - {type: gdt}\n");
+  CommandResult r = run("plan " + part + " --spec " + dir.file("spec.yaml") + " -o " +
+                        dir.file("out") + " --no-report -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("inspect " + dir.file("out/plan.json") + " " + part + " --spec " + dir.file("spec.yaml") +
+          " --runs 2 -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir.file("out/inspection.json"));
+  const nlohmann::json inspection = nlohmann::json::parse(in);
+  std::map<std::string, nlohmann::json> by_kind;
+  for (const nlohmann::json& c : inspection["characteristics"]) by_kind[c["kind"]] = c;
+  ASSERT_TRUE(by_kind.count("profile_of_surface") && by_kind.count("flatness"));
+  EXPECT_FALSE(by_kind["profile_of_surface"]["evaluated"]);
+  EXPECT_NE(
+      by_kind["profile_of_surface"]["not_evaluated"].get<std::string>().find("setups not joined"),
+      std::string::npos)
+      << by_kind["profile_of_surface"].dump();
+  EXPECT_TRUE(by_kind["flatness"]["evaluated"]) << by_kind["flatness"].dump();
+}
+
 TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");

@@ -182,6 +182,18 @@ const FacePoints& frameFor(const Characteristic& c, const Part& part, const RunP
   return *best;
 }
 
+// Whether some face of the characteristic or its datums has points in other frames of the
+// run but none in `frame`.
+bool inOtherFramesOnly(const Characteristic& c, const Part& part, const RunPoints& run,
+                       const FacePoints& frame) {
+  for (int f : facesOf(part, {c})) {
+    if (frame.count(f)) continue;
+    for (const auto& [other, by_face] : run)
+      if (&by_face != &frame && by_face.count(f)) return true;
+  }
+  return false;
+}
+
 // Mean, bias, U and verdict from the runs' values.
 void judge(const Characteristic& c, const CapabilityOptions& capability,
            InspectedCharacteristic& k) {
@@ -258,7 +270,11 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
       const detail::Evaluation value = detail::evaluate(list[i], part.gdt, nominal, frame);
       if (!value.value) {
         k.evaluated = false;
-        k.not_evaluated = "in run " + std::to_string(run + 1) + ", " + value.why_not;
+        k.not_evaluated = "in run " + std::to_string(run + 1) + ", " + value.why_not +
+                          (inOtherFramesOnly(list[i], part, points, frame)
+                               ? " (faces of it are measured only in setups not joined to "
+                                 "this one)"
+                               : "");
         continue;
       }
       k.values.push_back(*value.value);
