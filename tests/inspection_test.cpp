@@ -112,6 +112,38 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
+// A view moved by a known registration error moves what it measures by that error: the
+// datums measured by one view, the hole by another whose points are moved by a rigid motion
+// (detail::displacement, as the inspection applies its registration draws). A translation
+// of 0.1 mm in x puts the hole's axis 0.1 off: a zone of 0.2. A turn of 0.0005 rad about z
+// through the origin carries the axis at (100, 50) by 0.0005 x |(100, 50)| = 0.0559: a zone
+// of 0.1118.
+TEST(Inspection, AViewMovedByAKnownRegistrationErrorMovesTheHoleByIt) {
+  test::TempDir dir;
+  const HolePlate p = holePlate(dir);
+  std::vector<SurfacePoint> all;
+  const detail::FacePoints exact = designed(p, all);
+  const detail::Nominal nominal(p.part, all);
+  const auto position = [&](const detail::Twist& error) {
+    detail::FacePoints merged;
+    for (const auto& [face, list] : exact) {
+      const bool hole_view = std::count(p.hole.begin(), p.hole.end(), face) > 0;
+      for (const Vec3& q : list)
+        merged[face].push_back(hole_view ? Vec3(q + detail::displacement(error, q)) : q);
+    }
+    const detail::Evaluation e =
+        detail::evaluate(p.characteristics[0], p.part.gdt, nominal, merged);
+    EXPECT_TRUE(e.value) << e.why_not;
+    return e.value.value_or(-1);
+  };
+  detail::Twist shift = detail::Twist::Zero();
+  shift.tail<3>() = Vec3(0.1, 0, 0);
+  EXPECT_NEAR(position(shift), 0.2, 2e-3);
+  detail::Twist turn = detail::Twist::Zero();
+  turn.head<3>() = Vec3(0, 0, 0.0005);
+  EXPECT_NEAR(position(turn), 2 * 0.0005 * std::hypot(100.0, 50.0), 2e-3);
+}
+
 // A position on a pattern of two holes (2X) holds each hole's axis in its own zone: with
 // one hole moved 0.1 mm and the other 0.04 mm, the pattern's value is the first's, 0.2.
 TEST(Inspection, APatternsPositionIsItsWorstFeatures) {
