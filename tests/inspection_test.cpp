@@ -15,6 +15,7 @@
 #include <gp_Ax2.hxx>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <numbers>
@@ -297,6 +298,25 @@ TEST(Inspection, DeclaredDeviationsAreFoundWithinTheirUncertainty) {
         << "characteristic " << i + 1;
     EXPECT_GT(b.mean - a.mean, change[i] / 2) << "characteristic " << i + 1;
   }
+}
+
+// The inspection's values do not depend on how many threads simulate the views: each run's
+// points are merged in the views' order.
+TEST(Inspection, TheSameValuesOnOneThreadAndOnTwo) {
+  test::TempDir dir;
+  const HolePlate p = holePlate(dir);
+  const Plan plan = fourViews(p);
+  const ResolvedSpec spec = resolveSpec(p.part, defaultSpec());
+  InspectionOptions options;
+  options.runs = 3;
+  const auto inspect = [&](std::size_t threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return inspectPlan(p.part, spec, plan, options);
+  };
+  const Inspection one = inspect(1), two = inspect(2);
+  ASSERT_EQ(one.characteristics.size(), two.characteristics.size());
+  for (std::size_t i = 0; i < one.characteristics.size(); ++i)
+    EXPECT_EQ(one.characteristics[i].values, two.characteristics[i].values) << i;
 }
 
 }  // namespace

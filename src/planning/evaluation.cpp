@@ -295,15 +295,77 @@ Evaluation lineStraightness(const Feature& f, const Nominal& nominal,
   return {largest, {}};
 }
 
+// Twice the farther of an axis' two ends from `about`: the diameter of the zone about it
+// that holds the axis.
+double axisZone(const std::pair<Vec3, Vec3>& ends, const CylinderFit& about) {
+  return 2 * std::max(perpendicular(ends.first - about.point, about.axis),
+                      perpendicular(ends.second - about.point, about.axis));
+}
+
+// A form tolerance of one feature: flatness, straightness, circularity, cylindricity.
+std::optional<Evaluation> formValue(const std::string& kind, const Feature& f,
+                                    const Nominal& nominal, const std::vector<Vec3>& on,
+                                    const std::optional<CylinderFit>& cylinder) {
+  if (kind == "flatness") {
+    if (f.type != SurfaceType::Plane) return notFound("flatness of a face that is not a plane");
+    return Evaluation{minimumZoneFlatness(on, f.plane.normal), {}};
+  }
+  if (kind == "straightness") {
+    if (f.type == SurfaceType::Plane) return lineStraightness(f, nominal, on);
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    return axisStraightness(*cylinder, on);
+  }
+  if (kind == "circularity" || kind == "cylindricity") {
+    if (!cylinder) return notFound("its cylinder is not measured enough to fit");
+    return Evaluation{
+        kind == "circularity" ? largestSectionRange(*cylinder, on) : radialRange(*cylinder, on),
+        {}};
+  }
+  return std::nullopt;
+}
+
+// An orientation, location or runout tolerance of one feature, on points in its frame.
+Evaluation locationValue(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
+                         const Feature& f, const std::vector<Vec3>& on,
+                         const std::optional<CylinderFit>& cylinder) {
+  const std::string& kind = c.kind;
+  const bool orientation =
+      kind == "perpendicularity" || kind == "parallelism" || kind == "angularity";
+  if ((orientation || kind == "position") && f.type == SurfaceType::Plane) {
+    // The zone of planes at the designed orientation; for a position, about the designed place.
+    double low = std::numeric_limits<double>::infinity(), high = -low, largest = 0;
+    for (const Vec3& p : on) {
+      low = std::min(low, f.plane.normal.dot(p));
+      high = std::max(high, f.plane.normal.dot(p));
+      largest = std::max(largest, std::abs(f.plane.normal.dot(p - f.plane.point)));
+    }
+    return {orientation ? high - low : 2 * largest, {}};
+  }
+  if (orientation || kind == "position") {
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    const auto ends = axisEnds(*cylinder, on);
+    if (orientation)  // a cylinder's zone about the designed axis' direction
+      return {perpendicular(ends.second - ends.first, f.cylinder.axis), {}};
+    return {axisZone(ends, f.cylinder), {}};
+  }
+  if (kind.find("runout") != std::string::npos || kind == "concentricity" || kind == "coaxiality") {
+    const auto axis = datumAxis(c, gdt, nominal);
+    if (!axis) return notFound("no cylindrical datum gives its axis");
+    if (kind == "circular_runout") return {largestSectionRange(*axis, on), {}};
+    if (kind == "total_runout") return {radialRange(*axis, on), {}};
+    if (!cylinder) return notFound("its axis is not measured enough to fit");
+    return {axisZone(axisEnds(*cylinder, on), *axis), {}};
+  }
+  return notFound(kind + " is not evaluated");
+}
+
 // A geometric tolerance's value on points already in its datums' frame; of a pattern of
 // features, the largest of theirs.
 Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,
                           const std::vector<Feature>& features, const FacePoints& points) {
-  const Feature& f = features.front();
   const std::vector<Vec3> on = pointsOn(c.faces, points);
   if (on.size() < kLeastPoints) return notFound("too few points on its faces");
-  const std::string& kind = c.kind;
-  if (kind == "profile_of_surface" || kind == "profile_of_line")
+  if (c.kind == "profile_of_surface" || c.kind == "profile_of_line")
     return {
         profileZone(features, nominal,
                     c.datums.empty() ? moved(points, bestFit(features, nominal, points)) : points),
@@ -319,62 +381,10 @@ Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal
     }
     return {largest, {}};
   }
+  const Feature& f = features.front();
   const auto cylinder = cylinderOf(f, on);
-  if (kind == "flatness") {
-    if (f.type != SurfaceType::Plane) return notFound("flatness of a face that is not a plane");
-    return {minimumZoneFlatness(on, f.plane.normal), {}};
-  }
-  if (kind == "straightness") {
-    if (f.type == SurfaceType::Plane) return lineStraightness(f, nominal, on);
-    if (!cylinder) return notFound("its axis is not measured enough to fit");
-    return axisStraightness(*cylinder, on);
-  }
-  if (kind == "circularity" || kind == "cylindricity") {
-    if (!cylinder) return notFound("its cylinder is not measured enough to fit");
-    return {kind == "circularity" ? largestSectionRange(*cylinder, on) : radialRange(*cylinder, on),
-            {}};
-  }
-  if (kind == "perpendicularity" || kind == "parallelism" || kind == "angularity") {
-    if (f.type == SurfaceType::Plane) {  // the zone of planes at the designed orientation
-      double low = std::numeric_limits<double>::infinity(), high = -low;
-      for (const Vec3& p : on) {
-        low = std::min(low, f.plane.normal.dot(p));
-        high = std::max(high, f.plane.normal.dot(p));
-      }
-      return {high - low, {}};
-    }
-    if (!cylinder) return notFound("its axis is not measured enough to fit");
-    const auto [a, b] = axisEnds(*cylinder, on);  // a cylinder's zone about the designed axis
-    return {perpendicular(b - a, f.cylinder.axis), {}};
-  }
-  if (kind == "position") {
-    if (f.type == SurfaceType::Plane) {
-      double largest = 0;
-      for (const Vec3& p : on)
-        largest = std::max(largest, std::abs(f.plane.normal.dot(p - f.plane.point)));
-      return {2 * largest, {}};
-    }
-    if (!cylinder) return notFound("its axis is not measured enough to fit");
-    const auto [a, b] = axisEnds(*cylinder, on);
-    const CylinderFit& designed = f.cylinder;
-    return {2 * std::max(perpendicular(a - designed.point, designed.axis),
-                         perpendicular(b - designed.point, designed.axis)),
-            {}};
-  }
-  if (kind.find("runout") != std::string::npos || kind == "concentricity" || kind == "coaxiality") {
-    const auto axis = datumAxis(c, gdt, nominal);
-    if (!axis) return notFound("no cylindrical datum gives its axis");
-    if (kind == "concentricity" || kind == "coaxiality") {
-      if (!cylinder) return notFound("its axis is not measured enough to fit");
-      const auto [a, b] = axisEnds(*cylinder, on);
-      return {2 * std::max(perpendicular(a - axis->point, axis->axis),
-                           perpendicular(b - axis->point, axis->axis)),
-              {}};
-    }
-    return {kind == "circular_runout" ? largestSectionRange(*axis, on) : radialRange(*axis, on),
-            {}};
-  }
-  return notFound(kind + " is not evaluated");
+  if (const auto form = formValue(c.kind, f, nominal, on, cylinder)) return *form;
+  return locationValue(c, gdt, nominal, f, on, cylinder);
 }
 
 }  // namespace

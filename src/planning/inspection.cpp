@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <random>
 #include <set>
 
@@ -141,8 +140,7 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
   std::vector<AcceptanceErrors> acceptance;
   for (std::size_t v = 0; v < s.plan.views.size(); ++v)
     acceptance.push_back(drawAcceptance(s.plan.scanner, random));
-  RunPoints points;
-  std::mutex mutex;
+  std::vector<FacePoints> by_view(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
     if (!s.errors[v].placed) return;
     const View& view = s.plan.views[v];
@@ -151,7 +149,7 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
     const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
                                static_cast<std::uint64_t>(view.id);
     const PointCloud cloud = simulators[k].cloud(view, seed, s.spacing);
-    FacePoints mine;
+    FacePoints& mine = by_view[v];
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
       const int face = cloud.faces[i];
       if (!s.faces.count(face)) continue;
@@ -160,10 +158,15 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
       const Vec3 in_part = to_part * p, normal = to_part.linear() * cloud.normals[i];
       mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
     }
-    const std::lock_guard lock(mutex);
-    FacePoints& frame = points[s.errors[v].frame];
-    for (auto& [face, list] : mine) frame[face].insert(frame[face].end(), list.begin(), list.end());
   });
+  // Merged in the views' order, whatever order the threads ran them in.
+  RunPoints points;
+  for (std::size_t v = 0; v < by_view.size(); ++v) {
+    if (!s.errors[v].placed) continue;
+    FacePoints& frame = points[s.errors[v].frame];
+    for (auto& [face, list] : by_view[v])
+      frame[face].insert(frame[face].end(), list.begin(), list.end());
+  }
   return points;
 }
 
