@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <regex>
@@ -314,6 +315,84 @@ TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
   EXPECT_EQ(refusal([&] { urScript(undriven); }),
             "--format urscript: URScript cannot drive the rotary table without its signals: give "
             "cell.signals.table {angle, move, ready} in the spec");
+}
+
+// A program with a move that collides and could not be cleared is not written unless the
+// user allows it; then its header marks every such move.
+TEST(RobotProgram, AProgramWithAMoveThatCollidesIsRefusedUnlessAllowed) {
+  RobotProgram p = program();
+  EXPECT_NO_THROW(checkClearMoves(p, false, "out/cell.src"));
+  p.uncleared = {{4, 2}, {7, 0}};
+  try {
+    checkClearMoves(p, false, "out/cell.src");
+    ADD_FAILURE() << "a colliding program was accepted";
+  } catch (const UsageError& e) {
+    EXPECT_EQ(e.exitCode(), kExitUsage);
+    EXPECT_EQ(std::string(e.what()),
+              "out/cell.src: the move view 4 -> view 2 and 1 more collide and could not be "
+              "cleared: no program written (give --allow-collisions to write it with the moves "
+              "marked)");
+  }
+  EXPECT_NO_THROW(checkClearMoves(p, true, "out/cell.src"));
+  const std::string text = krlProgram(p);
+  EXPECT_NE(text.find("; WARNING: the move view 4 -> view 2 collides and could not be cleared\n"),
+            std::string::npos);
+  EXPECT_NE(text.find("; WARNING: the move view 7 -> home collides and could not be cleared\n"),
+            std::string::npos);
+}
+
+// KRL runs a program only under its file's name: the DEF's name is the file's stem, and a
+// stem that is no KRL name (a hyphen, a leading digit, over 24 characters) is refused.
+TEST(RobotProgram, KrlIsNamedAsItsFileOrRefused) {
+  test::TempDir dir;
+  RobotProgram p = program();
+  p.name = "bracket_kr6";
+  writeRobotProgram(p, "krl", dir.file("bracket_kr6.src"));
+  std::ifstream in(dir.file("bracket_kr6.src"));
+  const std::string text{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_NE(text.find("\nDEF bracket_kr6()\n"), std::string::npos);
+  for (const std::string& stem :
+       std::vector<std::string>{"bracket-kr6", "6bracket", std::string(25, 'a')}) {
+    p.name = robotProgram(p.cell, p.work_object, p.steps, {}, stem, "").name;
+    const std::string path = dir.file(stem + ".src");
+    try {
+      writeRobotProgram(p, "krl", path);
+      ADD_FAILURE() << stem << " was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": KRL runs a program under its file's name", 0),
+                0u)
+          << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
+  }
+}
+
+// KRL numbers its inputs and outputs from 1; the view number's 16 outputs from
+// cell.signals.view must not hold the trigger. Both refused naming the signal.
+TEST(RobotProgram, KrlSignalsStartAtOneAndTheTriggerLiesOutsideTheViewNumber) {
+  RobotProgram p = program();
+  p.cell.signals = CellSignals{};  // the defaults: view 2 to 17, trigger 1
+  EXPECT_NE(krlProgram(p).find("SIGNAL VIEW_NO $OUT[2] TO $OUT[17]"), std::string::npos);
+  const auto refusal = [&](int view, int trigger, int acknowledge) {
+    p.cell.signals = CellSignals{view, trigger, acknowledge, std::nullopt};
+    try {
+      krlProgram(p);
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal(1, 1, 1),
+            "cell.signals.trigger: output 1 lies within the view number's outputs $OUT[1] to "
+            "$OUT[16]: give the trigger an output of its own");
+  EXPECT_EQ(refusal(9, 24, 1).substr(0, 29), "cell.signals.trigger: output ");
+  EXPECT_EQ(refusal(9, 25, 1), "accepted");
+  EXPECT_EQ(refusal(9, 8, 1), "accepted");
+  EXPECT_EQ(refusal(0, 20, 1),
+            "cell.signals.view: KRL numbers its inputs and outputs from 1, and 0 is none of them");
+  EXPECT_EQ(refusal(2, 1, 0),
+            "cell.signals.acknowledge: KRL numbers its inputs and outputs from 1, and 0 is none of "
+            "them");
 }
 
 // A plan's path and a robot's name come from the user's files: a line break in them would

@@ -127,6 +127,7 @@ struct ExportCommand {
   std::string format;
   std::string out;
   double spacing = 1;
+  bool allow_collisions = false;
 };
 
 // The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
@@ -147,6 +148,7 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
                        : c.plan.cell_poses;
   const RobotProgram program =
       safeProgram(c.plan, *cell, collisions, poses, name, options.input.plan);
+  checkClearMoves(program, options.allow_collisions, options.out);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
   writeRobotProgram(program, language, options.out);
   if (!program.unreached.empty())
@@ -235,6 +237,9 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
                              "urscript", "robot-json"}));
   command->add_option("-o,--out", options->out, "Output file")->required();
+  command->add_flag("--allow-collisions", options->allow_collisions,
+                    "Robot programs: write one even with moves that collide and could not be "
+                    "cleared, marked in its header (refused otherwise)");
   command
       ->add_option("--spacing", options->spacing,
                    "clouds-ply: mm between the camera rays of each view (default 1; 0: the "

@@ -12,6 +12,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -98,6 +99,24 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
   return out.str();
 }
 
+// KRL numbers its inputs and outputs from 1, and the view number's group of 16 outputs
+// ($OUT[view] to $OUT[view+15]) must leave the trigger output alone. \throw UsageError
+// naming the signal.
+void checkKrlSignals(const CellSignals& s) {
+  for (const auto& [key, number] : {std::pair{"cell.signals.view", s.view},
+                                    {"cell.signals.trigger", s.trigger},
+                                    {"cell.signals.acknowledge", s.acknowledge}})
+    if (number < 1)
+      throw UsageError(key, fmt::format("KRL numbers its inputs and outputs from 1, and {} is "
+                                        "none of them",
+                                        number));
+  if (s.trigger >= s.view && s.trigger <= s.view + 15)
+    throw UsageError("cell.signals.trigger",
+                     fmt::format("output {} lies within the view number's outputs $OUT[{}] to "
+                                 "$OUT[{}]: give the trigger an output of its own",
+                                 s.trigger, s.view, s.view + 15));
+}
+
 // The scanner's load: its mass and centre of gravity in the flange frame, mm.
 Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
 
@@ -153,10 +172,21 @@ void checkProgramFormat(const Cell& cell, std::string_view format) {
                                  "runs on their controllers only (krl or rapid)");
   if ((format == "krl" || format == "rapid") && universal)
     throw UsageError(option, cell.robot.name + " runs URScript (--format urscript)");
+  if (format == "krl") checkKrlSignals(cell.signals);
   if (format == "urscript" && cell.table && !cell.signals.table)
     throw UsageError(option,
                      "URScript cannot drive the rotary table without its signals: give "
                      "cell.signals.table {angle, move, ready} in the spec");
+}
+
+void checkClearMoves(const RobotProgram& program, bool allow, const std::string& path) {
+  if (allow || program.uncleared.empty()) return;
+  const std::size_t n = program.uncleared.size();
+  throw UsageError(
+      path, "the move " + toString(program.uncleared.front()) +
+                (n > 1 ? fmt::format(" and {} more collide", n - 1) : std::string(" collides")) +
+                " and could not be cleared: no program written (give "
+                "--allow-collisions to write it with the moves marked)");
 }
 
 std::string krlProgram(const RobotProgram& p) {
@@ -365,6 +395,12 @@ std::string programJson(const RobotProgram& p) {
 
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path) {
+  const std::string stem = std::filesystem::path(path).stem().string();
+  if (format == "krl" && stem != program.name)
+    throw UsageError(path, "KRL runs a program under its file's name, and '" + commentText(stem) +
+                               "' is not a KRL name (a letter, then letters, digits or _, 24 "
+                               "at most): name the file " +
+                               program.name + ".src");
   const std::string text = format == "krl"        ? krlProgram(program)
                            : format == "rapid"    ? rapidProgram(program)
                            : format == "urscript" ? urScript(program)

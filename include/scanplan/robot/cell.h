@@ -48,8 +48,8 @@ struct TableSignals {
 // output register (URScript) `view`, raises output `trigger`, waits for input
 // `acknowledge`, drops the trigger and waits for the acknowledgement to drop.
 struct CellSignals {
-  int view = 1, trigger = 1, acknowledge = 1;
-  std::optional<TableSignals> table;  // none: URScript cannot drive the table
+  int view = 2, trigger = 1, acknowledge = 1;  // KRL: the view number on $OUT[2] to $OUT[17]
+  std::optional<TableSignals> table;           // none: URScript cannot drive the table
 };
 
 struct Cell {

@@ -67,6 +67,11 @@ std::vector<Waypoint> waypoints(const RobotProgram& program);
 // the table's signals). \throw UsageError naming the format.
 void checkProgramFormat(const Cell& cell, std::string_view format);
 
+// Refuses a program with a move that collides and could not be lifted clear, naming the
+// first such move and how many there are, unless `allow`. \throw UsageError naming `path`,
+// the program's file.
+void checkClearMoves(const RobotProgram& program, bool allow, const std::string& path);
+
 std::string krlProgram(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);
 std::string urScript(const RobotProgram& program);
