@@ -130,7 +130,10 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
       std::regex(R"(\s*PTP \{E6AXIS: )" + axes + "E1 " + n + R"(\})"),
       std::regex(R"(\s*SCAN\(\d+\))"),
       std::regex(R"(\s*WAIT SEC )" + n +
-                 R"(|\s*WAIT FOR (NOT )?\$IN\[\d+\]|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
+                 R"(|\s*WAIT FOR (NOT )?\$IN\[\d+\]( OR \$TIMER_FLAG\[1\])?)"
+                 R"(|\s*\$OUT\[\d+\] = (TRUE|FALSE))"),
+      std::regex(R"(\s*\$TIMER_STOP\[1\] = (TRUE|FALSE)|\s*\$TIMER\[1\] = -\d+)"),
+      std::regex(R"(\s*IF (NOT )?\$IN\[\d+\] THEN|\s*ENDIF|\s*HALT( ;.*)?)"),
   };
   // The tool, the work object, the load and the handshake's signals are the cell's.
   EXPECT_NE(text.find("$TOOL = {X 0.000, Y 0.000, Z 150.000,"), std::string::npos);
@@ -139,9 +142,19 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"),
             std::string::npos);
   EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
-  EXPECT_NE(
-      text.find("  $OUT[3] = TRUE\n  WAIT FOR $IN[4]\n  $OUT[3] = FALSE\n  WAIT FOR NOT $IN[4]\n"),
-      std::string::npos);
+  // The trigger reset at the start; each wait bounded by timer 1, the trigger dropped and the
+  // program halted when the acknowledgement does not come.
+  EXPECT_NE(text.find("  $BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}\n"
+                      "  $OUT[3] = FALSE\n"),
+            std::string::npos);
+  EXPECT_NE(text.find("  $OUT[3] = TRUE\n  $TIMER_STOP[1] = TRUE\n  $TIMER[1] = -10000\n"
+                      "  $TIMER_STOP[1] = FALSE\n  WAIT FOR $IN[4] OR $TIMER_FLAG[1]\n"
+                      "  $TIMER_STOP[1] = TRUE\n  IF NOT $IN[4] THEN\n    $OUT[3] = FALSE\n"
+                      "    HALT ; no acknowledgement within 10 s\n  ENDIF\n  $OUT[3] = FALSE\n"),
+            std::string::npos);
+  EXPECT_NE(text.find("  WAIT FOR NOT $IN[4] OR $TIMER_FLAG[1]\n  $TIMER_STOP[1] = TRUE\n"
+                      "  IF $IN[4] THEN\n    $OUT[3] = FALSE\n"),
+            std::string::npos);
   int defs = 0, ends = 0;
   std::vector<std::vector<double>> ptp;
   for (const std::string& line : lines(text)) {
@@ -171,7 +184,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   const RobotProgram p = program();
   const std::string text = rapidProgram(p);
   expectGolden(text, "program.mod");
-  int modules = 0, procs = 0, moves = 0;
+  int modules = 0, procs = 0, ifs = 0, moves = 0;
   std::vector<std::vector<double>> robtargets;
   for (const std::string& line : lines(text)) {
     const std::string code = line.substr(0, line.find('!'));
@@ -185,6 +198,10 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
       ++procs;
     } else if (std::regex_match(code, std::regex(R"(\s*ENDPROC)"))) {
       --procs;
+    } else if (std::regex_match(code, std::regex(R"(\s*IF [A-Za-z]+ THEN)"))) {
+      ++ifs;
+    } else if (std::regex_match(code, std::regex(R"(\s*ENDIF)"))) {
+      --ifs;
     } else {
       // Every other statement ends with a semicolon (RAPID reference manual, Basic elements).
       EXPECT_EQ(code.back(), ';') << line;
@@ -217,6 +234,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   }
   EXPECT_EQ(modules, 0);
   EXPECT_EQ(procs, 0);
+  EXPECT_EQ(ifs, 0);
   EXPECT_EQ(moves, 8);
   EXPECT_NE(text.find("PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,"
                       "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];"),
@@ -225,9 +243,17 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   EXPECT_NE(text.find("PERS wobjdata wPart := [FALSE,TRUE,\"\",[[1000.000,0.000,0.000],[0.965926,"
                       "0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];"),
             std::string::npos);
-  EXPECT_NE(text.find("SetGO GO_9, view;\n    SetDO DO_3, 1;\n    WaitDI DI_4, 1;\n"
-                      "    SetDO DO_3, 0;\n    WaitDI DI_4, 0;"),
-            std::string::npos);
+  // The trigger reset at the start; each wait bounded (WaitDI \MaxTime with its \TimeFlag),
+  // a timeout dropping the trigger, logged and stopping the program.
+  EXPECT_NE(text.find("  PROC main()\n    SetDO DO_3, 0;\n"), std::string::npos);
+  EXPECT_NE(
+      text.find("SetGO GO_9, view;\n    SetDO DO_3, 1;\n"
+                "    WaitDI DI_4, 1 \\MaxTime:=10 \\TimeFlag:=bTimeout;\n"
+                "    IF bTimeout THEN\n      SetDO DO_3, 0;\n"
+                "      ErrWrite \"scanplan: no acknowledgement\", \"view \" + NumToStr(view, 0);\n"
+                "      Stop;\n    ENDIF\n    SetDO DO_3, 0;\n"
+                "    WaitDI DI_4, 0 \\MaxTime:=10 \\TimeFlag:=bTimeout;\n"),
+      std::string::npos);
   // Each robtarget is the scanner in the work object: carried back by the work object and
   // the table, it is the flange on its mount.
   ASSERT_EQ(robtargets.size(), p.steps.size());
@@ -256,8 +282,9 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
     // Blocks open with a line ending in ':' (def, while) and close with 'end' (URScript
     // manual, The URScript programming language).
     if (code.back() == ':') {
-      EXPECT_TRUE(
-          std::regex_match(code, std::regex(R"(\s*(def [a-z_][a-z0-9_]*\([a-z_]*\)|while .+):)")))
+      EXPECT_TRUE(std::regex_match(
+          code,
+          std::regex(R"(\s*(def [a-z_][a-z0-9_]*\(([a-z_]+(, [a-z_]+)*)?\)|(while|if) .+):)")))
           << line;
       ++depth;
     } else if (std::regex_match(code, std::regex(R"(\s*end)"))) {
@@ -279,7 +306,10 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
               R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
               R"(set_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
               R"(part_frame = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
-              R"(write_output_(integer|float)_register\(\d+, (view|angle)\)))")))
+              R"(write_output_(integer|float)_register\(\d+, (view|angle)\)|)"
+              R"(await_input\(\d+, (True|False), \d, "scanplan: [a-z ]+"\)|)"
+              R"(waited = 0\.0|waited = waited \+ 0\.01|halt\(\)|)"
+              R"(set_standard_digital_out\(request, False\)|popup\(what, "scanplan", error=True\)))")))
           << line;
     }
   }
@@ -288,9 +318,17 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_EQ(turns, 3);  // to 0 at home, to 90° to approach the third view, to 0 back home
   EXPECT_NE(text.find("set_tcp(p[0.000000, 0.000000, 0.120000, 0.000000, 0.000000, 0.000000])"),
             std::string::npos);
+  // Outputs reset at the start; each wait bounded, ended on a timeout by an error and a halt.
+  EXPECT_NE(
+      text.find("  set_standard_digital_out(1, False)\n  set_standard_digital_out(5, False)\n"),
+      std::string::npos);
+  EXPECT_NE(text.find("    while get_standard_digital_in(n) != state:\n      sleep(0.01)\n"
+                      "      waited = waited + 0.01\n      if waited > 10:\n"
+                      "        set_standard_digital_out(request, False)\n"),
+            std::string::npos);
   EXPECT_NE(
       text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"
-                "    while not get_standard_digital_in(6):"),
+                "    await_input(6, True, 5, \"scanplan: no table ready\")\n"),
       std::string::npos);
 }
 

@@ -36,6 +36,10 @@ std::string commentText(const std::string& text) {
   return safe;
 }
 
+// How long a program waits for the scanner's (or the table's) input before it stops the
+// cell with an error, s.
+constexpr int kHandshakeSeconds = 10;
+
 // KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees (no -0).
 Vec3 kukaAbc(const Eigen::Matrix3d& r) {
   const Vec3 abc(degrees(std::atan2(r(1, 0), r(0, 0))),
@@ -189,6 +193,28 @@ void checkClearMoves(const RobotProgram& program, bool allow, const std::string&
                 "--allow-collisions to write it with the moves marked)");
 }
 
+// KRL's scan handshake: the view number, the trigger, and each wait on the acknowledgement
+// bounded by timer 1 ($TIMER_FLAG[1] rises when $TIMER[1], set below 0, reaches 0): on a
+// timeout the trigger drops and the program halts.
+std::string krlScan(const CellSignals& sig) {
+  const auto wait = [&](bool state, std::string_view what) {
+    return fmt::format(
+        "  $TIMER_STOP[1] = TRUE\n  $TIMER[1] = -{ms}\n  $TIMER_STOP[1] = FALSE\n"
+        "  WAIT FOR {is}$IN[{in}] OR $TIMER_FLAG[1]\n  $TIMER_STOP[1] = TRUE\n"
+        "  IF {isnt}$IN[{in}] THEN\n    $OUT[{out}] = FALSE\n    HALT ; no {what} within {s} s\n"
+        "  ENDIF\n",
+        fmt::arg("ms", kHandshakeSeconds * 1000), fmt::arg("is", state ? "" : "NOT "),
+        fmt::arg("isnt", state ? "NOT " : ""), fmt::arg("in", sig.acknowledge),
+        fmt::arg("out", sig.trigger), fmt::arg("what", what), fmt::arg("s", kHandshakeSeconds));
+  };
+  return fmt::format(
+             "DEF SCAN(VIEW:IN)\n  INT VIEW\n  SIGNAL VIEW_NO $OUT[{0}] TO $OUT[{1}]\n"
+             "  WAIT SEC 0.2\n  VIEW_NO = VIEW\n  $OUT[{2}] = TRUE\n",
+             sig.view, sig.view + 15, sig.trigger) +
+         wait(true, "acknowledgement") + fmt::format("  $OUT[{}] = FALSE\n", sig.trigger) +
+         wait(false, "end of the acknowledgement") + "END\n";
+}
+
 std::string krlProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "krl");
   std::ostringstream out;
@@ -200,7 +226,8 @@ std::string krlProgram(const RobotProgram& p) {
       << fmt::format("  $LOAD.M = {:.3f}\n", p.cell.tool.mass)
       << fmt::format("  $LOAD.CM = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A 0, B 0, C 0}}\n", centre.x(),
                      centre.y(), centre.z())
-      << "  $BASE = " << krlFrame(p.work_object) << "\n";
+      << "  $BASE = " << krlFrame(p.work_object) << "\n"
+      << fmt::format("  $OUT[{}] = FALSE\n", p.cell.signals.trigger);
   int taken = 0;
   for (const Waypoint& w : waypoints(p)) {
     if (w.what == "view") {
@@ -222,16 +249,27 @@ std::string krlProgram(const RobotProgram& p) {
     out << fmt::format(" E1 {:.4f}}}\n", degrees(w.pose.table_angle));
     if (w.what == "view") out << fmt::format("  SCAN({})\n", w.step->view);
   }
-  const CellSignals& sig = p.cell.signals;
-  out << "END\n\n"
-      << "DEF SCAN(VIEW:IN)\n  INT VIEW\n"
-      << fmt::format("  SIGNAL VIEW_NO $OUT[{}] TO $OUT[{}]\n", sig.view, sig.view + 15)
-      << "  WAIT SEC 0.2\n  VIEW_NO = VIEW\n"
-      << fmt::format(
-             "  $OUT[{0}] = TRUE\n  WAIT FOR $IN[{1}]\n  $OUT[{0}] = FALSE\n"
-             "  WAIT FOR NOT $IN[{1}]\nEND\n",
-             sig.trigger, sig.acknowledge);
+  out << "END\n\n" << krlScan(p.cell.signals);
   return out.str();
+}
+
+// RAPID's scan handshake: the view number, the trigger, and each wait on the
+// acknowledgement bounded by \MaxTime with its \TimeFlag: on a timeout the trigger drops,
+// the error goes to the event log and the program stops.
+std::string rapidScan(const CellSignals& sig) {
+  const auto wait = [&](int state, std::string_view what) {
+    return fmt::format(
+        "    WaitDI DI_{in}, {state} \\MaxTime:={s} \\TimeFlag:=bTimeout;\n"
+        "    IF bTimeout THEN\n      SetDO DO_{out}, 0;\n"
+        "      ErrWrite \"scanplan: no {what}\", \"view \" + NumToStr(view, 0);\n"
+        "      Stop;\n    ENDIF\n",
+        fmt::arg("in", sig.acknowledge), fmt::arg("state", state), fmt::arg("s", kHandshakeSeconds),
+        fmt::arg("out", sig.trigger), fmt::arg("what", what));
+  };
+  return "  PROC Scan(num view)\n    WaitTime 0.2;\n" +
+         fmt::format("    SetGO GO_{}, view;\n    SetDO DO_{}, 1;\n", sig.view, sig.trigger) +
+         wait(1, "acknowledgement") + fmt::format("    SetDO DO_{}, 0;\n", sig.trigger) +
+         wait(0, "end of acknowledgement") + "  ENDPROC\n";
 }
 
 std::string rapidProgram(const RobotProgram& p) {
@@ -261,7 +299,8 @@ std::string rapidProgram(const RobotProgram& p) {
         s.view, rapidPose(scannerInPart(p, s)), quadrant(j[0]), quadrant(j[3]), quadrant(j[5]),
         external(s.pose.table_angle));
   }
-  out << "\n  PROC main()\n";
+  out << "  VAR bool bTimeout;\n\n  PROC main()\n"
+      << fmt::format("    SetDO DO_{}, 0;\n", p.cell.signals.trigger);
   for (const Waypoint& w : waypoints(p)) {
     if (w.what == "view") {
       out << fmt::format("    MoveAbsJ jView{}, v500, fine, tScanner;\n    Scan {};\n",
@@ -277,14 +316,7 @@ std::string rapidProgram(const RobotProgram& p) {
                degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
                degrees(j[5]), external(w.pose.table_angle));
   }
-  const CellSignals& sig = p.cell.signals;
-  out << "  ENDPROC\n\n"
-      << "  PROC Scan(num view)\n    WaitTime 0.2;\n"
-      << fmt::format(
-             "    SetGO GO_{}, view;\n    SetDO DO_{}, 1;\n    WaitDI DI_{}, 1;\n"
-             "    SetDO DO_{}, 0;\n    WaitDI DI_{}, 0;\n",
-             sig.view, sig.trigger, sig.acknowledge, sig.trigger, sig.acknowledge)
-      << "  ENDPROC\nENDMODULE\n";
+  out << "  ENDPROC\n\n" << rapidScan(p.cell.signals) << "ENDMODULE\n";
   return out.str();
 }
 
@@ -299,12 +331,28 @@ std::string urPose(const Pose& pose) {
 
 // Raises output `request`, waits for input `done`, drops the output, waits for the input
 // to drop.
-std::string urHandshake(int request, int done) {
+// URScript's handshake: raise `request`, wait for `done`, drop `request`, wait for `done` to
+// drop; each wait bounded (await_input) and ended, on a timeout, by an error and a halt.
+std::string urHandshake(int request, int done, std::string_view what) {
   return fmt::format(
-      "    set_standard_digital_out({0}, True)\n    while not get_standard_digital_in({1}):\n"
-      "      sync()\n    end\n    set_standard_digital_out({0}, False)\n"
-      "    while get_standard_digital_in({1}):\n      sync()\n    end\n",
-      request, done);
+      "    set_standard_digital_out({0}, True)\n"
+      "    await_input({1}, True, {0}, \"scanplan: no {2}\")\n"
+      "    set_standard_digital_out({0}, False)\n"
+      "    await_input({1}, False, {0}, \"scanplan: {2} did not end\")\n",
+      request, done, what);
+}
+
+// The wait on an input of every URScript handshake: at most kHandshakeSeconds, then the
+// request dropped, an error shown and the program halted.
+std::string urAwaitInput() {
+  return fmt::format(
+      "  def await_input(n, state, request, what):\n    waited = 0.0\n"
+      "    while get_standard_digital_in(n) != state:\n      sleep(0.01)\n"
+      "      waited = waited + 0.01\n      if waited > {}:\n"
+      "        set_standard_digital_out(request, False)\n"
+      "        popup(what, \"scanplan\", error=True)\n        halt()\n      end\n    end\n"
+      "  end\n",
+      kHandshakeSeconds);
 }
 
 std::string urScript(const RobotProgram& p) {
@@ -317,13 +365,15 @@ std::string urScript(const RobotProgram& p) {
       << "  part_frame = " << urPose(p.work_object) << "\n"
       << fmt::format("  set_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
                      centre.x(), centre.y(), centre.z())
-      << "  def scan(view):\n    sleep(0.2)\n"
+      << fmt::format("  set_standard_digital_out({}, False)\n", sig.trigger)
+      << (sig.table ? fmt::format("  set_standard_digital_out({}, False)\n", sig.table->move) : "")
+      << urAwaitInput() << "  def scan(view):\n    sleep(0.2)\n"
       << fmt::format("    write_output_integer_register({}, view)\n", sig.view)
-      << urHandshake(sig.trigger, sig.acknowledge) << "  end\n";
+      << urHandshake(sig.trigger, sig.acknowledge, "acknowledgement of the scan") << "  end\n";
   if (sig.table)
     out << "  def turn_table(angle):\n"
         << fmt::format("    write_output_float_register({}, angle)\n", sig.table->angle)
-        << urHandshake(sig.table->move, sig.table->ready) << "  end\n";
+        << urHandshake(sig.table->move, sig.table->ready, "table ready") << "  end\n";
   std::optional<double> table;
   int taken = 0;
   for (const Waypoint& w : waypoints(p)) {

@@ -14,8 +14,10 @@ MODULE ctc01_plan
   CONST robtarget pView2 := [[-402.039,59.243,862.428],[0.060587,0.884133,-0.235349,-0.399060],[-1,-1,1,0],[90.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jView7 := [[28.6479,-5.7296,17.1887,11.4592,-34.3775,-85.9437],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST robtarget pView7 := [[145.383,449.759,1387.713],[0.626002,-0.301545,0.468911,-0.545266],[0,0,-1,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
+  VAR bool bTimeout;
 
   PROC main()
+    SetDO DO_3, 0;
     ! home
     MoveAbsJ [[0.0000,-17.1887,11.4592,0.0000,34.3775,0.0000],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;
     ! approach view 4
@@ -38,8 +40,18 @@ MODULE ctc01_plan
     WaitTime 0.2;
     SetGO GO_9, view;
     SetDO DO_3, 1;
-    WaitDI DI_4, 1;
+    WaitDI DI_4, 1 \MaxTime:=10 \TimeFlag:=bTimeout;
+    IF bTimeout THEN
+      SetDO DO_3, 0;
+      ErrWrite "scanplan: no acknowledgement", "view " + NumToStr(view, 0);
+      Stop;
+    ENDIF
     SetDO DO_3, 0;
-    WaitDI DI_4, 0;
+    WaitDI DI_4, 0 \MaxTime:=10 \TimeFlag:=bTimeout;
+    IF bTimeout THEN
+      SetDO DO_3, 0;
+      ErrWrite "scanplan: no end of acknowledgement", "view " + NumToStr(view, 0);
+      Stop;
+    ENDIF
   ENDPROC
 ENDMODULE
