@@ -304,7 +304,7 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
           std::regex(
               R"(\s*(scan\(\d+\)|turn_table\([-0-9.]+\)|sleep\([0-9.]+\)|sync\(\)|)"
               R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
-              R"(set_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
+              R"(set_target_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
               R"(part_frame = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
               R"(write_output_(integer|float)_register\(\d+, (view|angle)\)|)"
               R"(await_input\(\d+, (True|False), \d, "scanplan: [a-z ]+"\)|)"

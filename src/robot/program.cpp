@@ -363,7 +363,7 @@ std::string urScript(const RobotProgram& p) {
   out << header(p, "#", true) << "def " << p.name << "():\n"
       << "  set_tcp(" << urPose(p.cell.mount) << ")\n"
       << "  part_frame = " << urPose(p.work_object) << "\n"
-      << fmt::format("  set_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
+      << fmt::format("  set_target_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
                      centre.x(), centre.y(), centre.z())
       << fmt::format("  set_standard_digital_out({}, False)\n", sig.trigger)
       << (sig.table ? fmt::format("  set_standard_digital_out({}, False)\n", sig.table->move) : "")
