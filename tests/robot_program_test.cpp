@@ -433,6 +433,35 @@ TEST(RobotProgram, KrlSignalsStartAtOneAndTheTriggerLiesOutsideTheViewNumber) {
             "them");
 }
 
+// URScript's standard digital signals run 0 to 7 and its output registers 0 to 47; the
+// table's move output is not the scan's trigger. Each refused naming the signal.
+TEST(RobotProgram, UrScriptSignalsLieWithinTheControllersRanges) {
+  RobotProgram p = urProgram();
+  const auto refusal = [&](const CellSignals& signals) {
+    p.cell.signals = signals;
+    try {
+      urScript(p);
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const TableSignals table{47, 7, 0};
+  EXPECT_EQ(refusal({47, 0, 7, table}), "accepted");
+  EXPECT_EQ(refusal({48, 0, 7, table}),
+            "cell.signals.view: URScript numbers its output registers 0 to 47, and 48 is none of "
+            "them");
+  EXPECT_EQ(refusal({2, 9, 1, table}),
+            "cell.signals.trigger: URScript numbers its standard digital inputs and outputs 0 to "
+            "7, and 9 is none of them");
+  EXPECT_EQ(refusal({2, 1, -1, table}).substr(0, 26), "cell.signals.acknowledge: ");
+  EXPECT_EQ(refusal({2, 1, 1, TableSignals{100, 5, 6}}).substr(0, 26),
+            "cell.signals.table.angle: ");
+  EXPECT_EQ(refusal({2, 5, 1, TableSignals{2, 5, 6}}),
+            "cell.signals.table.move: output 5 is the scan's trigger: give the table an output "
+            "of its own");
+}
+
 // A plan's path and a robot's name come from the user's files: a line break in them would
 // end the comment and leave the rest as a statement. Each stays inside its comment line.
 TEST(RobotProgram, TextFromTheInputsCannotBecomeAStatement) {

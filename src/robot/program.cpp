@@ -15,6 +15,8 @@
 #include <filesystem>
 #include <map>
 #include <sstream>
+#include <tuple>
+#include <vector>
 
 namespace scanplan {
 namespace {
@@ -121,6 +123,32 @@ void checkKrlSignals(const CellSignals& s) {
                                  s.trigger, s.view, s.view + 15));
 }
 
+// URScript's standard digital inputs and outputs are numbered 0 to 7, its integer and float
+// output registers 0 to 47 (URScript manual, e-Series: set_standard_digital_out,
+// get_standard_digital_in, write_output_integer_register, write_output_float_register); the
+// table's move output must not be the scan's trigger. \throw UsageError naming the signal.
+void checkUrSignals(const CellSignals& s) {
+  std::vector<std::tuple<std::string, int, int>> checks = {
+      {"cell.signals.view", s.view, 47},
+      {"cell.signals.trigger", s.trigger, 7},
+      {"cell.signals.acknowledge", s.acknowledge, 7}};
+  if (s.table)
+    checks.insert(checks.end(), {{"cell.signals.table.angle", s.table->angle, 47},
+                                 {"cell.signals.table.move", s.table->move, 7},
+                                 {"cell.signals.table.ready", s.table->ready, 7}});
+  for (const auto& [key, number, most] : checks)
+    if (number < 0 || number > most)
+      throw UsageError(
+          key, fmt::format("URScript numbers its {} 0 to {}, and {} is none of them",
+                           most == 7 ? "standard digital inputs and outputs" : "output registers",
+                           most, number));
+  if (s.table && s.table->move == s.trigger)
+    throw UsageError("cell.signals.table.move",
+                     fmt::format("output {} is the scan's trigger: give the table an output of "
+                                 "its own",
+                                 s.trigger));
+}
+
 // The scanner's load: its mass and centre of gravity in the flange frame, mm.
 Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
 
@@ -177,6 +205,7 @@ void checkProgramFormat(const Cell& cell, std::string_view format) {
   if ((format == "krl" || format == "rapid") && universal)
     throw UsageError(option, cell.robot.name + " runs URScript (--format urscript)");
   if (format == "krl") checkKrlSignals(cell.signals);
+  if (format == "urscript") checkUrSignals(cell.signals);
   if (format == "urscript" && cell.table && !cell.signals.table)
     throw UsageError(option,
                      "URScript cannot drive the rotary table without its signals: give "
