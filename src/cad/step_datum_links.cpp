@@ -49,7 +49,7 @@ FeatureNames datumOfFeature(const Handle(StepData_StepModel) & model) {
 }
 
 // The faces each datum letter's features identify by item-identified usages, as translated.
-std::map<std::string, std::vector<TopoDS_Shape>> datumFaces(
+std::map<std::string, std::vector<TopoDS_Shape>> featureFaces(
     const Handle(StepData_StepModel) & model, const Handle(Transfer_TransientProcess) & process,
     const std::map<long, std::vector<long>>& usages) {
   const FeatureNames names = datumOfFeature(model);
@@ -100,7 +100,7 @@ void linkDatumsByItemUsage(XSControl_WorkSession& session, const Handle(TDocStd_
     if (!tool->GetRefShapeLabel(datum, first, second) || first.IsEmpty()) unlinked.Append(datum);
   }
   if (unlinked.IsEmpty()) return;  // the file is read again only when there is a datum to link
-  const auto faces = datumFaces(model, reader->TransientProcess(), scanSetItemUsages(path));
+  const auto faces = featureFaces(model, reader->TransientProcess(), scanSetItemUsages(path));
   const Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
   for (const TDF_Label& datum : unlinked) {
     const auto found = faces.find(datumName(datum));
