@@ -51,11 +51,21 @@ TEST(Cell, ViewBeyondReachIsRejectedAsOutOfReach) {
   EXPECT_EQ(far.failure, CellFailure::OutOfReach);
 }
 
+// A view straight behind the base needs axis 1 at 180°, its limit: reached with no margin
+// to the limits, refused with the default margin of 2° (cell.joint_margin), as with a
+// cell that fences axis 1 to +-90°.
 TEST(Cell, ViewBehindTheBaseNeedsJointOneToTurn) {
   Cell cell = irb2400At(Vec3::Zero());
   const View behind = viewAt({-900, 0, 600}, {-900, 0, 0});
-  EXPECT_TRUE(reachView(cell, behind).reachable());  // axis 1 turns +-180°
-  cell.robot.lower[0] = -M_PI / 2;                   // a cell that fences axis 1 to +-90°
+  EXPECT_NEAR(cell.joint_margin, radians(2), 1e-12);
+  const CellReach on_the_limit = reachView(cell, behind);
+  EXPECT_FALSE(on_the_limit.reachable());
+  EXPECT_EQ(on_the_limit.failure, CellFailure::JointLimits);
+  cell.joint_margin = 0;
+  const CellReach reached = reachView(cell, behind);
+  ASSERT_TRUE(reached.reachable());  // axis 1 turns +-180°
+  for (const CellPose& pose : reached.poses) EXPECT_NEAR(std::abs(pose.joints[0]), M_PI, 1e-6);
+  cell.robot.lower[0] = -M_PI / 2;  // a cell that fences axis 1 to +-90°
   cell.robot.upper[0] = M_PI / 2;
   const CellReach fenced = reachView(cell, behind);
   EXPECT_FALSE(fenced.reachable());
@@ -96,7 +106,8 @@ TEST(Cell, SpecReadsTheCell) {
                              "  tool: {mass: 2.7, centre: [0, 10, 95]}\n"
                              "  signals: {view: 17, trigger: 2, acknowledge: 3, "
                              "table: {angle: 1, move: 4, ready: 5}}\n"
-                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n  motion_step: 1\n");
+                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n  motion_step: 1\n"
+                             "  joint_margin: 3\n");
   ASSERT_TRUE(spec.cell);
   EXPECT_EQ(spec.cell->tool.mass, 2.7);
   EXPECT_TRUE(spec.cell->tool.centre->isApprox(Vec3(0, 10, 95)));
@@ -108,6 +119,7 @@ TEST(Cell, SpecReadsTheCell) {
   EXPECT_NEAR((*spec.cell->home)[4], M_PI / 4, 1e-12);
   EXPECT_EQ(spec.cell->approach, 80);
   EXPECT_NEAR(spec.cell->motion_step, radians(1), 1e-12);
+  EXPECT_NEAR(spec.cell->joint_margin, radians(3), 1e-12);
   EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
   EXPECT_EQ(spec.cell->robot.link_radii[0], 150);
   EXPECT_EQ(spec.cell->robot.link_radii[2], 80);
@@ -142,7 +154,9 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
-        "cell:\n  robot: {preset: ur5e}\n  motion_step: 0\n"}) {
+        "cell:\n  robot: {preset: ur5e}\n  motion_step: 0\n",
+        "cell:\n  robot: {preset: ur5e}\n  joint_margin: -1\n",
+        "cell:\n  robot: {preset: ur5e}\n  joint_margin: 11\n"}) {
     test::writeText(dir.file("bad.yaml"), text);
     try {
       loadSpec(dir.file("bad.yaml"));

@@ -344,6 +344,7 @@ void addCell(const Plan& plan, json& result) {
                 {"home", cell.home ? inDegrees(*cell.home) : json(nullptr)},
                 {"approach", cell.approach},
                 {"motion_step", degrees(cell.motion_step)},
+                {"joint_margin", degrees(cell.joint_margin)},
                 {"link_meshes", cell.link_meshes.size()},
                 {"table", nullptr}};
   if (cell.table)
@@ -711,6 +712,8 @@ struct PlanReader {
     cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
     cell.motion_step =
         radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
+    cell.joint_margin =
+        radians(fieldOr(entry, "joint_margin", degrees(cell.joint_margin), path, "cell"));
     if (const json table = entry.value("table", json()); table.is_object()) {
       RotaryTable& t = cell.table.emplace();
       t.origin = detail::vectorFrom(table.value("origin", json()), path, "cell table");
@@ -987,9 +990,9 @@ void checkSectionKeys(const json& root, const std::string& path) {
                             path, "registration");
   detail::refuseUnknownKeys(
       objectAt(root, "cell"),
-      {"model",   "family", "lengths",  "offsets",     "signs",         "link_radii", "base",
-       "mount",   "lower",  "upper",    "speeds",      "accelerations", "clearance",  "tool",
-       "signals", "home",   "approach", "motion_step", "link_meshes",   "table"},
+      {"model",   "family", "lengths",  "offsets",     "signs",         "link_radii",  "base",
+       "mount",   "lower",  "upper",    "speeds",      "accelerations", "clearance",   "tool",
+       "signals", "home",   "approach", "motion_step", "joint_margin",  "link_meshes", "table"},
       path, "cell");
   checkListKeys(root, "orientations", "orientation",
                 {"id", "part_to_world", "down", "margin", "views", "reference", "frame", "markers"},

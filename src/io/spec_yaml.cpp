@@ -599,7 +599,7 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
 
 // cell: working plane, robot, mount, table, clearance.
 // cell.home (joints, degrees, within the robot's limits), cell.approach (mm),
-// cell.motion_step (degrees).
+// cell.motion_step and cell.joint_margin (degrees).
 void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
   if (cell["home"]) {
     const Joints home = reader.joints(cell["home"], "cell.home");
@@ -608,6 +608,8 @@ void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
   reader.read(cell, "cell", "approach", c.approach);
   if (cell["motion_step"])
     c.motion_step = radians(reader.scalar<double>(cell["motion_step"], "cell.motion_step"));
+  if (cell["joint_margin"])
+    c.joint_margin = radians(reader.scalar<double>(cell["joint_margin"], "cell.joint_margin"));
 }
 
 // cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame}.
@@ -647,7 +649,7 @@ CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
 void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
   checkKeys(cell,
             {"working_plane", "robot", "mount", "table", "clearance", "tool", "signals", "home",
-             "approach", "motion_step"},
+             "approach", "motion_step", "joint_margin"},
             reader, "cell");
   if (cell["working_plane"])
     spec.working_plane = reader.scalar<bool>(cell["working_plane"], "cell.working_plane");
@@ -681,7 +683,8 @@ void readCell(const YAML::Node& cell, const SpecReader& reader, Spec& spec) {
     validate(c, reader.path());
     spec.cell = c;
   } else if (cell["mount"] || cell["table"] || cell["clearance"] || cell["tool"] ||
-             cell["signals"] || cell["home"] || cell["approach"] || cell["motion_step"]) {
+             cell["signals"] || cell["home"] || cell["approach"] || cell["motion_step"] ||
+             cell["joint_margin"]) {
     reader.fail("cell: a mount or a table needs a robot (cell.robot)");
   }
 }

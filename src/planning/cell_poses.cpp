@@ -42,7 +42,8 @@ CellSolutions cellSolutions(const Cell& cell, const std::vector<View>& views,
                             const CellCollisions* collisions) {
   CellSolutions solutions(views.size());
   for (std::size_t i = 0; i < views.size(); ++i)
-    solutions[i] = withOtherTurns(cell.robot, reachView(cell, views[i], {}, 0, collisions).poses);
+    solutions[i] =
+        withOtherTurns(workingRange(cell), reachView(cell, views[i], {}, 0, collisions).poses);
   return solutions;
 }
 

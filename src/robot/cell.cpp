@@ -57,11 +57,25 @@ void validate(const Cell& c, const std::string& source) {
   require(c.approach >= 0 && c.approach <= 1000, "approach must be within [0, 1000] mm");
   require(c.motion_step >= radians(0.1) && c.motion_step <= radians(10),
           "motion_step must be within [0.1, 10] degrees");
+  require(c.joint_margin >= 0 && c.joint_margin <= radians(10),
+          "joint_margin must be within [0, 10] degrees");
+  for (int i = 0; i < 6; ++i)
+    require(c.robot.upper[i] - c.robot.lower[i] > 2 * c.joint_margin,
+            "joint_margin leaves joint " + std::to_string(i + 1) + " no range");
 }
 
 Pose tableTurn(const Cell& cell, double angle) {
   if (!cell.table) return Pose::Identity();
   return turnAbout(cell.table->origin, cell.table->axis, angle);
+}
+
+RobotModel workingRange(const Cell& cell) {
+  RobotModel robot = cell.robot;
+  for (int i = 0; i < 6; ++i) {
+    robot.lower[i] += cell.joint_margin;
+    robot.upper[i] -= cell.joint_margin;
+  }
+  return robot;
 }
 
 Pose flangeFor(const Cell& cell, const View& view, double table_angle) {
@@ -83,9 +97,10 @@ CellReach reachView(const Cell& cell, const View& view, const Joints& near, doub
   }
   CellReach result;
   result.failure = CellFailure::OutOfReach;
+  const RobotModel robot = workingRange(cell);
   for (double angle : angles) {
     const Pose flange = flangeFor(cell, view, angle);
-    const std::vector<Joints> solutions = inverseKinematics(cell.robot, flange, near);
+    const std::vector<Joints> solutions = inverseKinematics(robot, flange, near);
     for (const Joints& q : solutions)
       if (!collisions || !collisions->collides({angle, q})) result.poses.push_back({angle, q});
     if (!result.poses.empty()) {

@@ -40,8 +40,8 @@ std::optional<CellPose> lifted(const Cell& cell, const CellCollisions& collision
                                const CellPose& pose, double height) {
   Pose world = cell.base * forwardKinematics(cell.robot, pose.joints);
   world.translation().z() = std::max(world.translation().z(), height);
-  const std::optional<Joints> q = nearestClear(collisions, cell.robot, cell.base.inverse() * world,
-                                               pose.joints, pose.table_angle);
+  const std::optional<Joints> q = nearestClear(
+      collisions, workingRange(cell), cell.base.inverse() * world, pose.joints, pose.table_angle);
   if (!q) return std::nullopt;
   return CellPose{pose.table_angle, *q};
 }
@@ -54,7 +54,7 @@ std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisi
   const Pose back =
       step.flange * cell.mount * Eigen::Translation3d(0, 0, -cell.approach) * cell.mount.inverse();
   const std::optional<Joints> q =
-      nearestClear(collisions, cell.robot, back, step.pose.joints, step.pose.table_angle);
+      nearestClear(collisions, workingRange(cell), back, step.pose.joints, step.pose.table_angle);
   if (!q || !moveIsClear(collisions, {step.pose.table_angle, *q}, step.pose, cell.motion_step))
     return std::nullopt;
   return q;

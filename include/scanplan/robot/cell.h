@@ -66,6 +66,10 @@ struct Cell {
   std::optional<Joints> home;
   double approach = 100;
   double motion_step = radians(2);
+  // Kept from each joint's limits by every pose the planner and the programs choose,
+  // radians: the controller stops an axis at its software limit, and a pose on it leaves no
+  // room to move.
+  double joint_margin = radians(2);
   // Meshes of the upper arm, the forearm and the wrist in the robot's base frame at the
   // zero pose (linkMotions), used for collisions instead of the capsules; empty: capsules.
   std::vector<TriangleMesh> link_meshes;
@@ -133,6 +137,10 @@ class CellCollisions {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The cell's robot with each joint's limits drawn in by cell.joint_margin: the range the
+// planner and the programs choose poses in.
+RobotModel workingRange(const Cell& cell);
 
 // The solutions for `view`: the table angles are tried from `preferred_angle` outwards
 // (0, +step, -step, ...), the joints taken nearest to `near`; with `collisions`, only
