@@ -9,6 +9,7 @@
 #include <gtest/gtest-spi.h>
 
 #include <cstdlib>
+#include <fstream>
 
 #include <map>
 #include <set>
@@ -265,6 +266,23 @@ TEST(NistGdt, Ctc01DatumsBAndCAreTwoBoresOfTheFilesDiameters) {
         });
     EXPECT_TRUE(dimensioned);
   }
+}
+
+// A usage whose name runs to 5,000 characters is not read as one: the import goes on,
+// datum B (the usage #28 names its faces) left on no face, C linked as before.
+TEST(NistGdt, AnOverlongItemUsageIsPassedOver) {
+  test::TempDir dir;
+  std::ifstream in(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"), std::ios::binary);
+  std::string text{std::istreambuf_iterator<char>(in), {}};
+  const std::string usage = "#28=ITEM_IDENTIFIED_REPRESENTATION_USAGE('',";
+  const std::size_t at = text.find(usage);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, usage.size(),
+               "#28=ITEM_IDENTIFIED_REPRESENTATION_USAGE('" + std::string(5000, 'x') + "',");
+  test::writeText(dir.file("long.stp"), text);
+  const Part part = importPart(dir.file("long.stp"));
+  EXPECT_TRUE(datumFaces(part.gdt, "B").empty());
+  EXPECT_EQ(datumFaces(part.gdt, "C").size(), 2u);
 }
 
 // CTC 02's datum A is three target points (#102-#104, datum #125 'A'), placed by the file at

@@ -123,10 +123,15 @@ std::map<long, std::vector<long>> scanSetItemUsages(const std::string& path) {
   const std::string set = "SET_REPRESENTATION_ITEM((";
   std::map<long, std::vector<long>> usages;
   for (const auto& [id, record] : readRecords(path)) {
+    // The usage's head is its name, description and two references: a longer one is not
+    // one (and would take std::regex deep into its recursion).
+    constexpr std::size_t kLongestHead = 4096;
     const std::size_t at = record.find(set);
     std::smatch m;
     const std::string before = at == std::string::npos ? std::string() : record.substr(0, at);
-    if (at == std::string::npos || !std::regex_search(before, m, head)) continue;
+    if (at == std::string::npos || before.size() > kLongestHead ||
+        !std::regex_search(before, m, head))
+      continue;
     std::vector<long> items;
     std::size_t i = at + set.size();
     for (;;) {  // "#854, #853)": the item ids up to the list's closing parenthesis
