@@ -55,17 +55,26 @@ HolePlate holePlate(const test::TempDir& dir) {
   return p;
 }
 
-// The plate's faces as designed, 1 mm apart: the points the evaluation judges.
-detail::FacePoints designed(const HolePlate& p, std::vector<SurfacePoint>& all) {
+// A part's faces as designed, 1 mm apart: the points the evaluation judges, kept in `all`
+// for the nominal too.
+detail::FacePoints designed(const Part& part, std::vector<SurfacePoint>& all) {
   SimulationOptions options;
   options.working_plane = false;
-  const Simulator simulator(p.part, defaultSpec().scanner, options);
   detail::FacePoints points;
-  for (const SurfacePoint& s : simulator.surfacePoints(1, 1)) {
+  for (const SurfacePoint& s :
+       Simulator(part, defaultSpec().scanner, options).surfacePoints(1, 1)) {
     all.push_back(s);
     points[s.face].push_back(s.position);
   }
   return points;
+}
+
+// The value of `c` evaluated from `points`, failing the test when it has none.
+double valueOf(const Characteristic& c, const Part& part, const detail::Nominal& nominal,
+               const detail::FacePoints& points) {
+  const detail::Evaluation e = detail::evaluate(c, part.gdt, nominal, points);
+  EXPECT_TRUE(e.value) << e.why_not;
+  return e.value.value_or(-1);
 }
 
 void shift(detail::FacePoints& points, const std::vector<int>& faces, const Vec3& by) {
@@ -82,13 +91,11 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   const HolePlate p = holePlate(dir);
   ASSERT_TRUE(p.top && p.side_x && p.side_y && !p.hole.empty());
   std::vector<SurfacePoint> all;
-  const detail::FacePoints exact = designed(p, all);
+  const detail::FacePoints exact = designed(p.part, all);
   const detail::Nominal nominal(p.part, all);
   const Characteristic& position = p.characteristics[0];
   const auto value = [&](const detail::FacePoints& points) {
-    const detail::Evaluation e = detail::evaluate(position, p.part.gdt, nominal, points);
-    EXPECT_TRUE(e.value) << e.why_not;
-    return e.value.value_or(-1);
+    return valueOf(position, p.part, nominal, points);
   };
   EXPECT_NEAR(value(exact), 0, 1e-3);
 
@@ -123,7 +130,7 @@ TEST(Inspection, AViewMovedByAKnownRegistrationErrorMovesTheHoleByIt) {
   test::TempDir dir;
   const HolePlate p = holePlate(dir);
   std::vector<SurfacePoint> all;
-  const detail::FacePoints exact = designed(p, all);
+  const detail::FacePoints exact = designed(p.part, all);
   const detail::Nominal nominal(p.part, all);
   const auto position = [&](const detail::Twist& error) {
     detail::FacePoints merged;
@@ -132,10 +139,7 @@ TEST(Inspection, AViewMovedByAKnownRegistrationErrorMovesTheHoleByIt) {
       for (const Vec3& q : list)
         merged[face].push_back(hole_view ? Vec3(q + detail::displacement(error, q)) : q);
     }
-    const detail::Evaluation e =
-        detail::evaluate(p.characteristics[0], p.part.gdt, nominal, merged);
-    EXPECT_TRUE(e.value) << e.why_not;
-    return e.value.value_or(-1);
+    return valueOf(p.characteristics[0], p.part, nominal, merged);
   };
   detail::Twist shift = detail::Twist::Zero();
   shift.tail<3>() = Vec3(0.1, 0, 0);
@@ -167,21 +171,12 @@ TEST(Inspection, APatternsPositionIsItsWorstFeatures) {
   both.insert(both.end(), right.begin(), right.end());
   std::sort(both.begin(), both.end());
   const Characteristic position{1, "position", false, 0.5, 0, 0.5, {}, both};
-  SimulationOptions options;
-  options.working_plane = false;
   std::vector<SurfacePoint> all;
-  detail::FacePoints points;
-  for (const SurfacePoint& s :
-       Simulator(part, defaultSpec().scanner, options).surfacePoints(1, 1)) {
-    all.push_back(s);
-    points[s.face].push_back(s.position);
-  }
+  detail::FacePoints points = designed(part, all);
   const detail::Nominal nominal(part, all);
   shift(points, left, {0.1, 0, 0});
   shift(points, right, {0, 0.04, 0});
-  const detail::Evaluation e = detail::evaluate(position, part.gdt, nominal, points);
-  ASSERT_TRUE(e.value) << e.why_not;
-  EXPECT_NEAR(*e.value, 0.2, 0.004);
+  EXPECT_NEAR(valueOf(position, part, nominal, points), 0.2, 0.004);
 }
 
 // Straightness by its definition. The plate's top bowed by 0.05 mm along x (its longest
@@ -193,28 +188,20 @@ TEST(Inspection, StraightnessOfABowedFaceAndABentBoreIsTheBow) {
   test::TempDir dir;
   const HolePlate p = holePlate(dir);
   std::vector<SurfacePoint> all;
-  detail::FacePoints points = designed(p, all);
+  detail::FacePoints points = designed(p.part, all);
   const detail::Nominal nominal(p.part, all);
   const Characteristic flat{4, "straightness", false, 0.1, 0, 0.1, {}, {p.top}};
-  const auto value = [](const Characteristic& c, const Part& part, const detail::Nominal& n,
-                        const detail::FacePoints& on) {
-    const detail::Evaluation e = detail::evaluate(c, part.gdt, n, on);
-    EXPECT_TRUE(e.value) << e.why_not;
-    return e.value.value_or(-1);
-  };
-  EXPECT_NEAR(value(flat, p.part, nominal, points), 0, 1e-6);
+  EXPECT_NEAR(valueOf(flat, p.part, nominal, points), 0, 1e-6);
   for (Vec3& q : points[p.top]) q.z() += 0.05 * (1 - std::pow((q.x() - 100) / 100, 2));
-  EXPECT_NEAR(value(flat, p.part, nominal, points), 0.05, 0.001);
+  EXPECT_NEAR(valueOf(flat, p.part, nominal, points), 0.05, 0.001);
 
   const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(-30, -30, 0), 60, 60, 120).Shape();
   const TopoDS_Shape drill =
       BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp_Dir(0, 0, 1)), 15, 122).Shape();
   BRepTools::Write(BRepAlgoAPI_Cut(block, drill).Shape(), dir.file("bore.brep").c_str());
   const Part bored = importPart(dir.file("bore.brep"));
-  SimulationOptions options;
-  options.working_plane = false;
-  const std::vector<SurfacePoint> samples =
-      Simulator(bored, defaultSpec().scanner, options).surfacePoints(1, 1);
+  std::vector<SurfacePoint> samples;
+  designed(bored, samples);
   const detail::Nominal drilled(bored, samples);
   Characteristic axis{5, "straightness", false, 0.1, 0, 0.1, {}, {}};
   for (const Face& f : bored.faces)
@@ -227,10 +214,10 @@ TEST(Inspection, StraightnessOfABowedFaceAndABentBoreIsTheBow) {
       const double a = 2 * std::numbers::pi * (i + 0.5 * (static_cast<int>(z) % 2)) / 94;
       bore[axis.faces.front()].push_back({15 * std::cos(a), 15 * std::sin(a), z});
     }
-  EXPECT_NEAR(value(axis, bored, drilled, bore), 0, 1e-6);
+  EXPECT_NEAR(valueOf(axis, bored, drilled, bore), 0, 1e-6);
   for (auto& [face, list] : bore)
     for (Vec3& q : list) q.x() += 0.04 * std::pow((q.z() - 60) / 60, 2);
-  EXPECT_NEAR(value(axis, bored, drilled, bore), 0.04, 0.002);
+  EXPECT_NEAR(valueOf(axis, bored, drilled, bore), 0.04, 0.002);
 }
 
 // A plan of four views tilted 50° about the hole, the first the reference and the others
@@ -263,18 +250,27 @@ Plan fourViews(const HolePlate& p) {
   return plan;
 }
 
-TEST(Inspection, DeclaredDeviationsAreFoundWithinTheirUncertainty) {
+// The plate and its plan of four views, inspected with `options`.
+struct FourViewInspection {
   test::TempDir dir;
-  const HolePlate p = holePlate(dir);
-  const Plan plan = fourViews(p);
-  const ResolvedSpec spec = resolveSpec(p.part, defaultSpec());
+  HolePlate p = holePlate(dir);
+  Plan plan = fourViews(p);
+  ResolvedSpec spec = resolveSpec(p.part, defaultSpec());
+  Inspection operator()(const InspectionOptions& options) const {
+    return inspectPlan(p.part, spec, plan, options);
+  }
+};
+
+TEST(Inspection, DeclaredDeviationsAreFoundWithinTheirUncertainty) {
+  const FourViewInspection inspect;
+  const HolePlate& p = inspect.p;
   InspectionOptions options;
   options.runs = 4;
-  const Inspection nominal = inspectPlan(p.part, spec, plan, options);
+  const Inspection nominal = inspect(options);
   options.deviations = {{Deviation::Kind::Bow, {p.top}, 0.05, Vec3::Zero()},
                         {Deviation::Kind::Move, p.hole, 0, Vec3(0.2, 0, 0)},
                         {Deviation::Kind::Diameter, p.hole, 0.1, Vec3::Zero()}};
-  const Inspection deviated = inspectPlan(p.part, spec, plan, options);
+  const Inspection deviated = inspect(options);
   ASSERT_EQ(deviated.characteristics.size(), 3u);
   for (const InspectedCharacteristic& k : deviated.characteristics)
     ASSERT_TRUE(k.evaluated) << k.characteristic << ": " << k.not_evaluated;
@@ -303,17 +299,14 @@ TEST(Inspection, DeclaredDeviationsAreFoundWithinTheirUncertainty) {
 // The inspection's values do not depend on how many threads simulate the views: each run's
 // points are merged in the views' order.
 TEST(Inspection, TheSameValuesOnOneThreadAndOnTwo) {
-  test::TempDir dir;
-  const HolePlate p = holePlate(dir);
-  const Plan plan = fourViews(p);
-  const ResolvedSpec spec = resolveSpec(p.part, defaultSpec());
+  const FourViewInspection inspect;
   InspectionOptions options;
   options.runs = 3;
-  const auto inspect = [&](std::size_t threads) {
+  const auto on = [&](std::size_t threads) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    return inspectPlan(p.part, spec, plan, options);
+    return inspect(options);
   };
-  const Inspection one = inspect(1), two = inspect(2);
+  const Inspection one = on(1), two = on(2);
   ASSERT_EQ(one.characteristics.size(), two.characteristics.size());
   for (std::size_t i = 0; i < one.characteristics.size(); ++i)
     EXPECT_EQ(one.characteristics[i].values, two.characteristics[i].values) << i;

@@ -134,27 +134,41 @@ constexpr double kOnFace = 0.01;
 // The faces a datum target point lies on (NIST CTC 02's datums A, B and C are three, two and
 // one target points): those within kOnFace of it. The faces stand for the datum, which is
 // the plane or line through its targets. Targets of other kinds (lines, areas) are placed
-// by a corner or an end that may lie on a neighbouring face, and are left unlinked.
-std::vector<int> targetFaces(const TDF_Label& label, const BRepModel& model) {
-  Handle(XCAFDoc_Datum) datum;
-  if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
-  const Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
-  if (object.IsNull() || !object->IsDatumTarget() || !object->HasDatumTargetParams() ||
-      object->GetDatumTargetType() != XCAFDimTolObjects_DatumTargetType_Point)
-    return {};
-  const gp_Pnt at = object->GetDatumTargetAxis().Location();
-  const TopoDS_Vertex point = BRepBuilderAPI_MakeVertex(at);
-  std::vector<int> ids;
-  for (int id = 1; id <= model.faces.Extent(); ++id) {
-    Bnd_Box box;
-    BRepBndLib::Add(model.faces(id), box);
-    box.Enlarge(kOnFace);
-    if (box.IsOut(at)) continue;
-    BRepExtrema_DistShapeShape distance(point, model.faces(id));
-    if (distance.IsDone() && distance.Value() <= kOnFace) ids.push_back(id);
+// by a corner or an end that may lie on a neighbouring face, and are left unlinked. The
+// faces' boxes are found once, at the first target (a file repeats each target for every
+// tolerance that refers to its datum).
+class TargetFaces {
+ public:
+  explicit TargetFaces(const BRepModel& model) : model_(model) {}
+
+  std::vector<int> operator()(const TDF_Label& label) {
+    Handle(XCAFDoc_Datum) datum;
+    if (!label.FindAttribute(XCAFDoc_Datum::GetID(), datum)) return {};
+    const Handle(XCAFDimTolObjects_DatumObject) object = datum->GetObject();
+    if (object.IsNull() || !object->IsDatumTarget() || !object->HasDatumTargetParams() ||
+        object->GetDatumTargetType() != XCAFDimTolObjects_DatumTargetType_Point)
+      return {};
+    if (boxes_.empty())
+      for (int id = 1; id <= model_.faces.Extent(); ++id) {
+        Bnd_Box& box = boxes_.emplace_back();
+        BRepBndLib::Add(model_.faces(id), box);
+        box.Enlarge(kOnFace);
+      }
+    const gp_Pnt at = object->GetDatumTargetAxis().Location();
+    const TopoDS_Vertex point = BRepBuilderAPI_MakeVertex(at);
+    std::vector<int> ids;
+    for (int id = 1; id <= model_.faces.Extent(); ++id) {
+      if (boxes_[id - 1].IsOut(at)) continue;
+      BRepExtrema_DistShapeShape distance(point, model_.faces(id));
+      if (distance.IsDone() && distance.Value() <= kOnFace) ids.push_back(id);
+    }
+    return ids;
   }
-  return ids;
-}
+
+ private:
+  const BRepModel& model_;
+  std::vector<Bnd_Box> boxes_;  // per face id - 1, grown by kOnFace
+};
 
 }  // namespace
 
@@ -222,13 +236,14 @@ Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
   labels.Clear();
   tool->GetDatumLabels(labels);
   gdt.datum_labels = static_cast<std::size_t>(labels.Length());
+  TargetFaces targetFaces(*lookup.model);
   for (const TDF_Label& label : labels) {
     std::string name = datumName(label);
     auto same = std::find_if(gdt.datums.begin(), gdt.datums.end(),
                              [&](const Datum& d) { return d.name == name; });
     if (same == gdt.datums.end()) same = gdt.datums.insert(gdt.datums.end(), Datum{name, {}});
     std::vector<int> faces = attachedFaces(tool, label, lookup);
-    if (faces.empty()) faces = targetFaces(label, *lookup.model);
+    if (faces.empty()) faces = targetFaces(label);
     same->faces.insert(same->faces.end(), faces.begin(), faces.end());
     std::sort(same->faces.begin(), same->faces.end());
     same->faces.erase(std::unique(same->faces.begin(), same->faces.end()), same->faces.end());

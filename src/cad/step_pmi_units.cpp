@@ -122,10 +122,10 @@ std::map<long, std::vector<long>> scanSetItemUsages(const std::string& path) {
       R"(\s*#(\d+)\s*,\s*#\d+\s*,\s*$)");
   const std::string set = "SET_REPRESENTATION_ITEM((";
   std::map<long, std::vector<long>> usages;
+  // The usage's head is its name, description and two references: a longer one is not one
+  // (and would take std::regex deep into its recursion).
+  constexpr std::size_t kLongestHead = 4096;
   for (const auto& [id, record] : readRecords(path)) {
-    // The usage's head is its name, description and two references: a longer one is not
-    // one (and would take std::regex deep into its recursion).
-    constexpr std::size_t kLongestHead = 4096;
     const std::size_t at = record.find(set);
     std::smatch m;
     const std::string before = at == std::string::npos ? std::string() : record.substr(0, at);
