@@ -106,7 +106,7 @@ TEST(Cell, SpecReadsTheCell) {
                              "  tool: {mass: 2.7, centre: [0, 10, 95]}\n"
                              "  signals: {view: 17, trigger: 2, acknowledge: 3, "
                              "table: {angle: 1, move: 4, ready: 5}}\n"
-                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n  motion_step: 1\n"
+                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n"
                              "  joint_margin: 3\n");
   ASSERT_TRUE(spec.cell);
   EXPECT_EQ(spec.cell->tool.mass, 2.7);
@@ -118,7 +118,6 @@ TEST(Cell, SpecReadsTheCell) {
   ASSERT_TRUE(spec.cell->home);
   EXPECT_NEAR((*spec.cell->home)[4], M_PI / 4, 1e-12);
   EXPECT_EQ(spec.cell->approach, 80);
-  EXPECT_NEAR(spec.cell->motion_step, radians(1), 1e-12);
   EXPECT_NEAR(spec.cell->joint_margin, radians(3), 1e-12);
   EXPECT_EQ(spec.cell->robot.name, "abb-irb4600-60-205");
   EXPECT_EQ(spec.cell->robot.link_radii[0], 150);
@@ -154,7 +153,7 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
-        "cell:\n  robot: {preset: ur5e}\n  motion_step: 0\n",
+        "cell:\n  robot: {preset: ur5e}\n  motion_step: 2\n",
         "cell:\n  robot: {preset: ur5e}\n  joint_margin: -1\n",
         "cell:\n  robot: {preset: ur5e}\n  joint_margin: 11\n"}) {
     test::writeText(dir.file("bad.yaml"), text);
@@ -300,7 +299,7 @@ TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
   TriangleMesh block;
   test::addCube(block, Vec3(700, -200, 0), 400, 1);
   Cell cell = irb2400At(Vec3::Zero());
-  const CellCollisions collisions(cell, block, Pose::Identity(), {}, true, cell.clearance);
+  const CellCollisions collisions(cell, Box{}, block, Pose::Identity(), {}, true, cell.clearance);
   RobotProgram program;
   program.cell = cell;
   for (const double side : {1.0, -1.0}) {
@@ -313,7 +312,7 @@ TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
     ASSERT_FALSE(collisions.collides({0, q.front()}));
     program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
   }
-  ASSERT_FALSE(moveIsClear(collisions, program.steps[0].pose, program.steps[1].pose, radians(2)));
+  ASSERT_FALSE(moveIsClear(collisions, program.steps[0].pose, program.steps[1].pose));
   planMotion(program, collisions, 420);
   EXPECT_TRUE(program.uncleared.empty());
   ASSERT_TRUE(program.home);
@@ -322,7 +321,7 @@ TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
   const std::vector<Waypoint> path = waypoints(program);
   std::size_t checked = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
-    for (const CellPose& pose : sampledMove(path[k - 1].pose, path[k].pose, radians(0.25))) {
+    for (const CellPose& pose : sampledMove(collisions, path[k - 1].pose, path[k].pose, 8)) {
       EXPECT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
       ++checked;
     }
@@ -436,7 +435,8 @@ TEST(Cell, JointStepsAlongTheSequenceOfANistPlanStayBoundedAndItsArmClear) {
   // the scanner's Cartesian motion gives, with joints chosen the same way.
   const Simulator simulator(
       part, spec.scanner, simulationOptionsFor(resolveSpec(part, spec), part, plan.part_to_world));
-  const CellCollisions collisions(cell, part.mesh, plan.part_to_world, {}, true, cell.clearance);
+  const CellCollisions collisions(cell, Box{}, part.mesh, plan.part_to_world, {}, true,
+                                  cell.clearance);
   const Sequence cartesian = sequenceViews(simulator, plan.views, *plan.registration);
   const JointMotion along_cartesian = jointMotion(
       cell, cellPoses(cell, plan.views, cartesian.views, &collisions), plan.views, cartesian.views);
@@ -521,7 +521,7 @@ TEST(Cell, ArmThroughAWallIsACollision) {
   Cell cell = irb2400At({-1300, 50, 0});
   const View above = viewAt({0, 50, 500}, {0, 50, 0});
   const TriangleMesh nothing;
-  const CellCollisions open(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellCollisions open(cell, Box{}, nothing, Pose::Identity(), {}, true, 10);
   const CellReach free = reachView(cell, above, {}, 0, &open);
   ASSERT_TRUE(free.reachable());
   // The links end where the arm's joints are: the last one at the flange.
@@ -535,12 +535,12 @@ TEST(Cell, ArmThroughAWallIsACollision) {
   }
   // A wall 2 m high between the robot and the part: every arm configuration crosses it.
   const TriangleMesh wall = box({-700, -1000, 0}, {50, 2000, 2000});
-  const CellCollisions walled(cell, wall, Pose::Identity(), {}, true, 10);
+  const CellCollisions walled(cell, Box{}, wall, Pose::Identity(), {}, true, 10);
   const CellReach blocked = reachView(cell, above, {}, 0, &walled);
   EXPECT_FALSE(blocked.reachable());
   EXPECT_EQ(blocked.failure, CellFailure::Collision);
   // The same wall as a fixture mesh beside an empty part.
-  const CellCollisions fixture(cell, nothing, Pose::Identity(), {wall}, true, 10);
+  const CellCollisions fixture(cell, Box{}, nothing, Pose::Identity(), {wall}, true, 10);
   EXPECT_EQ(reachView(cell, above, {}, 0, &fixture).failure, CellFailure::Collision);
 }
 
@@ -553,7 +553,7 @@ TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
   Cell cell = irb2400At({-1300, 50, 0});
   const View above = viewAt({0, 50, 500}, {0, 50, 0});
   const TriangleMesh nothing;
-  const CellCollisions open(cell, nothing, Pose::Identity(), {}, false, kClearance);
+  const CellCollisions open(cell, Box{}, nothing, Pose::Identity(), {}, false, kClearance);
   const CellReach free = reachView(cell, above, {}, 0, &open);
   ASSERT_TRUE(free.reachable());
   const CellPose& pose = free.poses.front();
@@ -593,7 +593,7 @@ TEST(Cell, ALinkReachesExactlyItsRadiusAndClearance) {
         square.vertices.push_back(centre + along * axis + up * across);
       square.triangles = {{0, 1, 2}, {0, 2, 3}};
       square.triangle_faces = {1, 1};
-      const CellCollisions beside(cell, square, Pose::Identity(), {}, false, kClearance);
+      const CellCollisions beside(cell, Box{}, square, Pose::Identity(), {}, false, kClearance);
       EXPECT_EQ(beside.collides(pose), off < 0) << "link " << k << ", " << off << " mm";
     }
   }
@@ -605,14 +605,14 @@ TEST(Cell, WorkingPlaneAndClearanceCount) {
   const TriangleMesh nothing;
   // A view along the plane, 60 mm above it: the wrist comes within its radius of it.
   const View low = viewAt({-300, 50, 60}, {100, 50, 60});
-  const CellCollisions with_plane(cell, nothing, Pose::Identity(), {}, true, 10);
-  const CellCollisions without_plane(cell, nothing, Pose::Identity(), {}, false, 10);
+  const CellCollisions with_plane(cell, Box{}, nothing, Pose::Identity(), {}, true, 10);
+  const CellCollisions without_plane(cell, Box{}, nothing, Pose::Identity(), {}, false, 10);
   EXPECT_TRUE(reachView(cell, low).reachable());
   EXPECT_FALSE(reachView(cell, low, {}, 0, &with_plane).reachable());
   EXPECT_TRUE(reachView(cell, low, {}, 0, &without_plane).reachable());
   // 120 mm above the plane the 60 mm wrist clears it by 10 mm, but not by 100 mm.
   const View higher = viewAt({-300, 50, 120}, {100, 50, 120});
-  const CellCollisions tight(cell, nothing, Pose::Identity(), {}, true, 100);
+  const CellCollisions tight(cell, Box{}, nothing, Pose::Identity(), {}, true, 100);
   EXPECT_TRUE(reachView(cell, higher, {}, 0, &with_plane).reachable());
   EXPECT_FALSE(reachView(cell, higher, {}, 0, &tight).reachable());
 }
@@ -639,18 +639,18 @@ TEST(Cell, LinkMeshesReplaceTheCapsules) {
   // Slim boxes around the links: the view stays free.
   cell.link_meshes = {boxAround(j[0], j[1], 60), boxAround(j[1], j[2], 50),
                       boxAround(j[2], j[3], 40)};
-  const CellCollisions slim(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellCollisions slim(cell, Box{}, nothing, Pose::Identity(), {}, true, 10);
   EXPECT_TRUE(reachView(cell, above, {}, 0, &slim).reachable());
   // A forearm inside a box 1.5 m out on every side reaches the plane in every solution.
   cell.link_meshes[1] = boxAround(j[1], j[2], 1500);
-  const CellCollisions hanging(cell, nothing, Pose::Identity(), {}, true, 10);
+  const CellCollisions hanging(cell, Box{}, nothing, Pose::Identity(), {}, true, 10);
   const CellReach blocked = reachView(cell, above, {}, 0, &hanging);
   EXPECT_FALSE(blocked.reachable());
   EXPECT_EQ(blocked.failure, CellFailure::Collision);
   // And the meshes meet the part: a post up through the wrist, 650 to 735 mm high here.
   cell.link_meshes[1] = boxAround(j[1], j[2], 50);
   const TriangleMesh post = box({-60, 0, 0}, {120, 100, 700});
-  const CellCollisions with_post(cell, post, Pose::Identity(), {}, true, 10);
+  const CellCollisions with_post(cell, Box{}, post, Pose::Identity(), {}, true, 10);
   EXPECT_FALSE(reachView(cell, above, {}, 0, &with_post).reachable());
 }
 
@@ -676,6 +676,132 @@ TEST(Cell, SpecReadsLinkMeshes) {
     ADD_FAILURE() << "a missing link mesh was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("none.stl"), std::string::npos) << e.what();
+  }
+}
+
+// The points of the robot and the scanner whose paths the sampling must follow: the joint
+// centres and the scanner body's corners, in the plan's frame (the part fixed).
+std::vector<Vec3> trackedPoints(const Cell& cell, const Box& body, const CellPose& pose) {
+  const Pose to_plan = tableTurn(cell, -pose.table_angle) * cell.base;
+  std::vector<Vec3> points;
+  for (const Vec3& c : jointCentres(cell.robot, pose.joints)) points.push_back(to_plan * c);
+  const Pose scanner = to_plan * forwardKinematics(cell.robot, pose.joints) * cell.mount;
+  for (int i = 0; i < 8; ++i)
+    points.push_back(scanner * Vec3(i & 1 ? body.max.x() : body.min.x(),
+                                    i & 2 ? body.max.y() : body.min.y(),
+                                    i & 4 ? body.max.z() : body.min.z()));
+  return points;
+}
+
+// Random joint moves with the table turning, of an ortho-parallel and an offset-wrist arm:
+// between two configurations the move checks, no joint centre and no corner of the scanner
+// body moves more than half the clearance, followed along the move in 16 times finer
+// steps by the forward kinematics.
+TEST(Cell, NoPointMovesMoreThanHalfTheClearanceBetweenCheckedConfigurations) {
+  const Box body = Scanner().body();
+  const TriangleMesh part = box({-100, -100, 0}, {200, 200, 150});
+  std::mt19937_64 random(4);
+  for (const char* preset : {"abb-irb2400-10", "ur10e"}) {
+    Cell cell;
+    cell.robot = robotPreset(preset);
+    cell.base.translation() = Vec3(-900, 0, 0);
+    cell.mount.translation() = Vec3(0, 0, 150);
+    cell.table.emplace();
+    const CellCollisions collisions(cell, body, part, Pose::Identity(), {}, true, 10);
+    double largest = 0;
+    for (int move = 0; move < 10; ++move) {
+      CellPose a, b;
+      for (CellPose* p : {&a, &b}) {
+        p->table_angle = std::uniform_real_distribution<double>(-1, 1)(random);
+        for (int j = 0; j < 6; ++j)
+          p->joints[j] = std::uniform_real_distribution<double>(-1.5, 1.5)(random);
+      }
+      const std::vector<CellPose> checked = sampledMove(collisions, a, b);
+      const std::vector<CellPose> fine = sampledMove(collisions, a, b, 16);
+      ASSERT_EQ(fine.size() - 1, 16 * (checked.size() - 1));
+      for (std::size_t k = 0; k + 1 < checked.size(); ++k) {
+        const std::vector<Vec3> start = trackedPoints(cell, body, checked[k]);
+        for (std::size_t f = 16 * k; f <= 16 * (k + 1); ++f) {
+          const std::vector<Vec3> at = trackedPoints(cell, body, fine[f]);
+          for (std::size_t i = 0; i < at.size(); ++i)
+            largest = std::max(largest, (at[i] - start[i]).norm());
+        }
+      }
+    }
+    RecordProperty(std::string(preset) + "_largest_step_mm", std::to_string(largest));
+    EXPECT_LE(largest, collisions.sampleSpacing() + 1e-9) << preset;
+    EXPECT_GT(largest, 0.25 * collisions.sampleSpacing()) << preset;  // the bound is not loose
+  }
+}
+
+// An IRB 2400 turning joint 1 (and 6, holding the scanner's orientation) between two poses
+// 50° either side of a post 720 mm out. The flange passes 850 mm out and 600 mm up, the
+// scanner's body reaching back over the post: the arm clears the post's top (460 mm), the
+// body hanging 210 mm below the flange does not. Checked with the
+// arm alone the move is clear; with the scanner it is caught, and planMotion lifts it: every
+// configuration of the program, sampled four times finer than the planner samples, is clear
+// of the post by FCL, the scanner included.
+TEST(Cell, AMoveThatSweepsTheScannerThroughAPostIsCaughtAndCleared) {
+  const TriangleMesh post = box({700, -20, 0}, {40, 40, 460});
+  Cell cell = irb2400At(Vec3::Zero());
+  cell.approach = 0;  // the views reached straight, so that the move is the one between them
+  const Box body = Scanner().body();
+  const CellCollisions arm(cell, Box{}, post, Pose::Identity(), {}, true, cell.clearance);
+  const CellCollisions collisions(cell, body, post, Pose::Identity(), {}, true, cell.clearance);
+  RobotProgram program;
+  program.cell = cell;
+  for (const double side : {1.0, -1.0}) {
+    Pose flange = Pose::Identity();
+    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+    flange.translation() =
+        Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 600);
+    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
+    ASSERT_FALSE(q.empty());
+    ASSERT_FALSE(collisions.collides({0, q.front()}));
+    program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
+  }
+  const CellPose &a = program.steps[0].pose, &b = program.steps[1].pose;
+  ASSERT_TRUE(moveIsClear(arm, a, b));
+  ASSERT_FALSE(moveIsClear(collisions, a, b));
+  planMotion(program, collisions, viaLift(cell, Scanner()));
+  EXPECT_TRUE(program.uncleared.empty());
+  EXPECT_FALSE(program.steps[1].via.empty());
+  const std::vector<Waypoint> path = waypoints(program);
+  for (std::size_t k = 1; k < path.size(); ++k)
+    for (const CellPose& pose : sampledMove(collisions, path[k - 1].pose, path[k].pose, 4))
+      ASSERT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
+}
+
+// Without cell.home the program starts and ends at a computed home: clear, the scanner
+// looking down from above the part and its fixtures, and none of the program's view or
+// approach poses.
+TEST(Cell, TheDefaultHomeIsClearAboveThePartAndNoViewPose) {
+  test::TempDir dir;
+  const Plan plan = cubePlanWithUr(dir);
+  ASSERT_TRUE(plan.cell && !plan.cell->home);
+  const Part part = importPart(dir.file("cube.brep"));
+  const CellCollisions collisions(*plan.cell, plan.scanner.body(), part.mesh, plan.part_to_world,
+                                  {}, true, plan.cell->clearance);
+  const RobotProgram program =
+      safeProgram(plan, *plan.cell, collisions, plan.cell_poses, "cube", "plan");
+  ASSERT_TRUE(program.home);
+  EXPECT_TRUE(program.uncleared.empty());
+  EXPECT_FALSE(collisions.collides(*program.home));
+  const Pose flange = plan.cell->base * forwardKinematics(plan.cell->robot, program.home->joints);
+  const Pose scanner =
+      tableTurn(*plan.cell, -program.home->table_angle) * flange * plan.cell->mount;
+  EXPECT_GT(scanner.translation().z(), 100 + plan.scanner.body_depth);  // above the 100 mm cube
+  EXPECT_LT(scanner.linear().col(2).z(), -0.99);                        // looking down
+  auto apart = [](const Joints& p, const Joints& q) {
+    double largest = 0;
+    for (int j = 0; j < 6; ++j) largest = std::max(largest, std::abs(p[j] - q[j]));
+    return largest;
+  };
+  for (const ProgramStep& step : program.steps) {
+    EXPECT_GT(apart(program.home->joints, step.pose.joints), radians(5)) << step.view;
+    if (step.approach) {
+      EXPECT_GT(apart(program.home->joints, *step.approach), radians(5)) << step.view;
+    }
   }
 }
 

@@ -140,8 +140,8 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
   // KRL wants the program named as its file.
   const std::string name = std::filesystem::path(options.out).stem().string();
   const SimulationOptions placed = simulationOptionsFor(c.spec, c.part, c.plan.part_to_world);
-  const CellCollisions collisions(*cell, c.part.mesh, c.plan.part_to_world, placed.fixtures,
-                                  placed.working_plane, cell->clearance);
+  const CellCollisions collisions(*cell, c.plan.scanner.body(), c.part.mesh, c.plan.part_to_world,
+                                  placed.fixtures, placed.working_plane, cell->clearance);
   // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.
   const std::vector<std::optional<CellPose>> poses =
       c.spec.spec.cell ? cellPoses(*cell, c.plan.views, visitingOrder(c.plan), &collisions)

@@ -343,7 +343,6 @@ void addCell(const Plan& plan, json& result) {
                 {"signals", signalsJson(cell.signals)},
                 {"home", cell.home ? inDegrees(*cell.home) : json(nullptr)},
                 {"approach", cell.approach},
-                {"motion_step", degrees(cell.motion_step)},
                 {"joint_margin", degrees(cell.joint_margin)},
                 {"link_meshes", cell.link_meshes.size()},
                 {"table", nullptr}};
@@ -710,8 +709,6 @@ struct PlanReader {
     if (entry.contains("home") && !entry["home"].is_null())
       cell.home = joints(entry, "home", "cell");
     cell.approach = fieldOr(entry, "approach", cell.approach, path, "cell");
-    cell.motion_step =
-        radians(fieldOr(entry, "motion_step", degrees(cell.motion_step), path, "cell"));
     cell.joint_margin =
         radians(fieldOr(entry, "joint_margin", degrees(cell.joint_margin), path, "cell"));
     if (const json table = entry.value("table", json()); table.is_object()) {
@@ -988,6 +985,7 @@ void checkSectionKeys(const json& root, const std::string& path) {
                             {"method", "required", "reference", "markers", "pairs", "verified",
                              "robot_accuracy", "proposed_markers"},
                             path, "registration");
+  // motion_step: written by earlier versions, no longer read.
   detail::refuseUnknownKeys(
       objectAt(root, "cell"),
       {"model",   "family", "lengths",  "offsets",     "signs",         "link_radii",  "base",

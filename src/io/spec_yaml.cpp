@@ -598,8 +598,9 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
 }
 
 // cell: working plane, robot, mount, table, clearance.
-// cell.home (joints, degrees, within the robot's limits), cell.approach (mm),
-// cell.motion_step and cell.joint_margin (degrees).
+// cell.home (joints, degrees, within the robot's limits), cell.approach (mm) and
+// cell.joint_margin (degrees). cell.motion_step, an angle step of earlier versions, is
+// refused: moves are checked at half the clearance (docs/cell.md).
 void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
   if (cell["home"]) {
     const Joints home = reader.joints(cell["home"], "cell.home");
@@ -607,7 +608,9 @@ void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
   }
   reader.read(cell, "cell", "approach", c.approach);
   if (cell["motion_step"])
-    c.motion_step = radians(reader.scalar<double>(cell["motion_step"], "cell.motion_step"));
+    reader.fail(
+        "cell.motion_step is no longer a setting: moves are checked so that no point moves "
+        "more than half cell.clearance between configurations; remove it");
   if (cell["joint_margin"])
     c.joint_margin = radians(reader.scalar<double>(cell["joint_margin"], "cell.joint_margin"));
 }

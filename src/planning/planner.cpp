@@ -490,7 +490,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   std::unique_ptr<const CellCollisions> collisions;
   if (cell)
     collisions = std::make_unique<const CellCollisions>(
-        *cell, part.mesh, part_to_world, simulator.options().fixtures,
+        *cell, spec.spec.scanner.body(), part.mesh, part_to_world, simulator.options().fixtures,
         simulator.options().working_plane, cell->clearance);
   const CellCheck cell_check{cell ? &*cell : nullptr, collisions.get()};
   const detail::Placement at{

@@ -23,13 +23,13 @@ Pose lookAt(const Vec3& camera, const Vec3& target, const Vec3& baseline_hint) {
 
 namespace {
 
-// The scanner body in S: a box around camera (origin) and projector, grown by the margin,
-// reaching body_depth behind the camera.
+// The corners of the scanner body (Scanner::body) in S, bit 0 x, bit 1 y, bit 2 z.
 std::array<Vec3, 8> bodyCorners(const Scanner& scanner) {
-  const double m = scanner.body_margin, b = scanner.baseline();
+  const Box body = scanner.body();
   std::array<Vec3, 8> corners;
   for (int i = 0; i < 8; ++i)
-    corners[i] = Vec3(i & 1 ? b + m : -m, i & 2 ? m : -m, i & 4 ? m : -scanner.body_depth);
+    corners[i] = Vec3(i & 1 ? body.max.x() : body.min.x(), i & 2 ? body.max.y() : body.min.y(),
+                      i & 4 ? body.max.z() : body.min.z());
   return corners;
 }
 

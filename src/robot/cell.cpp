@@ -55,8 +55,6 @@ void validate(const Cell& c, const std::string& source) {
     require((*c.home)[i] >= c.robot.lower[i] && (*c.home)[i] <= c.robot.upper[i],
             "home: joint " + std::to_string(i + 1) + " is beyond its limits");
   require(c.approach >= 0 && c.approach <= 1000, "approach must be within [0, 1000] mm");
-  require(c.motion_step >= radians(0.1) && c.motion_step <= radians(10),
-          "motion_step must be within [0.1, 10] degrees");
   require(c.joint_margin >= 0 && c.joint_margin <= radians(10),
           "joint_margin must be within [0, 10] degrees");
   for (int i = 0; i < 6; ++i)

@@ -34,16 +34,39 @@ std::optional<Joints> nearestClear(const CellCollisions& collisions, const Robot
   return best;
 }
 
-// `pose` with its flange raised (world z) to `height`, same orientation, same table angle;
-// none when the robot cannot take it clear.
-std::optional<CellPose> lifted(const Cell& cell, const CellCollisions& collisions,
-                               const CellPose& pose, double height) {
+// `pose` with its flange raised (world z) by `rise` mm, same orientation, same table angle,
+// the clear solution nearest to it; none when the robot cannot take it clear.
+std::optional<CellPose> raised(const Cell& cell, const CellCollisions& collisions,
+                               const CellPose& pose, double rise) {
   Pose world = cell.base * forwardKinematics(cell.robot, pose.joints);
-  world.translation().z() = std::max(world.translation().z(), height);
+  world.translation().z() += rise;
   const std::optional<Joints> q = nearestClear(
       collisions, workingRange(cell), cell.base.inverse() * world, pose.joints, pose.table_angle);
   if (!q) return std::nullopt;
   return CellPose{pose.table_angle, *q};
+}
+
+// The poses that take the flange of `pose` straight up to `height` (world z), same
+// orientation: the fewest equal steps (1, 2, 4 or 8) whose joint moves are all clear, the
+// last pose at the height; none when no such steps are found. Empty when the flange is
+// there already.
+std::optional<std::vector<CellPose>> liftOf(const Cell& cell, const CellCollisions& collisions,
+                                            const CellPose& pose, double height) {
+  const double rise =
+      height - (cell.base * forwardKinematics(cell.robot, pose.joints)).translation().z();
+  if (rise <= 0) return std::vector<CellPose>{};
+  for (int steps = 1; steps <= 8; steps *= 2) {
+    std::vector<CellPose> path;
+    CellPose at = pose;
+    for (int k = 0; k < steps; ++k) {
+      const std::optional<CellPose> next = raised(cell, collisions, at, rise / steps);
+      if (!next || !moveIsClear(collisions, at, *next)) break;
+      path.push_back(*next);
+      at = *next;
+    }
+    if (static_cast<int>(path.size()) == steps) return path;
+  }
+  return std::nullopt;
 }
 
 // The approach joints of `step`: the camera moved back along its axis by cell.approach,
@@ -55,30 +78,81 @@ std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisi
       step.flange * cell.mount * Eigen::Translation3d(0, 0, -cell.approach) * cell.mount.inverse();
   const std::optional<Joints> q =
       nearestClear(collisions, workingRange(cell), back, step.pose.joints, step.pose.table_angle);
-  if (!q || !moveIsClear(collisions, {step.pose.table_angle, *q}, step.pose, cell.motion_step))
-    return std::nullopt;
+  if (!q || !moveIsClear(collisions, {step.pose.table_angle, *q}, step.pose)) return std::nullopt;
   return q;
 }
 
-// The via points of the move from `from` to `to`: none when it is clear, else up over the
-// scene and across; nullopt when that collides too.
+// The via points of the move from `from` to `to`: none when it is clear, else straight up
+// over the scene, across, and straight down; nullopt when that collides too.
 std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellCollisions& collisions,
                                                const CellPose& from, const CellPose& to,
                                                double height) {
-  if (moveIsClear(collisions, from, to, cell.motion_step)) return std::vector<CellPose>{};
-  const std::optional<CellPose> up = lifted(cell, collisions, from, height);
-  const std::optional<CellPose> over = lifted(cell, collisions, to, height);
-  if (!up || !over || !moveIsClear(collisions, from, *up, cell.motion_step) ||
-      !moveIsClear(collisions, *up, *over, cell.motion_step) ||
-      !moveIsClear(collisions, *over, to, cell.motion_step))
-    return std::nullopt;
-  return std::vector<CellPose>{*up, *over};
+  if (moveIsClear(collisions, from, to)) return std::vector<CellPose>{};
+  const std::optional<std::vector<CellPose>> up = liftOf(cell, collisions, from, height);
+  const std::optional<std::vector<CellPose>> down = liftOf(cell, collisions, to, height);
+  if (!up || !down) return std::nullopt;
+  const CellPose& top_from = up->empty() ? from : up->back();
+  const CellPose& top_to = down->empty() ? to : down->back();
+  if (!moveIsClear(collisions, top_from, top_to)) return std::nullopt;
+  std::vector<CellPose> via = *up;
+  via.insert(via.end(), down->rbegin(), down->rend());
+  return via;
+}
+
+// A home clear of everything: the scanner looking straight down from `height` (flange,
+// world z) above the middle of the views' flanges, or where the robot cannot take that
+// clear, above points a quarter, a half and three quarters of the way to the robot's base;
+// the scanner's x axis turned about the vertical in 45° steps, the joints nearest `near`.
+std::optional<CellPose> computedHome(const Cell& cell, const CellCollisions& collisions,
+                                     const std::vector<ProgramStep>& steps, const Joints& near,
+                                     double height) {
+  Vec3 middle = Vec3::Zero();
+  for (const ProgramStep& step : steps) middle += (cell.base * step.flange).translation();
+  middle /= static_cast<double>(steps.size());
+  const Vec3 base = cell.base.translation();
+  const RobotModel robot = workingRange(cell);
+  for (const double towards_base : {0.0, 0.25, 0.5, 0.75}) {
+    Vec3 above = middle + towards_base * (base - middle);
+    above.z() = height;
+    for (int turn = 0; turn < 8; ++turn) {
+      Pose scanner = Pose::Identity();
+      scanner.linear() = (Eigen::AngleAxisd(turn * M_PI / 4, Vec3::UnitZ()) *
+                          Eigen::AngleAxisd(M_PI, Vec3::UnitX()))
+                             .toRotationMatrix();
+      Pose flange = scanner * cell.mount.inverse();
+      flange.translation() = above;
+      if (const std::optional<Joints> q =
+              nearestClear(collisions, robot, cell.base.inverse() * flange, near, 0))
+        return CellPose{0, *q};
+    }
+  }
+  return std::nullopt;
+}
+
+// The program's home: cell.home when it is clear, else computedHome, else the flange of
+// `first` (the first view's approach) straight up at `height`; none when none is clear.
+std::optional<CellPose> homeOf(const Cell& cell, const CellCollisions& collisions,
+                               const std::vector<ProgramStep>& steps, const CellPose& first,
+                               double height) {
+  if (cell.home) {
+    const CellPose home{0, *cell.home};
+    if (collisions.collides(home)) return std::nullopt;
+    return home;
+  }
+  if (std::optional<CellPose> home = computedHome(cell, collisions, steps, first.joints, height))
+    return home;
+  const std::optional<std::vector<CellPose>> up = liftOf(cell, collisions, first, height);
+  if (up && !up->empty()) return up->back();
+  return std::nullopt;
 }
 
 }  // namespace
 
-std::vector<CellPose> sampledMove(const CellPose& from, const CellPose& to, double step) {
-  const int n = std::max(1, static_cast<int>(std::ceil(largestStep(from, to) / step)));
+std::vector<CellPose> sampledMove(const CellCollisions& collisions, const CellPose& from,
+                                  const CellPose& to, int finer) {
+  const int n = std::max(1, static_cast<int>(std::ceil(collisions.travelBound(from, to) /
+                                                       collisions.sampleSpacing()))) *
+                std::max(finer, 1);
   std::vector<CellPose> samples;
   for (int k = 0; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
@@ -90,9 +164,8 @@ std::vector<CellPose> sampledMove(const CellPose& from, const CellPose& to, doub
   return samples;
 }
 
-bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const CellPose& to,
-                 double step) {
-  for (const CellPose& p : sampledMove(from, to, step))
+bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const CellPose& to) {
+  for (const CellPose& p : sampledMove(collisions, from, to))
     if (collisions.collides(p)) return false;
   return true;
 }
@@ -105,11 +178,12 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   auto start = [](const ProgramStep& s) {
     return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)};
   };
-  if (cell.home)
-    program.home = CellPose{0, *cell.home};
-  else
-    program.home = lifted(cell, collisions, start(program.steps.front()), height);
-  if (!program.home) program.home = start(program.steps.front());
+  const CellPose first = start(program.steps.front());
+  const std::optional<CellPose> home = homeOf(cell, collisions, program.steps, first, height);
+  // Without a clear home the program starts at its first view's approach, the move from home
+  // marked as not cleared.
+  program.home = home.value_or(first);
+  if (!home) program.uncleared.push_back({0, program.steps.front().view});
   auto join = [&](const CellPose& from, const CellPose& to, RobotMove move,
                   std::vector<CellPose>& via) {
     const std::optional<std::vector<CellPose>> points =

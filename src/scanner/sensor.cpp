@@ -37,6 +37,13 @@ double Scanner::reach() const {
 
 Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
 
+Box Scanner::body() const {
+  Box box;
+  box.add(Vec3(-body_margin, -body_margin, -body_depth));
+  box.add(Vec3(baseline() + body_margin, body_margin, body_margin));
+  return box;
+}
+
 double Scanner::acquisitionSeconds() const {
   return sweep_speed > 0 ? fov_height / sweep_speed : patterns * exposure;
 }

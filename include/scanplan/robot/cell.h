@@ -60,12 +60,10 @@ struct Cell {
   double clearance = 10;  // mm the arm keeps from the part, fixtures and working plane
   ToolLoad tool;
   CellSignals signals;
-  // Safe motion (robot/motion.h): the home joints (none: above the first view, lifted over
-  // the part), the approach distance along each view's axis, mm, and the largest joint
-  // step between the configurations checked along a move, radians.
+  // Safe motion (robot/motion.h): the home joints (none: computed above the part) and the
+  // approach distance along each view's axis, mm.
   std::optional<Joints> home;
   double approach = 100;
-  double motion_step = radians(2);
   // Kept from each joint's limits by every pose the planner and the programs choose,
   // radians: the controller stops an axis at its software limit, and a pose on it leaves no
   // room to move.
@@ -76,8 +74,8 @@ struct Cell {
 };
 
 // Checks `cell` against the ranges of the spec's cell section (docs/cell.md): the robot,
-// the table's axis, range and step, clearance, tool, signals, home, approach and motion
-// step. The one check of a cell, whether it comes from a spec or a plan.
+// the table's axis, range and step, clearance, tool, signals, home, approach and joint
+// margin. The one check of a cell, whether it comes from a spec or a plan.
 // \throw InputError naming `source` and the key.
 void validate(const Cell& cell, const std::string& source);
 
@@ -105,23 +103,35 @@ struct CellReach {
   bool reachable() const { return !poses.empty(); }
 };
 
-// Collisions of the robot's arm with the part, its fixtures and the working plane: the
-// upper arm, the forearm and the wrist as capsules (RobotModel::link_radii) grown by a
-// safety margin, or as the cell's link meshes kept that margin away, against the
-// triangles of the part (FCL, bounding-volume hierarchies built once). The scanner body
-// is checked by the planner itself (poseIsValid).
+// Collisions of the robot and the scanner it carries with the part, its fixtures and the
+// working plane: the upper arm, the forearm and the wrist as capsules
+// (RobotModel::link_radii) grown by a safety margin, or as the cell's link meshes kept that
+// margin away, and the scanner's body as a box grown by the margin, against the triangles
+// of the part (FCL, bounding-volume hierarchies built once).
 class CellCollisions {
  public:
-  // The part placed by `part_to_world` with `fixtures` (world frame), at table angle 0.
-  CellCollisions(const Cell& cell, const TriangleMesh& part, const Pose& part_to_world,
-                 const std::vector<TriangleMesh>& fixtures, bool working_plane, double margin);
+  // The part placed by `part_to_world` with `fixtures` (world frame), at table angle 0;
+  // `scanner_body` in the scanner frame S (Scanner::body; empty: the arm alone).
+  CellCollisions(const Cell& cell, const Box& scanner_body, const TriangleMesh& part,
+                 const Pose& part_to_world, const std::vector<TriangleMesh>& fixtures,
+                 bool working_plane, double margin);
   ~CellCollisions();
   CellCollisions(const CellCollisions&) = delete;
   CellCollisions& operator=(const CellCollisions&) = delete;
 
-  // True when a link of the robot at `pose` comes within the margin of the part, a
-  // fixture or the working plane. Thread-safe.
+  // True when a link of the robot or the scanner body at `pose` comes within the margin of
+  // the part, a fixture or the working plane. Thread-safe.
   bool collides(const CellPose& pose) const;
+
+  // An upper bound on how far any point of the robot or the scanner moves against the part
+  // along the joint-interpolated move from `from` to `to` (the table turning with it), mm:
+  // each joint's turn times the farthest a point can lie from its axis, and the table's
+  // turn times the farthest a robot point, or a scene point, lies from the table's axis.
+  double travelBound(const CellPose& from, const CellPose& to) const;
+
+  // The spacing of the configurations checked along a move (robot/motion.h), mm: half the
+  // margin, so that no point moves more than that between two of them (at least 1 mm).
+  double sampleSpacing() const;
 
   // The highest point of the part and the fixtures, world z, mm (0: nothing).
   double top() const;

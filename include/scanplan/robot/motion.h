@@ -16,13 +16,14 @@
 namespace scanplan {
 
 // The joint-interpolated move from `from` to `to` (the table turning with it), sampled
-// so that no joint (nor the table) turns more than `step` radians between samples; both
-// ends included.
-std::vector<CellPose> sampledMove(const CellPose& from, const CellPose& to, double step);
+// so that no point of the robot or the scanner moves more than
+// collisions.sampleSpacing() / `finer` against the part between samples (by
+// collisions.travelBound); both ends included.
+std::vector<CellPose> sampledMove(const CellCollisions& collisions, const CellPose& from,
+                                  const CellPose& to, int finer = 1);
 
 // True when no sample of the move collides.
-bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const CellPose& to,
-                 double step);
+bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const CellPose& to);
 
 // Adds to `program` its home, each view's approach (cell.approach mm back along the view's
 // axis, clear of everything, the move to the view clear too) and the via points of the

@@ -50,6 +50,9 @@ struct Scanner {
   double reach() const;
   // Projector centre in S: (baseline, 0, 0).
   Vec3 projectorInScanner() const;
+  // The scanner body in S: the box around camera and projector grown by body_margin,
+  // reaching body_depth behind the camera.
+  Box body() const;
   // Seconds from the trigger to the end of one view's capture.
   double acquisitionSeconds() const;
 };
