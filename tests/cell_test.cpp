@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -803,6 +804,83 @@ TEST(Cell, TheDefaultHomeIsClearAboveThePartAndNoViewPose) {
       EXPECT_GT(apart(program.home->joints, *step.approach), radians(5)) << step.view;
     }
   }
+}
+
+// A 800 mm bar across the table and the scanner hanging low beside it, 45° round from the
+// bar's end: turning the table a quarter turn there sweeps the bar through the scanner, so
+// the turn is made with the arm raised over the part. Every table turn of the program is
+// made with the arm standing still, and every move is clear.
+TEST(Cell, ATableTurnThatWouldHitIsMadeAtAClearPose) {
+  const TriangleMesh bar = box({-400, -20, 0}, {800, 40, 100});
+  Cell cell = irb2400At({-900, 0, 0});
+  cell.table.emplace();
+  cell.approach = 0;
+  const CellCollisions collisions(cell, Scanner().body(), bar, Pose::Identity(), {}, true,
+                                  cell.clearance);
+  RobotProgram program;
+  program.cell = cell;
+  int id = 0;
+  for (const auto& [angle, y] : {std::pair{0.0, 250.0}, std::pair{M_PI / 2, -250.0}}) {
+    Pose flange = Pose::Identity();
+    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+    flange.translation() = cell.base.inverse() * Vec3(250, y, 300);
+    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
+    ASSERT_FALSE(q.empty());
+    ASSERT_FALSE(collisions.collides({angle, q.front()}));
+    program.steps.push_back({++id, "global", {angle, q.front()}, flange, {}, {}});
+  }
+  const CellPose& a = program.steps[0].pose;
+  ASSERT_FALSE(moveIsClear(collisions, a, {M_PI / 2, a.joints}));  // the turn there hits
+  planMotion(program, collisions, viaLift(cell, Scanner()));
+  EXPECT_TRUE(program.uncleared.empty());
+  const std::vector<Waypoint> path = waypoints(program);
+  std::size_t turns = 0;
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    const CellPose &from = path[k - 1].pose, &to = path[k].pose;
+    if (from.table_angle != to.table_angle) {
+      ++turns;
+      EXPECT_EQ(from.joints, to.joints) << "the arm moves while the table turns, move " << k;
+      EXPECT_NE(from.joints, a.joints) << "turned where the turn hits";
+    }
+    for (const CellPose& pose : sampledMove(collisions, from, to, 4))
+      ASSERT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
+  }
+  EXPECT_EQ(turns, 2u);  // to a quarter turn for the second view, and back home
+}
+
+// The joints chosen along the order are the least travel time, the first view's winding
+// from the joints' turns nearest 0 and the last one's unwinding back included: on four
+// views of an IRB 2400 (axis 6 ±400°), against every combination of the views' solutions.
+TEST(Cell, JointsAlongTheOrderTravelLeastWithTheWindingCountedByBruteForce) {
+  const Cell cell = irb2400At(Vec3::Zero());
+  std::vector<View> views;
+  for (int k = 0; k < 4; ++k) {
+    const double a = radians(-60 + 40 * k);
+    const Vec3 target(900, 200 * std::sin(a), 0);
+    views.push_back(viewAt(target + Vec3(300 * std::cos(a), 300 * std::sin(a), 400), target));
+    views.back().id = k + 1;
+  }
+  const CellSolutions solutions = cellSolutions(cell, views);
+  const std::vector<int> order = {1, 2, 3, 4};
+  const std::vector<std::optional<CellPose>> chosen = cellPoses(cell, views, order, solutions);
+  auto cost = [&](const std::array<const CellPose*, 4>& p) {
+    double t = unwindingTime(cell, *p[0]) + unwindingTime(cell, *p[3]);
+    for (int k = 1; k < 4; ++k) t += moveTime(cell, *p[k - 1], *p[k]);
+    return t;
+  };
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t combinations = 0;
+  for (const CellPose& a : solutions[0])
+    for (const CellPose& b : solutions[1])
+      for (const CellPose& c : solutions[2])
+        for (const CellPose& d : solutions[3]) {
+          best = std::min(best, cost({&a, &b, &c, &d}));
+          ++combinations;
+        }
+  RecordProperty("combinations", std::to_string(combinations));
+  for (const std::optional<CellPose>& pose : chosen) ASSERT_TRUE(pose);
+  EXPECT_GT(combinations, 1000u);
+  EXPECT_NEAR(cost({&*chosen[0], &*chosen[1], &*chosen[2], &*chosen[3]}), best, 1e-9);
 }
 
 }  // namespace

@@ -30,6 +30,19 @@ std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPo
 
 }  // namespace
 
+double unwindingTime(const Cell& cell, const CellPose& pose) {
+  const RobotModel robot = workingRange(cell);
+  CellPose unwound = pose;
+  for (int j = 0; j < 6; ++j)
+    for (const double turn : {-2 * M_PI, 2 * M_PI}) {
+      const double other = unwound.joints[j] + turn;
+      if (std::abs(other) < std::abs(unwound.joints[j]) && other >= robot.lower[j] &&
+          other <= robot.upper[j])
+        unwound.joints[j] = other;
+    }
+  return moveTime(cell, unwound, pose);
+}
+
 std::vector<int> visitingOrder(const Plan& plan) {
   std::vector<int> order;
   if (plan.sequence) order = plan.sequence->views;
@@ -69,10 +82,11 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
   }
   std::vector<std::optional<CellPose>> result(views.size());
   if (layers.empty()) return result;
-  // cost[k][s]: least time to reach solution s of layer k; from[k][s]: its predecessor.
+  // cost[k][s]: least time to reach solution s of layer k, the wide joints wound there from
+  // their turn nearest 0 included; from[k][s]: its predecessor.
   std::vector<std::vector<double>> cost(layers.size());
   std::vector<std::vector<std::size_t>> from(layers.size());
-  cost[0].assign(layers[0]->size(), 0);
+  for (const CellPose& pose : *layers[0]) cost[0].push_back(unwindingTime(cell, pose));
   from[0].assign(layers[0]->size(), 0);
   for (std::size_t k = 1; k < layers.size(); ++k) {
     cost[k].assign(layers[k]->size(), std::numeric_limits<double>::infinity());
@@ -86,8 +100,12 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
         }
       }
   }
-  std::size_t s = static_cast<std::size_t>(
-      std::min_element(cost.back().begin(), cost.back().end()) - cost.back().begin());
+  // The last solution pays for unwinding too.
+  std::size_t s = 0;
+  for (std::size_t t = 0; t < layers.back()->size(); ++t)
+    if (cost.back()[t] + unwindingTime(cell, (*layers.back())[t]) <
+        cost.back()[s] + unwindingTime(cell, (*layers.back())[s]))
+      s = t;
   for (std::size_t k = layers.size(); k-- > 0;) {
     result[visited[k]] = (*layers[k])[s];
     s = from[k][s];

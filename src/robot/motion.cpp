@@ -99,6 +99,31 @@ std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellColli
   return via;
 }
 
+// The via points of the move from `from` to `to` when the table turns: it turns with the
+// arm standing still, at `from` where the whole turn is clear, else at `from` raised
+// straight up to `height`; then viaPoints. nullopt when no turn is clear.
+std::optional<std::vector<CellPose>> turnThenMove(const Cell& cell,
+                                                  const CellCollisions& collisions,
+                                                  const CellPose& from, const CellPose& to,
+                                                  double height) {
+  if (std::abs(to.table_angle - from.table_angle) < 1e-12)
+    return viaPoints(cell, collisions, from, to, height);
+  std::vector<CellPose> via;
+  CellPose turned{to.table_angle, from.joints};
+  if (!moveIsClear(collisions, from, turned)) {
+    const std::optional<std::vector<CellPose>> up = liftOf(cell, collisions, from, height);
+    if (!up || up->empty()) return std::nullopt;
+    turned = {to.table_angle, up->back().joints};
+    if (!moveIsClear(collisions, up->back(), turned)) return std::nullopt;
+    via = *up;
+  }
+  via.push_back(turned);
+  const std::optional<std::vector<CellPose>> rest = viaPoints(cell, collisions, turned, to, height);
+  if (!rest) return std::nullopt;
+  via.insert(via.end(), rest->begin(), rest->end());
+  return via;
+}
+
 // A home clear of everything: the scanner looking straight down from `height` (flange,
 // world z) above the middle of the views' flanges, or where the robot cannot take that
 // clear, above points a quarter, a half and three quarters of the way to the robot's base;
@@ -187,7 +212,7 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   auto join = [&](const CellPose& from, const CellPose& to, RobotMove move,
                   std::vector<CellPose>& via) {
     const std::optional<std::vector<CellPose>> points =
-        viaPoints(cell, collisions, from, to, height);
+        turnThenMove(cell, collisions, from, to, height);
     if (points)
       via = *points;
     else

@@ -19,10 +19,16 @@ using CellSolutions = std::vector<std::vector<CellPose>>;
 CellSolutions cellSolutions(const Cell& cell, const std::vector<View>& views,
                             const CellCollisions* collisions = nullptr);
 
+// The time to wind `pose`'s joints from their turns nearest 0 (within the working range)
+// to where `pose` has them, seconds: 0 for joints within ±180°.
+double unwindingTime(const Cell& cell, const CellPose& pose);
+
 // How the cell takes each of `views` when they are visited in `order` (ids): of each
 // view's `solutions`, the ones whose joints travel least from view to view over the whole
-// order (dynamic programming). Per view, in the order of `views`; none where the cell
-// cannot take the view.
+// order (dynamic programming), the first view's winding from the joints' turns nearest 0
+// and the last one's unwinding back counted too, so that a program does not leave the
+// wrist (and the scanner's cable) wound. Per view, in the order of `views`; none where the
+// cell cannot take the view.
 std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vector<View>& views,
                                                const std::vector<int>& order,
                                                const CellSolutions& solutions);

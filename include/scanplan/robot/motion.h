@@ -25,11 +25,12 @@ std::vector<CellPose> sampledMove(const CellCollisions& collisions, const CellPo
 // True when no sample of the move collides.
 bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const CellPose& to);
 
-// Adds to `program` its home, each view's approach (cell.approach mm back along the view's
-// axis, clear of everything, the move to the view clear too) and the via points of the
-// moves between: where a direct move collides, the arm goes up to `lift` mm above the
-// highest point of the scene and across. Moves still colliding are listed in
-// program.uncleared.
+// Adds to `program` its home (cell.home, or one computed clear above the part), each view's
+// approach (cell.approach mm back along the view's axis, clear of everything, the move to
+// the view clear too) and the via points of the moves between: the table turns with the
+// arm standing still where the whole turn is clear, and where a direct move collides, the
+// arm goes straight up to `lift` mm above the highest point of the scene and across. Moves
+// still colliding are listed in program.uncleared.
 void planMotion(RobotProgram& program, const CellCollisions& collisions, double lift);
 
 // How far above the scene's highest point via points go: the mount, the scanner's body
