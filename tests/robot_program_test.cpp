@@ -15,7 +15,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace scanplan {
@@ -207,7 +209,9 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
       EXPECT_EQ(code.back(), ';') << line;
       if (code.find("MoveAbsJ") != std::string::npos) {
         EXPECT_TRUE(
-            std::regex_match(code, std::regex(R"(\s*MoveAbsJ jView\d+, v\d+, fine, tScanner;)")) ||
+            std::regex_match(
+                code,
+                std::regex(R"(\s*MoveAbsJ j(View|Approach)\d+, v\d+, (fine|z10), tScanner;)")) ||
             std::regex_match(code,
                              std::regex(R"(\s*MoveAbsJ \[\[([-0-9.]+,){5}[-0-9.]+\],)"
                                         R"(\[[-0-9.E+]+(,9E\+09){5}\]\], v\d+, z\d+, tScanner;)")))
@@ -218,7 +222,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
         // [trans, rot, robconf, extax] (RAPID reference manual, robtarget).
         EXPECT_TRUE(std::regex_match(
             code, std::regex(R"(\s*CONST robtarget pView\d+ := \[\[([-0-9.]+,){2}[-0-9.]+\],)"
-                             R"(\[([-0-9.]+,){3}[-0-9.]+\],\[(-?\d,){3}0\],)"
+                             R"(\[([-0-9.]+,){3}[-0-9.]+\],\[(-?\d,){3}[0-7]\],)"
                              R"(\[[-0-9.E+]+(,9E\+09){5}\]\];)")))
             << line;
         robtargets.push_back(numbersIn(code.substr(code.find(":="))));
@@ -227,7 +231,7 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
         EXPECT_TRUE(std::regex_match(
             code,
             std::regex(
-                R"(\s*CONST jointtarget jView\d+ := \[\[([-0-9.]+,){5}[-0-9.]+\],\[[-0-9.E+]+(,9E\+09){5}\]\];)")))
+                R"(\s*CONST jointtarget j(View|Approach)\d+ := \[\[([-0-9.]+,){5}[-0-9.]+\],\[[-0-9.E+]+(,9E\+09){5}\]\];)")))
             << line;
       }
     }
@@ -267,6 +271,33 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
     const Pose world = tableTurn(p.cell, step.pose.table_angle) * p.cell.base * p.work_object *
                        target * p.cell.mount.inverse();
     EXPECT_TRUE((p.cell.base.inverse() * world).isApprox(step.flange, 1e-5)) << step.view;
+    EXPECT_EQ(r[10], rapidCfx(p.cell.robot, step.pose.joints)) << step.view;  // cfx
+  }
+}
+
+// ABB's cfx tells apart the configurations of one flange pose: the 8 inverse-kinematics
+// solutions (shoulder in front of or behind axis 1, elbow up or down, wrist flipped or
+// not) of an IRB 2400 take the 8 values 0 to 7, on 200 random poses that have all 8; and
+// the arm leaning forward, elbow up, wrist positive is 0.
+TEST(RobotProgram, RapidCfxTellsTheEightSolutionsOfAPoseApart) {
+  const RobotModel robot = robotPreset("abb-irb2400-10");
+  EXPECT_EQ(rapidCfx(robot, {0, radians(20), radians(-10), 0, radians(30), 0}), 0);
+  EXPECT_EQ(rapidCfx(robot, {0, radians(20), radians(-10), 0, radians(-30), 0}), 1);
+  RobotModel unlimited = robot;
+  unlimited.lower.fill(-2 * M_PI);
+  unlimited.upper.fill(2 * M_PI);
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> angle(-M_PI / 2, M_PI / 2);
+  int poses = 0;
+  while (poses < 200) {
+    Joints q;
+    for (double& a : q) a = angle(random);
+    const std::vector<Joints> solutions = inverseKinematics(unlimited, forwardKinematics(robot, q));
+    if (solutions.size() != 8) continue;
+    std::set<int> values;
+    for (const Joints& s : solutions) values.insert(rapidCfx(robot, s));
+    EXPECT_EQ(values.size(), 8u) << "pose " << poses;
+    ++poses;
   }
 }
 

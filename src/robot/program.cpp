@@ -74,6 +74,10 @@ std::string rapidPose(const Pose& pose) {
 // ABB's configuration quadrants cf1, cf4, cf6: floor(angle / 90°).
 int quadrant(double angle) { return static_cast<int>(std::floor(degrees(angle) / 90)); }
 
+// The speed of RAPID's moves between views and of its final approach to a view, mm/s (the
+// predefined speeddata v500 and v100): the approach and the retract run slowed.
+constexpr int kTravelSpeed = 500, kApproachSpeed = 100;
+
 // The header comment; URScript counts joints in radians and drives the table by signals.
 std::string header(const RobotProgram& p, std::string_view comment, bool urscript = false) {
   std::ostringstream out;
@@ -178,6 +182,21 @@ Pose scannerInPart(const RobotProgram& p, const ProgramStep& step) {
   const Pose part =
       cell.base.inverse() * tableTurn(cell, step.pose.table_angle) * cell.base * p.work_object;
   return part.inverse() * step.flange * cell.mount;
+}
+
+int rapidCfx(const RobotModel& robot, const Joints& joints) {
+  const std::array<Vec3, 4> c = jointCentres(robot, joints);
+  const Vec3 &shoulder = c[0], &elbow = c[1], &wrist = c[2];
+  // The arm's forward direction: the base's x axis turned by axis 1's model angle.
+  const double turn = joints[0] * robot.signs[0] - robot.offsets[0];
+  const Vec3 forward(std::cos(turn), std::sin(turn), 0);
+  const bool behind_axis1 = forward.dot(wrist) < 0;
+  // In the arm's plane (forward, up): the side of the lower arm (axis 2 to axis 3) that is
+  // forward when the lower arm stands upright.
+  const Vec3 arm = elbow - shoulder, to_wrist = wrist - shoulder;
+  const double front = arm.z() * forward.dot(to_wrist) - forward.dot(arm) * to_wrist.z();
+  const bool behind_lower_arm = front < 0;
+  return 4 * behind_axis1 + 2 * behind_lower_arm + (joints[4] < 0);
 }
 
 std::vector<Waypoint> waypoints(const RobotProgram& p) {
@@ -301,6 +320,59 @@ std::string rapidScan(const CellSignals& sig) {
          wait(0, "end of acknowledgement") + "  ENDPROC\n";
 }
 
+// RAPID's jointtarget value of `pose`: axes 1 to 6 and the table as external axis a
+// (9E+09: no table), degrees.
+std::string rapidJoints(const Cell& cell, const CellPose& pose) {
+  const Joints& j = pose.joints;
+  const std::string table =
+      cell.table ? fmt::format("{:.4f}", degrees(pose.table_angle)) : std::string("9E+09");
+  return fmt::format(
+      "[[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],[{},9E+09,9E+09,9E+09,9E+09,9E+09]]",
+      degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]), degrees(j[5]),
+      table);
+}
+
+// The named targets of each view: its joints (jView), its approach (jApproach) and the
+// scanner's pose in the work object with the configuration (pView).
+std::string rapidTargets(const RobotProgram& p) {
+  std::string out;
+  for (const ProgramStep& s : p.steps) {
+    const Joints& j = s.pose.joints;
+    const std::string table =
+        p.cell.table ? fmt::format("{:.4f}", degrees(s.pose.table_angle)) : std::string("9E+09");
+    out += fmt::format("  CONST jointtarget jView{} := {};\n", s.view, rapidJoints(p.cell, s.pose));
+    if (s.approach)
+      out += fmt::format("  CONST jointtarget jApproach{} := {};\n", s.view,
+                         rapidJoints(p.cell, {s.pose.table_angle, *s.approach}));
+    out += fmt::format(
+        "  CONST robtarget pView{} := [{},[{},{},{},{}],[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
+        s.view, rapidPose(scannerInPart(p, s)), quadrant(j[0]), quadrant(j[3]), quadrant(j[5]),
+        rapidCfx(p.cell.robot, j), table);
+  }
+  return out;
+}
+
+// One move of RAPID's main routine: to the named targets at a view (the approach and the
+// view itself slowed when there is an approach), elsewhere to the joints given inline.
+std::string rapidMove(const RobotProgram& p, const Waypoint& w) {
+  if (!w.step)
+    return fmt::format("    ! {}\n    MoveAbsJ {}, v{}, z10, tScanner;\n", w.what,
+                       rapidJoints(p.cell, w.pose), kTravelSpeed);
+  const int view = w.step->view;
+  const bool slowed = w.step->approach.has_value();
+  if (w.what == "view")
+    return fmt::format("    MoveAbsJ jView{}, v{}, fine, tScanner;\n    Scan {};\n", view,
+                       slowed ? kApproachSpeed : kTravelSpeed, view);
+  if (w.what == "approach")
+    return fmt::format("    ! approach view {}\n    MoveAbsJ jApproach{}, v{}, z10, tScanner;\n",
+                       view, view, kTravelSpeed);
+  if (w.what == "retract")
+    return fmt::format("    ! retract view {}\n    MoveAbsJ jApproach{}, v{}, z10, tScanner;\n",
+                       view, view, kApproachSpeed);
+  return fmt::format("    ! {} view {}\n    MoveAbsJ {}, v{}, z10, tScanner;\n", w.what, view,
+                     rapidJoints(p.cell, w.pose), kTravelSpeed);
+}
+
 std::string rapidProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "rapid");
   std::ostringstream out;
@@ -312,39 +384,10 @@ std::string rapidProgram(const RobotProgram& p) {
              "[1,0,0,0],0,0,0]];\n",
              rapidPose(p.cell.mount), p.cell.tool.mass, centre.x(), centre.y(), centre.z())
       << fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
-                     rapidPose(p.work_object));
-  auto external = [&](double angle) {
-    return p.cell.table ? fmt::format("{:.4f}", degrees(angle)) : std::string("9E+09");
-  };
-  for (const ProgramStep& s : p.steps) {
-    const Joints& j = s.pose.joints;
-    out << fmt::format(
-        "  CONST jointtarget jView{} := [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
-        "[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
-        s.view, degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
-        degrees(j[5]), external(s.pose.table_angle));
-    out << fmt::format(
-        "  CONST robtarget pView{} := [{},[{},{},{},0],[{},9E+09,9E+09,9E+09,9E+09,9E+09]];\n",
-        s.view, rapidPose(scannerInPart(p, s)), quadrant(j[0]), quadrant(j[3]), quadrant(j[5]),
-        external(s.pose.table_angle));
-  }
-  out << "  VAR bool bTimeout;\n\n  PROC main()\n"
+                     rapidPose(p.work_object))
+      << rapidTargets(p) << "  VAR bool bTimeout;\n\n  PROC main()\n"
       << fmt::format("    SetDO DO_{}, 0;\n", p.cell.signals.trigger);
-  for (const Waypoint& w : waypoints(p)) {
-    if (w.what == "view") {
-      out << fmt::format("    MoveAbsJ jView{}, v500, fine, tScanner;\n    Scan {};\n",
-                         w.step->view, w.step->view);
-      continue;
-    }
-    const Joints& j = w.pose.joints;
-    out << fmt::format("    ! {}{}\n", w.what,
-                       w.step ? " view " + std::to_string(w.step->view) : "")
-        << fmt::format(
-               "    MoveAbsJ [[{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f}],"
-               "[{},9E+09,9E+09,9E+09,9E+09,9E+09]], v500, z10, tScanner;\n",
-               degrees(j[0]), degrees(j[1]), degrees(j[2]), degrees(j[3]), degrees(j[4]),
-               degrees(j[5]), external(w.pose.table_angle));
-  }
+  for (const Waypoint& w : waypoints(p)) out << rapidMove(p, w);
   out << "  ENDPROC\n\n" << rapidScan(p.cell.signals) << "ENDMODULE\n";
   return out.str();
 }

@@ -72,6 +72,11 @@ void checkProgramFormat(const Cell& cell, std::string_view format);
 // the program's file.
 void checkClearMoves(const RobotProgram& program, bool allow, const std::string& path);
 
+// ABB's cfx for an ortho-parallel arm at `joints` (RAPID reference manual, confdata, serial
+// link robots): 4 when the wrist centre lies behind axis 1, + 2 when it lies behind the
+// lower arm (axis 2 to axis 3), + 1 when axis 5 is negative; 0 to 7.
+int rapidCfx(const RobotModel& robot, const Joints& joints);
+
 std::string krlProgram(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);
 std::string urScript(const RobotProgram& program);
