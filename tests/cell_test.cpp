@@ -97,21 +97,23 @@ Spec specWith(const test::TempDir& dir, const std::string& text) {
 
 TEST(Cell, SpecReadsTheCell) {
   test::TempDir dir;
-  const Spec spec = specWith(dir,
-                             "cell:\n"
-                             "  robot: {preset: abb-irb4600-60-205, link_radii: [150, 120, 80],\n"
-                             "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
-                             "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
-                             "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
-                             "step: 10}\n"
-                             "  tool: {mass: 2.7, centre: [0, 10, 95]}\n"
-                             "  signals: {view: 17, trigger: 2, acknowledge: 3, "
-                             "table: {angle: 1, move: 4, ready: 5}}\n"
-                             "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n"
-                             "  joint_margin: 3\n");
+  const Spec spec =
+      specWith(dir,
+               "cell:\n"
+               "  robot: {preset: abb-irb4600-60-205, link_radii: [150, 120, 80],\n"
+               "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
+               "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
+               "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
+               "step: 10}\n"
+               "  tool: {mass: 2.7, centre: [0, 10, 95], inertia: [0.02, 0.03, 0.01]}\n"
+               "  signals: {view: 17, trigger: 2, acknowledge: 3, "
+               "table: {angle: 1, move: 4, ready: 5}}\n"
+               "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n"
+               "  joint_margin: 3\n");
   ASSERT_TRUE(spec.cell);
   EXPECT_EQ(spec.cell->tool.mass, 2.7);
   EXPECT_TRUE(spec.cell->tool.centre->isApprox(Vec3(0, 10, 95)));
+  EXPECT_EQ(spec.cell->tool.inertia, Vec3(0.02, 0.03, 0.01));
   EXPECT_EQ(spec.cell->signals.view, 17);
   EXPECT_EQ(spec.cell->signals.acknowledge, 3);
   ASSERT_TRUE(spec.cell->signals.table);
@@ -151,6 +153,7 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: abb-irb2400-10, base: {turn: [0, 0, 1]}}\n",
         "cell:\n  robot: {preset: ur5e, c2: 400}\n",
         "cell:\n  robot: {preset: ur5e}\n  tool: {mass: -1}\n",
+        "cell:\n  robot: {preset: ur5e}\n  tool: {inertia: [0.1, -0.1, 0.1]}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
@@ -881,6 +884,24 @@ TEST(Cell, JointsAlongTheOrderTravelLeastWithTheWindingCountedByBruteForce) {
   for (const std::optional<CellPose>& pose : chosen) ASSERT_TRUE(pose);
   EXPECT_GT(combinations, 1000u);
   EXPECT_NEAR(cost({&*chosen[0], &*chosen[1], &*chosen[2], &*chosen[3]}), best, 1e-9);
+}
+
+// The payload's inertia: the scanner's body as a uniform box of the tool's mass, its axes
+// turned into the flange's by the mount (a quarter turn about z swaps x and y), unless the
+// spec gives it. A 2 kg box 0.3 × 0.12 × 0.26 m: Jx = m (b² + c²) / 12 and so on.
+TEST(Cell, TheLoadsInertiaIsTheScannerBodyAsAUniformBoxUnlessGiven) {
+  Cell cell;
+  cell.tool.mass = 2;
+  Box body;
+  body.add(Vec3(-50, -60, -200));
+  body.add(Vec3(250, 60, 60));
+  const Vec3 box(2.0 / 12 * (0.12 * 0.12 + 0.26 * 0.26), 2.0 / 12 * (0.3 * 0.3 + 0.26 * 0.26),
+                 2.0 / 12 * (0.3 * 0.3 + 0.12 * 0.12));
+  EXPECT_TRUE(loadInertia(cell, body).isApprox(box, 1e-12));
+  cell.mount.linear() = Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()).toRotationMatrix();
+  EXPECT_TRUE(loadInertia(cell, body).isApprox(Vec3(box.y(), box.x(), box.z()), 1e-12));
+  cell.tool.inertia = Vec3(0.1, 0.2, 0.3);
+  EXPECT_EQ(loadInertia(cell, body), Vec3(0.1, 0.2, 0.3));
 }
 
 }  // namespace

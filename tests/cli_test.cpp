@@ -892,11 +892,16 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   const std::string json{std::istreambuf_iterator<char>(in), {}};
   EXPECT_NE(json.find("\"robot\""), std::string::npos);
   const std::string spec = " --spec " + dir.file("spec.yaml") + " -q";
-  for (const char* format : {"krl", "rapid", "robot-json"}) {
-    r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file("cell_plan.txt") +
-            spec);
+  for (const auto& [format, file] : {std::pair{"krl", "loop.src"}, std::pair{"rapid", "loop.mod"},
+                                     std::pair{"robot-json", "loop.json"}}) {
+    r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file(file) + spec);
     ASSERT_EQ(r.code, 0) << format << ": " << r.out;
   }
+  EXPECT_TRUE(std::filesystem::exists(dir.file("loop.dat")));  // KRL's points beside its .src
+  // KRL is written as NAME.src (its points in NAME.dat): another extension is refused.
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("loop.txt") + spec);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("give the file the extension .src"), std::string::npos) << r.out;
   // URScript runs on Universal Robots only: a usage error naming the format, nothing written.
   r = run("export " + out + "/plan.json --format urscript -o " + dir.file("x.script") + spec);
   EXPECT_EQ(r.code, 1) << r.out;
@@ -916,20 +921,26 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   };
   // A scan at every view; home, each view's approach and retract, and any via points.
   EXPECT_EQ(count("  SCAN("), plan.views.size());
-  EXPECT_EQ(count("PTP {E6AXIS"), 2 + plan.views.size() + count("; approach view") +
-                                      count("; retract view") + count("; via"));
+  EXPECT_EQ(count("  PTP X"), 2 + plan.views.size() + count("; approach view") +
+                                  count("; retract view") + count("; via"));
   EXPECT_EQ(count("; home"), 2u);
   EXPECT_EQ(count("could not be cleared"), 0u);
   // The plan's cycle moves the arm as long as the program's PTP moves take at the
   // preset's joint speeds and accelerations, each move's slowest joint stepped in time.
   ASSERT_TRUE(plan.cycle && plan.cell);
+  std::ifstream dat(dir.file("cell_plan.dat"));
+  const std::string points{std::istreambuf_iterator<char>(dat), {}};
   std::vector<Joints> moves;
-  for (std::size_t at = krl.find("PTP {E6AXIS:"); at != std::string::npos;
-       at = krl.find("PTP {E6AXIS:", at + 1)) {
+  std::istringstream krl_lines(krl);
+  for (std::string line; std::getline(krl_lines, line);) {
+    if (line.rfind("  PTP X", 0) != 0) continue;
+    const std::string name = line.substr(6);
+    const std::size_t declared = points.find("DECL E6AXIS " + name + "={");
+    ASSERT_NE(declared, std::string::npos) << name;
     Joints q{};
     for (int j = 0; j < 6; ++j) {
-      const std::size_t axis = krl.find(" A" + std::to_string(j + 1) + " ", at);
-      q[j] = radians(std::stod(krl.substr(axis + 4)));
+      const std::size_t axis = points.find("A" + std::to_string(j + 1) + " ", declared);
+      q[j] = radians(std::stod(points.substr(axis + 3)));
     }
     moves.push_back(q);
   }

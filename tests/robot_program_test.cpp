@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <random>
 #include <regex>
 #include <set>
@@ -54,6 +55,7 @@ RobotProgram program() {
   p.steps[1].via = {CellPose{0.8, {-0.1, -0.2, 0.1, -0.5, 0.7, 1.0}}};
   p.cell.tool.mass = 3.2;
   p.cell.tool.centre = Vec3(0, 0, 90);
+  p.load_inertia = Vec3(0.021, 0.034, 0.017);
   p.cell.signals.view = 9;
   p.cell.signals.trigger = 3;
   p.cell.signals.acknowledge = 4;
@@ -128,8 +130,9 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
                  n + ", C " + n + R"(\})"),
       std::regex(R"(\s*\$LOAD\.M = )" + n),
       std::regex(R"(\s*\$LOAD\.CM = \{X )" + n + ", Y " + n + ", Z " + n + R"(, A 0, B 0, C 0\})"),
+      std::regex(R"(\s*\$LOAD\.J = \{X )" + n + ", Y " + n + ", Z " + n + R"(\})"),
       std::regex(R"(\s*SIGNAL VIEW_NO \$OUT\[\d+\] TO \$OUT\[\d+\]|\s*VIEW_NO = VIEW)"),
-      std::regex(R"(\s*PTP \{E6AXIS: )" + axes + "E1 " + n + R"(\})"),
+      std::regex(R"(\s*PTP X[A-Z]+\d*)"),
       std::regex(R"(\s*SCAN\(\d+\))"),
       std::regex(R"(\s*WAIT SEC )" + n +
                  R"(|\s*WAIT FOR (NOT )?\$IN\[\d+\]( OR \$TIMER_FLAG\[1\])?)"
@@ -142,6 +145,11 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_NE(text.find("$BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}"),
             std::string::npos);
   EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"),
+            std::string::npos);
+  EXPECT_NE(text.find("$LOAD.J = {X 0.02100, Y 0.03400, Z 0.01700}"), std::string::npos);
+  // The approach to a view and its retract run slowed, then the travel speed again.
+  EXPECT_NE(text.find("  BAS(#VEL_PTP, 5)\n  PTP XVIEW4\n  SCAN(4)\n  ; retract view 4\n"
+                      "  PTP XAPPROACH4\n  BAS(#VEL_PTP, 20)\n"),
             std::string::npos);
   EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
   // The trigger reset at the start; each wait bounded by timer 1, the trigger dropped and the
@@ -157,6 +165,22 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_NE(text.find("  WAIT FOR NOT $IN[4] OR $TIMER_FLAG[1]\n  $TIMER_STOP[1] = TRUE\n"
                       "  IF $IN[4] THEN\n    $OUT[3] = FALSE\n"),
             std::string::npos);
+  // The points, named in the .dat: DEFDAT under the program's name, one E6AXIS each.
+  const std::string data = krlData(p);
+  expectGolden(data, "program.dat");
+  const std::regex point(R"(  DECL E6AXIS (X[A-Z]+\d*)=\{)" + axes + "E1 " + n +
+                         R"(, E2 0\.0, E3 0\.0, E4 0\.0, E5 0\.0, E6 0\.0\})");
+  std::map<std::string, std::vector<double>> points;
+  for (const std::string& line : lines(data)) {
+    std::smatch named;
+    if (std::regex_match(line, named, point)) {
+      EXPECT_TRUE(points.emplace(named[1], numbersIn(line.substr(line.find('{')))).second) << line;
+      continue;
+    }
+    EXPECT_TRUE(std::regex_match(line, std::regex(R"(&ACCESS RVP|&REL \d+|DEFDAT ctc01_plan|)"
+                                                  R"(\s*;.*|ENDDAT)")))
+        << "not a KRL .dat line the writer may use: " << line;
+  }
   int defs = 0, ends = 0;
   std::vector<std::vector<double>> ptp;
   for (const std::string& line : lines(text)) {
@@ -165,8 +189,10 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
     EXPECT_TRUE(known) << "not a KRL statement the writer may use: " << line;
     defs += line.rfind("DEF ", 0) == 0;
     ends += line == "END";
-    if (line.find("PTP {E6AXIS:") != std::string::npos)
-      ptp.push_back(numbersIn(line.substr(line.find(':'))));
+    if (line.rfind("  PTP ", 0) == 0) {
+      ASSERT_TRUE(points.count(line.substr(6))) << "not declared in the .dat: " << line;
+      ptp.push_back(points.at(line.substr(6)));
+    }
   }
   EXPECT_EQ(defs, 2);
   EXPECT_EQ(ends, 2);
@@ -175,7 +201,7 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   ASSERT_EQ(path.size(), 8u);
   ASSERT_EQ(ptp.size(), path.size());
   for (std::size_t k = 0; k < ptp.size(); ++k) {
-    ASSERT_EQ(ptp[k].size(), 14u);  // A1..A6 and E1, each value after its axis number
+    ASSERT_EQ(ptp[k].size(), 24u);  // A1..A6 and E1..E6, each value after its axis number
     for (int j = 0; j < 6; ++j)
       EXPECT_NEAR(ptp[k][2 * j + 1], degrees(path[k].pose.joints[j]), 1e-4);
     EXPECT_NEAR(ptp[k][13], degrees(path[k].pose.table_angle), 1e-4);
@@ -241,7 +267,8 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
   EXPECT_EQ(ifs, 0);
   EXPECT_EQ(moves, 8);
   EXPECT_NE(text.find("PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,"
-                      "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];"),
+                      "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0.02100,0.03400,"
+                      "0.01700]];"),
             std::string::npos);
   // cos 15°, sin 15°: the quaternion of 30° about z.
   EXPECT_NE(text.find("PERS wobjdata wPart := [FALSE,TRUE,\"\",[[1000.000,0.000,0.000],[0.965926,"
@@ -335,7 +362,7 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
           std::regex(
               R"(\s*(scan\(\d+\)|turn_table\([-0-9.]+\)|sleep\([0-9.]+\)|sync\(\)|)"
               R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
-              R"(set_target_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\]\)|)"
+              R"(set_target_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\], \[([0-9.]+, ){5}[0-9.]+\]\)|)"
               R"(part_frame = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
               R"(write_output_(integer|float)_register\(\d+, (view|angle)\)|)"
               R"(await_input\(\d+, (True|False), \d, "scanplan: [a-z ]+"\)|)"

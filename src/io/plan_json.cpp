@@ -339,7 +339,8 @@ void addCell(const Plan& plan, json& result) {
                 {"clearance", cell.clearance},
                 {"tool",
                  {{"mass", cell.tool.mass},
-                  {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)}}},
+                  {"centre", cell.tool.centre ? vec(*cell.tool.centre) : json(nullptr)},
+                  {"inertia", cell.tool.inertia ? vec(*cell.tool.inertia) : json(nullptr)}}},
                 {"signals", signalsJson(cell.signals)},
                 {"home", cell.home ? inDegrees(*cell.home) : json(nullptr)},
                 {"approach", cell.approach},
@@ -705,6 +706,8 @@ struct PlanReader {
     cell.tool.mass = fieldOr(tool, "mass", cell.tool.mass, path, "cell tool");
     if (tool.contains("centre") && !tool["centre"].is_null())
       cell.tool.centre = detail::vectorFrom(tool["centre"], path, "cell tool");
+    if (tool.contains("inertia") && !tool["inertia"].is_null())
+      cell.tool.inertia = detail::vectorFrom(tool["inertia"], path, "cell tool");
     cell.signals = signals(objectAt(entry, "signals"));
     if (entry.contains("home") && !entry["home"].is_null())
       cell.home = joints(entry, "home", "cell");

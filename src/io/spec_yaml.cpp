@@ -615,14 +615,19 @@ void readMotion(const YAML::Node& cell, const SpecReader& reader, Cell& c) {
     c.joint_margin = radians(reader.scalar<double>(cell["joint_margin"], "cell.joint_margin"));
 }
 
-// cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame}.
+// cell.tool: {mass: kg, centre: [x, y, z] mm in the flange frame, inertia: [Jx, Jy, Jz]
+// kg·m² about the centre}.
 ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
-  checkKeys(node, {"mass", "centre"}, reader, "cell.tool");
+  checkKeys(node, {"mass", "centre", "inertia"}, reader, "cell.tool");
   ToolLoad tool;
   reader.read(node, "cell.tool", "mass", tool.mass);
   if (node["centre"]) {
     const std::vector<double> c = reader.numbers(node["centre"], 3, "cell.tool.centre");
     tool.centre = Vec3(c[0], c[1], c[2]);
+  }
+  if (node["inertia"]) {
+    const std::vector<double> j = reader.numbers(node["inertia"], 3, "cell.tool.inertia");
+    tool.inertia = Vec3(j[0], j[1], j[2]);
   }
   return tool;
 }

@@ -29,8 +29,10 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell,
                      {},
                      {}});
   }
-  return robotProgram(cell, cell.base.inverse() * plan.part_to_world, std::move(steps),
-                      std::move(unreached), name, source);
+  RobotProgram program = robotProgram(cell, cell.base.inverse() * plan.part_to_world,
+                                      std::move(steps), std::move(unreached), name, source);
+  program.load_inertia = loadInertia(cell, plan.scanner.body());
+  return program;
 }
 
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,

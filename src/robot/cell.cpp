@@ -41,6 +41,8 @@ void validate(const Cell& c, const std::string& source) {
   require(c.tool.mass > 0 && c.tool.mass <= 1000, "tool.mass must be within (0, 1000] kg");
   require(!c.tool.centre || c.tool.centre->cwiseAbs().maxCoeff() <= kLongestLength,
           "tool.centre must be within 100,000 mm of the flange");
+  require(!c.tool.inertia || (c.tool.inertia->minCoeff() >= 0 && c.tool.inertia->maxCoeff() <= 100),
+          "tool.inertia must be three moments within [0, 100] kg·m²");
   std::vector<std::pair<std::string, int>> signals = {
       {"signals.view", c.signals.view},
       {"signals.trigger", c.signals.trigger},
@@ -60,6 +62,19 @@ void validate(const Cell& c, const std::string& source) {
   for (int i = 0; i < 6; ++i)
     require(c.robot.upper[i] - c.robot.lower[i] > 2 * c.joint_margin,
             "joint_margin leaves joint " + std::to_string(i + 1) + " no range");
+}
+
+Vec3 loadInertia(const Cell& cell, const Box& scanner_body) {
+  if (cell.tool.inertia) return *cell.tool.inertia;
+  if (scanner_body.empty()) return Vec3::Zero();
+  const Vec3 side = scanner_body.size() / 1000;  // m
+  const Vec3 squared = side.cwiseProduct(side);
+  const Eigen::Matrix3d box =
+      (cell.tool.mass / 12 *
+       Vec3(squared.y() + squared.z(), squared.x() + squared.z(), squared.x() + squared.y()))
+          .asDiagonal();
+  const Eigen::Matrix3d turn = cell.mount.linear();
+  return (turn * box * turn.transpose()).diagonal();
 }
 
 Pose tableTurn(const Cell& cell, double angle) {

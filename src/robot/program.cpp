@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 #include <tuple>
 #include <vector>
@@ -263,21 +264,49 @@ std::string krlScan(const CellSignals& sig) {
          wait(false, "end of the acknowledgement") + "END\n";
 }
 
+// The name of each waypoint's point in the .dat, in order: XHOME, XVIA1, XVIA2, ...,
+// XAPPROACH<view> (its retract too), XVIEW<view>.
+std::vector<std::string> krlPointNames(const std::vector<Waypoint>& path) {
+  std::vector<std::string> names;
+  int vias = 0;
+  for (const Waypoint& w : path) {
+    if (w.what == "home")
+      names.push_back("XHOME");
+    else if (w.what == "via")
+      names.push_back("XVIA" + std::to_string(++vias));
+    else
+      names.push_back(fmt::format("X{}{}", w.what == "view" ? "VIEW" : "APPROACH", w.step->view));
+  }
+  return names;
+}
+
+// KRL's PTP speed, percent of each axis's top speed: between views, and on the final
+// approach to a view and its retract.
+constexpr int kKrlTravelPercent = 20, kKrlApproachPercent = 5;
+
 std::string krlProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "krl");
   std::ostringstream out;
   const Vec3 centre = loadCentre(p.cell);
+  const Vec3 inertia = p.load_inertia;
   out << "&ACCESS RVP\n&REL 1\n"
       << header(p, ";") << "DEF " << p.name << "()\n"
-      << "  BAS(#INITMOV, 0)\n  BAS(#VEL_PTP, 20)\n  BAS(#ACC_PTP, 20)\n"
+      << fmt::format("  BAS(#INITMOV, 0)\n  BAS(#VEL_PTP, {})\n  BAS(#ACC_PTP, 20)\n",
+                     kKrlTravelPercent)
       << "  $TOOL = " << krlFrame(p.cell.mount) << "\n"
       << fmt::format("  $LOAD.M = {:.3f}\n", p.cell.tool.mass)
       << fmt::format("  $LOAD.CM = {{X {:.3f}, Y {:.3f}, Z {:.3f}, A 0, B 0, C 0}}\n", centre.x(),
                      centre.y(), centre.z())
+      << fmt::format("  $LOAD.J = {{X {:.5f}, Y {:.5f}, Z {:.5f}}}\n", inertia.x(), inertia.y(),
+                     inertia.z())
       << "  $BASE = " << krlFrame(p.work_object) << "\n"
       << fmt::format("  $OUT[{}] = FALSE\n", p.cell.signals.trigger);
   int taken = 0;
-  for (const Waypoint& w : waypoints(p)) {
+  const std::vector<Waypoint> path = waypoints(p);
+  const std::vector<std::string> names = krlPointNames(path);
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const Waypoint& w = path[k];
+    const bool slowed = w.step && w.step->approach;
     if (w.what == "view") {
       const ProgramStep& s = *w.step;
       const Pose scanner = scannerInPart(p, s);
@@ -288,16 +317,35 @@ std::string krlProgram(const RobotProgram& p) {
                  "  ; scanner {{E6POS: X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.3f}, B {:.3f}, "
                  "C {:.3f}, E1 {:.3f}}}\n",
                  xyz.x(), xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z(), degrees(s.pose.table_angle));
+      if (slowed) out << fmt::format("  BAS(#VEL_PTP, {})\n", kKrlApproachPercent);
     } else {
       out << "  ; " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
     }
-    out << "  PTP {E6AXIS:";
-    for (int j = 0; j < 6; ++j)
-      out << fmt::format(" A{} {:.4f},", j + 1, degrees(w.pose.joints[j]));
-    out << fmt::format(" E1 {:.4f}}}\n", degrees(w.pose.table_angle));
+    out << "  PTP " << names[k] << "\n";
     if (w.what == "view") out << fmt::format("  SCAN({})\n", w.step->view);
+    if (w.what == "retract") out << fmt::format("  BAS(#VEL_PTP, {})\n", kKrlTravelPercent);
   }
   out << "END\n\n" << krlScan(p.cell.signals);
+  return out.str();
+}
+
+std::string krlData(const RobotProgram& p) {
+  checkProgramFormat(p.cell, "krl");
+  std::ostringstream out;
+  out << "&ACCESS RVP\n&REL 1\nDEFDAT " << p.name << "\n"
+      << "  ; the points of " << p.name << ".src: joints in degrees, E1 the rotary table\n";
+  const std::vector<Waypoint> path = waypoints(p);
+  const std::vector<std::string> names = krlPointNames(path);
+  std::set<std::string> declared;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    if (!declared.insert(names[k]).second) continue;
+    out << "  DECL E6AXIS " << names[k] << "={";
+    for (int j = 0; j < 6; ++j)
+      out << fmt::format("A{} {:.4f}, ", j + 1, degrees(path[k].pose.joints[j]));
+    out << fmt::format("E1 {:.4f}, E2 0.0, E3 0.0, E4 0.0, E5 0.0, E6 0.0}}\n",
+                       degrees(path[k].pose.table_angle));
+  }
+  out << "ENDDAT\n";
   return out.str();
 }
 
@@ -381,8 +429,9 @@ std::string rapidProgram(const RobotProgram& p) {
       << header(p, "  !")
       << fmt::format(
              "  PERS tooldata tScanner := [TRUE,[{}],[{:.3f},[{:.3f},{:.3f},{:.3f}],"
-             "[1,0,0,0],0,0,0]];\n",
-             rapidPose(p.cell.mount), p.cell.tool.mass, centre.x(), centre.y(), centre.z())
+             "[1,0,0,0],{:.5f},{:.5f},{:.5f}]];\n",
+             rapidPose(p.cell.mount), p.cell.tool.mass, centre.x(), centre.y(), centre.z(),
+             p.load_inertia.x(), p.load_inertia.y(), p.load_inertia.z())
       << fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
                      rapidPose(p.work_object))
       << rapidTargets(p) << "  VAR bool bTimeout;\n\n  PROC main()\n"
@@ -435,8 +484,12 @@ std::string urScript(const RobotProgram& p) {
   out << header(p, "#", true) << "def " << p.name << "():\n"
       << "  set_tcp(" << urPose(p.cell.mount) << ")\n"
       << "  part_frame = " << urPose(p.work_object) << "\n"
-      << fmt::format("  set_target_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}])\n", p.cell.tool.mass,
-                     centre.x(), centre.y(), centre.z())
+      << fmt::format(
+             "  set_target_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}], [{:.5f}, {:.5f}, {:.5f}, 0, "
+             "0, "
+             "0])\n",
+             p.cell.tool.mass, centre.x(), centre.y(), centre.z(), p.load_inertia.x(),
+             p.load_inertia.y(), p.load_inertia.z())
       << fmt::format("  set_standard_digital_out({}, False)\n", sig.trigger)
       << (sig.table ? fmt::format("  set_standard_digital_out({}, False)\n", sig.table->move) : "")
       << urAwaitInput() << "  def scan(view):\n    sleep(0.2)\n"
@@ -523,10 +576,19 @@ void writeRobotProgram(const RobotProgram& program, std::string_view format,
                                "' is not a KRL name (a letter, then letters, digits or _, 24 "
                                "at most): name the file " +
                                program.name + ".src");
+  if (format == "krl" && std::filesystem::path(path).extension() != ".src")
+    throw UsageError(path,
+                     "a KRL program is written as NAME.src, its points as NAME.dat "
+                     "beside it: give the file the extension .src");
   const std::string text = format == "krl"        ? krlProgram(program)
                            : format == "rapid"    ? rapidProgram(program)
                            : format == "urscript" ? urScript(program)
                                                   : programJson(program);
+  if (format == "krl") {
+    const std::string data = krlData(program);
+    writeFileAtomically(std::filesystem::path(path).replace_extension(".dat").string(),
+                        [&](std::ostream& out) { out << data; });
+  }
   writeFileAtomically(path, [&](std::ostream& out) { out << text; });
 }
 

@@ -34,6 +34,9 @@ struct RotaryTable {
 struct ToolLoad {
   double mass = 2;             // kg
   std::optional<Vec3> centre;  // mm, flange frame; none: the mount's origin
+  // Principal moments of inertia about the centre of gravity, axes along the flange's,
+  // kg·m²; none: the scanner's body as a uniform box of that mass (loadInertia).
+  std::optional<Vec3> inertia;
 };
 
 // The signals of a rotary table that URScript drives (KRL and RAPID drive it as an
@@ -151,6 +154,12 @@ class CellCollisions {
 // The cell's robot with each joint's limits drawn in by cell.joint_margin: the range the
 // planner and the programs choose poses in.
 RobotModel workingRange(const Cell& cell);
+
+// The tool's moments of inertia for the controller's payload, kg·m²: cell.tool.inertia, or
+// else `scanner_body` (the scanner frame's box, Scanner::body) as a uniform box of the
+// tool's mass turned into the flange's axes by the mount (the diagonal of its inertia
+// tensor there).
+Vec3 loadInertia(const Cell& cell, const Box& scanner_body);
 
 // The solutions for `view`: the table angles are tried from `preferred_angle` outwards
 // (0, +step, -step, ...), the joints taken nearest to `near`; with `collisions`, only

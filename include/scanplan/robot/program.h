@@ -36,6 +36,9 @@ struct RobotProgram {
   // The work object: the part's frame in the robot's base frame with the table at 0. The
   // programs give each view's scanner pose in it (scannerInPart).
   Pose work_object = Pose::Identity();
+  // The payload's principal moments of inertia about its centre of gravity, flange axes,
+  // kg·m² (loadInertia).
+  Vec3 load_inertia = Vec3::Zero();
   std::vector<ProgramStep> steps;    // in sequence order
   std::vector<int> unreached;        // views of the plan the cell cannot take (left out)
   std::optional<CellPose> home;      // where the program starts and ends (planMotion)
@@ -78,6 +81,9 @@ void checkClearMoves(const RobotProgram& program, bool allow, const std::string&
 int rapidCfx(const RobotModel& robot, const Joints& joints);
 
 std::string krlProgram(const RobotProgram& program);
+// The .dat beside krlProgram's .src: its points, named (XHOME, XVIA<k>, XAPPROACH<view>,
+// XVIEW<view>), so that they can be touched up on the pendant.
+std::string krlData(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);
 std::string urScript(const RobotProgram& program);
 std::string programJson(const RobotProgram& program);

@@ -6,7 +6,7 @@ MODULE ctc01_plan
   ! joints in degrees as the controller counts them; the tool is the scanner frame on its mount
   ! scanner poses in the part's frame (the work object: the part, table at 0), mm
   ! scan handshake: view number to output 9, trigger output 3, acknowledge input 4
-  PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0,0,0]];
+  PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0.02100,0.03400,0.01700]];
   PERS wobjdata wPart := [FALSE,TRUE,"",[[1000.000,0.000,0.000],[0.965926,0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];
   CONST jointtarget jView4 := [[5.7296,11.4592,-17.1887,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jApproach4 := [[5.7296,5.7296,-11.4592,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
