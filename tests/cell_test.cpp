@@ -251,12 +251,21 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   const Plan back = readPlan(dir.file("plan.json"));
   ASSERT_TRUE(back.cell && back.cell->robot.offset_wrist && back.cell->table);
   EXPECT_EQ(back.cell->robot.offset_wrist->a3, -571.55);
+  EXPECT_EQ(back.cell->robot.maker, "universal-robots");  // which program formats it runs
   EXPECT_TRUE(back.cell->base.isApprox(plan.cell->base));
   ASSERT_EQ(back.cell_poses.size(), plan.views.size());
   for (std::size_t v = 0; v < plan.views.size(); ++v)
     EXPECT_TRUE(
         forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
             .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
+  // A FANUC arm keeps its maker and its J2-J3 coupling through plan.json.
+  Plan fanuc = plan;
+  fanuc.cell->robot = robotPreset("fanuc-m20id-25");
+  fanuc.cell_poses.assign(fanuc.views.size(), std::nullopt);
+  writePlan(fanuc, dir.file("fanuc.json"));
+  const Plan fanuc_back = readPlan(dir.file("fanuc.json"));
+  EXPECT_EQ(fanuc_back.cell->robot.maker, "fanuc");
+  EXPECT_EQ(fanuc_back.cell->robot.j23_coupling, 1);
   // A cell that would hang or mislead the programs is refused: a table step of 0.
   nlohmann::json json = planJson(plan);
   json["cell"]["table"]["step"] = 0;

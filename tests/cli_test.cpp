@@ -881,7 +881,7 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   test::writeText(dir.file("spec.yaml"),
-                  "cell:\n  robot: {preset: abb-irb4600-60-205, base: {position: [-1000, 0, 0]}}\n"
+                  "cell:\n  robot: {preset: kuka-kr16-r1610-2, base: {position: [-1000, 0, 0]}}\n"
                   "  mount: {position: [0, 0, 150]}\n");
   const std::string out = dir.file("out");
   CommandResult r =
@@ -892,8 +892,8 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   const std::string json{std::istreambuf_iterator<char>(in), {}};
   EXPECT_NE(json.find("\"robot\""), std::string::npos);
   const std::string spec = " --spec " + dir.file("spec.yaml") + " -q";
-  for (const auto& [format, file] : {std::pair{"krl", "loop.src"}, std::pair{"rapid", "loop.mod"},
-                                     std::pair{"robot-json", "loop.json"}}) {
+  for (const auto& [format, file] :
+       {std::pair{"krl", "loop.src"}, std::pair{"robot-json", "loop.json"}}) {
     r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file(file) + spec);
     ASSERT_EQ(r.code, 0) << format << ": " << r.out;
   }
@@ -902,13 +902,28 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("loop.txt") + spec);
   EXPECT_EQ(r.code, 1) << r.out;
   EXPECT_NE(r.out.find("give the file the extension .src"), std::string::npos) << r.out;
-  // URScript runs on Universal Robots only: a usage error naming the format, nothing written.
-  r = run("export " + out + "/plan.json --format urscript -o " + dir.file("x.script") + spec);
-  EXPECT_EQ(r.code, 1) << r.out;
-  EXPECT_NE(r.out.find("--format urscript: abb-irb4600-60-205 is not a Universal Robots arm"),
-            std::string::npos)
-      << r.out;
-  EXPECT_FALSE(std::filesystem::exists(dir.file("x.script")));
+  // Each language runs on its maker's arms only: a usage error naming the format, nothing
+  // written.
+  for (const auto& [format, file] : {std::pair{"urscript", "x.script"}, std::pair{"rapid", "x.mod"},
+                                     std::pair{"fanuc", "x.ls"}}) {
+    r = run("export " + out + "/plan.json --format " + format + " -o " + dir.file(file) + spec);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find(std::string("--format ") + format + ": kuka-kr16-r1610-2 is not one of"),
+              std::string::npos)
+        << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.file(file)));
+  }
+  // The same plan in a FANUC cell (--spec): a TP program named as its file.
+  test::writeText(dir.file("fanuc.yaml"),
+                  "cell:\n  robot: {preset: fanuc-m20id-25, base: {position: [-1000, 0, 0]}}\n"
+                  "  mount: {position: [0, 0, 150]}\n");
+  r = run("export " + out + "/plan.json --format fanuc -o " + dir.file("scan_ftc11.ls") +
+          " --spec " + dir.file("fanuc.yaml") + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream ls(dir.file("scan_ftc11.ls"));
+  const std::string fanuc{std::istreambuf_iterator<char>(ls), {}};
+  EXPECT_EQ(fanuc.rfind("/PROG  SCAN_FTC11\n", 0), 0u) << fanuc.substr(0, 40);
+  EXPECT_NE(fanuc.find("/POS\n"), std::string::npos);
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("cell_plan.src") + spec);
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream src(dir.file("cell_plan.src"));

@@ -62,6 +62,13 @@ RobotProgram program() {
   return p;
 }
 
+// The program of another arm: its robot, and each step's flange for the same joints.
+RobotProgram withRobot(RobotProgram p, const std::string& preset) {
+  p.cell.robot = robotPreset(preset);
+  for (ProgramStep& step : p.steps) step.flange = forwardKinematics(p.cell.robot, step.pose.joints);
+  return p;
+}
+
 // Three views of a UR10e on a rotary table driven through its signals.
 RobotProgram urProgram() {
   RobotProgram p;
@@ -113,7 +120,7 @@ std::vector<double> numbersIn(const std::string& text) {
 }
 
 TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
-  const RobotProgram p = program();
+  const RobotProgram p = withRobot(program(), "kuka-kr16-r1610-2");
   const std::string text = krlProgram(p);
   expectGolden(text, "program.src");
   // The statements the writer uses (KUKA System Software 8 programming manual).
@@ -328,6 +335,85 @@ TEST(RobotProgram, RapidCfxTellsTheEightSolutionsOfAPoseApart) {
   }
 }
 
+// FANUC's LS: the sections in order, every /MN line numbered and one of the instructions
+// the writer uses (FANUC's teach-pendant instructions), the positions of /POS read back as
+// the path's joints (J3 as FANUC counts it, E1 the table), the handshake bounded by
+// $WAITTMOUT and its error exits, FANUC's signals numbered from 1.
+TEST(RobotProgram, FanucFollowsItsGrammarAndHoldsTheJoints) {
+  const RobotProgram p = withRobot(program(), "fanuc-m20id-25");
+  const std::string text = fanucProgram(p);
+  expectGolden(text, "program.ls");
+  const std::vector<std::string> all = lines(text);
+  ASSERT_GE(all.size(), 3u);
+  EXPECT_EQ(all.front(), "/PROG  CTC01_PLAN");
+  EXPECT_EQ(all.back(), "/END");
+  const std::string n = R"(-?\d+)";
+  const std::regex numbered(R"(\s*(\d+):(J P\[(\d+):([A-Z0-9]+)\] \d+% FINE|  (.*)) ;)");
+  const std::vector<std::regex> instructions = {
+      std::regex(R"(!.{1,32})"),
+      std::regex(R"((UFRAME_NUM|UTOOL_NUM)=1|PAYLOAD\[1\])"),
+      std::regex(R"((DO|GO)\[\d+\]=(ON|OFF|\d+))"),
+      std::regex(R"(WAIT \.20\(sec\)|\$WAITTMOUT=\d+)"),
+      std::regex(R"(WAIT DI\[\d+\]=(ON|OFF) TIMEOUT,LBL\[\d+\])"),
+      std::regex(R"(JMP LBL\[\d+\]|LBL\[\d+\]|MESSAGE\[[A-Z ]+\]|ABORT)")};
+  std::size_t at = 0;
+  while (at < all.size() && all[at] != "/MN") ++at;
+  std::vector<int> moved;  // the position numbers moved to, in order
+  int number = 0;
+  for (++at; at < all.size() && all[at] != "/POS"; ++at) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(all[at], m, numbered)) << all[at];
+    EXPECT_EQ(std::stoi(m[1]), ++number);
+    if (m[3].matched) {
+      moved.push_back(std::stoi(m[3]));
+      continue;
+    }
+    const std::string body = m[5];
+    bool known = false;
+    for (const std::regex& rule : instructions) known = known || std::regex_match(body, rule);
+    EXPECT_TRUE(known) << "not an instruction the writer uses: " << all[at];
+  }
+  EXPECT_NE(text.find("LINE_COUNT\t= " + std::to_string(number) + ";"), std::string::npos);
+  // Each position: GP1, its frames, J1 to J6 and E1 in degrees.
+  const std::regex position(R"(P\[(\d+):"[A-Z0-9]+"\]\{)");
+  std::map<int, std::vector<double>> positions;
+  for (++at; at < all.size() && all[at] != "/END"; ++at) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(all[at], m, position)) << all[at];
+    ASSERT_LT(at + 6, all.size());
+    EXPECT_EQ(all[at + 1], "   GP1:");
+    EXPECT_EQ(all[at + 2], "\tUF : 1, UT : 1,\t");
+    const std::string joints = all[at + 3] + all[at + 4] + all[at + 5];
+    EXPECT_TRUE(std::regex_match(
+        joints, std::regex(R"((\tJ\d= +[-0-9.]+ deg,)+\tJ6= +[-0-9.]+ deg,\tE1= +[-0-9.]+ deg)")))
+        << joints;
+    std::vector<double> values;
+    for (double v : numbersIn(joints)) values.push_back(v);
+    positions[std::stoi(m[1])] = values;
+    EXPECT_EQ(all[at + 6], "};");
+    at += 6;
+  }
+  const std::vector<Waypoint> path = waypoints(p);
+  ASSERT_EQ(moved.size(), path.size());
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const std::vector<double>& v = positions.at(moved[k]);
+    ASSERT_EQ(v.size(), 14u);  // J1..J6, E1, each after its number
+    for (int j = 0; j < 6; ++j) EXPECT_NEAR(v[2 * j + 1], degrees(path[k].pose.joints[j]), 1e-3);
+    EXPECT_NEAR(v[13], degrees(path[k].pose.table_angle), 1e-3);
+  }
+  // The handshake: the trigger dropped at the start, each wait bounded, a timeout dropping
+  // the trigger and aborting.
+  EXPECT_NE(text.find("  DO[3]=OFF ;\n"), std::string::npos);
+  EXPECT_NE(text.find("  GO[9]=4 ;\n"), std::string::npos);
+  EXPECT_NE(text.find("  $WAITTMOUT=1000 ;\n"), std::string::npos);
+  EXPECT_NE(text.find("  WAIT DI[4]=ON TIMEOUT,LBL[90] ;\n"), std::string::npos);
+  EXPECT_NE(text.find("  LBL[90] ;\n"), std::string::npos);
+  // FANUC numbers its signals from 1.
+  RobotProgram zero = p;
+  zero.cell.signals.acknowledge = 0;
+  EXPECT_THROW(fanucProgram(zero), UsageError);
+}
+
 TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = urProgram();
   const std::string text = urScript(p);
@@ -401,11 +487,27 @@ TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
     }
     return std::string("accepted");
   };
+  // Each language for its maker's arms.
   EXPECT_EQ(refusal([] { urScript(program()); }),
-            "--format urscript: abb-irb2400-10 is not a Universal Robots arm, and URScript runs "
-            "on their controllers only (krl or rapid)");
+            "--format urscript: abb-irb2400-10 is not one of Universal Robots's arms, and urscript "
+            "runs on their controllers only: its maker's format is --format rapid");
   EXPECT_EQ(refusal([] { krlProgram(urProgram()); }),
-            "--format krl: ur10e runs URScript (--format urscript)");
+            "--format krl: ur10e is not one of KUKA's arms, and krl runs on their controllers "
+            "only: its maker's format is --format urscript");
+  EXPECT_EQ(refusal([] { krlProgram(program()); }),
+            "--format krl: abb-irb2400-10 is not one of KUKA's arms, and krl runs on their "
+            "controllers only: its maker's format is --format rapid");
+  EXPECT_EQ(refusal([] { rapidProgram(withRobot(program(), "fanuc-m20id-25")); }),
+            "--format rapid: fanuc-m20id-25 is not one of ABB's arms, and rapid runs on their "
+            "controllers only: its maker's format is --format fanuc");
+  EXPECT_EQ(refusal([] { fanucProgram(withRobot(program(), "kuka-kr16-r1610-2")); }),
+            "--format fanuc: kuka-kr16-r1610-2 is not one of FANUC's arms, and fanuc runs on "
+            "their controllers only: its maker's format is --format krl");
+  // An arm given by its parameters runs any ortho-parallel language.
+  RobotProgram custom = program();
+  custom.cell.robot.maker.clear();
+  EXPECT_EQ(refusal([&] { krlProgram(custom); }), "accepted");
+  EXPECT_EQ(refusal([&] { fanucProgram(custom); }), "accepted");
   RobotProgram undriven = urProgram();
   undriven.cell.signals.table.reset();
   EXPECT_EQ(refusal([&] { urScript(undriven); }),
@@ -416,7 +518,7 @@ TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
 // A program with a move that collides and could not be cleared is not written unless the
 // user allows it; then its header marks every such move.
 TEST(RobotProgram, AProgramWithAMoveThatCollidesIsRefusedUnlessAllowed) {
-  RobotProgram p = program();
+  RobotProgram p = withRobot(program(), "kuka-kr16-r1610-2");
   EXPECT_NO_THROW(checkClearMoves(p, false, "out/cell.src"));
   p.uncleared = {{4, 2}, {7, 0}};
   try {
@@ -441,7 +543,7 @@ TEST(RobotProgram, AProgramWithAMoveThatCollidesIsRefusedUnlessAllowed) {
 // stem that is no KRL name (a hyphen, a leading digit, over 24 characters) is refused.
 TEST(RobotProgram, KrlIsNamedAsItsFileOrRefused) {
   test::TempDir dir;
-  RobotProgram p = program();
+  RobotProgram p = withRobot(program(), "kuka-kr16-r1610-2");
   p.name = "bracket_kr6";
   writeRobotProgram(p, "krl", dir.file("bracket_kr6.src"));
   std::ifstream in(dir.file("bracket_kr6.src"));
@@ -466,7 +568,7 @@ TEST(RobotProgram, KrlIsNamedAsItsFileOrRefused) {
 // KRL numbers its inputs and outputs from 1; the view number's 16 outputs from
 // cell.signals.view must not hold the trigger. Both refused naming the signal.
 TEST(RobotProgram, KrlSignalsStartAtOneAndTheTriggerLiesOutsideTheViewNumber) {
-  RobotProgram p = program();
+  RobotProgram p = withRobot(program(), "kuka-kr16-r1610-2");
   p.cell.signals = CellSignals{};  // the defaults: view 2 to 17, trigger 1
   EXPECT_NE(krlProgram(p).find("SIGNAL VIEW_NO $OUT[2] TO $OUT[17]"), std::string::npos);
   const auto refusal = [&](int view, int trigger, int acknowledge) {
@@ -524,12 +626,13 @@ TEST(RobotProgram, UrScriptSignalsLieWithinTheControllersRanges) {
 // end the comment and leave the rest as a statement. Each stays inside its comment line.
 TEST(RobotProgram, TextFromTheInputsCannotBecomeAStatement) {
   const std::string evil = "\nDEF EVIL()\r\nMoveAbsJ home;\n\x1b[2J";
-  RobotProgram krl = program(), ur = urProgram();
-  krl.source = ur.source = "plans/x" + evil + ".json";
-  krl.cell.robot.name += evil;
-  ur.cell.robot.name += evil;
+  RobotProgram krl = withRobot(program(), "kuka-kr16-r1610-2"), rapid = program(), ur = urProgram();
+  for (RobotProgram* p : {&krl, &rapid, &ur}) {
+    p->source = "plans/x" + evil + ".json";
+    p->cell.robot.name += evil;
+  }
   for (const auto& [text, comment] :
-       {std::pair{krlProgram(krl), ";"}, {rapidProgram(krl), "!"}, {urScript(ur), "#"}}) {
+       {std::pair{krlProgram(krl), ";"}, {rapidProgram(rapid), "!"}, {urScript(ur), "#"}}) {
     for (const std::string& line : lines(text)) {
       EXPECT_EQ(line.find('\r'), std::string::npos);
       EXPECT_EQ(line.find('\x1b'), std::string::npos);

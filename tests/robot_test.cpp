@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace scanplan {
@@ -117,6 +118,86 @@ TEST(Robot, ForwardKinematicsOfThePresetsMatchesTheMakersGeometry) {
     EXPECT_LT((library.translation() - table.translation()).norm(), 1e-9);
     EXPECT_LT((library.linear() - table.linear()).cwiseAbs().maxCoeff(), 1e-12);
   }
+}
+
+// A serial chain as a ROS-Industrial URDF gives it: per joint its origin in the parent link
+// (m), a turn of the origin about y (rpy (0, y, 0), radians) and its axis.
+struct UrdfJoint {
+  Vec3 origin;
+  double pitch;
+  Vec3 axis;
+};
+
+// The last link's frame for the URDF's joint angles `q`, mm.
+Pose urdfFlange(const std::array<UrdfJoint, 6>& chain, const Joints& q) {
+  Pose t = Pose::Identity();
+  for (int i = 0; i < 6; ++i) {
+    t.translate(1000 * chain[i].origin);
+    t.rotate(Eigen::AngleAxisd(chain[i].pitch, Vec3::UnitY()));
+    t.rotate(Eigen::AngleAxisd(q[i], chain[i].axis));
+  }
+  return t;
+}
+
+// The KUKA and FANUC presets against the joint chains of ROS-Industrial's URDFs
+// (kr10r1100_2_macro.xacro, kr16_r1610_2_macro.xacro, m20id25_macro.xacro,
+// lrmate200id_macro.xacro), at random joints within the limits: the flange lies where the
+// URDF puts its last link, turned by one fixed rotation (the two flange conventions). The
+// URDF counts FANUC's axis 3 from the upper arm, the controller from the horizontal: the
+// URDF's J3 is the controller's J3 plus J2 (ROS-Industrial's fanuc_driver, J23 factor 1).
+TEST(Robot, KukaAndFanucPresetsMatchTheirRosIndustrialUrdfs) {
+  const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
+  const double quarter = M_PI / 2;
+  const std::vector<std::pair<const char*, std::array<UrdfJoint, 6>>> arms = {
+      {"kuka-kr10-r1100-2",
+       {{{{0, 0, 0.400}, 0, -z},
+         {{0.025, 0, 0}, 0, y},
+         {{0.560, 0, 0}, 0, y},
+         {{0.515, 0, 0.025}, 0, -x},
+         {{0, 0, 0}, 0, y},
+         {{0.090, 0, 0}, 0, -x}}}},
+      {"kuka-kr16-r1610-2",
+       {{{{0, 0, 0.520}, 0, -z},
+         {{0.16, 0, 0}, 0, y},
+         {{0.78, 0, 0}, 0, y},
+         {{0.655, 0, 0.150}, 0, -x},
+         {{0, 0, 0}, 0, y},
+         {{0.153, 0, 0}, 0, -x}}}},
+      {"fanuc-m20id-25",
+       {{{{0, 0, 0.425}, 0, z},
+         {{0.075, 0, 0}, 0, y},
+         {{0, 0, 0.840}, quarter, -y},
+         {{-0.215, 0, 0.890}, 0, -z},
+         {{0, 0, 0}, 0, -y},
+         {{0, 0, 0.09}, 0, -z}}}},
+      {"fanuc-lrmate200id",
+       {{{{0, 0, 0.330}, 0, z},
+         {{0.050, 0, 0}, 0, y},
+         {{0, 0, 0.330}, 0, -y},
+         {{0, 0, 0.035}, 0, -x},
+         {{0.335, 0, 0}, 0, -y},
+         {{0.080, 0, 0}, 0, -x}}}}};
+  for (const auto& [name, chain] : arms) {
+    SCOPED_TRACE(name);
+    const RobotModel robot = robotPreset(name);
+    std::optional<Eigen::Matrix3d> turn;
+    for (const Joints& q : randomJoints(robot, 200, 12)) {
+      Joints urdf = q;
+      urdf[2] += robot.j23_coupling * q[1];
+      const Pose library = forwardKinematics(robot, q), reference = urdfFlange(chain, urdf);
+      EXPECT_LT((library.translation() - reference.translation()).norm(), 1e-6);
+      const Eigen::Matrix3d relative = reference.linear().transpose() * library.linear();
+      if (!turn) turn = relative;
+      EXPECT_LT((relative - *turn).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+  // FANUC's J3 is the forearm's angle from the horizontal: turning J2 alone keeps the
+  // forearm level, the flange 425 + 840 cos 30° + 215 mm up.
+  const RobotModel m20 = robotPreset("fanuc-m20id-25");
+  EXPECT_LT((forwardKinematics(m20, {}).translation() - Vec3(1055, 0, 1480)).norm(), 1e-6);
+  const Vec3 leant = forwardKinematics(m20, {0, radians(30), 0, 0, 0, 0}).translation();
+  EXPECT_LT((leant - Vec3(75 + 420 + 890 + 90, 0, 425 + 840 * std::cos(radians(30)) + 215)).norm(),
+            1e-6);
 }
 
 TEST(Robot, InverseOfForwardOnRandomPosesOfEveryPreset) {

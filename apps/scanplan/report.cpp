@@ -232,10 +232,11 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
           "--format", options->format,
           "glb (glTF 2.0 binary scene), samples-ply (samples with coverage), "
           "clouds-ply (every view's simulated cloud), csv (views), png (picture), "
-          "krl, rapid, urscript, robot-json (robot programs; the plan's cell, or the spec's)")
+          "krl, rapid, fanuc, urscript, robot-json (robot programs; the plan's cell, or the "
+          "spec's)")
       ->required()
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
-                             "urscript", "robot-json"}));
+                             "fanuc", "urscript", "robot-json"}));
   command->add_option("-o,--out", options->out, "Output file")->required();
   command->add_flag("--allow-collisions", options->allow_collisions,
                     "Robot programs: write one even with moves that collide and could not be "

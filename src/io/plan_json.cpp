@@ -19,6 +19,14 @@
 namespace scanplan {
 namespace {
 
+// The maker of robot preset `model`; none for an arm given by its parameters. Plans of
+// earlier versions name the preset but not its maker.
+std::string makerOf(const std::string& model) {
+  const std::vector<std::string> presets = robotPresets();
+  if (std::find(presets.begin(), presets.end(), model) == presets.end()) return "";
+  return robotPreset(model).maker;
+}
+
 // `path` made absolute and normal, as a string ("" stays "").
 std::string absolutePath(const std::string& path) {
   if (path.empty()) return path;
@@ -325,6 +333,8 @@ void addCell(const Plan& plan, json& result) {
   const Cell& cell = *plan.cell;
   const RobotModel& r = cell.robot;
   json robot = {{"model", r.name},
+                {"maker", r.maker},
+                {"j23_coupling", r.j23_coupling},
                 {"family", r.offset_wrist ? "offset-wrist" : "ortho-parallel"},
                 {"lengths", robotLengths(r)},
                 {"offsets", inDegrees(r.offsets)},
@@ -665,6 +675,8 @@ struct PlanReader {
       r.c4 = length("c4");
     }
     r.offsets = joints(entry, "offsets", "cell");
+    r.maker = fieldOr(entry, "maker", makerOf(r.name), path, "cell");
+    r.j23_coupling = fieldOr(entry, "j23_coupling", 0.0, path, "cell");
     const std::vector<int> signs = field<std::vector<int>>(entry, "signs", path, "cell");
     for (std::size_t i = 0; i < 6; ++i) r.signs[i] = i < signs.size() && signs[i] == -1 ? -1 : 1;
     r.lower = joints(entry, "lower", "cell");
@@ -991,9 +1003,10 @@ void checkSectionKeys(const json& root, const std::string& path) {
   // motion_step: written by earlier versions, no longer read.
   detail::refuseUnknownKeys(
       objectAt(root, "cell"),
-      {"model",   "family", "lengths",  "offsets",     "signs",         "link_radii",  "base",
-       "mount",   "lower",  "upper",    "speeds",      "accelerations", "clearance",   "tool",
-       "signals", "home",   "approach", "motion_step", "joint_margin",  "link_meshes", "table"},
+      {"model",    "maker",         "j23_coupling", "family",      "lengths", "offsets",
+       "signs",    "link_radii",    "base",         "mount",       "lower",   "upper",
+       "speeds",   "accelerations", "clearance",    "tool",        "signals", "home",
+       "approach", "motion_step",   "joint_margin", "link_meshes", "table"},
       path, "cell");
   checkListKeys(root, "orientations", "orientation",
                 {"id", "part_to_world", "down", "margin", "views", "reference", "frame", "markers"},

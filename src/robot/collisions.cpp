@@ -121,9 +121,7 @@ double farthestFrom(const Vec3& point, const std::vector<Vec3>& vertices) {
 // |d5| + |d6|); each body hangs on one point of it and reaches a fixed distance beyond.
 Joints axisRadii(const RobotModel& r, const std::array<double, 3>& radii,
                  const std::vector<TriangleMesh>& link_meshes, double tool_reach) {
-  Joints zero;
-  for (int j = 0; j < 6; ++j) zero[j] = r.offsets[j] * r.signs[j];
-  const std::array<Vec3, 4> c = jointCentres(r, zero);
+  const std::array<Vec3, 4> c = jointCentres(r, zeroPose(r));
   const std::array<Vec3, 5> chain = {Vec3::Zero(), c[0], c[1], c[2], c[3]};
   std::array<double, 4> link{};
   for (int t = 0; t < 4; ++t) link[t] = (chain[t + 1] - chain[t]).norm();

@@ -24,7 +24,8 @@ Joints degrees(std::initializer_list<double> values) {
 }
 
 // The model angles (the paper's theta) of a controller joint vector, and back.
-Joints modelAngles(const RobotModel& r, const Joints& q) {
+Joints modelAngles(const RobotModel& r, Joints q) {
+  q[2] += r.j23_coupling * q[1];
   Joints theta{};
   for (int i = 0; i < 6; ++i) theta[i] = q[i] * r.signs[i] - r.offsets[i];
   return theta;
@@ -33,6 +34,7 @@ Joints modelAngles(const RobotModel& r, const Joints& q) {
 Joints controllerJoints(const RobotModel& r, const Joints& theta) {
   Joints q{};
   for (int i = 0; i < 6; ++i) q[i] = (theta[i] + r.offsets[i]) * r.signs[i];
+  q[2] -= r.j23_coupling * q[1];
   return q;
 }
 
@@ -70,6 +72,11 @@ void validate(const RobotModel& r, const std::string& source, const std::string&
     if (!(std::abs(length) <= kLongestLength)) fail(": lengths must be at most 100,000 mm");
   if (!r.offset_wrist && !(r.c2 > 0 && r.c3 > 0 && r.c4 >= 0))
     fail(": c2 and c3 must be positive and c4 not negative (mm)");
+  if (r.j23_coupling != 0 && r.j23_coupling != 1 && r.j23_coupling != -1)
+    fail(".j23_coupling must be -1, 0 or 1");
+  if (!r.maker.empty() && r.maker != "kuka" && r.maker != "abb" && r.maker != "fanuc" &&
+      r.maker != "universal-robots")
+    fail(".maker must be kuka, abb, fanuc or universal-robots");
   for (int i = 0; i < 6; ++i) {
     if (!(r.lower[i] < r.upper[i]))
       fail(": joint " + std::to_string(i + 1) + " has lower >= upper");
@@ -83,8 +90,19 @@ void validate(const RobotModel& r, const std::string& source, const std::string&
   }
 }
 
+Joints zeroPose(const RobotModel& robot) { return controllerJoints(robot, Joints{}); }
+
 std::vector<std::string> robotPresets() {
-  return {"kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e", "ur10e", "ur16e"};
+  return {"kuka-kr6-r700-sixx",
+          "kuka-kr10-r1100-2",
+          "kuka-kr16-r1610-2",
+          "abb-irb2400-10",
+          "abb-irb4600-60-205",
+          "fanuc-m20id-25",
+          "fanuc-lrmate200id",
+          "ur5e",
+          "ur10e",
+          "ur16e"};
 }
 
 namespace {
@@ -107,6 +125,7 @@ std::optional<RobotModel> universalRobot(std::string_view name) {
   } else {
     return std::nullopt;
   }
+  r.maker = "universal-robots";
   r.lower = degrees({-360, -360, -360, -360, -360, -360});
   r.upper = degrees({360, 360, 360, 360, 360, 360});
   // Universal Robots publish no joint accelerations; 1.4 rad/s² is movej's default in
@@ -115,23 +134,86 @@ std::optional<RobotModel> universalRobot(std::string_view name) {
   return r;
 }
 
+// KUKA arms: OPW form, offsets and signs as in ROS-Industrial's kuka_experimental
+// support packages, axis ranges and speeds as their URDFs give them from KUKA's
+// specifications.
+std::optional<RobotModel> kukaRobot(std::string_view name) {
+  RobotModel r;
+  r.name = std::string(name);
+  r.maker = "kuka";
+  r.offsets = degrees({0, -90, 0, 0, 0, 0});
+  r.signs = {-1, 1, 1, -1, 1, -1};
+  if (name == "kuka-kr6-r700-sixx") {
+    // KUKA KR 6 R700 sixx (KR AGILUS), 706 mm reach: KUKA's specification of the KR AGILUS
+    // sixx.
+    r.a1 = 25, r.a2 = -35, r.b = 0, r.c1 = 400, r.c2 = 315, r.c3 = 365, r.c4 = 80;
+    r.lower = degrees({-170, -190, -120, -185, -120, -350});
+    r.upper = degrees({170, 45, 156, 185, 120, 350});
+    r.speeds = degrees({360, 300, 360, 381, 388, 615});
+  } else if (name == "kuka-kr10-r1100-2") {
+    // KUKA KR 10 R1100-2 (KR AGILUS), 1101 mm reach: kuka_kr10_support,
+    // opw_parameters_kr10r1100_2.yaml and kr10r1100_2_macro.xacro.
+    r.a1 = 25, r.a2 = -25, r.b = 0, r.c1 = 400, r.c2 = 560, r.c3 = 515, r.c4 = 90;
+    r.lower = degrees({-170, -190, -120, -185, -120, -350});
+    r.upper = degrees({170, 45, 156, 185, 120, 350});
+    r.speeds = degrees({300, 225, 330, 360, 360, 433});
+  } else if (name == "kuka-kr16-r1610-2") {
+    // KUKA KR 16 R1610-2 (KR CYBERTECH), 1612 mm reach: kuka_kr16_support,
+    // opw_parameters_kr16_r1610_2.yaml and kr16_r1610_2_macro.xacro.
+    r.a1 = 160, r.a2 = -150, r.b = 0, r.c1 = 520, r.c2 = 780, r.c3 = 655, r.c4 = 153;
+    r.lower = degrees({-185, -185, -138, -350, -130, -350});
+    r.upper = degrees({185, 65, 175, 350, 130, 350});
+    r.speeds = degrees({200, 175, 190, 430, 430, 630});
+  } else {
+    return std::nullopt;
+  }
+  return r;
+}
+
+// FANUC arms: OPW form, offsets and signs as in ROS-Industrial's fanuc support packages
+// (the M-20iD/25's opw_parameters_m20id25.yaml; the LR Mate 200iD's the same form read off
+// its URDF), axis ranges and speeds as their URDFs give them. FANUC counts axis 3 from the
+// horizontal (fanuc_driver's J23 factor 1): the controller's J3 is the URDF's less J2.
+std::optional<RobotModel> fanucRobot(std::string_view name) {
+  RobotModel r;
+  r.name = std::string(name);
+  r.maker = "fanuc";
+  r.j23_coupling = 1;
+  r.offsets = degrees({0, 0, -90, 0, 0, 0});
+  r.signs = {1, 1, -1, -1, -1, -1};
+  if (name == "fanuc-m20id-25") {
+    // FANUC M-20iD/25, 1831 mm reach: fanuc_m20id_support, m20id25_macro.xacro.
+    r.a1 = 75, r.a2 = -215, r.b = 0, r.c1 = 425, r.c2 = 840, r.c3 = 890, r.c4 = 90;
+    r.lower = degrees({-170, -100, -190, -200, -140, -270});
+    r.upper = degrees({170, 160, 268.4, 200, 140, 270});
+    r.speeds = degrees({210, 210, 265, 420, 420, 720});
+  } else if (name == "fanuc-lrmate200id") {
+    // FANUC LR Mate 200iD, 717 mm reach: fanuc_lrmate200id_support,
+    // lrmate200id_macro.xacro.
+    r.a1 = 50, r.a2 = -35, r.b = 0, r.c1 = 330, r.c2 = 330, r.c3 = 335, r.c4 = 80;
+    r.lower = {-2.965, -1.745329, -2.450966, -3.315, -2.18, -6.285};
+    r.upper = {2.965, 2.530727, 4.886922, 3.315, 2.18, 6.285};
+    r.speeds = {7.85, 6.63, 9.08, 9.60, 9.51, 17.45};
+  } else {
+    return std::nullopt;
+  }
+  return r;
+}
+
 }  // namespace
 
 RobotModel robotPreset(std::string_view name, const std::string& source) {
   if (std::optional<RobotModel> ur = universalRobot(name)) return *ur;
+  std::optional<RobotModel> arm = kukaRobot(name);
+  if (!arm) arm = fanucRobot(name);
+  if (arm) {
+    arm->accelerations = rampAccelerations(arm->speeds);  // KUKA and FANUC publish none
+    return *arm;
+  }
   RobotModel r;
   r.name = std::string(name);
-  if (name == "kuka-kr6-r700-sixx") {
-    // KUKA KR 6 R700 sixx (KR AGILUS), 706 mm reach: dimensions, axis ranges and speeds
-    // from KUKA's specification of the KR AGILUS sixx; OPW form as in ROS-Industrial's
-    // kuka_experimental support package.
-    r.a1 = 25, r.a2 = -35, r.b = 0, r.c1 = 400, r.c2 = 315, r.c3 = 365, r.c4 = 80;
-    r.offsets = degrees({0, -90, 0, 0, 0, 0});
-    r.signs = {-1, 1, 1, -1, 1, -1};
-    r.lower = degrees({-170, -190, -120, -185, -120, -350});
-    r.upper = degrees({170, 45, 156, 185, 120, 350});
-    r.speeds = degrees({360, 300, 360, 381, 388, 615});
-  } else if (name == "abb-irb2400-10") {
+  r.maker = "abb";
+  if (name == "abb-irb2400-10") {
     // ABB IRB 2400/10, 1.55 m reach: ABB product specification IRB 2400 (3HAC042195),
     // axis working ranges and speeds of the /10 variant.
     r.a1 = 100, r.a2 = -135, r.b = 0, r.c1 = 615, r.c2 = 705, r.c3 = 755, r.c4 = 85;
@@ -154,7 +236,7 @@ RobotModel robotPreset(std::string_view name, const std::string& source) {
     throw InputError(source,
                      "unknown robot preset '" + std::string(name) + "' (known: " + known + ")");
   }
-  r.accelerations = rampAccelerations(r.speeds);  // KUKA and ABB publish none
+  r.accelerations = rampAccelerations(r.speeds);  // ABB publishes none
   return r;
 }
 

@@ -3,6 +3,8 @@
 // the scanner, in sequence order. The scanner poses are given too, in the part's frame (the
 // work object), for the integrator.
 
+#include "robot/program_text.h"
+
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/robot/program.h>
@@ -22,26 +24,17 @@
 namespace scanplan {
 namespace {
 
+using detail::commentText;
+using detail::header;
+using detail::kHandshakeSeconds;
+using detail::loadCentre;
+
 std::string identifier(const std::string& name, std::size_t length) {
   std::string id;
   for (char c : name) id += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
   if (id.empty() || !std::isalpha(static_cast<unsigned char>(id.front()))) id = "p_" + id;
   return id.substr(0, length);
 }
-
-// `text` from the user's files (a path, a robot's name) for a one-line comment: every byte
-// outside printable ASCII, a line break above all, becomes '?', so that nothing of it can
-// end the comment and stand as a statement, nor trouble a controller's 8-bit editor.
-std::string commentText(const std::string& text) {
-  std::string safe = text;
-  for (char& c : safe)
-    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
-  return safe;
-}
-
-// How long a program waits for the scanner's (or the table's) input before it stops the
-// cell with an error, s.
-constexpr int kHandshakeSeconds = 10;
 
 // KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees (no -0).
 Vec3 kukaAbc(const Eigen::Matrix3d& r) {
@@ -78,37 +71,6 @@ int quadrant(double angle) { return static_cast<int>(std::floor(degrees(angle) /
 // The speed of RAPID's moves between views and of its final approach to a view, mm/s (the
 // predefined speeddata v500 and v100): the approach and the retract run slowed.
 constexpr int kTravelSpeed = 500, kApproachSpeed = 100;
-
-// The header comment; URScript counts joints in radians and drives the table by signals.
-std::string header(const RobotProgram& p, std::string_view comment, bool urscript = false) {
-  std::ostringstream out;
-  out << comment << " scanplan robot program " << p.name << "\n"
-      << comment << " from " << commentText(p.source) << "\n"
-      << comment << " robot " << commentText(p.cell.robot.name) << ", " << p.steps.size()
-      << " views in sequence order";
-  if (p.cell.table)
-    out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
-  out << "\n";
-  if (!p.unreached.empty()) {
-    out << comment << " left out, the cell cannot reach them: views";
-    for (int id : p.unreached) out << ' ' << id;
-    out << "\n";
-  }
-  for (const RobotMove& move : p.uncleared)
-    out << comment << " WARNING: the move " << toString(move)
-        << " collides and could not be cleared\n";
-  const CellSignals& s = p.cell.signals;
-  out << comment << " joints in " << (urscript ? "radians" : "degrees")
-      << " as the controller counts them; the tool is the scanner frame on its mount\n"
-      << comment
-      << " scanner poses in the part's frame (the work object: the part, table at 0), mm\n"
-      << comment
-      << fmt::format(
-             " scan handshake: view number to output {}, trigger output {}, "
-             "acknowledge input {}\n",
-             s.view, s.trigger, s.acknowledge);
-  return out.str();
-}
 
 // KRL numbers its inputs and outputs from 1, and the view number's group of 16 outputs
 // ($OUT[view] to $OUT[view+15]) must leave the trigger output alone. \throw UsageError
@@ -153,9 +115,6 @@ void checkUrSignals(const CellSignals& s) {
                                  "its own",
                                  s.trigger));
 }
-
-// The scanner's load: its mass and centre of gravity in the flange frame, mm.
-Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
 
 }  // namespace
 
@@ -217,14 +176,25 @@ std::vector<Waypoint> waypoints(const RobotProgram& p) {
 
 void checkProgramFormat(const Cell& cell, std::string_view format) {
   const std::string option = "--format " + std::string(format);
-  const bool universal = cell.robot.offset_wrist.has_value();
-  if (format == "urscript" && !universal)
-    throw UsageError(option, cell.robot.name +
-                                 " is not a Universal Robots arm, and URScript "
-                                 "runs on their controllers only (krl or rapid)");
-  if ((format == "krl" || format == "rapid") && universal)
-    throw UsageError(option, cell.robot.name + " runs URScript (--format urscript)");
+  const RobotModel& robot = cell.robot;
+  static const std::map<std::string, std::pair<std::string, std::string>, std::less<>> makers = {
+      {"krl", {"kuka", "KUKA"}},
+      {"rapid", {"abb", "ABB"}},
+      {"fanuc", {"fanuc", "FANUC"}},
+      {"urscript", {"universal-robots", "Universal Robots"}}};
+  static const std::map<std::string, std::string, std::less<>> formats = {
+      {"kuka", "krl"}, {"abb", "rapid"}, {"fanuc", "fanuc"}, {"universal-robots", "urscript"}};
+  // An arm given by its parameters runs any ortho-parallel language; a preset its maker's.
+  const auto maker = makers.find(format);
+  const bool custom = robot.maker.empty() && !robot.offset_wrist;
+  if (maker != makers.end() && !custom && robot.maker != maker->second.first)
+    throw UsageError(option, fmt::format("{} is not one of {}'s arms, and {} runs on their "
+                                         "controllers only: its maker's format is --format {}",
+                                         commentText(robot.name), maker->second.second, format,
+                                         formats.count(robot.maker) ? formats.at(robot.maker)
+                                                                    : std::string("robot-json")));
   if (format == "krl") checkKrlSignals(cell.signals);
+  if (format == "fanuc") detail::checkFanucSignals(cell.signals);
   if (format == "urscript") checkUrSignals(cell.signals);
   if (format == "urscript" && cell.table && !cell.signals.table)
     throw UsageError(option,
@@ -264,25 +234,20 @@ std::string krlScan(const CellSignals& sig) {
          wait(false, "end of the acknowledgement") + "END\n";
 }
 
-// The name of each waypoint's point in the .dat, in order: XHOME, XVIA1, XVIA2, ...,
-// XAPPROACH<view> (its retract too), XVIEW<view>.
-std::vector<std::string> krlPointNames(const std::vector<Waypoint>& path) {
-  std::vector<std::string> names;
-  int vias = 0;
-  for (const Waypoint& w : path) {
-    if (w.what == "home")
-      names.push_back("XHOME");
-    else if (w.what == "via")
-      names.push_back("XVIA" + std::to_string(++vias));
-    else
-      names.push_back(fmt::format("X{}{}", w.what == "view" ? "VIEW" : "APPROACH", w.step->view));
-  }
+namespace {
+
+// KRL's names of the points: X and the point's name (detail::pointNames).
+std::vector<std::string> krlNames(const std::vector<Waypoint>& path) {
+  std::vector<std::string> names = detail::pointNames(path);
+  for (std::string& name : names) name = "X" + name;
   return names;
 }
 
 // KRL's PTP speed, percent of each axis's top speed: between views, and on the final
 // approach to a view and its retract.
 constexpr int kKrlTravelPercent = 20, kKrlApproachPercent = 5;
+
+}  // namespace
 
 std::string krlProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "krl");
@@ -303,7 +268,7 @@ std::string krlProgram(const RobotProgram& p) {
       << fmt::format("  $OUT[{}] = FALSE\n", p.cell.signals.trigger);
   int taken = 0;
   const std::vector<Waypoint> path = waypoints(p);
-  const std::vector<std::string> names = krlPointNames(path);
+  const std::vector<std::string> names = krlNames(path);
   for (std::size_t k = 0; k < path.size(); ++k) {
     const Waypoint& w = path[k];
     const bool slowed = w.step && w.step->approach;
@@ -335,7 +300,7 @@ std::string krlData(const RobotProgram& p) {
   out << "&ACCESS RVP\n&REL 1\nDEFDAT " << p.name << "\n"
       << "  ; the points of " << p.name << ".src: joints in degrees, E1 the rotary table\n";
   const std::vector<Waypoint> path = waypoints(p);
-  const std::vector<std::string> names = krlPointNames(path);
+  const std::vector<std::string> names = krlNames(path);
   std::set<std::string> declared;
   for (std::size_t k = 0; k < path.size(); ++k) {
     if (!declared.insert(names[k]).second) continue;
@@ -580,8 +545,14 @@ void writeRobotProgram(const RobotProgram& program, std::string_view format,
     throw UsageError(path,
                      "a KRL program is written as NAME.src, its points as NAME.dat "
                      "beside it: give the file the extension .src");
+  if (format == "fanuc" && stem != program.name)
+    throw UsageError(path, "a FANUC program is named as its file, and '" + commentText(stem) +
+                               "' is not a program name (a letter, then letters, digits or _, "
+                               "24 at most): name the file " +
+                               program.name + ".ls");
   const std::string text = format == "krl"        ? krlProgram(program)
                            : format == "rapid"    ? rapidProgram(program)
+                           : format == "fanuc"    ? fanucProgram(program)
                            : format == "urscript" ? urScript(program)
                                                   : programJson(program);
   if (format == "krl") {

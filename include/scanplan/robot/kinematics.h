@@ -31,9 +31,14 @@ struct OffsetWrist {
 
 // Ortho-parallel parameters (the paper's figure 1), mm: a1 shoulder offset along x, a2
 // elbow offset, b lateral offset, c1 base height, c2 upper arm, c3 forearm, c4 wrist to
-// flange. Joint i as the controller counts it is (model angle + offset[i]) * sign[i].
+// flange. Joint i as the controller counts it is (model angle + offset[i]) * sign[i],
+// axis 3 then less j23_coupling times axis 2 (FANUC counts axis 3 from the horizontal).
 struct RobotModel {
   std::string name;
+  // Whose controller runs it: "kuka", "abb", "fanuc", "universal-robots"; empty for an
+  // arm given by its parameters. Each program format is for its maker's arms.
+  std::string maker;
+  double j23_coupling = 0;  // 1 for FANUC, 0 for the others
   double a1 = 0, a2 = 0, b = 0, c1 = 0, c2 = 0, c3 = 0, c4 = 0;
   Joints offsets{};  // radians
   std::array<int, 6> signs{1, 1, 1, 1, 1, 1};
@@ -57,11 +62,16 @@ struct RobotModel {
 // \throw InputError naming `source` and `key`.
 void validate(const RobotModel& robot, const std::string& source, const std::string& key);
 
-// The presets: "kuka-kr6-r700-sixx", "abb-irb2400-10", "abb-irb4600-60-205", "ur5e",
+// The presets: "kuka-kr6-r700-sixx", "kuka-kr10-r1100-2", "kuka-kr16-r1610-2",
+// "abb-irb2400-10", "abb-irb4600-60-205", "fanuc-m20id-25", "fanuc-lrmate200id", "ur5e",
 // "ur10e", "ur16e".
 std::vector<std::string> robotPresets();
 // \throw InputError (naming `source`) for an unknown preset.
 RobotModel robotPreset(std::string_view name, const std::string& source = "spec");
+
+// The controller's joints at the zero pose (every model angle 0: upper arm and forearm
+// straight up).
+Joints zeroPose(const RobotModel& robot);
 
 // The flange pose in the robot's base frame for `joints`.
 Pose forwardKinematics(const RobotModel& robot, const Joints& joints);

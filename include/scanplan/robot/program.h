@@ -65,9 +65,11 @@ struct Waypoint {
 };
 std::vector<Waypoint> waypoints(const RobotProgram& program);
 
-// Refuses a format the cell's robot does not run (URScript for Universal Robots only, KRL
-// and RAPID for the others) or a rotary table the format cannot drive (URScript without
-// the table's signals). \throw UsageError naming the format.
+// Refuses a format the cell's robot does not run (each maker's language for its own arms:
+// KRL for KUKA, RAPID for ABB, FANUC's for FANUC, URScript for Universal Robots; an arm
+// given by its parameters runs any but URScript), signals the language cannot number, or a
+// rotary table the format cannot drive (URScript without the table's signals).
+// \throw UsageError naming the format.
 void checkProgramFormat(const Cell& cell, std::string_view format);
 
 // Refuses a program with a move that collides and could not be lifted clear, naming the
@@ -86,9 +88,12 @@ std::string krlProgram(const RobotProgram& program);
 std::string krlData(const RobotProgram& program);
 std::string rapidProgram(const RobotProgram& program);
 std::string urScript(const RobotProgram& program);
+// FANUC's teach-pendant program as LS text: joint positions (J3 as FANUC counts it, the
+// table as E1), the handshake on GO, DO and DI with timeouts (docs/cell.md).
+std::string fanucProgram(const RobotProgram& program);
 std::string programJson(const RobotProgram& program);
 
-// "krl", "rapid", "urscript" or "json". \throw UsageError (checkProgramFormat), or
+// "krl", "rapid", "fanuc", "urscript" or "json". \throw UsageError (checkProgramFormat), or
 // OutputError when it cannot be written.
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path);

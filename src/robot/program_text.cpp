@@ -1,0 +1,64 @@
+// What the robot program writers share (robot/program_text.h).
+
+#include "robot/program_text.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+namespace scanplan::detail {
+
+std::string commentText(const std::string& text) {
+  std::string safe = text;
+  for (char& c : safe)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+  return safe;
+}
+
+std::string header(const RobotProgram& p, std::string_view comment, bool urscript) {
+  std::ostringstream out;
+  out << comment << " scanplan robot program " << p.name << "\n"
+      << comment << " from " << commentText(p.source) << "\n"
+      << comment << " robot " << commentText(p.cell.robot.name) << ", " << p.steps.size()
+      << " views in sequence order";
+  if (p.cell.table)
+    out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
+  out << "\n";
+  if (!p.unreached.empty()) {
+    out << comment << " left out, the cell cannot reach them: views";
+    for (int id : p.unreached) out << ' ' << id;
+    out << "\n";
+  }
+  for (const RobotMove& move : p.uncleared)
+    out << comment << " WARNING: the move " << toString(move)
+        << " collides and could not be cleared\n";
+  const CellSignals& s = p.cell.signals;
+  out << comment << " joints in " << (urscript ? "radians" : "degrees")
+      << " as the controller counts them; the tool is the scanner frame on its mount\n"
+      << comment
+      << " scanner poses in the part's frame (the work object: the part, table at 0), mm\n"
+      << comment
+      << fmt::format(
+             " scan handshake: view number to output {}, trigger output {}, "
+             "acknowledge input {}\n",
+             s.view, s.trigger, s.acknowledge);
+  return out.str();
+}
+
+Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
+
+std::vector<std::string> pointNames(const std::vector<Waypoint>& path) {
+  std::vector<std::string> names;
+  int vias = 0;
+  for (const Waypoint& w : path) {
+    if (w.what == "home")
+      names.push_back("HOME");
+    else if (w.what == "via")
+      names.push_back("VIA" + std::to_string(++vias));
+    else
+      names.push_back(fmt::format("{}{}", w.what == "view" ? "VIEW" : "APPROACH", w.step->view));
+  }
+  return names;
+}
+
+}  // namespace scanplan::detail

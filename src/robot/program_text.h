@@ -1,0 +1,36 @@
+#pragma once
+// What the robot program writers (robot/program.h) share: the header comment, the safe
+// comment text, the load's centre, the handshake's timeout and the names of the points.
+
+#include <scanplan/robot/program.h>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace scanplan::detail {
+
+// How long a program waits for the scanner's (or the table's) input before it stops the
+// cell with an error, s.
+constexpr int kHandshakeSeconds = 10;
+
+// `text` from the user's files (a path, a robot's name) for a one-line comment: every byte
+// outside printable ASCII, a line break above all, becomes '?', so that nothing of it can
+// end the comment and stand as a statement, nor trouble a controller's 8-bit editor.
+std::string commentText(const std::string& text);
+
+// The header comment, each line opened by `comment`; URScript counts joints in radians and
+// drives the table by signals.
+std::string header(const RobotProgram& p, std::string_view comment, bool urscript = false);
+
+// The scanner's load: its centre of gravity in the flange frame, mm.
+Vec3 loadCentre(const Cell& cell);
+
+// FANUC numbers its GO, DO and DI signals from 1. \throw UsageError naming the signal.
+void checkFanucSignals(const CellSignals& signals);
+
+// The name of each waypoint's point, in order: HOME, VIA1, VIA2, ..., APPROACH<view> (its
+// retract too), VIEW<view>.
+std::vector<std::string> pointNames(const std::vector<Waypoint>& path);
+
+}  // namespace scanplan::detail
