@@ -34,38 +34,64 @@ std::optional<Joints> nearestClear(const CellCollisions& collisions, const Robot
   return best;
 }
 
-// `pose` with its flange raised (world z) by `rise` mm, same orientation, same table angle,
-// the clear solution nearest to it; none when the robot cannot take it clear.
-std::optional<CellPose> raised(const Cell& cell, const CellCollisions& collisions,
-                               const CellPose& pose, double rise) {
+// `pose` with its flange moved by `offset` (world frame, mm), same orientation, same table
+// angle, the clear solution nearest to it; none when the robot cannot take it clear.
+std::optional<CellPose> shifted(const Cell& cell, const CellCollisions& collisions,
+                                const CellPose& pose, const Vec3& offset) {
   Pose world = cell.base * forwardKinematics(cell.robot, pose.joints);
-  world.translation().z() += rise;
+  world.translation() += offset;
   const std::optional<Joints> q = nearestClear(
       collisions, workingRange(cell), cell.base.inverse() * world, pose.joints, pose.table_angle);
   if (!q) return std::nullopt;
   return CellPose{pose.table_angle, *q};
 }
 
-// The poses that take the flange of `pose` straight up to `height` (world z), same
-// orientation: the fewest equal steps (1, 2, 4 or 8) whose joint moves are all clear, the
-// last pose at the height; none when no such steps are found. Empty when the flange is
-// there already.
-std::optional<std::vector<CellPose>> liftOf(const Cell& cell, const CellCollisions& collisions,
-                                            const CellPose& pose, double height) {
-  const double rise =
-      height - (cell.base * forwardKinematics(cell.robot, pose.joints)).translation().z();
-  if (rise <= 0) return std::vector<CellPose>{};
+// The poses that move the flange of `pose` along `offset` in a straight line, same
+// orientation: the fewest equal steps (1, 2, 4 or 8) whose joint moves are all clear; none
+// when no such steps are found.
+std::optional<std::vector<CellPose>> straightMove(const Cell& cell,
+                                                  const CellCollisions& collisions,
+                                                  const CellPose& pose, const Vec3& offset) {
   for (int steps = 1; steps <= 8; steps *= 2) {
     std::vector<CellPose> path;
     CellPose at = pose;
     for (int k = 0; k < steps; ++k) {
-      const std::optional<CellPose> next = raised(cell, collisions, at, rise / steps);
+      const std::optional<CellPose> next = shifted(cell, collisions, at, offset / steps);
       if (!next || !moveIsClear(collisions, at, *next)) break;
       path.push_back(*next);
       at = *next;
     }
     if (static_cast<int>(path.size()) == steps) return path;
   }
+  return std::nullopt;
+}
+
+// The poses that take the flange of `pose` up towards `height` (world z), same orientation:
+// straight up, or where that collides, first back away from what the scanner looks at (along
+// its axis or level, 200 or 400 mm) and then up. Where the orientation cannot be kept that
+// high, as far up as it can: three quarters, half or a quarter of the way. None when no path
+// rises; empty when the flange is there already.
+std::optional<std::vector<CellPose>> liftOf(const Cell& cell, const CellCollisions& collisions,
+                                            const CellPose& pose, double height) {
+  const Pose flange = cell.base * forwardKinematics(cell.robot, pose.joints);
+  const double rise = height - flange.translation().z();
+  if (rise <= 0) return std::vector<CellPose>{};
+  const Vec3 axis = -(flange * cell.mount).linear().col(2);  // away from the scanner's view
+  const Vec3 level(axis.x(), axis.y(), 0);
+  std::vector<Vec3> backs = {Vec3::Zero(), 200 * axis, 400 * axis};
+  if (level.norm() > 0.1)
+    backs.insert(backs.begin() + 1, {200 * level.normalized(), 400 * level.normalized()});
+  for (const double share : {1.0, 0.75, 0.5, 0.25})
+    for (const Vec3& back : backs) {
+      std::optional<std::vector<CellPose>> path = std::vector<CellPose>{};
+      if (back.norm() > 0) path = straightMove(cell, collisions, pose, back);
+      if (!path) continue;
+      const std::optional<std::vector<CellPose>> up = straightMove(
+          cell, collisions, path->empty() ? pose : path->back(), Vec3(0, 0, share * rise));
+      if (!up) continue;
+      path->insert(path->end(), up->begin(), up->end());
+      return path;
+    }
   return std::nullopt;
 }
 
@@ -82,43 +108,58 @@ std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisi
   return q;
 }
 
-// The via points of the move from `from` to `to`: none when it is clear, else straight up
-// over the scene, across, and straight down; nullopt when that collides too.
+// The via points of the move from `from` to `to` (at one table angle): none when it is
+// clear, else up over the scene from each end where it can rise, and across; where the
+// move across collides, through `home`'s joints. nullopt when that collides too.
 std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellCollisions& collisions,
                                                const CellPose& from, const CellPose& to,
-                                               double height) {
+                                               double height, const CellPose* home) {
   if (moveIsClear(collisions, from, to)) return std::vector<CellPose>{};
-  const std::optional<std::vector<CellPose>> up = liftOf(cell, collisions, from, height);
-  const std::optional<std::vector<CellPose>> down = liftOf(cell, collisions, to, height);
-  if (!up || !down) return std::nullopt;
-  const CellPose& top_from = up->empty() ? from : up->back();
-  const CellPose& top_to = down->empty() ? to : down->back();
-  if (!moveIsClear(collisions, top_from, top_to)) return std::nullopt;
-  std::vector<CellPose> via = *up;
-  via.insert(via.end(), down->rbegin(), down->rend());
-  return via;
+  std::vector<CellPose> up =
+      liftOf(cell, collisions, from, height).value_or(std::vector<CellPose>{});
+  const std::vector<CellPose> down =
+      liftOf(cell, collisions, to, height).value_or(std::vector<CellPose>{});
+  const CellPose& top_from = up.empty() ? from : up.back();
+  const CellPose& top_to = down.empty() ? to : down.back();
+  if (!moveIsClear(collisions, top_from, top_to)) {
+    if (!home) return std::nullopt;
+    const CellPose over{to.table_angle, home->joints};
+    if (!moveIsClear(collisions, top_from, over) || !moveIsClear(collisions, over, top_to))
+      return std::nullopt;
+    up.push_back(over);
+  }
+  up.insert(up.end(), down.rbegin(), down.rend());
+  return up;
 }
 
 // The via points of the move from `from` to `to` when the table turns: it turns with the
 // arm standing still, at `from` where the whole turn is clear, else at `from` raised
-// straight up to `height`; then viaPoints. nullopt when no turn is clear.
+// straight up to `height`, else at `home`'s joints; then viaPoints. nullopt when no turn is
+// clear.
 std::optional<std::vector<CellPose>> turnThenMove(const Cell& cell,
                                                   const CellCollisions& collisions,
                                                   const CellPose& from, const CellPose& to,
-                                                  double height) {
+                                                  double height, const CellPose* home) {
   if (std::abs(to.table_angle - from.table_angle) < 1e-12)
-    return viaPoints(cell, collisions, from, to, height);
+    return viaPoints(cell, collisions, from, to, height, home);
+  const auto turnIsClear = [&](const CellPose& at) {
+    return moveIsClear(collisions, at, {to.table_angle, at.joints});
+  };
   std::vector<CellPose> via;
-  CellPose turned{to.table_angle, from.joints};
-  if (!moveIsClear(collisions, from, turned)) {
+  if (!turnIsClear(from)) {
     const std::optional<std::vector<CellPose>> up = liftOf(cell, collisions, from, height);
-    if (!up || up->empty()) return std::nullopt;
-    turned = {to.table_angle, up->back().joints};
-    if (!moveIsClear(collisions, up->back(), turned)) return std::nullopt;
-    via = *up;
+    const CellPose over = home ? CellPose{from.table_angle, home->joints} : from;
+    if (up && !up->empty() && turnIsClear(up->back()))
+      via = *up;
+    else if (home && moveIsClear(collisions, from, over) && turnIsClear(over))
+      via = {over};
+    else
+      return std::nullopt;
   }
+  const CellPose turned{to.table_angle, via.empty() ? from.joints : via.back().joints};
   via.push_back(turned);
-  const std::optional<std::vector<CellPose>> rest = viaPoints(cell, collisions, turned, to, height);
+  const std::optional<std::vector<CellPose>> rest =
+      viaPoints(cell, collisions, turned, to, height, home);
   if (!rest) return std::nullopt;
   via.insert(via.end(), rest->begin(), rest->end());
   return via;
@@ -212,7 +253,7 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   auto join = [&](const CellPose& from, const CellPose& to, RobotMove move,
                   std::vector<CellPose>& via) {
     const std::optional<std::vector<CellPose>> points =
-        turnThenMove(cell, collisions, from, to, height);
+        turnThenMove(cell, collisions, from, to, height, home ? &*home : nullptr);
     if (points)
       via = *points;
     else
