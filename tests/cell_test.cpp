@@ -303,6 +303,24 @@ TEST(Cell, ThePlanCountsItsProgramsMotionAndGivesPosesInThePartsFrame) {
   EXPECT_TRUE(turned);  // the check covers views at other table angles
 }
 
+// A program of two views of `cell`'s robot 50° either side of axis 1, the flange 850 mm out
+// and `height` mm up, pointing down: each pose the first clear inverse-kinematics solution.
+// Empty where a pose has none.
+RobotProgram acrossJointOne(const Cell& cell, const CellCollisions& collisions, double height) {
+  RobotProgram program;
+  program.cell = cell;
+  for (const double side : {1.0, -1.0}) {
+    Pose flange = Pose::Identity();
+    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+    flange.translation() =
+        Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), height);
+    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
+    if (q.empty() || collisions.collides({0, q.front()})) return {};
+    program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
+  }
+  return program;
+}
+
 // An IRB 2400 and a 400 mm block 700 mm ahead of it; two poses on either side of the block,
 // the flange 250 mm up and pointing down. Turning joint 1 straight from one to the other
 // sweeps the arm through the block; planMotion lifts the move over it, and every
@@ -313,18 +331,8 @@ TEST(Cell, AMoveThroughThePartIsLiftedOverIt) {
   test::addCube(block, Vec3(700, -200, 0), 400, 1);
   Cell cell = irb2400At(Vec3::Zero());
   const CellCollisions collisions(cell, Box{}, block, Pose::Identity(), {}, true, cell.clearance);
-  RobotProgram program;
-  program.cell = cell;
-  for (const double side : {1.0, -1.0}) {
-    Pose flange = Pose::Identity();
-    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
-    flange.translation() =
-        Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 250);
-    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
-    ASSERT_FALSE(q.empty());
-    ASSERT_FALSE(collisions.collides({0, q.front()}));
-    program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
-  }
+  RobotProgram program = acrossJointOne(cell, collisions, 250);
+  ASSERT_EQ(program.steps.size(), 2u);
   ASSERT_FALSE(moveIsClear(collisions, program.steps[0].pose, program.steps[1].pose));
   planMotion(program, collisions, 420);
   EXPECT_TRUE(program.uncleared.empty());
@@ -761,18 +769,8 @@ TEST(Cell, AMoveThatSweepsTheScannerThroughAPostIsCaughtAndCleared) {
   const Box body = Scanner().body();
   const CellCollisions arm(cell, Box{}, post, Pose::Identity(), {}, true, cell.clearance);
   const CellCollisions collisions(cell, body, post, Pose::Identity(), {}, true, cell.clearance);
-  RobotProgram program;
-  program.cell = cell;
-  for (const double side : {1.0, -1.0}) {
-    Pose flange = Pose::Identity();
-    flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
-    flange.translation() =
-        Vec3(850 * std::cos(radians(50)), side * 850 * std::sin(radians(50)), 600);
-    const std::vector<Joints> q = inverseKinematics(cell.robot, flange);
-    ASSERT_FALSE(q.empty());
-    ASSERT_FALSE(collisions.collides({0, q.front()}));
-    program.steps.push_back({side > 0 ? 1 : 2, "global", {0, q.front()}, flange, {}, {}});
-  }
+  RobotProgram program = acrossJointOne(cell, collisions, 600);
+  ASSERT_EQ(program.steps.size(), 2u);
   const CellPose &a = program.steps[0].pose, &b = program.steps[1].pose;
   ASSERT_TRUE(moveIsClear(arm, a, b));
   ASSERT_FALSE(moveIsClear(collisions, a, b));

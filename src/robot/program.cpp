@@ -76,13 +76,7 @@ constexpr int kTravelSpeed = 500, kApproachSpeed = 100;
 // ($OUT[view] to $OUT[view+15]) must leave the trigger output alone. \throw UsageError
 // naming the signal.
 void checkKrlSignals(const CellSignals& s) {
-  for (const auto& [key, number] : {std::pair{"cell.signals.view", s.view},
-                                    {"cell.signals.trigger", s.trigger},
-                                    {"cell.signals.acknowledge", s.acknowledge}})
-    if (number < 1)
-      throw UsageError(key, fmt::format("KRL numbers its inputs and outputs from 1, and {} is "
-                                        "none of them",
-                                        number));
+  detail::checkSignalsFromOne(s, "KRL numbers its inputs and outputs");
   if (s.trigger >= s.view && s.trigger <= s.view + 15)
     throw UsageError("cell.signals.trigger",
                      fmt::format("output {} lies within the view number's outputs $OUT[{}] to "
@@ -194,7 +188,8 @@ void checkProgramFormat(const Cell& cell, std::string_view format) {
                                          formats.count(robot.maker) ? formats.at(robot.maker)
                                                                     : std::string("robot-json")));
   if (format == "krl") checkKrlSignals(cell.signals);
-  if (format == "fanuc") detail::checkFanucSignals(cell.signals);
+  if (format == "fanuc")
+    detail::checkSignalsFromOne(cell.signals, "FANUC numbers its GO, DO and DI signals");
   if (format == "urscript") checkUrSignals(cell.signals);
   if (format == "urscript" && cell.table && !cell.signals.table)
     throw UsageError(option,

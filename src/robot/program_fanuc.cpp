@@ -4,7 +4,6 @@
 
 #include "robot/program_text.h"
 
-#include <scanplan/core/errors.h>
 #include <scanplan/robot/program.h>
 
 #include <fmt/format.h>
@@ -138,20 +137,6 @@ std::string positionText(const RobotProgram& p, int number, const std::string& n
 }
 
 }  // namespace
-
-namespace detail {
-
-void checkFanucSignals(const CellSignals& s) {
-  for (const auto& [key, number] : {std::pair{"cell.signals.view", s.view},
-                                    {"cell.signals.trigger", s.trigger},
-                                    {"cell.signals.acknowledge", s.acknowledge}})
-    if (number < 1)
-      throw UsageError(key, fmt::format("FANUC numbers its GO, DO and DI signals from 1, and {} "
-                                        "is none of them",
-                                        number));
-}
-
-}  // namespace detail
 
 std::string fanucProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "fanuc");

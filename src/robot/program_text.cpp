@@ -2,6 +2,8 @@
 
 #include "robot/program_text.h"
 
+#include <scanplan/core/errors.h>
+
 #include <fmt/format.h>
 
 #include <sstream>
@@ -46,6 +48,14 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
 }
 
 Vec3 loadCentre(const Cell& cell) { return cell.tool.centre.value_or(cell.mount.translation()); }
+
+void checkSignalsFromOne(const CellSignals& s, std::string_view numbers) {
+  for (const auto& [key, number] : {std::pair{"cell.signals.view", s.view},
+                                    {"cell.signals.trigger", s.trigger},
+                                    {"cell.signals.acknowledge", s.acknowledge}})
+    if (number < 1)
+      throw UsageError(key, fmt::format("{} from 1, and {} is none of them", numbers, number));
+}
 
 std::vector<std::string> pointNames(const std::vector<Waypoint>& path) {
   std::vector<std::string> names;

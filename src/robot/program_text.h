@@ -26,8 +26,9 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
 // The scanner's load: its centre of gravity in the flange frame, mm.
 Vec3 loadCentre(const Cell& cell);
 
-// FANUC numbers its GO, DO and DI signals from 1. \throw UsageError naming the signal.
-void checkFanucSignals(const CellSignals& signals);
+// Signals numbered from 1, as `numbers` says the language counts them ("KRL numbers its
+// inputs and outputs"). \throw UsageError naming the first signal below 1.
+void checkSignalsFromOne(const CellSignals& signals, std::string_view numbers);
 
 // The name of each waypoint's point, in order: HOME, VIA1, VIA2, ..., APPROACH<view> (its
 // retract too), VIEW<view>.
