@@ -197,12 +197,15 @@ CellCollisions::CellCollisions(const Cell& cell, const Box& scanner_body, const 
   for (const TriangleMesh& fixture : fixtures)
     append(fixture, Pose::Identity(), vertices, triangles);
   if (cell.table) {
-    // A turn of the table moves each robot point, or each scene point, about its axis.
+    // A turn of the table moves each robot point against the scene (and against the
+    // working plane, unless the axis is vertical), or each scene point against the robot,
+    // about its axis.
     const RotaryTable& t = *cell.table;
     double scene = 0;
     for (const fcl::Vector3d& v : vertices) scene = std::max(scene, fromAxis(v, t.origin, t.axis));
     const double robot = fromAxis(cell.base.translation(), t.origin, t.axis) + d.axis_radii[0];
-    d.table_radius = std::min(scene, robot);
+    const bool vertical = std::abs(t.axis.normalized().z()) > 1 - 1e-9;
+    d.table_radius = vertical || !working_plane ? std::min(scene, robot) : robot;
   }
   if (triangles.empty()) return;
   d.top = vertices.front().z();
