@@ -924,6 +924,23 @@ TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   const std::string fanuc{std::istreambuf_iterator<char>(ls), {}};
   EXPECT_EQ(fanuc.rfind("/PROG  SCAN_FTC11\n", 0), 0u) << fanuc.substr(0, 40);
   EXPECT_NE(fanuc.find("/POS\n"), std::string::npos);
+  // A home that puts the wrist into the floor (A2 20° below level, the forearm hanging
+  // down): the move from it collides, so the program is refused naming the move, and is
+  // written with the move marked only when the user allows it.
+  test::writeText(dir.file("floor.yaml"),
+                  "cell:\n  robot: {preset: kuka-kr16-r1610-2, base: {position: [-1000, 0, 0]}}\n"
+                  "  mount: {position: [0, 0, 150]}\n  home: [0, 20, 90, 0, 0, 0]\n");
+  const std::string floor = " --spec " + dir.file("floor.yaml") + " -q";
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("floor.src") + floor);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("floor.src: the move home -> view "), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("floor.src")));
+  r = run("export " + out + "/plan.json --format krl -o " + dir.file("floor.src") + floor +
+          " --allow-collisions");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream marked(dir.file("floor.src"));
+  const std::string floor_krl{std::istreambuf_iterator<char>(marked), {}};
+  EXPECT_NE(floor_krl.find("; WARNING: the move home -> view "), std::string::npos);
   r = run("export " + out + "/plan.json --format krl -o " + dir.file("cell_plan.src") + spec);
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream src(dir.file("cell_plan.src"));
