@@ -543,6 +543,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     plan.cell_poses = cellPoses(*cell, plan.views, visitingOrder(plan), solutions);
     report(progress, "robot motion", 0);
     const RobotProgram program = safeProgram(plan, *cell, *collisions, plan.cell_poses, "plan", "");
+    takeProgramPoses(program, plan);
     plan.cycle = programCycle(program, at.scanner(), spec.spec.cycle);
     plan.cell_motion = CellMotion{plan.cycle->motion + plan.cycle->table, program.uncleared};
     clock.lap("robot motion");

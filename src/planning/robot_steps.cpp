@@ -41,6 +41,13 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
                       name, source);
 }
 
+void takeProgramPoses(const RobotProgram& program, Plan& plan) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
+  plan.cell_poses.resize(plan.views.size());
+  for (const ProgramStep& step : program.steps) plan.cell_poses[index.at(step.view)] = step.pose;
+}
+
 RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
                          const std::vector<std::optional<CellPose>>& poses, const std::string& name,
                          const std::string& source) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 
 namespace scanplan {
 namespace {
@@ -236,37 +237,84 @@ bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const C
   return true;
 }
 
+namespace {
+
+// Where the arm stands when the move into step `k` starts (home for k = 0), and where that
+// move ends (home for k = steps.size(): the way home).
+CellPose stepStart(const ProgramStep& s) {
+  return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)};
+}
+
+// The safe motion of a program: the via points of each move into a step and of the way
+// home, found or not.
+struct Moves {
+  const Cell& cell;
+  const CellCollisions& collisions;
+  RobotProgram& program;
+  double height;
+  std::vector<std::optional<std::vector<CellPose>>> via;  // per move k
+
+  CellPose from(std::size_t k) const {
+    return k == 0 ? *program.home : stepStart(program.steps[k - 1]);
+  }
+  CellPose to(std::size_t k) const {
+    return k == program.steps.size() ? *program.home : stepStart(program.steps[k]);
+  }
+  void plan(std::size_t k) {
+    via[k] = turnThenMove(cell, collisions, from(k), to(k), height, &*program.home);
+  }
+
+  // Step `i` taken by another of its inverse-kinematics solutions (its table angle, clear)
+  // where the moves into and out of it were not both clear and are then; true when found.
+  bool resolve(std::size_t i) {
+    ProgramStep& step = program.steps[i];
+    const ProgramStep original = step;
+    const auto saved = std::pair{via[i], via[i + 1]};
+    for (const Joints& q : inverseKinematics(workingRange(cell), step.flange, step.pose.joints)) {
+      if (q == original.pose.joints || collisions.collides({step.pose.table_angle, q})) continue;
+      step.pose.joints = q;
+      step.approach = approachOf(cell, collisions, step);
+      plan(i);
+      plan(i + 1);
+      if (via[i] && via[i + 1]) return true;
+    }
+    step = original;
+    std::tie(via[i], via[i + 1]) = saved;
+    return false;
+  }
+};
+
+}  // namespace
+
 void planMotion(RobotProgram& program, const CellCollisions& collisions, double lift) {
   if (program.steps.empty()) return;
   const Cell& cell = program.cell;
   const double height = collisions.top() + lift;
   for (ProgramStep& step : program.steps) step.approach = approachOf(cell, collisions, step);
-  auto start = [](const ProgramStep& s) {
-    return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)};
-  };
-  const CellPose first = start(program.steps.front());
+  const CellPose first = stepStart(program.steps.front());
   const std::optional<CellPose> home = homeOf(cell, collisions, program.steps, first, height);
   // Without a clear home the program starts at its first view's approach, the move from home
   // marked as not cleared.
   program.home = home.value_or(first);
   if (!home) program.uncleared.push_back({0, program.steps.front().view});
-  auto join = [&](const CellPose& from, const CellPose& to, RobotMove move,
-                  std::vector<CellPose>& via) {
-    const std::optional<std::vector<CellPose>> points =
-        turnThenMove(cell, collisions, from, to, height, home ? &*home : nullptr);
-    if (points)
-      via = *points;
-    else
-      program.uncleared.push_back(move);
-  };
-  CellPose at = *program.home;
-  int at_view = 0;  // home
-  for (ProgramStep& step : program.steps) {
-    join(at, start(step), {at_view, step.view}, step.via);
-    at = start(step);
-    at_view = step.view;
+  const std::size_t n = program.steps.size();
+  Moves moves{cell, collisions, program, height,
+              std::vector<std::optional<std::vector<CellPose>>>(n + 1)};
+  for (std::size_t k = 0; k <= n; ++k) moves.plan(k);
+  // A move not cleared: the step it reaches, or the one it leaves, by another solution.
+  for (std::size_t k = 0; k <= n; ++k) {
+    if (moves.via[k] || (k < n && moves.resolve(k))) continue;
+    if (k > 0) moves.resolve(k - 1);
   }
-  join(at, *program.home, {at_view, 0}, program.via_home);
+  for (std::size_t k = 0; k <= n; ++k) {
+    const int from = k == 0 ? 0 : program.steps[k - 1].view;
+    const int to = k == n ? 0 : program.steps[k].view;
+    if (!moves.via[k]) {
+      program.uncleared.push_back({from, to});
+      continue;
+    }
+    (k == n ? program.via_home : program.steps[k].via) = *moves.via[k];
+  }
 }
 
 double viaLift(const Cell& cell, const Scanner& scanner) {

@@ -22,6 +22,10 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell,
 RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string& name,
                           const std::string& source, const CellCollisions* collisions = nullptr);
 
+// Each view's joints in `plan` as `program` takes them: planMotion takes a view by another of
+// its solutions where that clears a move.
+void takeProgramPoses(const RobotProgram& program, Plan& plan);
+
 // The program of `plan` in `cell` (robotProgram, the cell poses `poses`) with its safe
 // motion (planMotion, lifted by viaLift).
 RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollisions& collisions,
