@@ -144,46 +144,55 @@ Pose urdfFlange(const std::array<UrdfJoint, 6>& chain, const Joints& q) {
 // lrmate200id_macro.xacro), at random joints within the limits: the flange lies where the
 // URDF puts its last link, turned by one fixed rotation (the two flange conventions). The
 // URDF counts FANUC's axis 3 from the upper arm, the controller from the horizontal: the
-// URDF's J3 is the controller's J3 plus J2 (ROS-Industrial's fanuc_driver, J23 factor 1).
+// URDF's J3 is the controller's J3 plus J2 (ROS-Industrial's fanuc_driver, J23 factor 1 for
+// both FANUC arms, 0 for KUKA's).
 TEST(Robot, KukaAndFanucPresetsMatchTheirRosIndustrialUrdfs) {
   const Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();
   const double quarter = M_PI / 2;
-  const std::vector<std::pair<const char*, std::array<UrdfJoint, 6>>> arms = {
-      {"kuka-kr10-r1100-2",
-       {{{{0, 0, 0.400}, 0, -z},
-         {{0.025, 0, 0}, 0, y},
-         {{0.560, 0, 0}, 0, y},
-         {{0.515, 0, 0.025}, 0, -x},
-         {{0, 0, 0}, 0, y},
-         {{0.090, 0, 0}, 0, -x}}}},
-      {"kuka-kr16-r1610-2",
-       {{{{0, 0, 0.520}, 0, -z},
-         {{0.16, 0, 0}, 0, y},
-         {{0.78, 0, 0}, 0, y},
-         {{0.655, 0, 0.150}, 0, -x},
-         {{0, 0, 0}, 0, y},
-         {{0.153, 0, 0}, 0, -x}}}},
-      {"fanuc-m20id-25",
-       {{{{0, 0, 0.425}, 0, z},
-         {{0.075, 0, 0}, 0, y},
-         {{0, 0, 0.840}, quarter, -y},
-         {{-0.215, 0, 0.890}, 0, -z},
-         {{0, 0, 0}, 0, -y},
-         {{0, 0, 0.09}, 0, -z}}}},
-      {"fanuc-lrmate200id",
-       {{{{0, 0, 0.330}, 0, z},
-         {{0.050, 0, 0}, 0, y},
-         {{0, 0, 0.330}, 0, -y},
-         {{0, 0, 0.035}, 0, -x},
-         {{0.335, 0, 0}, 0, -y},
-         {{0.080, 0, 0}, 0, -x}}}}};
-  for (const auto& [name, chain] : arms) {
+  struct Arm {
+    const char* name;
+    double j23_factor;  // fanuc_driver's
+    std::array<UrdfJoint, 6> chain;
+  };
+  const std::vector<Arm> arms = {{"kuka-kr10-r1100-2",
+                                  0,
+                                  {{{{0, 0, 0.400}, 0, -z},
+                                    {{0.025, 0, 0}, 0, y},
+                                    {{0.560, 0, 0}, 0, y},
+                                    {{0.515, 0, 0.025}, 0, -x},
+                                    {{0, 0, 0}, 0, y},
+                                    {{0.090, 0, 0}, 0, -x}}}},
+                                 {"kuka-kr16-r1610-2",
+                                  0,
+                                  {{{{0, 0, 0.520}, 0, -z},
+                                    {{0.16, 0, 0}, 0, y},
+                                    {{0.78, 0, 0}, 0, y},
+                                    {{0.655, 0, 0.150}, 0, -x},
+                                    {{0, 0, 0}, 0, y},
+                                    {{0.153, 0, 0}, 0, -x}}}},
+                                 {"fanuc-m20id-25",
+                                  1,
+                                  {{{{0, 0, 0.425}, 0, z},
+                                    {{0.075, 0, 0}, 0, y},
+                                    {{0, 0, 0.840}, quarter, -y},
+                                    {{-0.215, 0, 0.890}, 0, -z},
+                                    {{0, 0, 0}, 0, -y},
+                                    {{0, 0, 0.09}, 0, -z}}}},
+                                 {"fanuc-lrmate200id",
+                                  1,
+                                  {{{{0, 0, 0.330}, 0, z},
+                                    {{0.050, 0, 0}, 0, y},
+                                    {{0, 0, 0.330}, 0, -y},
+                                    {{0, 0, 0.035}, 0, -x},
+                                    {{0.335, 0, 0}, 0, -y},
+                                    {{0.080, 0, 0}, 0, -x}}}}};
+  for (const auto& [name, j23_factor, chain] : arms) {
     SCOPED_TRACE(name);
     const RobotModel robot = robotPreset(name);
     std::optional<Eigen::Matrix3d> turn;
     for (const Joints& q : randomJoints(robot, 200, 12)) {
       Joints urdf = q;
-      urdf[2] += robot.j23_coupling * q[1];
+      urdf[2] += j23_factor * q[1];
       const Pose library = forwardKinematics(robot, q), reference = urdfFlange(chain, urdf);
       EXPECT_LT((library.translation() - reference.translation()).norm(), 1e-6);
       const Eigen::Matrix3d relative = reference.linear().transpose() * library.linear();

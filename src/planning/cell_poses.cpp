@@ -101,11 +101,11 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
       }
   }
   // The last solution pays for unwinding too.
-  std::size_t s = 0;
-  for (std::size_t t = 0; t < layers.back()->size(); ++t)
-    if (cost.back()[t] + unwindingTime(cell, (*layers.back())[t]) <
-        cost.back()[s] + unwindingTime(cell, (*layers.back())[s]))
-      s = t;
+  std::vector<double> total = cost.back();
+  for (std::size_t t = 0; t < total.size(); ++t)
+    total[t] += unwindingTime(cell, (*layers.back())[t]);
+  std::size_t s =
+      static_cast<std::size_t>(std::min_element(total.begin(), total.end()) - total.begin());
   for (std::size_t k = layers.size(); k-- > 0;) {
     result[visited[k]] = (*layers[k])[s];
     s = from[k][s];

@@ -8,12 +8,21 @@
 #include <map>
 
 namespace scanplan {
+namespace {
+
+// Each view's place in plan.views, by its id.
+std::map<int, std::size_t> viewIndex(const Plan& plan) {
+  std::map<int, std::size_t> index;
+  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
+  return index;
+}
+
+}  // namespace
 
 RobotProgram robotProgram(const Plan& plan, const Cell& cell,
                           const std::vector<std::optional<CellPose>>& poses,
                           const std::string& name, const std::string& source) {
-  std::map<int, std::size_t> index;
-  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
+  const std::map<int, std::size_t> index = viewIndex(plan);
   std::vector<ProgramStep> steps;
   std::vector<int> unreached;
   for (int id : visitingOrder(plan)) {
@@ -42,8 +51,7 @@ RobotProgram robotProgram(const Plan& plan, const Cell& cell, const std::string&
 }
 
 void takeProgramPoses(const RobotProgram& program, Plan& plan) {
-  std::map<int, std::size_t> index;
-  for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
+  const std::map<int, std::size_t> index = viewIndex(plan);
   plan.cell_poses.resize(plan.views.size());
   for (const ProgramStep& step : program.steps) plan.cell_poses[index.at(step.view)] = step.pose;
 }

@@ -135,7 +135,7 @@ std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellColli
 
 // The via points of the move from `from` to `to` when the table turns: it turns with the
 // arm standing still, at `from` where the whole turn is clear, else at `from` raised
-// straight up to `height`, else at `home`'s joints; then viaPoints. nullopt when no turn is
+// towards `height` (liftOf), else at `home`'s joints; then viaPoints. nullopt when no turn is
 // clear.
 std::optional<std::vector<CellPose>> turnThenMove(const Cell& cell,
                                                   const CellCollisions& collisions,
@@ -196,8 +196,8 @@ std::optional<CellPose> computedHome(const Cell& cell, const CellCollisions& col
   return std::nullopt;
 }
 
-// The program's home: cell.home when it is clear, else computedHome, else the flange of
-// `first` (the first view's approach) straight up at `height`; none when none is clear.
+// The program's home: cell.home when it is clear, else computedHome, else `first` (the
+// first view's approach) raised towards `height` (liftOf); none when none is clear.
 std::optional<CellPose> homeOf(const Cell& cell, const CellCollisions& collisions,
                                const std::vector<ProgramStep>& steps, const CellPose& first,
                                double height) {
@@ -239,8 +239,8 @@ bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const C
 
 namespace {
 
-// Where the arm stands when the move into step `k` starts (home for k = 0), and where that
-// move ends (home for k = steps.size(): the way home).
+// Where the arm stands when it starts on step `s` and leaves it: its approach, or the view
+// itself when it has none.
 CellPose stepStart(const ProgramStep& s) {
   return CellPose{s.pose.table_angle, s.approach.value_or(s.pose.joints)};
 }
@@ -252,7 +252,8 @@ struct Moves {
   const CellCollisions& collisions;
   RobotProgram& program;
   double height;
-  std::vector<std::optional<std::vector<CellPose>>> via;  // per move k
+  // Per move k: into step k, and for k = steps.size() the way home.
+  std::vector<std::optional<std::vector<CellPose>>> via;
 
   CellPose from(std::size_t k) const {
     return k == 0 ? *program.home : stepStart(program.steps[k - 1]);

@@ -12,6 +12,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -171,22 +173,28 @@ std::vector<Waypoint> waypoints(const RobotProgram& p) {
 void checkProgramFormat(const Cell& cell, std::string_view format) {
   const std::string option = "--format " + std::string(format);
   const RobotModel& robot = cell.robot;
-  static const std::map<std::string, std::pair<std::string, std::string>, std::less<>> makers = {
-      {"krl", {"kuka", "KUKA"}},
-      {"rapid", {"abb", "ABB"}},
-      {"fanuc", {"fanuc", "FANUC"}},
-      {"urscript", {"universal-robots", "Universal Robots"}}};
-  static const std::map<std::string, std::string, std::less<>> formats = {
-      {"kuka", "krl"}, {"abb", "rapid"}, {"fanuc", "fanuc"}, {"universal-robots", "urscript"}};
+  struct Language {
+    std::string_view format, maker, name;
+  };
+  static constexpr std::array<Language, 4> languages = {
+      {{"krl", "kuka", "KUKA"},
+       {"rapid", "abb", "ABB"},
+       {"fanuc", "fanuc", "FANUC"},
+       {"urscript", "universal-robots", "Universal Robots"}}};
+  const auto find = [&](auto Language::*key, std::string_view value) {
+    return std::find_if(languages.begin(), languages.end(),
+                        [&](const Language& l) { return l.*key == value; });
+  };
   // An arm given by its parameters runs any ortho-parallel language; a preset its maker's.
-  const auto maker = makers.find(format);
+  const auto language = find(&Language::format, format);
   const bool custom = robot.maker.empty() && !robot.offset_wrist;
-  if (maker != makers.end() && !custom && robot.maker != maker->second.first)
+  if (language != languages.end() && !custom && robot.maker != language->maker) {
+    const auto own = find(&Language::maker, robot.maker);
     throw UsageError(option, fmt::format("{} is not one of {}'s arms, and {} runs on their "
                                          "controllers only: its maker's format is --format {}",
-                                         commentText(robot.name), maker->second.second, format,
-                                         formats.count(robot.maker) ? formats.at(robot.maker)
-                                                                    : std::string("robot-json")));
+                                         commentText(robot.name), language->name, format,
+                                         own != languages.end() ? own->format : "robot-json"));
+  }
   if (format == "krl") checkKrlSignals(cell.signals);
   if (format == "fanuc")
     detail::checkSignalsFromOne(cell.signals, "FANUC numbers its GO, DO and DI signals");
@@ -531,20 +539,19 @@ std::string programJson(const RobotProgram& p) {
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path) {
   const std::string stem = std::filesystem::path(path).stem().string();
-  if (format == "krl" && stem != program.name)
-    throw UsageError(path, "KRL runs a program under its file's name, and '" + commentText(stem) +
-                               "' is not a KRL name (a letter, then letters, digits or _, 24 "
-                               "at most): name the file " +
-                               program.name + ".src");
+  // KRL and FANUC run a program under its file's name.
+  if ((format == "krl" || format == "fanuc") && stem != program.name) {
+    const bool krl = format == "krl";
+    throw UsageError(path, fmt::format("{} runs a program under its file's name, and '{}' is "
+                                       "not a {} name (a letter, then letters, digits or _, 24 "
+                                       "at most): name the file {}.{}",
+                                       krl ? "KRL" : "FANUC", commentText(stem),
+                                       krl ? "KRL" : "program", program.name, krl ? "src" : "ls"));
+  }
   if (format == "krl" && std::filesystem::path(path).extension() != ".src")
     throw UsageError(path,
                      "a KRL program is written as NAME.src, its points as NAME.dat "
                      "beside it: give the file the extension .src");
-  if (format == "fanuc" && stem != program.name)
-    throw UsageError(path, "a FANUC program is named as its file, and '" + commentText(stem) +
-                               "' is not a program name (a letter, then letters, digits or _, "
-                               "24 at most): name the file " +
-                               program.name + ".ls");
   const std::string text = format == "krl"        ? krlProgram(program)
                            : format == "rapid"    ? rapidProgram(program)
                            : format == "fanuc"    ? fanucProgram(program)

@@ -129,7 +129,8 @@ class CellCollisions {
   // An upper bound on how far any point of the robot or the scanner moves against the part
   // along the joint-interpolated move from `from` to `to` (the table turning with it), mm:
   // each joint's turn times the farthest a point can lie from its axis, and the table's
-  // turn times the farthest a robot point, or a scene point, lies from the table's axis.
+  // turn times the farthest a robot point, or a scene point, lies from the table's axis
+  // (a robot point's when the axis is tilted, the working plane then moving against it).
   double travelBound(const CellPose& from, const CellPose& to) const;
 
   // The spacing of the configurations checked along a move (robot/motion.h), mm: half the
