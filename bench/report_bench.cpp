@@ -44,7 +44,7 @@ void reportPart(benchmark::State& state, const std::string& relative, bool gdt) 
     report = timed([&] { writeReport(plan, part, spec, html); });
     scene = timed([&] { writeGlb(planScene(plan, part), glb); });
     picture = timed([&] { writePng(renderScene(planScene(plan, part)), png); });
-    clouds = timed([&] { writeCloudsPly(plan, part, spec, 1, ply); });
+    clouds = timed([&] { writeCloudsPly(plan, part, spec, 1, Frame::World, ply); });
   }
   auto megabytes = [](const std::string& file) {
     return static_cast<double>(std::filesystem::file_size(file)) / 1e6;

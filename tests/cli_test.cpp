@@ -848,8 +848,8 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
   r = run("export " + out + "/plan.json --format clouds-ply -o " + dir.file("clouds.ply") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
   const PlyData clouds = readPly(dir.file("clouds.ply"));
-  std::set<double> views(plyColumn(clouds, "vertex", "view", "clouds").begin(),
-                         plyColumn(clouds, "vertex", "view", "clouds").end());
+  std::set<double> views(plyColumn(clouds, "vertex", "scalar_view", "clouds").begin(),
+                         plyColumn(clouds, "vertex", "scalar_view", "clouds").end());
   EXPECT_EQ(views.size(), plan.views.size());
   r = run("export " + out + "/plan.json --format glb -o " + dir.file("plan.glb") + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -876,6 +876,68 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
 
 namespace scanplan {
 namespace {
+
+// Exports of a part placed by a turn and a shift (the spec's rest matrix M): in the CAD
+// frame (the default) the samples are where `scanplan sample` puts them on the CAD model,
+// which places nothing; in the world frame they and the views are M times the CAD frame's.
+TEST(Cli, ExportsInTheCadFrameLandOnTheModel) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("placed.yaml"),
+                  "tasks: [{type: global}]\n"
+                  "part: {rest: [[0, -1, 0, 30], [1, 0, 0, -20], [0, 0, 1, 5], [0, 0, 0, 1]]}\n");
+  Eigen::Matrix4d m;
+  m << 0, -1, 0, 30, 1, 0, 0, -20, 0, 0, 1, 5, 0, 0, 0, 1;
+  const Pose placed(m);
+  const std::string spec = " --spec " + dir.file("placed.yaml");
+  CommandResult r =
+      run("-q plan " + part + spec + " --no-report --no-registration -o " + dir.file("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("-q sample " + part + spec + " -o " + dir.file("samples.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string plan = dir.file("out/plan.json");
+  for (const std::string frame : {"", " --frame world"}) {
+    r = run("export " + plan + " --format samples-ply -o " + dir.file("s.ply") + frame);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find(frame.empty() ? "cad frame" : "world frame"), std::string::npos) << r.out;
+    std::filesystem::rename(dir.file("s.ply"), dir.file(frame.empty() ? "cad.ply" : "world.ply"));
+  }
+  const PlyData cad = readPly(dir.file("cad.ply")), world = readPly(dir.file("world.ply"));
+  auto point = [](const PlyData& ply, std::size_t i) {
+    return Vec3(plyColumn(ply, "vertex", "x", "ply")[i], plyColumn(ply, "vertex", "y", "ply")[i],
+                plyColumn(ply, "vertex", "z", "ply")[i]);
+  };
+  const nlohmann::json sampled = nlohmann::json::parse(std::ifstream(dir.file("samples.json")));
+  ASSERT_EQ(cad.find("vertex")->count, sampled["samples"].size());
+  for (std::size_t i = 0; i < sampled["samples"].size(); ++i) {
+    const auto& p = sampled["samples"][i]["position"];
+    double nearest = 1e9;  // to the sampled points: the same set, in any order
+    for (std::size_t j = 0; j < cad.find("vertex")->count; ++j)
+      nearest = std::min(nearest, (point(cad, j) - Vec3(p[0], p[1], p[2])).norm());
+    EXPECT_LT(nearest, 1e-6) << i;
+    EXPECT_LT((point(world, i) - placed * point(cad, i)).norm(), 1e-6) << i;
+  }
+  // The views: the world frame's matrices and targets are M times the CAD frame's.
+  r = run("export " + plan + " --format csv -o " + dir.file("cad.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("export " + plan + " --format csv --frame world -o " + dir.file("world.csv"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::vector<View> cad_views = readViewsCsv(dir.file("cad.csv"));
+  const std::vector<View> world_views = readViewsCsv(dir.file("world.csv"));
+  ASSERT_EQ(cad_views.size(), world_views.size());
+  ASSERT_FALSE(cad_views.empty());
+  for (std::size_t v = 0; v < cad_views.size(); ++v) {
+    EXPECT_TRUE((placed * cad_views[v].camera_to_world)
+                    .matrix()
+                    .isApprox(world_views[v].camera_to_world.matrix(), 1e-12));
+    EXPECT_LT((placed * cad_views[v].target - world_views[v].target).norm(), 1e-9);
+  }
+  // --frame is for files of points and poses.
+  r = run("export " + plan + " --format png --frame cad -o " + dir.file("x.png"));
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("--frame"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("x.png")));
+}
 
 TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   test::TempDir dir;

@@ -21,7 +21,9 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
 
 namespace scanplan {
 namespace {
@@ -118,14 +120,14 @@ TEST(Report, FrustumEndsAtTheFarLimitOfTheDepthOfField) {
 TEST(Report, SamplesPlyRoundTripsWithTheirCoverage) {
   const Plan& plan = cubePlan().plan;
   test::TempDir dir;
-  writePly(samplesPly(plan), dir.file("samples.ply"));
+  writePly(samplesPly(plan, Frame::World), dir.file("samples.ply"));
   const PlyData data = readPly(dir.file("samples.ply"));
   const std::string path = dir.file("samples.ply");
   const std::vector<double>& x = plyColumn(data, "vertex", "x", path);
   const std::vector<double>& z = plyColumn(data, "vertex", "z", path);
-  const std::vector<double>& state = plyColumn(data, "vertex", "state", path);
-  const std::vector<double>& views = plyColumn(data, "vertex", "views", path);
-  const std::vector<double>& face = plyColumn(data, "vertex", "face", path);
+  const std::vector<double>& state = plyColumn(data, "vertex", "scalar_state", path);
+  const std::vector<double>& views = plyColumn(data, "vertex", "scalar_views", path);
+  const std::vector<double>& face = plyColumn(data, "vertex", "scalar_face", path);
   const std::vector<double>& green = plyColumn(data, "vertex", "green", path);
   ASSERT_EQ(x.size(), plan.samples.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -157,12 +159,12 @@ TEST(Report, CloudPlyRoundTripsThroughTheReader) {
     EXPECT_FLOAT_EQ(back.incidence[i], clouds.front().incidence[i]);
   }
   // All clouds in one file, written view by view: the same points, each tagged with its view.
-  writeCloudsPly(cube.plan, cube.part, defaultSpec(), 5, dir.file("all.ply"));
+  writeCloudsPly(cube.plan, cube.part, defaultSpec(), 5, Frame::World, dir.file("all.ply"));
   const std::string path = dir.file("all.ply");
   const PlyData all = readPly(path);
-  const std::vector<double>& view = plyColumn(all, "vertex", "view", path);
+  const std::vector<double>& view = plyColumn(all, "vertex", "scalar_view", path);
   const std::vector<double>& x = plyColumn(all, "vertex", "x", path);
-  const std::vector<double>& incidence = plyColumn(all, "vertex", "incidence", path);
+  const std::vector<double>& incidence = plyColumn(all, "vertex", "scalar_incidence", path);
   std::size_t at = 0;
   for (std::size_t v = 0; v < clouds.size(); ++v)
     for (std::size_t i = 0; i < clouds[v].points.size(); ++i, ++at) {
@@ -177,7 +179,7 @@ TEST(Report, CloudPlyRoundTripsThroughTheReader) {
 TEST(Report, ViewsCsvRoundTripsAndNamesTheBadLine) {
   const Plan& plan = cubePlan().plan;
   test::TempDir dir;
-  writeViewsCsv(plan.views, dir.file("views.csv"));
+  writeViewsCsv({plan.views, {}, "world", plan.scanner.standoff}, dir.file("views.csv"));
   const std::vector<View> back = readViewsCsv(dir.file("views.csv"));
   ASSERT_EQ(back.size(), plan.views.size());
   for (std::size_t i = 0; i < back.size(); ++i) {
@@ -193,17 +195,60 @@ TEST(Report, ViewsCsvRoundTripsAndNamesTheBadLine) {
   const std::string bad =
       test::inputError(dir.file("bad.csv"), [&] { readViewsCsv(dir.file("bad.csv")); });
   EXPECT_NE(bad.find("line 3"), std::string::npos) << bad;
-  // The last field, the setup, counts from 1.
+  // The setup counts from 1.
   text = readFile(dir.file("views.csv"));
-  ASSERT_EQ(text.substr(text.find('\n') - 6, 6), ",setup");
-  const std::size_t end = text.find('\n', text.find('\n') + 1);  // of the first view's line
-  ASSERT_EQ(text.substr(end - 2, 2), ",1");
-  text.replace(end - 1, 1, "0");
+  const std::size_t setup_at = text.find(",1,world,");
+  ASSERT_LT(setup_at, text.find('\n', text.find('\n') + 1));  // on the first view's line
+  text.replace(setup_at + 1, 1, "0");
   test::writeText(dir.file("setup.csv"), text);
   const std::string setup =
       test::inputError(dir.file("setup.csv"), [&] { readViewsCsv(dir.file("setup.csv")); });
   EXPECT_NE(setup.find("line 2: the setup '0'"), std::string::npos) << setup;
+  test::writeText(dir.file("header.csv"), "sequence,id,m00\n1,2,3\n");
+  const std::string header =
+      test::inputError(dir.file("header.csv"), [&] { readViewsCsv(dir.file("header.csv")); });
+  EXPECT_NE(header.find("no column 'task'"), std::string::npos) << header;
   EXPECT_THROW(readViewsCsv(dir.file("missing.csv")), InputError);
+}
+
+// The TCP columns against the camera pose they come from, rebuilt by Eigen's own rotations:
+// A, B, C as Rz(A) Ry(B) Rx(C) and the quaternion give the camera's rotation, and the TCP
+// lies the standoff along the camera's axis.
+TEST(Report, ViewsCsvTcpAnglesAndQuaternionRebuildTheCameraPose) {
+  const Plan& plan = cubePlan().plan;
+  test::TempDir dir;
+  std::vector<View> views = plan.views;
+  View turned = views.front();  // B near 90 degrees, where A and C share one turn
+  turned.camera_to_world.linear() =
+      Eigen::AngleAxisd(radians(89.9999), Vec3::UnitY()).toRotationMatrix();
+  views.push_back(turned);
+  writeViewsCsv({views, {}, "cad", 400}, dir.file("views.csv"));
+  std::ifstream in(dir.file("views.csv"));
+  std::string line;
+  std::getline(in, line);
+  std::map<std::string, std::size_t> column;
+  std::istringstream names(line);
+  for (std::string name; std::getline(names, name, ',');) column.emplace(name, column.size());
+  for (const View& view : views) {
+    ASSERT_TRUE(std::getline(in, line));
+    std::vector<std::string> fields;
+    std::istringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+    auto at = [&](const char* name) { return std::stod(fields.at(column.at(name))); };
+    EXPECT_EQ(fields.at(column.at("frame")), "cad");
+    const Eigen::Matrix3d abc = (Eigen::AngleAxisd(radians(at("tcp_a")), Vec3::UnitZ()) *
+                                 Eigen::AngleAxisd(radians(at("tcp_b")), Vec3::UnitY()) *
+                                 Eigen::AngleAxisd(radians(at("tcp_c")), Vec3::UnitX()))
+                                    .toRotationMatrix();
+    const Eigen::Quaterniond q(at("tcp_qw"), at("tcp_qx"), at("tcp_qy"), at("tcp_qz"));
+    const Eigen::Matrix3d& r = view.camera_to_world.linear();
+    EXPECT_LT((abc - r).norm(), 1e-9);
+    EXPECT_NEAR(q.norm(), 1, 1e-12);
+    EXPECT_GE(q.w(), 0);
+    EXPECT_LT((q.toRotationMatrix() - r).norm(), 1e-12);
+    const Vec3 tcp(at("tcp_x"), at("tcp_y"), at("tcp_z"));
+    EXPECT_LT((tcp - (view.camera() + 400 * r.col(2))).norm(), 1e-9);
+  }
 }
 
 // The GLB container and its JSON: every index and byte range within bounds (glTF 2.0,
@@ -278,6 +323,41 @@ TEST(Report, GlbIsStructurallyValid) {
   EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warning, dir.file("plan.glb"))) << error;
   EXPECT_TRUE(error.empty()) << error;
   EXPECT_EQ(model.meshes.size(), gltf["meshes"].size());
+}
+
+// Each view is a node with a glTF camera (glTF 2.0, "Cameras": the camera looks along the
+// node's -Z with +Y up) that looks along the view, with the scanner's field of view.
+TEST(Report, GlbHasACameraPerViewLookingAlongIt) {
+  const CubePlan& cube = cubePlan();
+  const PlanScene scene = planScene(cube.plan, cube.part);
+  test::TempDir dir;
+  writeGlb(scene, dir.file("plan.glb"));
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string error, warning;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &error, &warning, dir.file("plan.glb"))) << error;
+  ASSERT_EQ(model.cameras.size(), scene.views.size());
+  std::size_t seen = 0;
+  for (const tinygltf::Node& node : model.nodes) {
+    if (node.camera < 0) continue;
+    const SceneView& v = scene.views.at(seen++);
+    const Eigen::Quaterniond q(node.rotation[3], node.rotation[0], node.rotation[1],
+                               node.rotation[2]);
+    const Eigen::Matrix3d& r = v.view.camera_to_world.linear();
+    EXPECT_LT((q * Vec3(0, 0, -1) - r.col(2)).norm(), 1e-9);  // looks along the view
+    EXPECT_LT((q * Vec3(0, 1, 0) + r.col(1)).norm(), 1e-9);   // up is the image's -y
+    EXPECT_LT(
+        (Vec3(node.translation[0], node.translation[1], node.translation[2]) - v.view.camera())
+            .norm(),
+        1e-9);
+    const tinygltf::PerspectiveCamera& lens = model.cameras[node.camera].perspective;
+    EXPECT_NEAR(std::tan(lens.yfov / 2) * cube.plan.scanner.standoff,
+                cube.plan.scanner.fov_height / 2, 1e-9);
+    EXPECT_NEAR(lens.aspectRatio * std::tan(lens.yfov / 2) * cube.plan.scanner.standoff,
+                cube.plan.scanner.fov_width / 2, 1e-9);
+    EXPECT_GE(node.mesh, 0);  // and its frustum
+  }
+  EXPECT_EQ(seen, scene.views.size());
 }
 
 TEST(Report, PictureShowsThePartInItsCoverageColours) {

@@ -127,6 +127,7 @@ struct ExportCommand {
   std::string format;
   std::string out;
   double spacing = 1;
+  std::string frame;  // cad (the default) or world; files of points and poses only
   bool allow_collisions = false;
 };
 
@@ -158,38 +159,62 @@ void writeProgram(const Checked& c, const ExportCommand& options) {
   fmt::print("motion     {:.1f} s of joint travel\n", programSeconds(program));
 }
 
-// The plan's views as CSV, in the order the cell visits them.
-void writeViewsInOrder(const Plan& plan, const std::string& out) {
+// The plan's views as CSV, in the order the cell visits them: in the CAD frame, or each in
+// the world of its setup.
+void writeViewsInOrder(const Plan& plan, Frame frame, const std::string& out) {
   const std::vector<std::size_t> orientation = viewOrientations(plan);
   std::map<int, std::size_t> index;
   for (std::size_t v = 0; v < plan.views.size(); ++v) index[plan.views[v].id] = v;
-  std::vector<View> in_order;
-  std::vector<std::size_t> setups;
+  ViewsCsv csv{{}, {}, std::string(toString(frame)), plan.scanner.standoff};
   for (int id : visitingOrder(plan)) {
     const std::size_t v = index.at(id);
-    in_order.push_back(plan.views[v]);
-    setups.push_back(orientation[v] + 1);
+    View view = plan.views[v];
+    if (frame == Frame::Cad) {
+      const Pose to_cad = orientationPlacement(plan, orientation[v]).inverse();
+      view.camera_to_world = to_cad * view.camera_to_world;
+      view.target = to_cad * view.target;
+    }
+    csv.views.push_back(view);
+    csv.setups.push_back(orientation[v] + 1);
   }
-  writeViewsCsv(in_order, out, setups);
+  writeViewsCsv(csv, out);
+}
+
+// Whether `format` holds points and poses, which --frame places.
+bool placedFormat(const std::string& format) {
+  return format == "csv" || format == "glb" || format == "samples-ply" || format == "clouds-ply";
+}
+
+// The frame --frame names.
+Frame exportFrame(const ExportCommand& options) {
+  if (!options.frame.empty() && !placedFormat(options.format))
+    throw UsageError("--frame",
+                     "applies to csv, glb, samples-ply and clouds-ply; " + options.format +
+                         " is written in the " +
+                         (options.format == "png" ? "report's view" : "robot's own frames"));
+  return options.frame == "world" ? Frame::World : Frame::Cad;
 }
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
+  const Frame frame = exportFrame(options);
   const Spec spec = specOf(options.input);
   refuseOwnInput(options.out, options.input, spec);
   // The views' CSV needs the plan only; a part given is checked against it all the same.
   if (options.format == "csv" && options.input.part.empty()) {
-    writeViewsInOrder(readPlan(options.input.plan), options.out);
+    writeViewsInOrder(readPlan(options.input.plan), frame, options.out);
   } else {
     Progress progress = terminalProgress(global);
     const Checked c = check(options.input, spec, progress);
     if (options.format == "csv") {
-      writeViewsInOrder(c.plan, options.out);
+      writeViewsInOrder(c.plan, frame, options.out);
     } else if (options.format == "glb") {
-      writeGlb(planScene(c.plan, c.part, c.spec), options.out);
+      PlanScene scene = planScene(c.plan, c.part, c.spec);
+      moveScene(scene, sceneTo(c.plan, frame));
+      writeGlb(scene, options.out);
     } else if (options.format == "samples-ply") {
-      writePly(samplesPly(c.plan), options.out);
+      writePly(samplesPly(c.plan, frame), options.out);
     } else if (options.format == "clouds-ply") {
-      writeCloudsPly(c.plan, c.part, c.spec.spec, options.spacing, options.out, progress);
+      writeCloudsPly(c.plan, c.part, c.spec.spec, options.spacing, frame, options.out, progress);
     } else if (options.format == "png") {
       writePng(renderScene(planScene(c.plan, c.part, c.spec)), options.out);
     } else {
@@ -197,7 +222,10 @@ int runExport(const ExportCommand& options, const GlobalOptions& global) {
     }
     clearProgress();
   }
-  fmt::print("written    {} ({})\n", options.out, options.format);
+  if (placedFormat(options.format))
+    fmt::print("written    {} ({}, {} frame)\n", options.out, options.format, toString(frame));
+  else
+    fmt::print("written    {} ({})\n", options.out, options.format);
   return kExitOk;
 }
 
@@ -238,6 +266,12 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       ->check(CLI::IsMember({"glb", "samples-ply", "clouds-ply", "csv", "png", "krl", "rapid",
                              "fanuc", "urscript", "robot-json"}));
   command->add_option("-o,--out", options->out, "Output file")->required();
+  command
+      ->add_option("--frame", options->frame,
+                   "csv, glb, samples-ply, clouds-ply: the frame of points and poses, cad (the "
+                   "part's CAD model, the default) or world (the cell's: each view's setup for "
+                   "csv, the first setup for the others)")
+      ->check(CLI::IsMember({"cad", "world"}));
   command->add_flag("--allow-collisions", options->allow_collisions,
                     "Robot programs: write one even with moves that collide and could not be "
                     "cleared, marked in its header (refused otherwise)");

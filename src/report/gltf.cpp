@@ -1,13 +1,16 @@
-// The plan's scene as glTF 2.0 binary (tinygltf): one buffer, a node per kind of thing.
-// glTF is metres and Y up; the scene is written in mm, Z up, under a root node that
-// scales by 0.001 and turns Z up into Y up, so that viewers show it upright and to size.
+// The plan's scene as glTF 2.0 binary (tinygltf): one buffer, a node per kind of thing and
+// per view. glTF is metres and Y up; the scene is written in mm, Z up, under a root node
+// that scales by 0.001 and turns Z up into Y up, so that viewers show it upright and to
+// size.
 
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/report/exports.h>
 
+#include <fmt/format.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <tuple>
@@ -22,18 +25,43 @@ class GlbBuilder {
   void addMesh(const std::string& name, const std::vector<Vec3>& positions,
                const std::vector<Rgb>& colours, int mode, const Rgb& base, bool lit) {
     if (positions.empty()) return;
-    tinygltf::Primitive primitive;
-    primitive.mode = mode;
-    primitive.attributes["POSITION"] = addPositions(positions);
-    if (!colours.empty()) primitive.attributes["COLOR_0"] = addColours(colours);
-    primitive.material = addMaterial(name, base, lit);
-    tinygltf::Mesh mesh;
-    mesh.name = name;
-    mesh.primitives.push_back(primitive);
-    model_.meshes.push_back(mesh);
     tinygltf::Node node;
     node.name = name;
-    node.mesh = static_cast<int>(model_.meshes.size() - 1);
+    node.mesh = mesh(name, positions, colours, mode, material(name, base, lit));
+    model_.nodes.push_back(node);
+    children_.push_back(static_cast<int>(model_.nodes.size() - 1));
+  }
+
+  // A view's node: at the camera, turned so that the node's -Z looks along the view and its
+  // +Y is the image's up (glTF's camera convention), holding the view's glTF camera and its
+  // frustum drawn as lines in `colour`.
+  void addViewNode(const std::string& name, const View& view, const Scanner& scanner,
+                   ViewState state) {
+    // From the scanner frame S (x right, y down, z ahead) to glTF's camera frame.
+    const Eigen::Matrix3d flip = Eigen::Vector3d(1, -1, -1).asDiagonal();
+    const Pose to_local =
+        Pose(view.camera_to_world.linear() * flip).inverse() * Eigen::Translation3d(-view.camera());
+    const std::array<Vec3, 5> f = frustum(view, scanner);
+    std::vector<Vec3> lines;
+    for (int k = 1; k <= 4; ++k)
+      for (const Vec3& p : {f[0], f[k], f[k], f[k % 4 + 1]}) lines.push_back(to_local * p);
+    tinygltf::Camera camera;
+    camera.type = "perspective";
+    camera.name = name;
+    camera.perspective.yfov = 2 * std::atan(scanner.fov_height / 2 / scanner.standoff);
+    camera.perspective.aspectRatio = scanner.fov_width / scanner.fov_height;
+    camera.perspective.znear = (scanner.standoff - scanner.depth_of_field / 2) / 1000;  // m
+    camera.perspective.zfar = (scanner.standoff + scanner.depth_of_field / 2) / 1000;
+    model_.cameras.push_back(camera);
+    tinygltf::Node node;
+    node.name = name;
+    node.camera = static_cast<int>(model_.cameras.size() - 1);
+    node.mesh = mesh(name, lines, {}, TINYGLTF_MODE_LINE,
+                     material("view, " + std::string(toString(state)), colour(state), false));
+    const Vec3 at = view.camera();
+    node.translation = {at.x(), at.y(), at.z()};
+    const Eigen::Quaterniond q(view.camera_to_world.linear() * flip);
+    node.rotation = {q.x(), q.y(), q.z(), q.w()};
     model_.nodes.push_back(node);
     children_.push_back(static_cast<int>(model_.nodes.size() - 1));
   }
@@ -60,6 +88,20 @@ class GlbBuilder {
   }
 
  private:
+  int mesh(const std::string& name, const std::vector<Vec3>& positions,
+           const std::vector<Rgb>& colours, int mode, int material) {
+    tinygltf::Primitive primitive;
+    primitive.mode = mode;
+    primitive.attributes["POSITION"] = addPositions(positions);
+    if (!colours.empty()) primitive.attributes["COLOR_0"] = addColours(colours);
+    primitive.material = material;
+    tinygltf::Mesh mesh;
+    mesh.name = name;
+    mesh.primitives.push_back(primitive);
+    model_.meshes.push_back(mesh);
+    return static_cast<int>(model_.meshes.size() - 1);
+  }
+
   int addView(const void* data, std::size_t bytes, int target) {
     while (buffer_.data.size() % 4 != 0) buffer_.data.push_back(0);
     tinygltf::BufferView view;
@@ -107,24 +149,28 @@ class GlbBuilder {
     return static_cast<int>(model_.accessors.size() - 1);
   }
 
-  int addMaterial(const std::string& name, const Rgb& base, bool lit) {
-    tinygltf::Material material;
-    material.name = name;
-    material.pbrMetallicRoughness.baseColorFactor = {base[0] / 255.0, base[1] / 255.0,
-                                                     base[2] / 255.0, 1.0};
-    material.pbrMetallicRoughness.metallicFactor = 0;
-    material.pbrMetallicRoughness.roughnessFactor = 0.8;
-    material.doubleSided = true;
-    if (!lit)
-      material.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
-    model_.materials.push_back(material);
+  // The material of that colour and lighting, made once under the first name given.
+  int material(const std::string& name, const Rgb& base, bool lit) {
+    const auto [at, added] =
+        materials_.try_emplace({base, lit}, static_cast<int>(model_.materials.size()));
+    if (!added) return at->second;
+    tinygltf::Material m;
+    m.name = name;
+    m.pbrMetallicRoughness.baseColorFactor = {base[0] / 255.0, base[1] / 255.0, base[2] / 255.0,
+                                              1.0};
+    m.pbrMetallicRoughness.metallicFactor = 0;
+    m.pbrMetallicRoughness.roughnessFactor = 0.8;
+    m.doubleSided = true;
+    if (!lit) m.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
+    model_.materials.push_back(m);
     if (!lit && std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(),
                           "KHR_materials_unlit") == model_.extensionsUsed.end())
       model_.extensionsUsed.push_back("KHR_materials_unlit");
-    return static_cast<int>(model_.materials.size() - 1);
+    return at->second;
   }
 
   tinygltf::Model model_;
+  std::map<std::pair<Rgb, bool>, int> materials_;
   tinygltf::Buffer buffer_;
   std::vector<int> children_;
 };
@@ -151,18 +197,10 @@ void writeGlb(const PlanScene& scene, const std::string& path) {
     for (int k = 0; k < 3; ++k) fixtures.push_back(scene.fixtures.vertices[t[k]]);
   glb.addMesh("fixtures", fixtures, {}, TINYGLTF_MODE_TRIANGLES, kFixtureColour, true);
 
-  std::vector<Vec3> frusta;
-  std::vector<Rgb> frusta_colours;
-  for (const SceneView& v : scene.views) {
-    const std::array<Vec3, 5> f = frustum(v.view, scene.scanner);
-    for (int k = 1; k <= 4; ++k) {
-      for (const Vec3& p : {f[0], f[k], f[k], f[k % 4 + 1]}) {
-        frusta.push_back(p);
-        frusta_colours.push_back(colour(v.state));
-      }
-    }
-  }
-  glb.addMesh("views", frusta, frusta_colours, TINYGLTF_MODE_LINE, {255, 255, 255}, false);
+  for (const SceneView& v : scene.views)
+    glb.addViewNode(v.order > 0 ? fmt::format("view {} (id {})", v.order, v.view.id)
+                                : fmt::format("view id {}", v.view.id),
+                    v.view, scene.scanner, v.state);
   std::vector<Vec3> route;
   for (int i : scene.path) route.push_back(scene.views[i].view.camera());
   glb.addMesh("path", route, {}, TINYGLTF_MODE_LINE_STRIP, {240, 120, 0}, false);

@@ -220,6 +220,31 @@ PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec
   return scene;
 }
 
+std::string_view toString(Frame frame) { return frame == Frame::Cad ? "cad" : "world"; }
+
+Pose sceneTo(const Plan& plan, Frame frame) {
+  return frame == Frame::Cad ? plan.part_to_world.inverse() : Pose::Identity();
+}
+
+void moveScene(PlanScene& scene, const Pose& to) {
+  scene.bounds = Box();
+  for (TriangleMesh* mesh : {&scene.mesh, &scene.fixtures})
+    for (Vec3& v : mesh->vertices) {
+      v = to * v;
+      scene.bounds.add(v);
+    }
+  for (SceneView& v : scene.views) {
+    v.view.camera_to_world = to * v.view.camera_to_world;
+    v.view.target = to * v.view.target;
+    scene.bounds.add(v.view.camera());
+  }
+  for (std::vector<Vec3>* points : {&scene.markers, &scene.proposed_markers})
+    for (Vec3& m : *points) {
+      m = to * m;
+      scene.bounds.add(m);
+    }
+}
+
 Rgb faceColour(const PlanScene& scene, int face) {
   if (face == 0) return kFixtureColour;
   return face >= 1 && face <= static_cast<int>(scene.faces.size())

@@ -38,17 +38,9 @@ std::string identifier(const std::string& name, std::size_t length) {
   return id.substr(0, length);
 }
 
-// KUKA's A, B, C: rotation about Z, then the new Y, then the new X, degrees (no -0).
-Vec3 kukaAbc(const Eigen::Matrix3d& r) {
-  const Vec3 abc(degrees(std::atan2(r(1, 0), r(0, 0))),
-                 degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
-                 degrees(std::atan2(r(2, 1), r(2, 2))));
-  return abc + Vec3::Zero();
-}
-
 // A KRL FRAME: {X, Y, Z, A, B, C}, mm and degrees.
 std::string krlFrame(const Pose& pose) {
-  const Vec3 xyz = pose.translation(), abc = kukaAbc(pose.linear());
+  const Vec3 xyz = pose.translation(), abc = zyxAngles(pose.linear());
   return fmt::format("{{X {:.3f}, Y {:.3f}, Z {:.3f}, A {:.4f}, B {:.4f}, C {:.4f}}}", xyz.x(),
                      xyz.y(), xyz.z(), abc.x(), abc.y(), abc.z());
 }
@@ -278,7 +270,7 @@ std::string krlProgram(const RobotProgram& p) {
     if (w.what == "view") {
       const ProgramStep& s = *w.step;
       const Pose scanner = scannerInPart(p, s);
-      const Vec3 xyz = scanner.translation(), abc = kukaAbc(scanner.linear());
+      const Vec3 xyz = scanner.translation(), abc = zyxAngles(scanner.linear());
       out << fmt::format("  ; view {} ({} of {}), task {}\n", s.view, ++taken, p.steps.size(),
                          s.task.empty() ? "-" : s.task)
           << fmt::format(

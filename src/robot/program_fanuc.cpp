@@ -21,14 +21,6 @@ constexpr int kTravelPercent = 20, kApproachPercent = 5;
 // The labels the handshake jumps to when an input does not come in time, and the end.
 constexpr int kNoAcknowledge = 90, kAcknowledgeStuck = 91, kEnd = 99;
 
-// FANUC's W, P, R of a rotation: about the fixed X, then Y, then Z axes, degrees.
-Vec3 fanucWpr(const Eigen::Matrix3d& r) {
-  return Vec3(degrees(std::atan2(r(2, 1), r(2, 2))),
-              degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
-              degrees(std::atan2(r(1, 0), r(0, 0)))) +
-         Vec3::Zero();
-}
-
 // A remark, broken between words into lines of at most 32 characters (the pendant's
 // remark width), ';' taken out.
 void remark(std::vector<std::string>& lines, const std::string& text) {
@@ -54,7 +46,7 @@ void remark(std::vector<std::string>& lines, const std::string& text) {
 // Remarks giving frame `name`'s value: X, Y, Z (mm) on one line, W, P, R (degrees) on the
 // next.
 void frameRemarks(std::vector<std::string>& lines, const std::string& name, const Pose& pose) {
-  const Vec3 xyz = pose.translation(), wpr = fanucWpr(pose.linear());
+  const Vec3 xyz = pose.translation(), wpr = zyxAngles(pose.linear()).reverse();
   remark(lines, fmt::format("{}: X {:.1f} Y {:.1f} Z {:.1f}", name, xyz.x(), xyz.y(), xyz.z()));
   remark(lines, fmt::format("{}: W {:.2f} P {:.2f} R {:.2f}", name, wpr.x(), wpr.y(), wpr.z()));
 }

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <limits>
 #include <numbers>
 
@@ -16,6 +17,16 @@ constexpr double kRadiansPerDegree = std::numbers::pi / 180;
 constexpr double kDegreesPerRadian = 180 / std::numbers::pi;
 constexpr double radians(double degrees) { return degrees * kRadiansPerDegree; }
 constexpr double degrees(double radians) { return radians * kDegreesPerRadian; }
+
+// The Euler angles of a rotation about Z, then the new Y, then the new X, degrees:
+// r = Rz(a) Ry(b) Rx(c), b within [-90, 90], no -0. KUKA's A, B, C; FANUC's W, P, R
+// (about the fixed X, Y, Z) are c, b, a.
+inline Vec3 zyxAngles(const Eigen::Matrix3d& r) {
+  const Vec3 abc(degrees(std::atan2(r(1, 0), r(0, 0))),
+                 degrees(std::atan2(-r(2, 0), std::hypot(r(0, 0), r(1, 0)))),
+                 degrees(std::atan2(r(2, 1), r(2, 2))));
+  return abc + Vec3::Zero();
+}
 
 // The longest length an input may give (mm, 100 m): parts, scanner and robot sizes. Beyond
 // it, rays lose the precision the ray caster needs.

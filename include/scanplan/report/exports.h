@@ -14,20 +14,24 @@
 
 namespace scanplan {
 
-// The samples as PLY (scene frame): x y z nx ny nz, face, task, role, views measuring it,
-// state (0 measured, 1 not measured, 2 not coverable), reason (Uncoverable), red green
-// blue by state.
-PlyData samplesPly(const Plan& plan);
+// The samples as PLY in `frame`: x y z (double) nx ny nz; scalar_face, scalar_task,
+// scalar_role, scalar_views (views measuring it), scalar_state (0 measured, 1 not measured,
+// 2 not coverable) and scalar_reason (Uncoverable), named so that CloudCompare reads them
+// as scalar fields; quality (MeshLab's), the views again; red green blue by state.
+PlyData samplesPly(const Plan& plan, Frame frame = Frame::Cad);
 
-// Writes every view's simulated cloud (forEachViewCloud, planning/evidence.h) into one
-// binary PLY, one view at a time so that memory stays that of one cloud: x y z nx ny nz,
-// face, incidence (degrees), view (id), red green blue by incidence.
+// Writes every view's simulated cloud (forEachViewCloud, planning/evidence.h) in `frame`
+// into one binary PLY, one view at a time so that memory stays that of one cloud: x y z
+// nx ny nz, scalar_face, scalar_incidence (degrees), scalar_view (id), quality (the
+// incidence again), red green blue by incidence.
 // \throw OutputError when it cannot be written.
 void writeCloudsPly(const Plan& plan, const Part& part, const Spec& spec, double spacing,
-                    const std::string& path, const Progress& progress = {});
+                    Frame frame, const std::string& path, const Progress& progress = {});
 
-// The scene as glTF 2.0 binary (.glb): the part with vertex colours by face coverage, the
-// priority faces' outlines, the frusta, the path and the markers, each a node of its own.
+// The scene as glTF 2.0 binary (.glb), in the scene's own frame: the part with vertex
+// colours by face coverage, the priority faces' outlines, the path and the markers, each a
+// node of its own, and a node per view (named by its place in the sequence) holding its
+// frustum and a glTF camera with the scanner's field of view, looking along the view.
 // \throw OutputError when it cannot be written.
 void writeGlb(const PlanScene& scene, const std::string& path);
 

@@ -71,6 +71,17 @@ PlanScene planScene(const Plan& plan, const Part& part);
 // The same with the fixture models of `spec` (resolved against `part`) in the scene.
 PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec);
 
+// The frames a scene and the exports are given in (docs/report.md, "Frames"): the part's
+// CAD model's own, or the world of the plan's first setup, where the cell stands (the
+// scene frame).
+enum class Frame { Cad, World };
+std::string_view toString(Frame frame);  // "cad", "world"
+// The pose of the scene frame in `frame`: the inverse of the first placement for the CAD
+// frame.
+Pose sceneTo(const Plan& plan, Frame frame);
+// The scene carried by `to`: its part, fixtures, views, path, markers and bounds.
+void moveScene(PlanScene& scene, const Pose& to);
+
 // The colour of face `face` of the scene: its coverage, the fixtures' for face 0 (the
 // fixture models), not a target for an id the part does not have.
 Rgb faceColour(const PlanScene& scene, int face);
