@@ -37,6 +37,10 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 
+#include <fstream>
+#include <iterator>
+#include <regex>
+
 namespace scanplan {
 namespace {
 
@@ -114,6 +118,25 @@ TEST(GeneratedPart, BSplineFaceAreaFromItsTriangulation) {
 TEST(GeneratedPart, InchStepIsConvertedToMillimetres) {
   test::TempDir dir;
   Part part = importPart(writeStep(boxWithHole(), dir.file("box_inch.step"), "INCH"));
+  EXPECT_EQ(part.file_unit, "inch");
+  EXPECT_DOUBLE_EQ(part.unit_scale, 25.4);
+  expectBoxWithHole(part);
+}
+
+// A file whose inch is a conversion-based unit with its factor written as a plain
+// MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4), mm), as NIST CTC 05 writes it, where OCCT's
+// writer writes LENGTH_MEASURE_WITH_UNIT: the unit is still named, and the box has its size
+// in millimetres.
+TEST(GeneratedPart, InchWithAPlainConversionFactorIsNamed) {
+  test::TempDir dir;
+  const std::string path = writeStep(boxWithHole(), dir.file("box_inch.step"), "INCH");
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::regex factor(R"(LENGTH_MEASURE_WITH_UNIT\(25\.4,)");
+  ASSERT_TRUE(std::regex_search(text, factor));
+  text = std::regex_replace(text, factor, "MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),");
+  test::writeText(dir.file("plain.step"), text);
+  Part part = importPart(dir.file("plain.step"));
   EXPECT_EQ(part.file_unit, "inch");
   EXPECT_DOUBLE_EQ(part.unit_scale, 25.4);
   expectBoxWithHole(part);

@@ -26,7 +26,12 @@
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_OutOfMemory.hxx>
+#include <StepBasic_ConversionBasedUnitAndLengthUnit.hxx>
+#include <StepBasic_HArray1OfNamedUnit.hxx>
+#include <StepData_StepModel.hxx>
 #include <StepGeom_Curve.hxx>
+#include <StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx.hxx>
+#include <StepGeom_GeometricRepresentationContextAndGlobalUnitAssignedContext.hxx>
 #include <StepGeom_Direction.hxx>
 #include <StepGeom_Placement.hxx>
 #include <StepGeom_Point.hxx>
@@ -110,6 +115,30 @@ double millimetresPer(const std::string& unit) {
   if (u == "ft" || u == "foot") return 304.8;
   if (u == "um" || u == "micron" || u == "micrometre") return 1e-3;
   return 0;
+}
+
+// The name of the conversion-based length unit (inch, foot) a geometric context of the
+// STEP model assigns; empty when none does. OCCT's FileUnits names such a unit only when
+// its factor is a LENGTH_MEASURE_WITH_UNIT, and leaves the name empty for a plain
+// MEASURE_WITH_UNIT(LENGTH_MEASURE(..)), as NIST CTC 05 writes its inch.
+std::string conversionLengthUnit(const Handle(StepData_StepModel) & model) {
+  for (Standard_Integer i = 1; i <= model->NbEntities(); ++i) {
+    Handle(StepBasic_HArray1OfNamedUnit) units;
+    const Handle(Standard_Transient) entity = model->Value(i);
+    if (auto a = Handle(StepGeom_GeomRepContextAndGlobUnitAssCtxAndGlobUncertaintyAssCtx)::DownCast(
+            entity))
+      units = a->Units();
+    else if (auto b =
+                 Handle(StepGeom_GeometricRepresentationContextAndGlobalUnitAssignedContext)::DownCast(
+                     entity))
+      units = b->Units();
+    if (units.IsNull()) continue;
+    for (Standard_Integer k = units->Lower(); k <= units->Upper(); ++k)
+      if (auto length = Handle(StepBasic_ConversionBasedUnitAndLengthUnit)::DownCast(units->Value(k));
+          !length.IsNull() && !length->Name().IsNull())
+        return lowercase(length->Name()->ToCString());
+  }
+  return "";
 }
 
 // Walks the XDE assembly tree: records where every part label is placed, the name of
@@ -249,6 +278,8 @@ Handle(TDocStd_Document) readExchangeFile(const std::string& path, const std::st
     TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
     reader.ChangeReader().FileUnits(lengths, angles, solid_angles);
     if (!lengths.IsEmpty()) part.file_unit = lowercase(lengths.First().ToCString());
+    if (!lengths.IsEmpty() && part.file_unit.empty())
+      part.file_unit = conversionLengthUnit(reader.ChangeReader().StepModel());
     if (!reader.Transfer(doc))
       throw InputError(path, "no geometry could be transferred from the STEP file");
     if (options.read_gdt) linkDatumsByItemUsage(*reader.ChangeReader().WS(), doc, path);
