@@ -827,6 +827,28 @@ TEST(Cli, PlanWritesTheReportAndExportsReadBack) {
   EXPECT_TRUE(std::filesystem::exists(out + "/report.html"));
   EXPECT_GT(readPng(out + "/plan.png").width, 0);
   const Plan plan = readPlan(out + "/plan.json");
+  // A dimension not capable is printed by its nominal value and limits, a tolerance by its
+  // zone, as the report gives them.
+  std::size_t dimensions = 0;
+  for (std::size_t i = 0; i < plan.characteristics.size(); ++i) {
+    const Characteristic& c = plan.characteristics[i];
+    if (plan.capabilities[i].verdict == Verdict::Capable ||
+        plan.capabilities[i].verdict == Verdict::Untoleranced)
+      continue;
+    dimensions += c.dimension;
+    char value[96];
+    if (c.dimension)
+      std::snprintf(value, sizeof value, " %.3f (%.3f to %.3f) ", c.value, c.lower, c.upper);
+    else
+      std::snprintf(value, sizeof value, " zone %.3f ", c.value);
+    std::istringstream lines(r.out);
+    bool printed = false;
+    for (std::string line; std::getline(lines, line);)
+      printed |= line.find(" " + c.kind + " ") != std::string::npos &&
+                 line.find(value) != std::string::npos;
+    EXPECT_TRUE(printed) << c.kind << value << r.out;
+  }
+  EXPECT_GT(dimensions, 0u);
 
   r = run("export " + out + "/plan.json --format csv -o " + dir.file("views.csv"));
   ASSERT_EQ(r.code, 0) << r.out;

@@ -82,6 +82,13 @@ void printRegistration(const Plan& plan, const Registration& r) {
         "no marker serves", proposal.unserved.size(), fmt::join(proposal.unserved, ", "));
 }
 
+// What a characteristic asks for, as the report gives it: a tolerance's zone, or a
+// dimension's nominal value with its limits.
+std::string specified(const Characteristic& c) {
+  return c.dimension ? fmt::format("{:.3f} ({:.3f} to {:.3f})", c.value, c.lower, c.upper)
+                     : fmt::format("zone {:.3f}", c.value);
+}
+
 // Per verdict how many characteristics, then each that is not capable with its reason
 // and the rest orientation that would reach it.
 void printCharacteristics(const Plan& plan) {
@@ -97,9 +104,9 @@ void printCharacteristics(const Plan& plan) {
     if (k.verdict == Verdict::Capable || k.verdict == Verdict::Untoleranced) continue;
     const Characteristic& c = plan.characteristics[i];
     fmt::print(
-        "  {:>3} {:<22} {:>8.3f}  {:>5.1f}% covered, U {:.4f} (noise {:.4f}, registration "
+        "  {:>3} {:<22} {:<26} {:>5.1f}% covered, U {:.4f} (noise {:.4f}, registration "
         "{:.4f}, scanner {:.4f}), ratio {:.2f}: {} ({}){}\n",
-        c.id, c.kind, c.width(), 100 * k.covered, k.uncertainty, k.budget.noise,
+        c.id, c.kind, specified(c), 100 * k.covered, k.uncertainty, k.budget.noise,
         k.budget.registration, k.budget.scanner, k.ratio, toString(k.verdict), toString(k.reason),
         k.rest ? fmt::format("; rest orientation {} reaches it (part: {{rest: all}})", *k.rest + 1)
                : "");
