@@ -1,4 +1,4 @@
-// The spec's YAML (docs/design.md §6): read and checked key by key, with the files it names
+// The spec's YAML (docs/spec.md): read and checked key by key, with the files it names
 // resolved to its folder and its control points read.
 
 #include <scanplan/cad/import.h>

@@ -1,5 +1,5 @@
 #pragma once
-// The inspection spec as YAML (docs/design.md §6), in millimetres and degrees.
+// The inspection spec as YAML (docs/spec.md), in millimetres and degrees.
 
 #include <scanplan/spec/spec.h>
 

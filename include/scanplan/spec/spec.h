@@ -1,5 +1,5 @@
 #pragma once
-// The inspection spec (docs/design.md §6), YAML in millimetres and degrees. Every field has a
+// The inspection spec (docs/spec.md), YAML in millimetres and degrees. Every field has a
 // default: an empty spec (or none) means one `global` task with the default scanner.
 
 #include <scanplan/cad/part.h>
