@@ -157,6 +157,37 @@ TEST(MeasurementTest, OccluderInFrontOfCameraOnly) {
   EXPECT_EQ(measureOne(simulator, {centre(), Vec3(0, 0, -1), 1}), Loss::CameraOccluded);
 }
 
+// A fringe head with a second camera at twice the baseline (docs/design.md §4): the
+// identity view puts camera 1 at the origin, the projector at (b, 0, 0) and camera 2 at
+// (2b, 0, 0). A 20 mm cube on camera 1's axis halfway to the plate hides the plate's
+// centre from camera 1 only: camera 2's ray crosses z = 200 at x = b, the projector's at
+// x = b / 2, both far from the cube's |x| <= 10.
+TEST(MeasurementTest, ASecondCameraMeasuresWhatTheFirstCannotSee) {
+  TriangleMesh mesh;
+  test::addRectangle(mesh, centre(), Vec3(10, 0, 0), Vec3(0, -10, 0), 1);
+  test::addCube(mesh, Vec3(-10, -10, 190), 20, 2);
+  Scanner two = scanner();
+  two.cameras = 2;
+  const Part part = test::meshPart(mesh);
+  const SurfacePoint point{centre(), Vec3(0, 0, -1), 1};
+  EXPECT_EQ(measureOne(Simulator(part, scanner(), noPlane()), point), Loss::CameraOccluded);
+  EXPECT_EQ(measureOne(Simulator(part, two, noPlane()), point), Loss::Measured);
+  // A cube on camera 2's ray instead: camera 1 sees, so both models measure.
+  TriangleMesh other;
+  test::addRectangle(other, centre(), Vec3(10, 0, 0), Vec3(0, -10, 0), 1);
+  const double b = scanner().baseline();
+  test::addCube(other, Vec3(b - 10, -10, 190), 20, 2);
+  EXPECT_EQ(measureOne(Simulator(test::meshPart(other), two, noPlane()), point), Loss::Measured);
+  // Cubes before both cameras: occluded for the head too.
+  test::addCube(mesh, Vec3(b - 10, -10, 190), 20, 2);
+  EXPECT_EQ(measureOne(Simulator(test::meshPart(mesh), two, noPlane()), point),
+            Loss::CameraOccluded);
+  // The second camera sits in the scanner body.
+  EXPECT_GE(two.body().max.x(), 2 * b);
+  two.cameras = 3;
+  EXPECT_THROW(validate(two, "head"), InputError);
+}
+
 TEST(MeasurementTest, FixturesOcclude) {
   SimulationOptions options = noPlane();
   TriangleMesh fixture;
@@ -256,6 +287,34 @@ TEST(SimulatedCloud, PlaneAtStandoffCountAndNoise) {
   }
   // The same seed gives the same cloud.
   EXPECT_EQ(simulator.cloud(identityView(), 7).points, cloud.points);
+}
+
+// The same cube hides a 40 mm square at the plate's centre from camera 1 (the cube at
+// z = 190 to 210 casts a shadow about 2x its size at z = 400). The second camera fills it,
+// and adds nothing where camera 1 measures: the two clouds are the same away from it.
+TEST(SimulatedCloud, ASecondCameraFillsTheFirstCamerasShadowWithoutDuplicates) {
+  Scanner one = scanner();
+  one.point_spacing = 1.0;
+  Scanner two = one;
+  two.cameras = 2;
+  TriangleMesh mesh;
+  test::addRectangle(mesh, centre(), Vec3(50, 0, 0), Vec3(0, -50, 0), 1);  // 100 x 100 mm
+  test::addCube(mesh, Vec3(-10, -10, 190), 20, 2);
+  const Part part = test::meshPart(mesh);
+  const PointCloud single = Simulator(part, one, noPlane()).cloud(identityView(), 3);
+  const PointCloud both = Simulator(part, two, noPlane()).cloud(identityView(), 3);
+  auto count = [](const PointCloud& cloud, double low, double high) {
+    std::size_t n = 0;
+    for (const Vec3& p : cloud.points) {
+      const double r = std::max(std::abs(p.x()), std::abs(p.y()));
+      n += r >= low && r < high;
+    }
+    return n;
+  };
+  EXPECT_EQ(count(single, 0, 15), 0u);  // the shadow's middle
+  EXPECT_GT(count(both, 0, 15), 200u);  // 900 mm², sampled more coarsely by camera 2
+  EXPECT_EQ(count(both, 30, 60), count(single, 30, 60));
+  EXPECT_GT(count(single, 30, 60), 6000u);
 }
 
 TEST(SimulatedCloud, NoiseGrowsWithRange) {

@@ -37,10 +37,16 @@ double Scanner::reach() const {
 
 Vec3 Scanner::projectorInScanner() const { return Vec3(baseline(), 0, 0); }
 
+std::vector<Vec3> Scanner::camerasInScanner() const {
+  std::vector<Vec3> at = {Vec3::Zero()};
+  if (cameras == 2) at.emplace_back(2 * baseline(), 0, 0);
+  return at;
+}
+
 Box Scanner::body() const {
   Box box;
   box.add(Vec3(-body_margin, -body_margin, -body_depth));
-  box.add(Vec3(baseline() + body_margin, body_margin, body_margin));
+  box.add(Vec3((cameras == 2 ? 2 : 1) * baseline() + body_margin, body_margin, body_margin));
   return box;
 }
 
@@ -62,6 +68,7 @@ void validate(const Scanner& s, const std::string& source) {
       fail(std::string(name) + " must be within " + (lo_inclusive == 0 ? "[0, 90)" : "(0, 90)") +
            " degrees");
   };
+  if (s.cameras != 1 && s.cameras != 2) fail("cameras must be 1 or 2");
   positive(s.standoff, "standoff");
   positive(s.depth_of_field, "depth_of_field");
   positive(s.fov_width, "fov_width");
@@ -106,8 +113,8 @@ void validate(const Scanner& s, const std::string& source) {
                     std::sqrt(s.fov_width * s.fov_height / kMostPoints)));
 }
 
-const std::array<ScannerParameter, 19>& scannerParameters() {
-  static const std::array<ScannerParameter, 19> table = {{
+const std::array<ScannerParameter, 20>& scannerParameters() {
+  static const std::array<ScannerParameter, 20> table = {{
       {"standoff", &Scanner::standoff},
       {"depth_of_field", &Scanner::depth_of_field},
       {"fov_width", &Scanner::fov_width},
@@ -118,6 +125,7 @@ const std::array<ScannerParameter, 19>& scannerParameters() {
       {"reflection_cone", &Scanner::reflection_cone},
       {"point_spacing", &Scanner::point_spacing},
       {"noise_sigma", &Scanner::noise_sigma},
+      {"cameras", &Scanner::cameras},
       {"body_margin", &Scanner::body_margin},
       {"body_depth", &Scanner::body_depth},
       {"patterns", &Scanner::patterns},

@@ -12,9 +12,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <random>
 #include <span>
+#include <tuple>
 
 namespace scanplan {
 
@@ -47,6 +49,7 @@ void forEach(std::size_t n, const F& f) {
 struct ViewGeometry {
   Pose world_to_camera;
   Vec3 camera, projector;
+  std::vector<Vec3> cameras;  // every camera's centre; the first is `camera`
   double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
   double cos_camera, cos_projector, cos_reflection;
 
@@ -61,7 +64,9 @@ struct ViewGeometry {
         standoff(s.standoff),
         cos_camera(std::cos(radians(s.max_camera_angle))),
         cos_projector(std::cos(radians(s.max_projector_angle))),
-        cos_reflection(std::cos(radians(s.reflection_cone))) {}
+        cos_reflection(std::cos(radians(s.reflection_cone))) {
+    for (const Vec3& c : s.camerasInScanner()) cameras.push_back(view.camera_to_world * c);
+  }
 
   bool inVolume(const Vec3& p) const {
     Vec3 q = world_to_camera * p;
@@ -79,10 +84,11 @@ struct ViewGeometry {
            std::abs(q.y()) - radius <= half_height * scale;
   }
 
-  // Volume, glancing angles and specular reflection, in the order of Loss.
-  Loss test(const Vec3& p, const Vec3& n, bool specular) const {
+  // Volume, glancing angles and specular reflection, seen from the camera at `eye`, in the
+  // order of Loss.
+  Loss test(const Vec3& p, const Vec3& n, bool specular, const Vec3& eye) const {
     if (!inVolume(p)) return Loss::OutsideVolume;
-    const Vec3 to_camera = (camera - p).normalized();
+    const Vec3 to_camera = (eye - p).normalized();
     if (n.dot(to_camera) < cos_camera) return Loss::CameraAngle;
     const Vec3 to_projector = (projector - p).normalized();
     if (n.dot(to_projector) < cos_projector) return Loss::ProjectorAngle;
@@ -137,6 +143,37 @@ class Cells {
   std::vector<Cell> cells_;
 };
 
+// A camera's pixel grid: its centre, its rotation (z towards the measuring volume's
+// centre, y as the view's) and its distance to that centre. The first camera's is the
+// view's own.
+struct Eye {
+  Vec3 centre;
+  Eigen::Matrix3d rotation;
+  double distance;
+};
+
+std::vector<Eye> eyes(const View& view, const Scanner& s) {
+  const Vec3 target = view.camera_to_world * Vec3(0, 0, s.standoff);
+  std::vector<Eye> result;
+  for (const Vec3& c : s.camerasInScanner()) {
+    const Vec3 centre = view.camera_to_world * c;
+    const Vec3 z = (target - centre).normalized();
+    const Vec3 x = view.camera_to_world.linear().col(1).cross(z).normalized();
+    Eigen::Matrix3d rotation;
+    rotation << x, z.cross(x), z;
+    result.push_back({centre, rotation, (target - centre).norm()});
+  }
+  return result;
+}
+
+// The pixel grid of a simulated cloud and its random streams.
+struct CloudGrid {
+  double spacing;
+  int columns, rows;
+  std::uint64_t seed;
+  int view_id;
+};
+
 }  // namespace
 
 struct Simulator::Impl {
@@ -173,16 +210,69 @@ struct Simulator::Impl {
            sp.normal.dot(spot.normal) > 0.5;
   }
 
-  // The tests of a point that cast no ray: volume, angles, reflection (in the order of
-  // Loss), a covering spot, the working plane.
-  Loss testWithoutRays(const ViewGeometry& geometry, const SurfacePoint& sp) const {
-    Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face));
+  // The tests of a point that cast no ray, seen from the camera at `eye`: volume, angles,
+  // reflection (in the order of Loss), a covering spot, the working plane.
+  Loss testWithoutRays(const ViewGeometry& geometry, const SurfacePoint& sp,
+                       const Vec3& eye) const {
+    Loss loss = geometry.test(sp.position, sp.normal, isSpecular(sp.face), eye);
     if (loss == Loss::Measured && isCovered(sp)) loss = Loss::UnderMarker;
-    if (loss == Loss::Measured && planeBlocks(sp.position, geometry.camera))
-      loss = Loss::CameraOccluded;
+    if (loss == Loss::Measured && planeBlocks(sp.position, eye)) loss = Loss::CameraOccluded;
     if (loss == Loss::Measured && planeBlocks(sp.position, geometry.projector))
       loss = Loss::ProjectorOccluded;
     return loss;
+  }
+
+  // The first camera from `first` on that passes the tests without rays, with Measured;
+  // else none, with the loss of the camera that passed most tests (Loss is in test order).
+  std::pair<Loss, int> firstCamera(const ViewGeometry& geometry, const SurfacePoint& sp,
+                                   std::size_t first = 0) const {
+    Loss worst = Loss::Measured;
+    for (std::size_t c = first; c < geometry.cameras.size(); ++c) {
+      const Loss loss = testWithoutRays(geometry, sp, geometry.cameras[c]);
+      if (loss == Loss::Measured) return {loss, static_cast<int>(c)};
+      worst = c == first ? loss : std::max(worst, loss);
+    }
+    return {worst, -1};
+  }
+
+  // The measurement test of points[i] from geometry(i) for each i of `tested` (the others
+  // keep their loss): the tests without rays, then an occlusion ray to the camera that
+  // passed them and one to the projector. A point the part hides from that camera is tried
+  // from the next camera that passes them.
+  template <typename GeometryOf>
+  void testWithRays(std::span<const SurfacePoint> points, const std::vector<std::size_t>& tested,
+                    const GeometryOf& geometry, std::vector<Loss>& losses,
+                    std::size_t* ray_count) const {
+    std::vector<int> eye(points.size(), -1);
+    forEach(tested.size(), [&](std::size_t k) {
+      const std::size_t i = tested[k];
+      std::tie(losses[i], eye[i]) = firstCamera(geometry(i), points[i]);
+    });
+    std::vector<std::size_t> candidates;
+    for (std::size_t i : tested)
+      if (losses[i] == Loss::Measured) candidates.push_back(i);
+    while (!candidates.empty()) {
+      std::vector<Ray> rays(2 * candidates.size());
+      forEach(candidates.size(), [&](std::size_t k) {
+        const std::size_t i = candidates[k];
+        rays[2 * k] = segment(points[i], geometry(i).cameras[eye[i]]);
+        rays[2 * k + 1] = segment(points[i], geometry(i).projector);
+      });
+      const std::vector<bool> blocked = caster->occluded(rays);
+      if (ray_count) *ray_count += rays.size();
+      std::vector<std::size_t> again;
+      for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const std::size_t i = candidates[k];
+        if (blocked[2 * k]) {
+          eye[i] = firstCamera(geometry(i), points[i], eye[i] + 1).second;
+          losses[i] = eye[i] >= 0 ? Loss::Measured : Loss::CameraOccluded;
+          if (eye[i] >= 0) again.push_back(i);
+        } else if (blocked[2 * k + 1]) {
+          losses[i] = Loss::ProjectorOccluded;
+        }
+      }
+      candidates = std::move(again);
+    }
   }
 
   // The working plane z = 0 hides the segment p -> eye when the point lies under it or the
@@ -206,31 +296,90 @@ struct Simulator::Impl {
                             const std::vector<std::size_t>* subset, std::size_t* ray_count) const {
     const ViewGeometry geometry(view, scanner);
     std::vector<Loss> losses(points.size(), Loss::OutsideVolume);
-    auto test = [&](std::size_t i) { losses[i] = testWithoutRays(geometry, points[i]); };
-    if (subset) {
-      forEach(subset->size(), [&](std::size_t k) { test((*subset)[k]); });
-    } else {
-      forEach(points.size(), test);
+    std::vector<std::size_t> all;
+    if (!subset) {
+      all.resize(points.size());
+      std::iota(all.begin(), all.end(), std::size_t{0});
     }
-    // Two occlusion rays per remaining point, cast in one batch.
-    std::vector<std::size_t> candidates;
-    for (std::size_t i = 0; i < points.size(); ++i)
-      if (losses[i] == Loss::Measured) candidates.push_back(i);
-    std::vector<Ray> rays(2 * candidates.size());
-    forEach(candidates.size(), [&](std::size_t k) {
-      const SurfacePoint& sp = points[candidates[k]];
-      rays[2 * k] = segment(sp, geometry.camera);
-      rays[2 * k + 1] = segment(sp, geometry.projector);
-    });
-    const std::vector<bool> blocked = caster->occluded(rays);
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      if (blocked[2 * k])
-        losses[candidates[k]] = Loss::CameraOccluded;
-      else if (blocked[2 * k + 1])
-        losses[candidates[k]] = Loss::ProjectorOccluded;
-    }
-    if (ray_count) *ray_count = rays.size();
+    if (ray_count) *ray_count = 0;
+    testWithRays(
+        points, subset ? *subset : all,
+        [&](std::size_t) -> const ViewGeometry& { return geometry; }, losses, ray_count);
     return losses;
+  }
+
+  // Rows [first, last) of camera e's pixel grid into rows[r]: the hits on the part that
+  // camera e measures and no earlier camera does, lit by the projector, each moved by the
+  // noise along its ray.
+  void cloudBlock(const ViewGeometry& geometry, const std::vector<Eye>& all, std::size_t e,
+                  const CloudGrid& grid, int first, int last, PointCloud* rows) const {
+    const Eye& eye = all[e];
+    std::vector<Ray> rays;
+    rays.reserve(static_cast<std::size_t>(last - first) * grid.columns);
+    for (int r = first; r < last; ++r)
+      for (int c = 0; c < grid.columns; ++c) {
+        const Vec3 pixel(-scanner.fov_width / 2 + (c + 0.5) * grid.spacing,
+                         -scanner.fov_height / 2 + (r + 0.5) * grid.spacing, scanner.standoff);
+        rays.push_back(Ray{eye.centre, eye.rotation * pixel.normalized()});
+      }
+    const auto hits = caster->intersect(rays);
+    std::vector<std::size_t> kept;
+    std::vector<SurfacePoint> surface;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const auto& hit = hits[i];
+      if (!hit || hit->triangle >= static_cast<int>(part_triangles)) continue;
+      const SurfacePoint sp{hit->point, hit->normal, hit->face};
+      if (testWithoutRays(geometry, sp, eye.centre) != Loss::Measured) continue;
+      kept.push_back(i);
+      surface.push_back(sp);
+    }
+    std::vector<char> drop = seenBefore(geometry, all, e, surface);
+    std::vector<Ray> to_projector(surface.size());
+    for (std::size_t k = 0; k < surface.size(); ++k)
+      to_projector[k] = segment(surface[k], geometry.projector);
+    const std::vector<bool> blocked = caster->occluded(to_projector);
+    for (std::size_t k = 0; k < surface.size(); ++k) drop[k] |= blocked[k];
+
+    tbb::parallel_for(first, last, [&](int r) {
+      const std::uint64_t row = static_cast<std::uint64_t>(r) + e * grid.rows;
+      std::mt19937_64 random(grid.seed * 0x9E3779B97F4A7C15ULL +
+                             static_cast<std::uint64_t>(grid.view_id) * 1000003ULL + row);
+      std::normal_distribution<double> normal(0.0, 1.0);
+      PointCloud& out = rows[r];
+      const std::size_t begin = static_cast<std::size_t>(r - first) * grid.columns;
+      auto k = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
+      for (; k < static_cast<std::ptrdiff_t>(kept.size()) && kept[k] < begin + grid.columns; ++k) {
+        if (drop[k]) continue;
+        const SurfacePoint& sp = surface[k];
+        const Vec3 ray_direction = rays[kept[k]].direction;
+        const double cos_incidence = std::clamp(-ray_direction.dot(sp.normal), 1e-3, 1.0);
+        const double depth = (sp.position - eye.centre).dot(eye.rotation.col(2)) / eye.distance;
+        const double sigma = scanner.noise_sigma * depth * depth / cos_incidence;
+        out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
+        out.normals.push_back(sp.normal);
+        out.faces.push_back(sp.face);
+        out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
+      }
+    });
+  }
+
+  // Per point of `surface`: whether a camera before `e` measures it (it passes the tests
+  // without rays from there, and nothing hides it), so that camera e's grid leaves it.
+  std::vector<char> seenBefore(const ViewGeometry& geometry, const std::vector<Eye>& all,
+                               std::size_t e, const std::vector<SurfacePoint>& surface) const {
+    std::vector<char> seen(surface.size(), 0);
+    for (std::size_t c = 0; c < e; ++c) {
+      std::vector<std::size_t> tried;
+      std::vector<Ray> rays;
+      for (std::size_t k = 0; k < surface.size(); ++k)
+        if (!seen[k] && testWithoutRays(geometry, surface[k], all[c].centre) == Loss::Measured) {
+          tried.push_back(k);
+          rays.push_back(segment(surface[k], all[c].centre));
+        }
+      const std::vector<bool> blocked = caster->occluded(rays);
+      for (std::size_t j = 0; j < tried.size(); ++j) seen[tried[j]] |= !blocked[j];
+    }
+    return seen;
   }
 };
 
@@ -350,28 +499,14 @@ std::vector<Loss> Simulator::measurePairs(std::span<const View> views,
                                           std::span<const SurfacePoint> points) const {
   const Impl& d = *impl_;
   std::vector<Loss> losses(points.size());
-  std::vector<Vec3> cameras(points.size()), projectors(points.size());
-  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
-    const ViewGeometry geometry(views[i], d.scanner);
-    losses[i] = d.testWithoutRays(geometry, points[i]);
-    cameras[i] = geometry.camera;
-    projectors[i] = geometry.projector;
-  });
-  std::vector<std::size_t> candidates;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (losses[i] == Loss::Measured) candidates.push_back(i);
-  std::vector<Ray> rays(2 * candidates.size());
-  tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t k) {
-    rays[2 * k] = d.segment(points[candidates[k]], cameras[candidates[k]]);
-    rays[2 * k + 1] = d.segment(points[candidates[k]], projectors[candidates[k]]);
-  });
-  const std::vector<bool> blocked = d.caster->occluded(rays);
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    if (blocked[2 * k])
-      losses[candidates[k]] = Loss::CameraOccluded;
-    else if (blocked[2 * k + 1])
-      losses[candidates[k]] = Loss::ProjectorOccluded;
-  }
+  std::vector<std::optional<ViewGeometry>> geometries(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t i) { geometries[i].emplace(views[i], d.scanner); });
+  std::vector<std::size_t> all(points.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  d.testWithRays(
+      points, all, [&](std::size_t i) -> const ViewGeometry& { return *geometries[i]; }, losses,
+      nullptr);
   return losses;
 }
 
@@ -405,67 +540,19 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
   const Scanner& s = d.scanner;
   const ViewGeometry geometry(view, s);
   if (!(spacing > 0)) spacing = s.point_spacing;
-  const int columns = static_cast<int>(std::floor(s.fov_width / spacing));
-  const int rows = static_cast<int>(std::floor(s.fov_height / spacing));
-  const Eigen::Matrix3d rotation = view.camera_to_world.linear();
-  const Vec3 camera = view.camera();
-
+  const CloudGrid grid{spacing, static_cast<int>(std::floor(s.fov_width / spacing)),
+                       static_cast<int>(std::floor(s.fov_height / spacing)), seed, view.id};
+  const std::vector<Eye> all = eyes(view, s);
   // Rows are simulated in blocks to bound memory; each row has its own random stream so
   // that the cloud does not depend on thread scheduling.
-  std::vector<PointCloud> row_clouds(rows);
+  std::vector<PointCloud> rows(all.size() * static_cast<std::size_t>(grid.rows));
   constexpr int kBlock = 32;
-  for (int first = 0; first < rows; first += kBlock) {
-    const int last = std::min(rows, first + kBlock);
-    std::vector<Ray> rays;
-    rays.reserve(static_cast<std::size_t>(last - first) * columns);
-    for (int r = first; r < last; ++r)
-      for (int c = 0; c < columns; ++c) {
-        Vec3 pixel(-s.fov_width / 2 + (c + 0.5) * spacing, -s.fov_height / 2 + (r + 0.5) * spacing,
-                   s.standoff);
-        rays.push_back(Ray{camera, rotation * pixel.normalized()});
-      }
-    const auto hits = d.caster->intersect(rays);
-    // Hits on the part that pass the geometric test; then projector occlusion.
-    std::vector<std::size_t> kept;
-    std::vector<SurfacePoint> surface;
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      const auto& hit = hits[i];
-      if (!hit || hit->triangle >= static_cast<int>(d.part_triangles)) continue;
-      SurfacePoint sp{hit->point, hit->normal, hit->face};
-      if (d.testWithoutRays(geometry, sp) != Loss::Measured) continue;
-      kept.push_back(i);
-      surface.push_back(sp);
-    }
-    std::vector<Ray> to_projector(surface.size());
-    for (std::size_t k = 0; k < surface.size(); ++k)
-      to_projector[k] = d.segment(surface[k], geometry.projector);
-    const std::vector<bool> blocked = d.caster->occluded(to_projector);
-
-    tbb::parallel_for(first, last, [&](int r) {
-      std::mt19937_64 random(seed * 0x9E3779B97F4A7C15ULL +
-                             static_cast<std::uint64_t>(view.id) * 1000003ULL +
-                             static_cast<std::uint64_t>(r));
-      std::normal_distribution<double> normal(0.0, 1.0);
-      PointCloud& out = row_clouds[r];
-      const std::size_t begin = static_cast<std::size_t>(r - first) * columns;
-      auto k = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
-      for (; k < static_cast<std::ptrdiff_t>(kept.size()) && kept[k] < begin + columns; ++k) {
-        if (blocked[k]) continue;
-        const SurfacePoint& sp = surface[k];
-        const Vec3 ray_direction = rays[kept[k]].direction;
-        const double cos_incidence = std::clamp(-ray_direction.dot(sp.normal), 1e-3, 1.0);
-        const double depth = (geometry.world_to_camera * sp.position).z();
-        const double sigma =
-            s.noise_sigma * (depth / s.standoff) * (depth / s.standoff) / cos_incidence;
-        out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
-        out.normals.push_back(sp.normal);
-        out.faces.push_back(sp.face);
-        out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
-      }
-    });
-  }
+  for (std::size_t e = 0; e < all.size(); ++e)
+    for (int first = 0; first < grid.rows; first += kBlock)
+      d.cloudBlock(geometry, all, e, grid, first, std::min(grid.rows, first + kBlock),
+                   rows.data() + e * grid.rows);
   PointCloud cloud;
-  for (const PointCloud& row : row_clouds) {
+  for (const PointCloud& row : rows) {
     cloud.points.insert(cloud.points.end(), row.points.begin(), row.points.end());
     cloud.normals.insert(cloud.normals.end(), row.normals.begin(), row.normals.end());
     cloud.faces.insert(cloud.faces.end(), row.faces.begin(), row.faces.end());

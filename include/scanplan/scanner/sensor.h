@@ -1,15 +1,17 @@
 #pragma once
 // The scanner model (docs/design.md §4): a camera and a projector (or laser) on a rigid
-// baseline, with its measuring volume, glancing limits and noise.
+// baseline, with its measuring volume, glancing limits and noise; a fringe head may have a
+// second camera on the projector's other side.
 //
-// Scanner frame S: origin at the camera's optical centre, +Z the optical axis (towards
-// the part), +X from the camera towards the projector, +Y = Z x X. A view is the pose of S
-// in the world, camera_to_world.
+// Scanner frame S: origin at the (first) camera's optical centre, +Z the optical axis
+// (towards the part), +X from the camera towards the projector, +Y = Z x X. A view is the
+// pose of S in the world, camera_to_world.
 
 #include <scanplan/core/geometry.h>
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace scanplan {
 
@@ -25,6 +27,10 @@ struct Scanner {
   double reflection_cone = 10;      // specular loss cone around the mirror direction, degrees
   double point_spacing = 0.2;       // lateral sampling distance at the standoff, mm
   double noise_sigma = 0.01;        // depth noise at the standoff and normal incidence, mm
+  // 1, or 2: a second camera as far beyond the projector as the first is before it,
+  // aimed at the measuring volume's centre. A point is measured where the projector lights
+  // it and either camera sees it, as a two-camera fringe head measures.
+  double cameras = 1;
   // The scanner body, which must stay clear of the part, fixtures and working plane: a box
   // around camera and projector grown by body_margin, reaching body_depth behind the camera.
   double body_margin = 60;  // mm
@@ -50,6 +56,8 @@ struct Scanner {
   double reach() const;
   // Projector centre in S: (baseline, 0, 0).
   Vec3 projectorInScanner() const;
+  // The cameras' centres in S: (0, 0, 0), and with a second camera (2 baseline, 0, 0).
+  std::vector<Vec3> camerasInScanner() const;
   // The scanner body in S: the box around camera and projector grown by body_margin,
   // reaching body_depth behind the camera.
   Box body() const;
@@ -62,10 +70,10 @@ struct ScannerParameter {
   const char* name;
   double Scanner::*value;
 };
-const std::array<ScannerParameter, 19>& scannerParameters();
+const std::array<ScannerParameter, 20>& scannerParameters();
 
 // \throw InputError naming `source` and the parameter when a value is out of range:
-//        sizes must be positive, angles within (0, 90) degrees (the reflection cone
+//        the cameras 1 or 2, sizes positive, angles within (0, 90) degrees (the reflection cone
 //        within [0, 90)), and the depth of field shorter than twice the standoff; the
 //        patterns a whole number within [1, 1000], the exposure within (0, 10] s, the
 //        sweep speed 0 or within [1, 10000] mm/s, the acceptance figures 0 or positive
