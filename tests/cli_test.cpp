@@ -768,6 +768,10 @@ TEST(Cli, VersionAndScannerPresets) {
       std::regex_search(r.out, std::regex(R"(generic-structured-light +400 +200 +300 x 225)")))
       << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(laser-line +150 +100 +100 x 60)"))) << r.out;
+  // One camera each, and the acquisition: 10 patterns of 0.05 s; a 60 mm stroke at 100 mm/s.
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(generic-structured-light .* 1 +0\.50\n)")))
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(laser-line .* 1 +0\.60 sweep\n)"))) << r.out;
 }
 
 // plan --scanner takes a preset or a scanner file, over the spec's scanner.

@@ -10,15 +10,18 @@ namespace scanplan::cli {
 namespace {
 
 int run() {
-  fmt::print("{:<26} {:>8} {:>8} {:>15} {:>8} {:>8} {:>6}\n", "preset", "standoff", "depth",
-             "field", "spacing", "noise", "angle");
-  fmt::print("{:<26} {:>8} {:>8} {:>15} {:>8} {:>8} {:>6}\n", "", "mm", "mm", "mm", "mm", "mm",
-             "deg");
+  const char* row = "{:<26} {:>8} {:>8} {:>15} {:>8} {:>8} {:>6} {:>7} {:>12}\n";
+  fmt::print(fmt::runtime(row), "preset", "standoff", "depth", "field", "spacing", "noise", "angle",
+             "cameras", "acquisition");
+  fmt::print(fmt::runtime(row), "", "mm", "mm", "mm", "mm", "mm", "deg", "", "s");
   for (const std::string& name : scannerPresetNames()) {
     const Scanner s = scannerPreset(name);
-    fmt::print("{:<26} {:>8.0f} {:>8.0f} {:>15} {:>8.3f} {:>8.3f} {:>6.0f}\n", name, s.standoff,
-               s.depth_of_field, fmt::format("{:.0f} x {:.0f}", s.fov_width, s.fov_height),
-               s.point_spacing, s.noise_sigma, s.triangulation_angle);
+    fmt::print(fmt::runtime(row), name, fmt::format("{:.0f}", s.standoff),
+               fmt::format("{:.0f}", s.depth_of_field),
+               fmt::format("{:.0f} x {:.0f}", s.fov_width, s.fov_height),
+               fmt::format("{:.3f}", s.point_spacing), fmt::format("{:.3f}", s.noise_sigma),
+               fmt::format("{:.0f}", s.triangulation_angle), fmt::format("{:.0f}", s.cameras),
+               fmt::format("{:.2f}{}", s.acquisitionSeconds(), s.sweep_speed > 0 ? " sweep" : ""));
   }
   return 0;
 }
