@@ -5,6 +5,7 @@
 
 #include "arrays.h"
 #include "errors.h"
+#include "study.h"
 
 #include <scanplan/cad/import.h>
 #include <scanplan/core/version.h>
@@ -277,4 +278,5 @@ PYBIND11_MODULE(scanplan, m) {
   bindSpec(m);
   bindPlan(m);
   bindFunctions(m);
+  bindStudy(m);
 }

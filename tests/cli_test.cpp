@@ -1127,3 +1127,30 @@ TEST(Cli, UrScriptDrivesATableOnlyThroughItsSignals) {
 
 }  // namespace
 }  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+// --rest overrides the spec's part.rest: a spec planning every rest orientation, planned as
+// drawn, has one placement that turns nothing; a word that is no orientation is a usage
+// error and a face the part lacks an input error.
+TEST(Cli, RestOverridesTheSpecsPlacement) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("all.yaml"), "part: {rest: all}\n");
+  CommandResult r = run("-q plan " + part + " --spec " + dir.file("all.yaml") +
+                        " --rest drawn --no-registration --no-report -o " + dir.file("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Plan plan = readPlan(dir.file("out/plan.json"));
+  EXPECT_TRUE(plan.orientations.empty());
+  EXPECT_TRUE(plan.part_to_world.linear().isIdentity(1e-12));
+  r = run("-q plan " + part + " --rest sideways -o " + dir.file("bad"));
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("--rest: expected auto, all, drawn or a face id"), std::string::npos);
+  r = run("-q plan " + part + " --rest 999 -o " + dir.file("bad"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("unknown face id 999"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace scanplan

@@ -8,6 +8,7 @@
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/points_csv.h>
 #include <scanplan/io/spec_yaml.h>
+#include <scanplan/io/study_yaml.h>
 #include <scanplan/planning.h>
 #include <scanplan/scanner/sensor.h>
 #include <scanplan/spec/spec.h>
@@ -16,6 +17,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <set>
 
 namespace scanplan {
 namespace {
@@ -641,6 +643,51 @@ TEST(OutputFiles, ARunsFilesAreWrittenAsASet) {
     removeTemporaries();
     EXPECT_EQ(files(), std::vector<std::string>{"plan.json"});
   }
+}
+
+}  // namespace
+}  // namespace scanplan
+
+namespace scanplan {
+namespace {
+
+// A study file's rows, and each mistake named by the file and its key.
+TEST(StudyErrors, RowsAreEveryCombinationAndMistakesAreNamed) {
+  test::TempDir dir;
+  const std::string path = dir.file("study.yaml");
+  test::writeText(path,
+                  "parts: [a.stp, sub/b.stl]\nscanners: [laser-line, heads/h.yaml]\n"
+                  "orientations: [auto, 3]\ncoverage: [1, 0.95]\nregistration: false\n");
+  const Study study = loadStudy(path);
+  ASSERT_EQ(study.rows.size(), 16u);
+  EXPECT_FALSE(study.registration);
+  EXPECT_EQ(study.rows[0].part, dir.file("a.stp"));
+  EXPECT_EQ(study.rows[0].scanner, "laser-line");
+  EXPECT_EQ(study.rows[4].scanner, dir.file("heads/h.yaml"));
+  EXPECT_EQ(study.rows[15].part, dir.file("sub/b.stl"));
+  EXPECT_EQ(study.rows[15].rest, "3");
+  EXPECT_EQ(study.rows[15].coverage, 0.95);
+  EXPECT_EQ(study.rows[15].name, "b__h__3__0.95");
+  std::set<std::string> names;
+  for (const StudyRow& row : study.rows) EXPECT_TRUE(names.insert(row.name).second) << row.name;
+
+  auto error = [&](const std::string& text) {
+    test::writeText(path, text);
+    return test::inputError(path, [&] { loadStudy(path); });
+  };
+  EXPECT_EQ(error("scanners: [laser-line]\n"), "parts: the study names no part");
+  EXPECT_EQ(error("parts: [a.stp]\nscanner: [x]\n"), "unknown key 'scanner'");
+  EXPECT_EQ(error("parts: [a.stp]\norientations: [sideways]\n"),
+            "orientations: 'sideways' is not auto, all, drawn or a face id");
+  EXPECT_EQ(error("parts: [a.stp]\ncoverage: [1.5]\n"), "coverage: 1.5 is not within (0, 1]");
+  EXPECT_EQ(error("parts: []\n"), "parts: the list is empty");
+  EXPECT_EQ(error("parts: [a.stp]\nregistration: maybe\n"), "registration: expected true or false");
+  std::string many = "parts: [";
+  for (int i = 0; i < 200; ++i) many += (i ? ", p" : "p") + std::to_string(i);
+  many += "]\nscanners: [";
+  for (int i = 0; i < 60; ++i) many += (i ? ", s" : "s") + std::to_string(i);
+  EXPECT_EQ(error(many + "]\n"), "12000 plans: a study holds at most 10000");
+  EXPECT_THROW(loadStudy(dir.file("missing.yaml")), InputError);
 }
 
 }  // namespace

@@ -50,6 +50,9 @@ void addSpecCommand(CLI::App& app, const GlobalOptions& global, Action& selected
 // scanplan scanners
 void addScannersCommand(CLI::App& app, Action& selected);
 
+// scanplan study study.yaml [-o DIR] [--jobs N] [--dask tcp://HOST:PORT]
+void addStudyCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
+
 // scanplan simulate PART --views views.json [--spec spec.yaml] [-o,--cloud DIR] [--json]
 void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& selected);
 

@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   cli::addExportCommand(app, global, action);
   cli::addSpecCommand(app, global, action);
   cli::addScannersCommand(app, action);
+  cli::addStudyCommand(app, global, action);
 
   try {
     app.parse(argc, argv);

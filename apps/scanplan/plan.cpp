@@ -17,6 +17,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -35,6 +37,7 @@ struct Options {
   bool png = false;
   bool place_markers = false;
   std::optional<double> coverage;  // --coverage: planner.coverage for every task
+  std::string rest;                // --rest: part.rest
 };
 
 constexpr const char* kProposedMarkers = "proposed-markers.csv";
@@ -111,8 +114,22 @@ void printCoverageAndBound(const Plan& plan) {
                        "planner.selection_nodes: this plan depends on the machine's speed"});
 }
 
+// --rest over the spec's part.rest: auto, all, drawn (as the CAD model is drawn) or a face id.
+void applyRest(Spec& spec, const std::string& rest) {
+  const bool face = !rest.empty() && rest.size() <= 9 && rest[0] != '0' &&
+                    std::all_of(rest.begin(), rest.end(),
+                                [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  if (rest != "auto" && rest != "all" && rest != "drawn" && !face)
+    throw UsageError("--rest", "expected auto, all, drawn or a face id, not '" + rest + "'");
+  spec.rest_auto = rest == "auto";
+  spec.rest_all = rest == "all";
+  spec.rest_face = face ? std::stoi(rest) : 0;
+  spec.rest_pose.reset();
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  if (!options.rest.empty()) applyRest(spec, options.rest);
   const std::vector<std::string> inputs = commandInputs({options.part}, spec);
   for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
     refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
@@ -190,6 +207,10 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
                       "Share of the coverable samples of every task to measure, such as 0.95 "
                       "(the priority faces' samples keep the spec's share, all of them by "
                       "default); overrides planner.coverage");
+  command->add_option("--rest", options->rest,
+                      "How the part stands, overriding the spec's part.rest: auto (its steadiest "
+                      "rest), all (every rest orientation), drawn (as the CAD model is drawn) or a "
+                      "face id to stand on");
   command->add_flag("--no-registration", options->no_registration,
                     "Skip the registration check, bridging and sequencing");
   command->add_flag("--no-report", options->no_report,
