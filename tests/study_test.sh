@@ -11,7 +11,7 @@ scanplan=$1 python=$2
 export SCANPLAN_PYTHON="$python"
 work=$(mktemp -d)
 cluster=
-trap '[ -n "$cluster" ] && kill $cluster 2>/dev/null; rm -rf "$work"' EXIT
+trap 'if [ -n "$cluster" ]; then kill "$cluster" 2>/dev/null || true; fi; rm -rf "$work"' EXIT
 cd "$work"
 cp "$3" disc.stp
 # Two boxes as ASCII STL: 120 x 80 x 40 mm and 60 x 60 x 60 mm.
@@ -39,11 +39,11 @@ registration: false
 YAML
 "$python" -c "
 from distributed import LocalCluster
-import sys, time
+import time
 cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
 print(cluster.scheduler_address, flush=True)
-sys.stdin.read()
-" > scheduler.txt 2> cluster.log < /dev/zero &
+time.sleep(600)
+" > scheduler.txt 2> cluster.log &
 cluster=$!
 for i in $(seq 100); do [ -s scheduler.txt ] && break; sleep 0.1; done
 address=$(head -1 scheduler.txt)
@@ -60,11 +60,19 @@ grep -q 'href="plans/disc__laser-line/report.html"' out/study.html ||
   { echo "study_test: the table does not link the reports"; exit 1; }
 
 # Each good plan, planned alone by the CLI, is the same (seconds aside).
+names= jobs=
 for part in disc.stp flat.stl cube.stl; do
   for scanner in generic-structured-light laser-line; do
     name="${part%.*}__$scanner"
-    "$scanplan" -q plan "$part" --scanner "$scanner" --no-registration --no-report -o "alone/$name" > /dev/null
-    "$python" - "out/plans/$name/plan.json" "alone/$name/plan.json" <<'PY'
+    names="$names $name"
+    "$scanplan" -q -j 1 plan "$part" --scanner "$scanner" --no-registration --no-report \
+      -o "alone/$name" > /dev/null &
+    jobs="$jobs $!"
+  done
+done
+for job in $jobs; do wait "$job"; done
+for name in $names; do
+  "$python" - "out/plans/$name/plan.json" "alone/$name/plan.json" <<'PY'
 import json, sys
 def strip(o):
     if isinstance(o, dict):
@@ -77,7 +85,6 @@ a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
 if a != b:
     sys.exit("study_test: %s differs from the plan made alone" % sys.argv[1])
 PY
-  done
 done
 
 # Run again here: the plans done are reused, the broken part tried again.

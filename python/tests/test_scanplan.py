@@ -185,14 +185,13 @@ def test_a_study_plans_each_row_and_keeps_a_broken_parts_error(tmp_path):
     InputError with the command's exit code."""
     (tmp_path / "broken.stp").write_text("not a STEP file\n")
     (tmp_path / "study.yaml").write_text(
-        "parts: [%s, broken.stp]\nscanners: [generic-structured-light, laser-line]\n"
-        "registration: false\n" % PART)
+        "parts: [%s, broken.stp]\nscanners: laser-line\nregistration: false\n" % PART)
     rows = scanplan.study(tmp_path / "study.yaml", out=tmp_path / "out", jobs=2)
-    assert [row["status"] for row in rows] == ["ok", "ok", "failed", "failed"]
-    for row in rows[:2]:
+    assert [row["status"] for row in rows] == ["ok", "failed"]
+    for row in rows[:1]:
         plan = scanplan.read_plan(str(tmp_path / "out" / "plans" / row["plan"] / "plan.json"))
         assert int(row["views"]) == len(plan.view_ids) > 0
-    assert all("not a STEP file" in row["error"] for row in rows[2:])
+    assert "not a STEP file" in rows[1]["error"]
     with pytest.raises(scanplan.InputError) as missing:
         scanplan.study(tmp_path / "missing.yaml", out=tmp_path / "out2")
     assert missing.value.exit_code == 2
