@@ -11,12 +11,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <random>
 #include <span>
-#include <tuple>
 
 namespace scanplan {
 
@@ -243,10 +243,12 @@ struct Simulator::Impl {
   void testWithRays(std::span<const SurfacePoint> points, const std::vector<std::size_t>& tested,
                     const GeometryOf& geometry, std::vector<Loss>& losses,
                     std::size_t* ray_count) const {
-    std::vector<int> eye(points.size(), -1);
+    std::vector<std::int8_t> eye(points.size(), -1);  // the camera each point is tried from
     forEach(tested.size(), [&](std::size_t k) {
       const std::size_t i = tested[k];
-      std::tie(losses[i], eye[i]) = firstCamera(geometry(i), points[i]);
+      const auto [loss, c] = firstCamera(geometry(i), points[i]);
+      losses[i] = loss;
+      eye[i] = static_cast<std::int8_t>(c);
     });
     std::vector<std::size_t> candidates;
     for (std::size_t i : tested)
@@ -264,7 +266,7 @@ struct Simulator::Impl {
       for (std::size_t k = 0; k < candidates.size(); ++k) {
         const std::size_t i = candidates[k];
         if (blocked[2 * k]) {
-          eye[i] = firstCamera(geometry(i), points[i], eye[i] + 1).second;
+          eye[i] = static_cast<std::int8_t>(firstCamera(geometry(i), points[i], eye[i] + 1).second);
           losses[i] = eye[i] >= 0 ? Loss::Measured : Loss::CameraOccluded;
           if (eye[i] >= 0) again.push_back(i);
         } else if (blocked[2 * k + 1]) {
