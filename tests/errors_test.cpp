@@ -313,6 +313,28 @@ std::string planError(const std::string& path, const std::function<void(nlohmann
   return inputError(path, [&] { readPlan(path); });
 }
 
+// Each face's measured area: read back as written, and refused when an entry names another
+// face, or measures more than the face has.
+TEST(PlanErrors, FaceAreasReadBackAndNoFaceMeasuresMoreThanItHas) {
+  const Plan plan = readPlan(test::examplePlan());
+  ASSERT_EQ(plan.face_areas.size(), plan.part_faces);
+  double area = 0, measured = 0;
+  for (const FaceArea& f : plan.face_areas) {
+    area += f.area;
+    measured += f.measured;
+  }
+  EXPECT_GT(measured, 0);
+  EXPECT_LT(measured, area);  // the bottom stands on the plate
+  test::TempDir dir;
+  const std::string path = dir.file("plan.json");
+  EXPECT_EQ(planError(path, [](auto& p) { p["face_areas"][3]["measured"] = 1e12; }),
+            "face_areas entry 4: expected face 4 with a finite area and at most that measured");
+  EXPECT_EQ(planError(path, [](auto& p) { p["face_areas"][0]["face"] = 2; }),
+            "face_areas entry 1: expected face 1 with a finite area and at most that measured");
+  EXPECT_EQ(planError(path, [](auto& p) { p["face_areas"].erase(0); }),
+            "face_areas: expected one entry per face of the part");
+}
+
 TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");

@@ -121,6 +121,15 @@ void printPlanSummary(const Plan& plan, const Part& part) {
   fmt::print("{:<22} {}\n", "target samples", plan.samples.size());
   fmt::print("{:<22} {} ({:.1f}%)\n", "measured samples", plan.measuredCount(),
              percent(plan.measuredCount(), plan.samples.size()));
+  if (!plan.face_areas.empty()) {
+    double area = 0, measured = 0;
+    for (const FaceArea& f : plan.face_areas) {
+      area += f.area;
+      measured += f.measured;
+    }
+    fmt::print("{:<22} {:.0f} of {:.0f} mm² of the part's surface ({:.1f}%)\n", "measured area",
+               measured, area, area > 0 ? 100 * measured / area : 0.0);
+  }
   for (const Plan::FaceShortfall& f : plan.priorityShortfall()) {
     const std::string& name = f.face >= 1 && f.face <= static_cast<int>(part.faces.size())
                                   ? part.faces[f.face - 1].name

@@ -209,6 +209,20 @@ json summaryJson(const Plan& plan) {
           {"coverage_by_views", coverageByViewsJson(plan)}};
 }
 
+// Each face's area and the area of it measured, and the part's in the summary.
+void addFaceAreas(const Plan& plan, json& root) {
+  json list = json::array();
+  double area = 0, measured = 0;
+  for (const FaceArea& f : plan.face_areas) {
+    list.push_back({{"face", f.face}, {"area", f.area}, {"measured", f.measured}});
+    area += f.area;
+    measured += f.measured;
+  }
+  root["face_areas"] = list;
+  root["summary"]["measured_area"] = {
+      {"area", area}, {"measured", measured}, {"share", area > 0 ? measured / area : 0.0}};
+}
+
 json cycleJson(const CycleTime& c) {
   json result = {{"model", c.model},   {"seconds", c.total()},
                  {"views", c.views},   {"acquisition", c.acquisition},
@@ -462,6 +476,7 @@ json planJson(const Plan& plan) {
   if (plan.bound) result["summary"]["bound"] = boundJson(plan);
   if (plan.cycle) result["summary"]["cycle"] = cycleJson(*plan.cycle);
   if (!plan.characteristics.empty()) addCharacteristics(plan, result);
+  if (!plan.face_areas.empty()) addFaceAreas(plan, result);
   return result;
 }
 
@@ -556,6 +571,29 @@ struct PlanReader {
       if (entry.contains(p.name)) s.*p.value = field<double>(entry, p.name, path, "scanner");
     validate(s, path);
     return s;
+  }
+
+  // face_areas: one entry per face, in face order, each a finite area and no more of it
+  // measured than there is; none when the plan has no such list.
+  std::vector<FaceArea> faceAreas(const json& root, std::size_t faces) const {
+    std::vector<FaceArea> result;
+    const json list = root.value("face_areas", json());
+    if (list.is_null()) return result;
+    if (!list.is_array() || list.size() != faces)
+      throw InputError(path, "face_areas: expected one entry per face of the part");
+    for (std::size_t f = 0; f < list.size(); ++f) {
+      const std::string where = "face_areas entry " + std::to_string(f + 1);
+      detail::refuseUnknownKeys(list[f], {"face", "area", "measured"}, path, where);
+      FaceArea a{field<int>(list[f], "face", path, where),
+                 field<double>(list[f], "area", path, where),
+                 field<double>(list[f], "measured", path, where)};
+      if (a.face != static_cast<int>(f + 1) || !std::isfinite(a.area) || a.area < 0 ||
+          !(a.measured >= 0 && a.measured <= a.area * (1 + 1e-9)))
+        throw InputError(path, where + ": expected face " + std::to_string(f + 1) +
+                                   " with a finite area and at most that measured");
+      result.push_back(a);
+    }
+    return result;
   }
 
   std::vector<Marker> markers(const json& list) const {
@@ -989,7 +1027,7 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "measured_by_registered_views", "bridging_views", "unregistrable_views",
        "registration_components", "registered_by", "setups", "path_length",
        "nearest_neighbour_path_length", "orientations", "robot", "sweep_views", "bound",
-       "cycle", "coverage_by_views"},
+       "cycle", "coverage_by_views", "measured_area"},
       path, "summary");
   // clang-format on
   detail::refuseUnknownKeys(
@@ -1030,7 +1068,7 @@ void checkPlanKeys(const json& root, const std::string& path) {
   detail::refuseUnknownKeys(
       root,
       {"format", "version", "units", "part", "scanner", "views", "sequence", "samples", "summary",
-       "registration", "orientations", "cell", "sweeps", "characteristics"},
+       "registration", "orientations", "cell", "sweeps", "characteristics", "face_areas"},
       path, "plan");
   detail::refuseUnknownKeys(objectAt(root, "part"),
                             {"file", "absolute_file", "faces", "part_to_world"}, path, "part");
@@ -1104,6 +1142,7 @@ Plan readPlanFields(const std::string& path) {
         plan.capabilities.push_back(*c);
     }
   if (plan.capabilities.size() != plan.characteristics.size()) plan.capabilities.clear();
+  plan.face_areas = reader.faceAreas(root, plan.part_faces);
   plan.cell = reader.cell(root);
   if (plan.cell) {
     plan.cell_poses = reader.cellPoses(root, plan.views.size());

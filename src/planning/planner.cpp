@@ -10,6 +10,7 @@
 #include <scanplan/planning/bridging.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/cell_poses.h>
+#include <scanplan/planning/coverage_area.h>
 #include <scanplan/planning/robot_steps.h>
 #include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
@@ -696,6 +697,10 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
   plan.characteristics = characteristics(part.gdt);
   plan.capabilities = capabilities(part, resolved, plan, plan.characteristics);
   plan.times.push_back({"capability", secondsSince(judged)});
+  const auto area_start = Clock::now();
+  report(progress, "measured area", 0);
+  plan.face_areas = measuredArea(part, resolved, plan);
+  plan.times.push_back({"measured area", secondsSince(area_start)});
   plan.seconds = secondsSince(start);
   return plan;
 }

@@ -63,6 +63,12 @@ json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
   for (const FaceStatus& f : scene.faces) {
     const Face& face = part.faces[f.id - 1];
     const auto density = densities.find(f.id);
+    // The share of its area measured, where the plan has it.
+    const json area_share =
+        static_cast<std::size_t>(f.id) <= plan.face_areas.size() &&
+                plan.face_areas[f.id - 1].area > 0
+            ? json(plan.face_areas[f.id - 1].measured / plan.face_areas[f.id - 1].area)
+            : json(nullptr);
     faces.push_back(
         {{"id", f.id},
          {"type", toString(face.type)},
@@ -75,7 +81,8 @@ json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
          {"priority", f.priority},
          {"fixture", std::binary_search(fixture.begin(), fixture.end(), f.id)},
          {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)},
-         {"density", density == densities.end() ? json(nullptr) : json(density->second)}});
+         {"density", density == densities.end() ? json(nullptr) : json(density->second)},
+         {"area_measured", area_share}});
   }
   return faces;
 }

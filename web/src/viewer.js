@@ -269,6 +269,7 @@ function selectFace(id) {
   if (!f) return;
   const on = characteristics.filter((c) => c.faces.includes(id)).map((c) => `${c.id} ${c.kind}`);
   const rows = [['face', `${f.id} (${f.type}${f.name ? `, ${f.name}` : ''})`], ['area', `${fmt(f.area)} mm²`],
+    ['area measured', areaShare(f)],
     ['coverage', f.coverage], ['samples', `${f.measured} of ${f.samples} measured`],
     ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no'],
     ['point density', f.density === null ? '–' : `${fmt(f.density, 1)} points/mm² (mean over its samples)`],
@@ -294,6 +295,8 @@ viewRows.push(...$('views-table').querySelectorAll('tbody tr'));
 const summaryRows = [
   ['model faces', summary.model_faces], ['fixture faces', summary.fixture_faces], ['samples', summary.samples],
   ['measured', `${summary.measured} (${pct(summary.measured, summary.samples)})`],
+  ...(summary.measured_area ? [['measured area', `${fmt(summary.measured_area.measured)} of ${fmt(summary.measured_area.area)} mm² ` +
+    `(${pct(summary.measured_area.share, 1)})`]] : []),
   ['not coverable', summary.not_coverable], ['views', summary.views]];
 for (const [reason, count] of Object.entries(summary.not_coverable_by_reason || {})) summaryRows.push([`  not coverable: ${reason}`, count]);
 for (const s of summary.priority_faces_short || []) {
@@ -502,11 +505,13 @@ if (characteristics.length === 0) {
   }
 }
 
+const areaShare = (f) => (f.area_measured === null || f.area_measured === undefined ? '–' : pct(f.area_measured, 1));
 $('faces').append(el('div', { class: 'scroll' }, table([{ title: 'face', num: true }, { title: 'type' }, { title: 'area mm²', num: true },
-  { title: 'priority' }, { title: 'coverage' }, { title: 'samples', num: true }, { title: 'measured', num: true }, { title: 'not coverable' }],
-data.faces.filter((f) => f.samples > 0 || f.priority).map((f) => [f.id, f.type, fmt(f.area), f.priority ? 'yes' : '',
+  { title: 'area measured', num: true }, { title: 'priority' }, { title: 'coverage' }, { title: 'samples', num: true },
+  { title: 'measured', num: true }, { title: 'not coverable' }],
+data.faces.map((f) => [f.id, f.type, fmt(f.area), areaShare(f), f.priority ? 'yes' : '',
   f.coverage, f.samples, f.measured, f.not_coverable ? `${f.not_coverable} (${f.reason})` : '']),
-(i) => selectFace(data.faces.filter((f) => f.samples > 0 || f.priority)[i].id))));
+(i) => selectFace(data.faces[i].id))));
 
 // ---- Combined Visibility Maps --------------------------------------------------------------------
 function showCluster(index) {

@@ -50,6 +50,14 @@ struct PlannedSample {
   Loss last_loss = Loss::Measured;  // why the last view aimed at it missed it
 };
 
+// A face's area and how much of it some view of the plan measures (docs/planning.md,
+// "Coverage by area"), mm².
+struct FaceArea {
+  int face = 0;
+  double area = 0;
+  double measured = 0;
+};
+
 struct StageTime {
   std::string stage;
   double seconds = 0;
@@ -163,6 +171,9 @@ struct Plan {
   // (planning/capability.h), in the same order.
   std::vector<Characteristic> characteristics;
   std::vector<Capability> capabilities;
+  // Per face of the part, in face order: its measured area (planning/coverage_area.h);
+  // empty for a plan read from a version that had none.
+  std::vector<FaceArea> face_areas;
   std::vector<StageTime> times;
   double seconds = 0;
   std::optional<PlanBound> bound;  // of the selection; per orientation, summed
