@@ -375,7 +375,9 @@ TEST(Report, PictureShowsThePartInItsCoverageColours) {
     if (r == g && g == b && r > 200) ++background;
   }
   const double pixels = 320.0 * 240;
-  EXPECT_GT(static_cast<double>(measured) / pixels, 0.005);  // 1.4 % when written
+  // Framed on the part, the cube's measured faces take 31 % of the picture; framed on the
+  // part and every camera, as it was, they took 1.4 %.
+  EXPECT_GT(static_cast<double>(measured) / pixels, 0.1);
   EXPECT_GT(static_cast<double>(background) / pixels, 0.3);
   test::TempDir dir;
   writePng(image, dir.file("plan.png"));

@@ -165,10 +165,10 @@ Image renderScene(const PlanScene& scene, int width, int height) {
     for (int k = 1; k <= 4; ++k) f[k] = f[0] + 0.25 * (f[k] - f[0]);
     return f;
   };
+  // Framed on the part (its fixtures with it): views far from it fall outside the picture
+  // rather than leave the part small among them.
   std::vector<Vec3> points = scene.mesh.vertices;
-  for (const SceneView& v : scene.views)
-    for (const Vec3& p : cone(v.view)) points.push_back(p);
-  points.insert(points.end(), scene.markers.begin(), scene.markers.end());
+  points.insert(points.end(), scene.fixtures.vertices.begin(), scene.fixtures.vertices.end());
   Canvas canvas(points, width, height);
   canvas.drawPart(scene);
   const std::vector<Vec3> outlines = priorityOutlines(scene);

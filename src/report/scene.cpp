@@ -33,22 +33,25 @@ std::string_view toString(ViewState state) {
   return "?";
 }
 
+// The colours follow Okabe and Ito's palette for colour-vision deficiencies ("Color
+// Universal Design", 2002): faces in green, orange and vermillion, views in blue, reddish
+// purple and black, so that no colour means both a face's coverage and a view's state.
 Rgb colour(FaceCoverage coverage) {
   switch (coverage) {
-    case FaceCoverage::NotTarget: return {176, 180, 186};
-    case FaceCoverage::Measured: return {46, 160, 67};
-    case FaceCoverage::Partly: return {230, 170, 30};
-    case FaceCoverage::NotMeasured: return {210, 50, 45};
+    case FaceCoverage::NotTarget: return {190, 194, 200};
+    case FaceCoverage::Measured: return {0, 158, 115};    // bluish green
+    case FaceCoverage::Partly: return {230, 159, 0};      // orange
+    case FaceCoverage::NotMeasured: return {213, 94, 0};  // vermillion
   }
   return {0, 0, 0};
 }
 
 Rgb colour(ViewState state) {
   switch (state) {
-    case ViewState::Registered: return {30, 110, 220};
-    case ViewState::Bridge: return {150, 60, 200};
-    case ViewState::Unregistrable: return {220, 40, 40};
-    case ViewState::Unchecked: return {90, 90, 90};
+    case ViewState::Registered: return {0, 114, 178};    // blue
+    case ViewState::Bridge: return {204, 121, 167};      // reddish purple
+    case ViewState::Unregistrable: return {20, 20, 20};  // black
+    case ViewState::Unchecked: return {110, 110, 110};
   }
   return {0, 0, 0};
 }

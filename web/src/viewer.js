@@ -40,14 +40,21 @@ $('view-count').textContent = `(${data.views.length})`;
 document.body.dataset.views = String(data.views.length);
 
 const legend = $('legend');
+// A legend per colouring of the faces (shown with it), then the views' and the rest, which
+// do not change with it.
+const coverageLegend = el('div', { 'data-mode': 'coverage' });
 for (const [name, title] of [['measured', 'face measured'], ['partly measured', 'face partly measured'],
-  ['not measured', 'face not measured'], ['not a target', 'not a target'], ['fixture', 'fixture'],
-  ['registered', 'view registered'], ['bridge', 'bridging view'], ['unregistrable', 'view unregistrable']]) {
-  legend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
+  ['not measured', 'face not measured'], ['not a target', 'not a target'], ['fixture', 'fixture']]) {
+  coverageLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
 }
-legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#f07800' }), 'path'));
-legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#fac800' }), 'markers'));
-legend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#00b4f0' }), 'proposed markers'));
+legend.append(coverageLegend);
+const viewLegend = el('div', { 'data-mode': 'views' });
+for (const [name, title] of [['registered', 'view registered'], ['bridge', 'bridging view'], ['unregistrable', 'view unregistrable']]) {
+  viewLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
+}
+viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#f07800' }), 'path'));
+viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#fac800' }), 'markers'));
+viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#00b4f0' }), 'proposed markers'));
 
 // ---- 3D scene ---------------------------------------------------------------------------------
 const viewport = $('viewport');
@@ -85,15 +92,39 @@ function densityColour(d) {
 let colourBy = 'coverage';
 let highlightedFaces = new Set();
 // Colours the faces by coverage (or by reason), the `highlighted` ones (face ids) magenta.
+// The highlighted faces drawn once more over everything, so that a face hidden behind or
+// under the part (its bottom on the plate, a pocket's floor) shows through it.
+let throughPart = null;
+function showThrough(ids) {
+  if (throughPart) { scene.remove(throughPart); throughPart.geometry.dispose(); throughPart = null; }
+  const picked = [];
+  const { indices } = partMeshData;
+  for (let t = 0; t < triangleFaces.length; ++t)
+    if (ids.has(triangleFaces[t])) picked.push(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]);
+  document.body.dataset.throughTriangles = String(picked.length / 3);
+  if (picked.length === 0) return;
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', partMeshData.geometry.attributes.position);
+  g.setIndex(picked);
+  throughPart = new THREE.Mesh(g, new THREE.MeshBasicMaterial({
+    color: 0xff00aa, transparent: true, opacity: 0.55, depthTest: false, side: THREE.DoubleSide }));
+  throughPart.renderOrder = 10;
+  scene.add(throughPart);
+}
 function paintFaces(highlighted = highlightedFaces) {
   highlightedFaces = highlighted;
+  showThrough(highlighted);
+  const painted = new Set();  // the colours faces take, for checking them against the legend
   partMeshData.paint((id) => {
     if (highlighted.has(id)) return [255, 0, 170];
     const face = data.faces[id - 1];
-    return colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
+    const c = colourBy === 'reason' ? reasonColours[face ? face.reason : ''] || reasonColours['']
       : colourBy === 'density' ? densityColour(face ? face.density : null)
         : data.palette[face ? (face.fixture ? 'fixture' : face.coverage) : 'not a target'];
+    painted.add(c.join(','));
+    return c;
   });
+  document.body.dataset.painted = [...painted].join(';');
   document.body.dataset.highlighted = String(highlighted.size);
 }
 paintFaces();
@@ -139,6 +170,9 @@ scene.add(samples);
 // place in the sequence. The selected view shows its whole frustum.
 const views = new THREE.Group();
 const cameraBalls = [];
+const viewLabels = [];
+const kAllLabels = 40;  // up to this many views, every label shows; beyond, on hover or pick
+let selectedView = -1;
 const ballGeometry = new THREE.SphereGeometry(Math.min(radius / 120, partBox.radius / 20), 12, 8);
 data.views.forEach((v, index) => {
   const f = v.frustum.map((p) => new THREE.Vector3(...p));
@@ -158,12 +192,26 @@ data.views.forEach((v, index) => {
   ball.userData.frustum = frustum;
   cameraBalls.push(ball);
   views.add(ball);
-  const label = new CSS2DObject(el('div', { class: 'label' }, v.order > 0 ? String(v.order) : `#${v.id}`));
+  const label = new CSS2DObject(el('div', { class: 'label' }, viewName(v)));
   label.position.copy(f[0]);
   label.center.set(-0.3, 1.2);
+  label.visible = data.views.length <= kAllLabels;
+  viewLabels.push(label);
   views.add(label);
 });
 scene.add(views);
+// Many views: their frusta faded, so that the part and the picked view stand out.
+if (data.views.length > kAllLabels)
+  for (const object of views.children)
+    if (object.material) { object.material.transparent = true; object.material.opacity = 0.35; }
+document.body.dataset.labelsShown = String(viewLabels.filter((l) => l.visible).length);
+
+// Shows the label of view `index` (hovered or selected) besides the always shown ones.
+function showLabel(index, on) {
+  if (data.views.length <= kAllLabels || !viewLabels[index]) return;
+  viewLabels[index].visible = on || index === selectedView;
+  document.body.dataset.labelsShown = String(viewLabels.filter((l) => l.visible).length);
+}
 
 // The path through the views in sequence order.
 const route = data.path.map((i) => new THREE.Vector3(...data.views[i].frustum[0]));
@@ -199,20 +247,24 @@ $('toggles').append(el('button', { onclick: () => frameOn(partBox) }, 'part'), '
   select.addEventListener('change', () => {
     colourBy = select.value;
     paintFaces();
+    coverageLegend.style.display = colourBy === 'coverage' ? '' : 'none';
     reasonLegend.style.display = colourBy === 'reason' ? '' : 'none';
     densityLegend.style.display = colourBy === 'density' ? '' : 'none';
+    document.body.dataset.colourBy = colourBy;
   });
   $('toggles').append(el('label', {}, 'colour by ', select));
 }
-const reasonLegend = el('div', { style: 'display:none' });
+const reasonLegend = el('div', { style: 'display:none', 'data-mode': 'reason' });
 for (const [reason, c] of Object.entries(reasonColours))
   reasonLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(c)}` }), reason ? reason.replaceAll('_', ' ') : 'measured or not a target'));
 legend.append(reasonLegend);
-const densityLegend = el('div', { style: 'display:none' });
+const densityLegend = el('div', { style: 'display:none', 'data-mode': 'density' });
 for (const d of [10 ** densityRange[0], 10 ** ((densityRange[0] + densityRange[1]) / 2), 10 ** densityRange[1]])
   densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(d))}` }), `${fmt(d, 1)} points/mm²`));
 densityLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(densityColour(0))}` }), 'no points'));
 legend.append(densityLegend);
+legend.append(viewLegend);
+document.body.dataset.colourBy = colourBy;
 for (const [name, object] of [['part', part], ['fixtures', fixtures], ['priority outlines', outlines], ['samples', samples],
   ['views', views], ['path', path], ['markers', markers], ['proposed markers', proposedMarkers]]) {
   const box = el('input', { type: 'checkbox' });
@@ -225,11 +277,17 @@ for (const [name, object] of [['part', part], ['fixtures', fixtures], ['priority
 const viewRows = [];
 function selectView(index) {
   const v = data.views[index];
+  const before = selectedView;
+  selectedView = index;
+  if (before >= 0) showLabel(before, false);
+  showLabel(index, true);
+  document.body.dataset.selectedView = String(index);
   viewRows.forEach((row, i) => row.classList.toggle('selected', i === index));
   viewRows[index]?.scrollIntoView({ block: 'nearest' });
   if (cloud) { scene.remove(cloud); cloud.geometry.dispose(); cloud = null; }
-  const details = [['view', `${v.id}${v.order > 0 ? `, number ${v.order} in the sequence` : ', not in the sequence'}`],
-    ['task', v.task || '–'], ['registration', v.registration ? `${v.state}: ${v.registration.method}${v.registration.to ? ` to view ${v.registration.to}` : ''}` : v.state],
+  const to = v.registration && v.registration.to ? data.views.find((w) => w.id === v.registration.to) : null;
+  const details = [['view', v.order > 0 ? `${v.order} in the sequence (id ${v.id} in plan.json)` : `id ${v.id}, not in the sequence`],
+    ['task', v.task || '–'], ['registration', v.registration ? `${v.state}: ${v.registration.method}${to ? ` to view ${viewName(to)}` : ''}` : v.state],
     ['measures', `${v.measured} samples on ${v.faces.length} faces`], ['faces', v.faces.join(', ') || '–']];
   if (v.orientation) details.push(['rest orientation', String(v.orientation)]);
   const robot = plan.views[index] && plan.views[index].robot;
@@ -271,7 +329,7 @@ function selectFace(id) {
   const rows = [['face', `${f.id} (${f.type}${f.name ? `, ${f.name}` : ''})`], ['area', `${fmt(f.area)} mm²`],
     ['area measured', areaShare(f)],
     ['coverage', f.coverage], ['samples', `${f.measured} of ${f.samples} measured`],
-    ['not coverable', f.not_coverable ? `${f.not_coverable} (${f.reason})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no'],
+    ['not coverable', f.not_coverable ? `${f.not_coverable} (${causeOf(f)})` : '0'], ['priority', f.priority ? 'yes (GD&T)' : 'no'],
     ['point density', f.density === null ? '–' : `${fmt(f.density, 1)} points/mm² (mean over its samples)`],
     ['characteristics', on.join(', ') || '–']];
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
@@ -288,9 +346,13 @@ onClick((e) => {
 
 // ---- tables ---------------------------------------------------------------------------------------
 $('views-table').append(table(
-  [{ title: 'no.', num: true }, { title: 'id', num: true }, { title: 'task' }, { title: 'state' }, { title: 'samples', num: true }],
-  data.views.map((v) => [v.order || '–', v.id, v.task || '', v.state, v.measured]), selectView));
+  [{ title: 'view', num: true }, { title: 'task' }, { title: 'state' }, { title: 'samples', num: true }],
+  data.views.map((v) => [viewName(v), v.task || '', v.state, v.measured]), selectView));
 viewRows.push(...$('views-table').querySelectorAll('tbody tr'));
+viewRows.forEach((row, i) => {
+  row.addEventListener('mouseenter', () => showLabel(i, true));
+  row.addEventListener('mouseleave', () => showLabel(i, false));
+});
 
 const summaryRows = [
   ['model faces', summary.model_faces], ['fixture faces', summary.fixture_faces], ['samples', summary.samples],
@@ -447,8 +509,9 @@ function paintViews(ids = new Set()) {
   document.body.dataset.highlightedViews = String(ids.size);
 }
 
-// A view as the report numbers it: its place in the sequence, its id beside.
-function viewName(v) { return v.order > 0 ? `${v.order} (id ${v.id})` : `id ${v.id}`; }
+// A view as the report numbers it: its place in the sequence (the id, plan.json's, only
+// for a view outside the sequence and in the view's details).
+function viewName(v) { return v.order > 0 ? String(v.order) : `id ${v.id}`; }
 
 if (characteristics.length === 0) {
   $('characteristics').append(el('p', { class: 'muted' }, 'The part carries no GD&T the reader found.'));
@@ -475,7 +538,16 @@ if (characteristics.length === 0) {
   characteristicRows.push(...$('characteristics').querySelectorAll('tbody tr'));
 }
 
-// Faces with samples left unmeasured, by reason; a click flies to the face.
+// Why a face's samples are not measured, as plan.json says it: the reason, and for those
+// lost in the simulation the test that lost them (camera occluded, camera angle, ...).
+function causeOf(f) {
+  if (!f.reason) return 'not measured by the views chosen';
+  const reason = f.reason.replaceAll('_', ' ');
+  return f.loss ? `${reason}: ${f.loss.replaceAll('_', ' ')}` : reason;
+}
+
+// Faces with samples left unmeasured, by reason; a click flies to the face, shown through
+// the part where the part hides it.
 {
   const missing = data.faces.filter((f) => f.samples > f.measured)
     .sort((a, b) => a.reason.localeCompare(b.reason) || b.samples - b.measured - (a.samples - a.measured));
@@ -484,7 +556,7 @@ if (characteristics.length === 0) {
   } else {
     $('missing').append(el('div', { class: 'scroll' }, table([{ title: 'reason' }, { title: 'face', num: true }, { title: 'type' },
       { title: 'samples unmeasured', num: true }, { title: 'area mm²', num: true }],
-    missing.map((f) => [f.reason ? f.reason.replaceAll('_', ' ') : 'not measured by the views chosen', f.id, f.type,
+    missing.map((f) => [causeOf(f), f.id, f.type,
       `${f.samples - f.measured} of ${f.samples}`, fmt(f.area)]),
     (i) => { const f = missing[i]; paintFaces(new Set([f.id])); frameOn(facesBox(new Set([f.id]), partBox.radius / 10)); selectFace(f.id); })));
   }
