@@ -488,6 +488,12 @@ TEST(Report, PlanReadBackKeepsWhySamplesCannotBeCovered) {
   EXPECT_GT(plan.notCoverableCount(), 0u);
   for (std::size_t i = 0; i < back.samples.size(); ++i)
     EXPECT_EQ(back.samples[i].uncoverable, plan.samples[i].uncoverable) << i;
+  // And, for a sample lost in the simulation, the test that lost it.
+  Plan lost = plan;
+  lost.samples[0].uncoverable = Uncoverable::Lost;
+  lost.samples[0].last_loss = Loss::ProjectorOccluded;
+  writePlan(lost, dir.file("lost.json"));
+  EXPECT_EQ(readPlan(dir.file("lost.json")).samples[0].last_loss, Loss::ProjectorOccluded);
 }
 
 }  // namespace

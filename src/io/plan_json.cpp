@@ -930,6 +930,12 @@ struct PlanReader {
           std::array{Uncoverable::BelowWorkingPlane, Uncoverable::OccludedByPart,
                      Uncoverable::NoValidPose, Uncoverable::Lost, Uncoverable::Unreachable},
           path, where);
+    if (entry.contains("loss"))
+      p.last_loss = enumFrom(field<std::string>(entry, "loss", path, where),
+                             std::array{Loss::Measured, Loss::OutsideVolume, Loss::CameraAngle,
+                                        Loss::ProjectorAngle, Loss::Reflection, Loss::UnderMarker,
+                                        Loss::CameraOccluded, Loss::ProjectorOccluded},
+                             path, where);
     return p;
   }
 };

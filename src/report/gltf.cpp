@@ -203,8 +203,8 @@ void writeGlb(const PlanScene& scene, const std::string& path) {
                     v.view, scene.scanner, v.state);
   std::vector<Vec3> route;
   for (int i : scene.path) route.push_back(scene.views[i].view.camera());
-  glb.addMesh("path", route, {}, TINYGLTF_MODE_LINE_STRIP, {240, 120, 0}, false);
-  glb.addMesh("markers", scene.markers, {}, TINYGLTF_MODE_POINTS, {250, 220, 0}, false);
+  glb.addMesh("path", route, {}, TINYGLTF_MODE_LINE_STRIP, kPathColour, false);
+  glb.addMesh("markers", scene.markers, {}, TINYGLTF_MODE_POINTS, kMarkerColour, false);
   glb.write(path);
 }
 

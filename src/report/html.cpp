@@ -242,6 +242,9 @@ void writeReport(const Plan& plan, const Part& part, const ResolvedSpec& resolve
        {ViewState::Registered, ViewState::Bridge, ViewState::Unregistrable, ViewState::Unchecked})
     palette[std::string(toString(s))] = colour(s);
   palette["fixture"] = kFixtureColour;
+  palette["path"] = kPathColour;
+  palette["markers"] = kMarkerColour;
+  palette["proposed markers"] = kProposedMarkerColour;
   data["palette"] = palette;
   if (evidence.inspection) data["inspection"] = inspectionJson(*evidence.inspection, plan);
 

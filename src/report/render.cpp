@@ -176,7 +176,7 @@ Image renderScene(const PlanScene& scene, int width, int height) {
     canvas.line(outlines[i], outlines[i + 1], {20, 20, 20});
   for (std::size_t k = 1; k < scene.path.size(); ++k)
     canvas.line(scene.views[scene.path[k - 1]].view.camera(),
-                scene.views[scene.path[k]].view.camera(), {240, 120, 0}, 2);
+                scene.views[scene.path[k]].view.camera(), kPathColour, 2);
   for (const SceneView& v : scene.views) {
     const std::array<Vec3, 5> f = cone(v.view);
     for (int k = 1; k <= 4; ++k) {
@@ -186,7 +186,7 @@ Image renderScene(const PlanScene& scene, int width, int height) {
   }
   for (const SceneView& v : scene.views)
     canvas.text(v.view.camera(), std::to_string(v.order > 0 ? v.order : v.view.id), {0, 0, 0});
-  for (const Vec3& m : scene.markers) canvas.dot(m, {250, 200, 0}, 3);
+  for (const Vec3& m : scene.markers) canvas.dot(m, kMarkerColour, 3);
   const int row = 22;
   int y = 12;
   auto legend = [&](const Rgb& c, const std::string& label) {
@@ -200,7 +200,8 @@ Image renderScene(const PlanScene& scene, int width, int height) {
   if (!scene.fixtures.empty()) legend(kFixtureColour, "fixture");
   for (ViewState s : {ViewState::Registered, ViewState::Bridge, ViewState::Unregistrable})
     legend(colour(s), "view " + std::string(toString(s)));
-  legend({240, 120, 0}, "path");
+  legend(kPathColour, "path");
+  if (!scene.markers.empty()) legend(kMarkerColour, "markers");
   return canvas.take();
 }
 

@@ -52,9 +52,8 @@ const viewLegend = el('div', { 'data-mode': 'views' });
 for (const [name, title] of [['registered', 'view registered'], ['bridge', 'bridging view'], ['unregistrable', 'view unregistrable']]) {
   viewLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), title));
 }
-viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#f07800' }), 'path'));
-viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#fac800' }), 'markers'));
-viewLegend.append(el('div', {}, el('span', { class: 'sw', style: 'background:#00b4f0' }), 'proposed markers'));
+for (const name of ['path', 'markers', 'proposed markers'])
+  viewLegend.append(el('div', {}, el('span', { class: 'sw', style: `background:${rgb(data.palette[name])}` }), name));
 
 // ---- 3D scene ---------------------------------------------------------------------------------
 const viewport = $('viewport');
@@ -215,18 +214,18 @@ function showLabel(index, on) {
 
 // The path through the views in sequence order.
 const route = data.path.map((i) => new THREE.Vector3(...data.views[i].frustum[0]));
-const path = new THREE.Line(new THREE.BufferGeometry().setFromPoints(route), new THREE.LineBasicMaterial({ color: 0xf07800 }));
+const path = new THREE.Line(new THREE.BufferGeometry().setFromPoints(route), new THREE.LineBasicMaterial({ color: colour3(data.palette.path) }));
 scene.add(path);
 
 const markerPositions = f32(data.markers);
 const markerGeometry = new THREE.BufferGeometry();
 markerGeometry.setAttribute('position', new THREE.BufferAttribute(markerPositions, 3));
-const markers = new THREE.Points(markerGeometry, new THREE.PointsMaterial({ color: 0xfac800, size: 6, sizeAttenuation: false }));
+const markers = new THREE.Points(markerGeometry, new THREE.PointsMaterial({ color: colour3(data.palette.markers), size: 6, sizeAttenuation: false }));
 scene.add(markers);
 // Markers the plan proposes where views register to nothing (proposed-markers.csv).
 const proposedGeometry = new THREE.BufferGeometry();
 proposedGeometry.setAttribute('position', new THREE.BufferAttribute(f32(data.proposed_markers || ''), 3));
-const proposedMarkers = new THREE.Points(proposedGeometry, new THREE.PointsMaterial({ color: 0x00b4f0, size: 8, sizeAttenuation: false }));
+const proposedMarkers = new THREE.Points(proposedGeometry, new THREE.PointsMaterial({ color: colour3(data.palette['proposed markers']), size: 8, sizeAttenuation: false }));
 scene.add(proposedMarkers);
 
 let cloud = null;      // the selected view's simulated cloud
@@ -345,11 +344,16 @@ onClick((e) => {
 });
 
 // ---- tables ---------------------------------------------------------------------------------------
+// The views in the order the cell takes them, those outside the sequence last.
+const inSequence = data.views.map((v, i) => i)
+  .sort((a, b) => (data.views[a].order || Infinity) - (data.views[b].order || Infinity) || a - b);
 $('views-table').append(table(
   [{ title: 'view', num: true }, { title: 'task' }, { title: 'state' }, { title: 'samples', num: true }],
-  data.views.map((v) => [viewName(v), v.task || '', v.state, v.measured]), selectView));
-viewRows.push(...$('views-table').querySelectorAll('tbody tr'));
-viewRows.forEach((row, i) => {
+  inSequence.map((i) => { const v = data.views[i]; return [viewName(v), v.task || '', v.state, v.measured]; }),
+  (k) => selectView(inSequence[k])));
+$('views-table').querySelectorAll('tbody tr').forEach((row, k) => {
+  const i = inSequence[k];
+  viewRows[i] = row;
   row.addEventListener('mouseenter', () => showLabel(i, true));
   row.addEventListener('mouseleave', () => showLabel(i, false));
 });
@@ -543,7 +547,7 @@ if (characteristics.length === 0) {
 function causeOf(f) {
   if (!f.reason) return 'not measured by the views chosen';
   const reason = f.reason.replaceAll('_', ' ');
-  return f.loss ? `${reason}: ${f.loss.replaceAll('_', ' ')}` : reason;
+  return f.reason === 'lost_in_simulation' && f.loss ? `${reason}: ${f.loss.replaceAll('_', ' ')}` : reason;
 }
 
 // Faces with samples left unmeasured, by reason; a click flies to the face, shown through

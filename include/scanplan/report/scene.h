@@ -34,7 +34,10 @@ std::string_view toString(ViewState state);
 using Rgb = std::array<std::uint8_t, 3>;  // sRGB
 Rgb colour(FaceCoverage coverage);
 Rgb colour(ViewState state);
-inline constexpr Rgb kFixtureColour{96, 122, 168};  // fixture models and fixture faces
+inline constexpr Rgb kFixtureColour{96, 122, 168};         // fixture models and fixture faces
+inline constexpr Rgb kPathColour{240, 228, 66};            // the path (Okabe-Ito yellow)
+inline constexpr Rgb kMarkerColour{60, 60, 60};            // markers in the cell
+inline constexpr Rgb kProposedMarkerColour{86, 180, 233};  // markers proposed (sky blue)
 
 struct FaceStatus {
   int id = 0;
