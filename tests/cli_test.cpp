@@ -437,11 +437,11 @@ TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
   EXPECT_EQ(verify.code, 0) << verify.out;
 }
 
-// Views of CTC 01's GD&T faces that its geometry cannot register: the plan proposes markers
+// Views of FTC 11's GD&T faces that its geometry cannot register: the plan proposes markers
 // as a CSV that `markers:` reads, and with --place-markers plans again with them.
 TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
   test::TempDir dir;
-  const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
   test::writeText(dir.file("gdt.yaml"), "gdt: from-file\ntasks:\n  - {type: gdt}\n");
   CommandResult r = run("plan " + part + " --spec " + dir.file("gdt.yaml") + " -o " +
                         dir.file("out") + " --no-report -q --place-markers");
