@@ -75,8 +75,18 @@ int sampleState(const PlannedSample& sample) {
 
 namespace {
 
-// Per face of the part: its samples, measured and not coverable, its coverage, whether it
-// bears GD&T, and the commonest reason of its not coverable samples.
+// A face's coverage by its measured area: measured from 99 % of it (the area points'
+// resolution), partly from any of it.
+FaceCoverage areaCoverage(const FaceArea& f) {
+  return !(f.area > 0)                 ? FaceCoverage::NotTarget
+         : f.measured >= 0.99 * f.area ? FaceCoverage::Measured
+         : f.measured > 0              ? FaceCoverage::Partly
+                                       : FaceCoverage::NotMeasured;
+}
+
+// Per face of the part: its samples, measured and not coverable, its coverage (for a face
+// without samples under a scan of the whole part, by its measured area), whether it bears
+// GD&T, and the commonest reason of its not coverable samples.
 void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
   std::vector<std::map<Uncoverable, std::size_t>> reasons(part.faces.size());
   scene.faces.resize(part.faces.size());
@@ -100,12 +110,18 @@ void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
       ++reasons[face - 1][s.uncoverable];
     }
   }
+  // A scan of the whole part (a global task) targets every face, those its sampling left
+  // without a sample too: they take their coverage from their measured area.
+  const bool whole = std::any_of(plan.samples.begin(), plan.samples.end(),
+                                 [](const auto& s) { return s.sample.task == TaskType::Global; });
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     FaceStatus& status = scene.faces[f];
     status.coverage = status.samples == 0                 ? FaceCoverage::NotTarget
                       : status.measured == status.samples ? FaceCoverage::Measured
                       : status.measured > 0               ? FaceCoverage::Partly
                                                           : FaceCoverage::NotMeasured;
+    if (status.samples == 0 && whole && f < plan.face_areas.size())
+      status.coverage = areaCoverage(plan.face_areas[f]);
     if (!reasons[f].empty())
       status.reason = std::max_element(reasons[f].begin(), reasons[f].end(), [](auto& a, auto& b) {
                         return a.second < b.second;
@@ -217,6 +233,10 @@ std::vector<Vec3> priorityOutlines(const PlanScene& scene) {
 
 PlanScene planScene(const Plan& plan, const Part& part, const ResolvedSpec& spec) {
   PlanScene scene = planScene(plan, part);
+  for (int face : spec.targets.fixture)  // the part's faces that hold it: never targets
+    if (face >= 1 && face <= static_cast<int>(scene.faces.size()) &&
+        scene.faces[face - 1].samples == 0)
+      scene.faces[face - 1].coverage = FaceCoverage::NotTarget;
   for (const TriangleMesh& mesh : fixturesInWorld(spec, plan.part_to_world))
     scene.fixtures.append(mesh, 0);
   for (const Vec3& v : scene.fixtures.vertices) scene.bounds.add(v);
