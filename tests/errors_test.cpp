@@ -710,6 +710,11 @@ TEST(StudyErrors, RowsAreEveryCombinationAndMistakesAreNamed) {
   for (int i = 0; i < 60; ++i) many += (i ? ", s" : "s") + std::to_string(i);
   EXPECT_EQ(error(many + "]\n"), "12000 plans: a study holds at most 10000");
   EXPECT_THROW(loadStudy(dir.file("missing.yaml")), InputError);
+  // A name from hostile file names stays a folder of its own under the study's.
+  test::writeText(path, "parts: [\"...stp\", \"a b;c\\n.stp\"]\n");
+  const Study odd = loadStudy(path);
+  EXPECT_EQ(odd.rows[0].name, "_.");
+  EXPECT_EQ(odd.rows[1].name, "a_b_c_");
 }
 
 }  // namespace

@@ -93,7 +93,8 @@ std::vector<std::optional<double>> coverages(const StudyReader& reader, const YA
   return result;
 }
 
-// A folder name for a row: its varying settings, each reduced to letters, digits, . _ -.
+// A folder name for a row: its varying settings, each reduced to letters, digits, . _ -,
+// never starting with a dot (no "..", no hidden folder) and at most 100 characters.
 std::string rowName(const std::vector<std::string>& parts) {
   std::string name;
   for (const std::string& part : parts) {
@@ -102,7 +103,9 @@ std::string rowName(const std::vector<std::string>& parts) {
     for (char c : part)
       name += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' ? c : '_';
   }
-  return name.empty() ? "plan" : name;
+  if (name.empty()) name = "plan";
+  if (name.front() == '.') name.front() = '_';
+  return name.substr(0, 100);
 }
 
 std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
