@@ -397,7 +397,7 @@ TEST(Report, PictureShowsThePartInItsCoverageColours) {
   }
   const double pixels = 320.0 * 240;
   // Framed on the part, the cube's measured faces take 31 % of the picture; framed on the
-  // part and every camera, as it was, they took 1.4 %.
+  // part and every camera, as it was, they took 1.8 %.
   EXPECT_GT(static_cast<double>(measured) / pixels, 0.1);
   EXPECT_GT(static_cast<double>(background) / pixels, 0.3);
   test::TempDir dir;

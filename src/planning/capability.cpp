@@ -17,6 +17,7 @@
 
 #include <scanplan/cad/localization.h>
 #include <scanplan/planning/capability.h>
+#include <scanplan/planning/evidence.h>
 #include <scanplan/planning/planner.h>
 #include <scanplan/scanner/simulation.h>
 #include <scanplan/solve/fits.h>
@@ -351,32 +352,25 @@ std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>
   return patches;
 }
 
-// The looks of every view of `plan` at the patches, each view in its orientation's world.
+// The looks of every view of `plan` at the patches, each view in its orientation's world,
+// setup by setup.
 void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
           std::vector<Patch>& patches) {
-  const Scanner& scanner = plan.scanner;
+  std::vector<SurfacePoint> points;
+  for (const Patch& p : patches) points.push_back(p.point);
+  const std::vector<std::vector<int>> measured = measuredByViews(plan, part, spec, points);
   const std::vector<std::size_t> orientation = viewOrientations(plan);
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
     const Pose placed = orientationPlacement(plan, k);
-    std::vector<View> views;
-    std::vector<std::size_t> indices;  // into plan.views
-    for (std::size_t v = 0; v < plan.views.size(); ++v)
-      if (orientation[v] == k) {
-        views.push_back(plan.views[v]);
-        indices.push_back(v);
-      }
-    const Simulator simulator(part, scanner, simulationOptionsFor(spec, part, placed));
-    std::vector<SurfacePoint> points;
-    for (const Patch& p : patches)
-      points.push_back({placed * p.point.position, placed.linear() * p.point.normal, p.point.face});
-    const std::vector<std::vector<int>> measured = measuredPoints(simulator, views, points);
-    for (std::size_t v = 0; v < views.size(); ++v)
+    for (std::size_t v = 0; v < plan.views.size(); ++v) {
+      if (orientation[v] != k) continue;
       for (int i : measured[v]) {
-        const PointQuality q =
-            pointQuality(scanner, views[v], points[i].position, points[i].normal);
-        patches[i].looks.push_back({q.sigma, patches[i].area * q.density, indices[v],
-                                    points[i].position, points[i].normal});
+        const Vec3 position = placed * points[i].position;
+        const Vec3 normal = placed.linear() * points[i].normal;
+        const PointQuality q = pointQuality(plan.scanner, plan.views[v], position, normal);
+        patches[i].looks.push_back({q.sigma, patches[i].area * q.density, v, position, normal});
       }
+    }
   }
 }
 

@@ -1,8 +1,7 @@
 // Coverage as area (docs/planning.md, "Coverage by area").
 
 #include <scanplan/planning/coverage_area.h>
-#include <scanplan/planning/planner.h>
-#include <scanplan/scanner/simulation.h>
+#include <scanplan/planning/evidence.h>
 
 #include <algorithm>
 #include <cmath>
@@ -67,22 +66,8 @@ std::vector<FaceArea> measuredArea(const Part& part, const ResolvedSpec& spec, c
     spacing *= std::sqrt(static_cast<double>(count) / static_cast<double>(points));
   const AreaPoints area = areaPoints(part.mesh, spacing);
   std::vector<char> measured(area.points.size(), 0);
-  const std::vector<std::size_t> orientation = viewOrientations(plan);
-  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
-    const Pose placed = orientationPlacement(plan, k);
-    std::vector<View> views;
-    for (std::size_t v = 0; v < plan.views.size(); ++v)
-      if (orientation[v] == k) views.push_back(plan.views[v]);
-    if (views.empty()) continue;
-    std::vector<SurfacePoint> world = area.points;
-    for (SurfacePoint& p : world) {
-      p.position = placed * p.position;
-      p.normal = placed.linear() * p.normal;
-    }
-    const Simulator simulator(part, plan.scanner, simulationOptionsFor(spec, part, placed));
-    for (const std::vector<int>& by_view : measuredPoints(simulator, views, world))
-      for (int i : by_view) measured[i] = 1;
-  }
+  for (const std::vector<int>& by_view : measuredByViews(plan, part, spec, area.points))
+    for (int i : by_view) measured[i] = 1;
   for (std::size_t i = 0; i < area.points.size(); ++i) {
     const int face = area.points[i].face;
     if (face < 1 || face > static_cast<int>(faces.size())) continue;

@@ -32,6 +32,33 @@ void forEachViewCloud(const Plan& plan, const Part& part, const ResolvedSpec& re
   report(progress, "simulated clouds", 1);
 }
 
+std::vector<std::vector<int>> measuredByViews(const Plan& plan, const Part& part,
+                                              const ResolvedSpec& spec,
+                                              std::span<const SurfacePoint> points) {
+  std::vector<std::vector<int>> measured(plan.views.size());
+  const std::vector<std::size_t> orientation_of = viewOrientations(plan);
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k) {
+    std::vector<View> views;
+    std::vector<std::size_t> indices;  // into plan.views
+    for (std::size_t v = 0; v < plan.views.size(); ++v)
+      if (orientation_of[v] == k) {
+        views.push_back(plan.views[v]);
+        indices.push_back(v);
+      }
+    if (views.empty()) continue;
+    const Pose placed = orientationPlacement(plan, k);
+    std::vector<SurfacePoint> world(points.begin(), points.end());
+    for (SurfacePoint& p : world) {
+      p.position = placed * p.position;
+      p.normal = placed.linear() * p.normal;
+    }
+    const Simulator simulator(part, plan.scanner, simulationOptionsFor(spec, part, placed));
+    std::vector<std::vector<int>> by_view = measuredPoints(simulator, views, world);
+    for (std::size_t j = 0; j < views.size(); ++j) measured[indices[j]] = std::move(by_view[j]);
+  }
+  return measured;
+}
+
 std::vector<PointCloud> viewClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,
                                    double spacing, const Progress& progress) {
   std::vector<PointCloud> clouds(plan.views.size());

@@ -56,25 +56,9 @@ json meshJson(const PlanScene& scene) {
   return mesh;
 }
 
-// Per face, the commonest simulation loss of its samples lost in simulation (plan.json's
-// `loss`): what "lost in simulation" was, for the face's entry.
-std::map<int, std::string> faceLosses(const Plan& plan) {
-  std::map<int, std::map<std::string, std::size_t>> counts;
-  for (const PlannedSample& s : plan.samples)
-    if (s.uncoverable == Uncoverable::Lost)
-      ++counts[s.sample.face][std::string(toString(s.last_loss))];
-  std::map<int, std::string> losses;
-  for (const auto& [face, by_loss] : counts)
-    losses[face] = std::max_element(by_loss.begin(), by_loss.end(), [](auto& a, auto& b) {
-                     return a.second < b.second;
-                   })->first;
-  return losses;
-}
-
 json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
                const std::vector<int>& fixture) {
   const std::map<int, double> densities = faceDensities(plan, scene);
-  const std::map<int, std::string> losses = faceLosses(plan);
   json faces = json::array();
   for (const FaceStatus& f : scene.faces) {
     const Face& face = part.faces[f.id - 1];
@@ -99,7 +83,7 @@ json facesJson(const Plan& plan, const PlanScene& scene, const Part& part,
          {"reason", f.reason == Uncoverable::None ? "" : toString(f.reason)},
          {"density", density == densities.end() ? json(nullptr) : json(density->second)},
          {"area_measured", area_share},
-         {"loss", losses.count(f.id) ? losses.at(f.id) : ""}});
+         {"loss", f.loss == Loss::Measured ? "" : toString(f.loss)}});
   }
   return faces;
 }

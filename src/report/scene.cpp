@@ -75,6 +75,14 @@ int sampleState(const PlannedSample& sample) {
 
 namespace {
 
+// The key counted most often (the first of equals).
+template <typename Key>
+Key commonest(const std::map<Key, std::size_t>& counts) {
+  return std::max_element(counts.begin(), counts.end(),
+                          [](auto& a, auto& b) { return a.second < b.second; })
+      ->first;
+}
+
 // A face's coverage by its measured area: measured from 99 % of it (the area points'
 // resolution), partly from any of it.
 FaceCoverage areaCoverage(const FaceArea& f) {
@@ -89,6 +97,7 @@ FaceCoverage areaCoverage(const FaceArea& f) {
 // GD&T, and the commonest reason of its not coverable samples.
 void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
   std::vector<std::map<Uncoverable, std::size_t>> reasons(part.faces.size());
+  std::vector<std::map<Loss, std::size_t>> losses(part.faces.size());
   scene.faces.resize(part.faces.size());
   for (std::size_t f = 0; f < part.faces.size(); ++f) scene.faces[f].id = static_cast<int>(f + 1);
   for (const GeometricTolerance& t : part.gdt.tolerances)
@@ -109,6 +118,7 @@ void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
       ++status.not_coverable;
       ++reasons[face - 1][s.uncoverable];
     }
+    if (s.uncoverable == Uncoverable::Lost) ++losses[face - 1][s.last_loss];
   }
   // A scan of the whole part (a global task) targets every face, those its sampling left
   // without a sample too: they take their coverage from their measured area.
@@ -122,10 +132,8 @@ void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
                                                           : FaceCoverage::NotMeasured;
     if (status.samples == 0 && whole && f < plan.face_areas.size())
       status.coverage = areaCoverage(plan.face_areas[f]);
-    if (!reasons[f].empty())
-      status.reason = std::max_element(reasons[f].begin(), reasons[f].end(), [](auto& a, auto& b) {
-                        return a.second < b.second;
-                      })->first;
+    if (!reasons[f].empty()) status.reason = commonest(reasons[f]);
+    if (!losses[f].empty()) status.loss = commonest(losses[f]);
   }
 }
 

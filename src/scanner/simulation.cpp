@@ -48,14 +48,13 @@ void forEach(std::size_t n, const F& f) {
 // The parts of the measurement test that need no ray, for one view.
 struct ViewGeometry {
   Pose world_to_camera;
-  Vec3 camera, projector;
-  std::vector<Vec3> cameras;  // every camera's centre; the first is `camera`
+  Vec3 projector;
+  std::vector<Vec3> cameras;  // every camera's centre, the view's own first
   double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
   double cos_camera, cos_projector, cos_reflection;
 
   ViewGeometry(const View& view, const Scanner& s)
       : world_to_camera(view.camera_to_world.inverse()),
-        camera(view.camera()),
         projector(projectorPosition(view, s)),
         z_min(s.standoff - s.depth_of_field / 2),
         z_max(s.standoff + s.depth_of_field / 2),

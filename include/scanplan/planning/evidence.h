@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace scanplan {
@@ -23,6 +24,12 @@ namespace scanplan {
 void forEachViewCloud(const Plan& plan, const Part& part, const ResolvedSpec& spec, double spacing,
                       const Progress& progress,
                       const std::function<void(std::size_t, PointCloud&&)>& take);
+
+// For each view of `plan` (in plan order), the indices of `points` (part frame) its
+// simulation measures, each view in its rest orientation's placement.
+std::vector<std::vector<int>> measuredByViews(const Plan& plan, const Part& part,
+                                              const ResolvedSpec& spec,
+                                              std::span<const SurfacePoint> points);
 
 // The clouds of forEachViewCloud, per view in plan order.
 std::vector<PointCloud> viewClouds(const Plan& plan, const Part& part, const ResolvedSpec& spec,

@@ -45,6 +45,7 @@ struct FaceStatus {
   FaceCoverage coverage = FaceCoverage::NotTarget;
   bool priority = false;                   // toleranced or datum face (GD&T)
   Uncoverable reason = Uncoverable::None;  // the commonest reason of its not coverable samples
+  Loss loss = Loss::Measured;  // of those lost in simulation, the commonest test that lost them
 };
 
 struct SceneView {
