@@ -105,9 +105,12 @@ void printCharacteristics(const Plan& plan) {
     const Characteristic& c = plan.characteristics[i];
     fmt::print(
         "  {:>3} {:<22} {:<26} {:>5.1f}% covered, U {:.4f} (noise {:.4f}, registration "
-        "{:.4f}, scanner {:.4f}), ratio {:.2f}: {} ({}){}\n",
+        "{:.4f}, scanner {:.4f}), ratio {:.2f}: {} ({}){}{}{}\n",
         c.id, c.kind, specified(c), 100 * k.covered, k.uncertainty, k.budget.noise,
         k.budget.registration, k.budget.scanner, k.ratio, toString(k.verdict), toString(k.reason),
+        k.limit == Limit::None ? "" : fmt::format("; beyond the views: {}", toString(k.limit)),
+        k.inspected_uncertainty ? fmt::format("; inspected U {:.4f}", *k.inspected_uncertainty)
+                                : "",
         k.rest ? fmt::format("; rest orientation {} reaches it (part: {{rest: all}})", *k.rest + 1)
                : "");
   }

@@ -59,4 +59,39 @@ std::vector<int> datumFaces(const Gdt& gdt, const std::string& reference) {
   return sortedUnique(faces);
 }
 
+std::vector<int> datumFaces(const Gdt& gdt, const Characteristic& c) {
+  std::vector<int> faces;
+  for (const std::string& reference : c.datums)
+    for (int f : datumFaces(gdt, reference)) faces.push_back(f);
+  return sortedUnique(faces);
+}
+
+bool datumsLinked(const Gdt& gdt, const Characteristic& c) {
+  if (c.dimension) return true;
+  return std::all_of(c.datums.begin(), c.datums.end(), [&](const std::string& reference) {
+    const std::vector<std::string> letters = datumLetters(reference);
+    return std::all_of(letters.begin(), letters.end(),
+                       [&](const std::string& letter) { return !datumFaces(gdt, letter).empty(); });
+  });
+}
+
+bool verifiable(const Gdt& gdt, const Characteristic& c) {
+  return c.width() > 0 && !c.faces.empty() && datumsLinked(gdt, c);
+}
+
+std::vector<int> verifiedFaces(const Gdt& gdt) {
+  std::vector<int> faces;
+  for (const Characteristic& c : characteristics(gdt))
+    if (verifiable(gdt, c)) faces.insert(faces.end(), c.faces.begin(), c.faces.end());
+  return sortedUnique(faces);
+}
+
+std::vector<int> verifiedDatumFaces(const Gdt& gdt) {
+  std::vector<int> faces;
+  for (const Characteristic& c : characteristics(gdt))
+    if (verifiable(gdt, c))
+      for (int f : datumFaces(gdt, c)) faces.push_back(f);
+  return sortedUnique(faces);
+}
+
 }  // namespace scanplan

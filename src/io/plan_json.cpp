@@ -111,6 +111,7 @@ json samplesJson(const Plan& plan) {
 
 json capabilityJson(const Capability& k) {
   auto finite = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+  auto optional = [](const std::optional<double>& x) { return x ? json(*x) : json(nullptr); };
   return {{"area", k.area},
           {"covered", k.covered},
           {"points", k.points},
@@ -124,6 +125,10 @@ json capabilityJson(const Capability& k) {
           {"ratio", k.ratio},
           {"verdict", toString(k.verdict)},
           {"reason", toString(k.reason)},
+          {"limit", toString(k.limit)},
+          {"views", k.views},
+          {"inspected_uncertainty", optional(k.inspected_uncertainty)},
+          {"inspected_bias", optional(k.inspected_bias)},
           {"rest_orientation", k.rest ? json(*k.rest + 1) : json(nullptr)}};
 }
 
@@ -838,6 +843,15 @@ struct PlanReader {
     }
     if (const json rest = section.value("rest_orientation", json()); rest.is_number_integer())
       c.rest = rest.get<std::size_t>() - 1;
+    if (section.contains("limit"))
+      c.limit = named<Limit>(field<std::string>(section, "limit", path, where), kLimits, where);
+    c.views = fieldOr(section, "views", std::vector<int>{}, path, where);
+    const auto number = [&](const char* name) -> std::optional<double> {
+      const json x = section.value(name, json());
+      return x.is_number() ? std::optional(x.get<double>()) : std::nullopt;
+    };
+    c.inspected_uncertainty = number("inspected_uncertainty");
+    c.inspected_bias = number("inspected_bias");
     return c;
   }
 

@@ -372,7 +372,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
              "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
-             "capable_ratio", "lift_capability", "coverage", "objective"},
+             "capable_ratio", "lift_capability", "coverage", "objective", "aim"},
             reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
@@ -399,6 +399,12 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     if (name != "views" && name != "cycle_time")
       reader.fail("planner.objective must be views or cycle_time, not '" + name + "'");
     p.objective = name == "views" ? Objective::Views : Objective::CycleTime;
+  }
+  if (const YAML::Node aim = node["aim"]) {
+    const auto name = reader.scalar<std::string>(aim, "planner.aim");
+    if (name != "samples" && name != "characteristics")
+      reader.fail("planner.aim must be samples or characteristics, not '" + name + "'");
+    p.aim = name == "samples" ? Aim::Samples : Aim::Characteristics;
   }
   if (const YAML::Node rescue = node["rescue"]) {
     checkKeys(rescue, {"step", "rotations", "narrow"}, reader, "planner.rescue");

@@ -34,8 +34,7 @@
 namespace scanplan {
 namespace {
 
-constexpr double kMinPoints = 25;       // fewer points cannot fit a feature soundly
-constexpr double kCoveredEnough = 0.9;  // share of the area a capable characteristic has covered
+constexpr double kMinPoints = 25;  // fewer points cannot fit a feature soundly
 constexpr double kMostlyUncovered = 0.5;
 
 // What a view measures at a sample: the noise of its points and how many there are.
@@ -315,27 +314,6 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// The faces a characteristic's datum references name.
-std::vector<int> datumFaces(const Part& part, const Characteristic& c) {
-  std::vector<int> faces;
-  for (const std::string& reference : c.datums)
-    for (int f : datumFaces(part.gdt, reference)) faces.push_back(f);
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  return faces;
-}
-
-// Whether every datum of a geometric tolerance names faces: else its frame cannot be fitted.
-bool datumsLinked(const Part& part, const Characteristic& c) {
-  if (c.dimension) return true;
-  return std::all_of(c.datums.begin(), c.datums.end(), [&](const std::string& reference) {
-    const std::vector<std::string> letters = datumLetters(reference);
-    return std::all_of(letters.begin(), letters.end(), [&](const std::string& letter) {
-      return !datumFaces(part.gdt, letter).empty();
-    });
-  });
-}
-
 // The characteristics' faces and their datums', sampled once (part frame), each sample a
 // patch.
 std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>& list) {
@@ -343,7 +321,7 @@ std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>
   for (const Characteristic& c : list) {
     faces.insert(c.faces.begin(), c.faces.end());
     if (!c.dimension)
-      for (int f : datumFaces(part, c)) faces.insert(f);
+      for (int f : datumFaces(part.gdt, c)) faces.insert(f);
   }
   std::vector<Patch> patches;
   for (const Sample& s :
@@ -461,13 +439,15 @@ double largestGap(const std::vector<const Patch*>& patches) {
   return gap;
 }
 
+// Whether the patch lies face down on the working plane, the part placed by `pose`.
+bool onPlane(const Pose& pose, const Patch& p) {
+  return (pose.linear() * p.point.normal).z() < -0.9 && (pose * p.point.position).z() < 1;
+}
+
 // The rest orientation that turns up the most of the unmeasured area lying on the working
 // plane, when that is most of the unmeasured area.
 std::optional<std::size_t> restFor(const std::vector<const Patch*>& patches,
                                    const std::vector<RestOrientation>& rests, const Pose& placed) {
-  auto onPlane = [](const Pose& pose, const Patch& p) {
-    return (pose.linear() * p.point.normal).z() < -0.9 && (pose * p.point.position).z() < 1;
-  };
   double unmeasured = 0, down = 0;
   for (const Patch* p : patches)
     if (p->looks.empty()) {
@@ -489,11 +469,16 @@ std::optional<std::size_t> restFor(const std::vector<const Patch*>& patches,
 
 // `fitted`: what is measured determines the size's fit whatever share of the faces it is
 // (a cylinder's band measured all round), so the share measured does not judge it.
-void judge(const Characteristic& c, Capability& k, const CapabilityOptions& options, bool fitted) {
+// `datums_covered`: the share of its datum features' area measured (1 without datums).
+void judge(const Characteristic& c, Capability& k, const CapabilityOptions& options, bool fitted,
+           double datums_covered) {
   k.ratio = k.uncertainty > 0 ? c.width() / (2 * k.uncertainty) : 0;
   const bool sparse = (!fitted && k.covered < kCoveredEnough) || k.points < kMinPoints;
   if (!(c.width() > 0)) {
     k.verdict = Verdict::Untoleranced;
+  } else if (datums_covered < kDatumsCoveredEnough) {
+    k.verdict = Verdict::NotCapable;
+    k.reason = Shortfall::DatumsUnmeasured;
   } else if (!fitted && k.covered < kMostlyUncovered) {
     k.verdict = Verdict::NotCapable;
     k.reason = Shortfall::Uncovered;
@@ -502,6 +487,48 @@ void judge(const Characteristic& c, Capability& k, const CapabilityOptions& opti
   } else {
     k.verdict = k.ratio >= options.marginal_ratio ? Verdict::Marginal : Verdict::NotCapable;
     k.reason = sparse ? Shortfall::TooSparse : Shortfall::TooNoisy;
+  }
+}
+
+// The ids of the views whose looks at `patches` count.
+std::vector<int> servingViews(const InOneFrame& framed, const Plan& plan) {
+  std::set<int> ids;
+  for (const auto* list : {&framed.feature, &framed.datum})
+    for (const Patch& p : *list)
+      for (const Look& l : p.looks) ids.insert(plan.views[l.view].id);
+  return {ids.begin(), ids.end()};
+}
+
+// Whether poses measure `enough` of `faces`, by the plan's samples on them: NotTargeted when
+// it has none, NoPoseReaches when its search found poses for less than that share.
+Limit reachOf(const std::vector<int>& faces, double enough, const Plan& plan) {
+  double on = 0, reached = 0;
+  for (const PlannedSample& s : plan.samples)
+    if (std::binary_search(faces.begin(), faces.end(), s.sample.face)) {
+      ++on;
+      if (s.uncoverable == Uncoverable::None) ++reached;
+    }
+  if (on == 0) return Limit::NotTargeted;
+  return reached < enough * on ? Limit::NoPoseReaches : Limit::None;
+}
+
+// Why `c`, judged `k`, is beyond what more views can do; Limit::None when it is capable or
+// they may help.
+Limit limitOf(const Part& part, const Characteristic& c, const Capability& k, const Plan& plan,
+              const CapabilityOptions& options) {
+  if (k.verdict == Verdict::Capable || k.verdict == Verdict::Untoleranced) return Limit::None;
+  if (k.reason == Shortfall::NotLinked) return Limit::NotLinked;
+  const double largest = c.width() / (2 * options.capable_ratio);  // U a capable one reaches
+  const double scanner = 2 * acceptanceFigure(c, effectOf(c), plan.scanner) / std::sqrt(3.0);
+  if (scanner > largest) return Limit::BelowScannerError;
+  switch (k.reason) {
+    case Shortfall::SetupsNotJoined: return Limit::SetupsNotJoined;
+    case Shortfall::NotRegistered: return Limit::NotRegistered;
+    case Shortfall::TooNoisy:
+      return k.budget.registration > largest ? Limit::RegistrationError : Limit::None;
+    case Shortfall::DatumsUnmeasured:
+      return reachOf(datumFaces(part.gdt, c), kDatumsCoveredEnough, plan);
+    default: return reachOf(c.faces, kCoveredEnough, plan);
   }
 }
 
@@ -517,6 +544,20 @@ std::string_view toString(Verdict verdict) {
   return "?";
 }
 
+std::string_view toString(Limit limit) {
+  switch (limit) {
+    case Limit::None: return "none";
+    case Limit::NotLinked: return "not_linked";
+    case Limit::NotTargeted: return "not_targeted";
+    case Limit::NoPoseReaches: return "no_pose_reaches";
+    case Limit::SetupsNotJoined: return "setups_not_joined";
+    case Limit::NotRegistered: return "not_registered";
+    case Limit::BelowScannerError: return "below_scanner_error";
+    case Limit::RegistrationError: return "registration_error";
+  }
+  return "?";
+}
+
 std::string_view toString(Shortfall reason) {
   switch (reason) {
     case Shortfall::None: return "none";
@@ -526,6 +567,7 @@ std::string_view toString(Shortfall reason) {
     case Shortfall::NotLinked: return "not_linked";
     case Shortfall::NotRegistered: return "not_registered";
     case Shortfall::SetupsNotJoined: return "setups_not_joined";
+    case Shortfall::DatumsUnmeasured: return "datums_unmeasured";
   }
   return "?";
 }
@@ -549,11 +591,17 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
     };
     const std::vector<const Patch*> all = on(c.faces);
     const InOneFrame framed = inOneFrame(
-        all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part, c)), errors);
+        all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part.gdt, c)), errors);
     std::vector<const Patch*> mine, measured, datum;
     for (const Patch& p : framed.feature) mine.push_back(&p);
-    for (const Patch& p : framed.datum)
-      if (!p.looks.empty()) datum.push_back(&p);
+    double datum_area = 0, datum_covered = 0;
+    for (const Patch& p : framed.datum) {
+      if (onPlane(plan.part_to_world, p)) continue;  // the plane simulates it
+      datum_area += p.area;
+      if (p.looks.empty()) continue;
+      datum.push_back(&p);
+      datum_covered += p.area;
+    }
     Capability k;
     k.characteristic = c.id;
     double covered = 0;
@@ -572,8 +620,9 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
                           spec.spec.planner.seed);
       k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
     }
-    judge(c, k, options, cylinderFitted(part, c, mine, measured));
-    if (c.faces.empty() || !datumsLinked(part, c)) {  // nothing to fit, or no frame to fit in
+    judge(c, k, options, cylinderFitted(part, c, mine, measured),
+          datum_area > 0 ? datum_covered / datum_area : 1);
+    if (c.faces.empty() || !datumsLinked(part.gdt, c)) {  // nothing to fit, or no frame to fit in
       k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
       k.reason = Shortfall::NotLinked;
     } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {
@@ -585,6 +634,8 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
                                                                      : Shortfall::NotRegistered;
     }
     if (k.covered < kCoveredEnough) k.rest = restFor(all, rests, plan.part_to_world);
+    k.limit = limitOf(part, c, k, plan, options);
+    k.views = servingViews(framed, plan);
     result.push_back(k);
   }
   return result;

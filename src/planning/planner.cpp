@@ -11,6 +11,7 @@
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/cell_poses.h>
 #include <scanplan/planning/coverage_area.h>
+#include <scanplan/planning/inspection.h>
 #include <scanplan/planning/robot_steps.h>
 #include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
@@ -233,7 +234,7 @@ void explainUncoverable(const Placement& at, const std::vector<Visibility>& visi
   // Below a coverage target of 1, a sample a pose of the pool measures was left out by the
   // target, and is coverable: it gets no reason.
   std::vector<char> left_out(samples.size(), 0);
-  if (!at.settings().coverage.full())
+  if (!at.settings().everySample())
     for (const std::vector<int>& measured : pool.samples)
       for (int i : measured) left_out[i] = 1;
   std::vector<std::size_t> unmeasured;
@@ -676,12 +677,42 @@ void namePatchFiles(Plan& plan) {
       plan.sweeps[k].patch_file = "patch-" + std::to_string(k + 1) + ".step";
 }
 
+// The virtual inspection's U and bias of each characteristic it evaluates, beside the
+// capability's prediction (planner.aim characteristics).
+void checkByInspection(const Part& part, const ResolvedSpec& spec, Plan& plan,
+                       const Progress& progress) {
+  if (std::none_of(plan.characteristics.begin(), plan.characteristics.end(),
+                   [&](const Characteristic& c) { return verifiable(part.gdt, c); }))
+    return;
+  InspectionOptions options;
+  options.seed = spec.spec.planner.seed;
+  const Inspection inspection = inspectPlan(part, spec, plan, options, progress);
+  for (const InspectedCharacteristic& i : inspection.characteristics)
+    for (Capability& k : plan.capabilities)
+      if (k.characteristic == i.characteristic && i.evaluated) {
+        k.inspected_uncertainty = i.uncertainty;
+        k.inspected_bias = i.bias;
+      }
+}
+
+// `spec` with, under planner.aim characteristics, the faces the part's characteristics are
+// judged on as gdt targets, whatever its tasks sample.
+Spec aimedSpec(const Part& part, Spec spec) {
+  if (spec.planner.aim != Aim::Characteristics) return spec;
+  Task targets{TaskType::Gdt, {}, {}, {}};
+  std::vector<int> faces = verifiedFaces(part.gdt);
+  for (int f : verifiedDatumFaces(part.gdt)) faces.push_back(f);
+  for (int face : faces) targets.faces.push_back({face, {}, {}});
+  if (!targets.faces.empty()) spec.tasks.push_back(targets);
+  return spec;
+}
+
 // The plan for `spec`, then the capability of its views for the part's characteristics.
 Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& options,
                   const Progress& progress) {
   const auto start = Clock::now();
   report(progress, "sampling", 0);
-  const ResolvedSpec resolved = resolveSpec(part, spec);
+  const ResolvedSpec resolved = resolveSpec(part, aimedSpec(part, spec));
   const std::vector<Sample> sampled =
       sampleTargets(part, resolved.targets, samplingOptionsFor(spec.scanner));
   if (sampled.empty())
@@ -697,6 +728,11 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
   plan.characteristics = characteristics(part.gdt);
   plan.capabilities = capabilities(part, resolved, plan, plan.characteristics);
   plan.times.push_back({"capability", secondsSince(judged)});
+  if (spec.planner.aim == Aim::Characteristics) {
+    const auto inspected = Clock::now();
+    checkByInspection(part, resolved, plan, progress);
+    plan.times.push_back({"inspection", secondsSince(inspected)});
+  }
   const auto area_start = Clock::now();
   report(progress, "measured area", 0);
   plan.face_areas = measuredArea(part, resolved, plan);

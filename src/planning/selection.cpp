@@ -3,6 +3,7 @@
 
 #include "planning/stages.h"
 
+#include <scanplan/planning/capability.h>
 #include <scanplan/registration/sequencing.h>
 #include <scanplan/robot/cycle.h>
 #include <scanplan/robot/kinematics.h>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <numeric>
 
@@ -123,13 +125,42 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
   return {chosen, cover};
 }
 
-// The group of a sample in the partial cover: 0 for the priority samples, then one per
-// task type for the others.
-int coverageGroup(const Sample& s) {
-  if (s.role == Role::Priority) return 0;
-  return 1 + static_cast<int>(std::find(kTaskTypes.begin(), kTaskTypes.end(), s.task) -
-                              kTaskTypes.begin());
-}
+// The groups of the partial cover: 0 for the priority samples, then one per task type for
+// the others; under planner.aim characteristics, then one per face the characteristics are
+// judged on, which holds the gdt task's samples on it: their faces (`own`) and their datum
+// features' (`datum`).
+struct CoverageGroups {
+  std::vector<int> own, datum, faces;  // faces: both, sorted
+  bool by_characteristics = false;
+
+  explicit CoverageGroups(const Placement& at)
+      : by_characteristics(at.settings().aim == Aim::Characteristics) {
+    if (!by_characteristics) return;
+    own = verifiedFaces(at.part.gdt);
+    datum = verifiedDatumFaces(at.part.gdt);
+    std::set_union(own.begin(), own.end(), datum.begin(), datum.end(), std::back_inserter(faces));
+  }
+  std::size_t size() const { return 1 + kTaskTypes.size() + faces.size(); }
+  // A sample's group, or -1: a gdt sample the characteristics do not ask for.
+  int of(const Sample& s) const {
+    if (by_characteristics && s.task == TaskType::Gdt) {
+      const auto it = std::lower_bound(faces.begin(), faces.end(), s.face);
+      if (it == faces.end() || *it != s.face) return -1;
+      return static_cast<int>(1 + kTaskTypes.size()) + static_cast<int>(it - faces.begin());
+    }
+    if (s.role == Role::Priority) return 0;
+    return 1 + static_cast<int>(std::find(kTaskTypes.begin(), kTaskTypes.end(), s.task) -
+                                kTaskTypes.begin());
+  }
+  // The share of its samples a group needs measured: a characteristic's face as capability
+  // asks of its area, a datum feature's as its frame needs.
+  double share(std::size_t g, const CoverageTargets& coverage) const {
+    if (g == 0) return coverage.priority;
+    if (g <= kTaskTypes.size()) return coverage.of(Role::Normal, kTaskTypes[g - 1]);
+    const int face = faces[g - 1 - kTaskTypes.size()];
+    return std::binary_search(own.begin(), own.end(), face) ? kCoveredEnough : kDatumsCoveredEnough;
+  }
+};
 
 // How many views of `order` (pool indices, by marginal coverage) meet `needs`.
 std::size_t prefixMeeting(const MeasuredViews& pool, const std::vector<std::size_t>& order,
@@ -214,29 +245,27 @@ std::pair<std::vector<std::size_t>, SetCoverResult> partialCover(
 
 CoverageNeed coverageNeed(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                           const std::vector<PlannedSample>& samples) {
-  const std::size_t groups = 1 + kTaskTypes.size();
+  const CoverageGroups groups(at);
   std::vector<char> coverable(samples.size(), 0), measured(samples.size(), 0);
   for (std::size_t v = 0; v < pool.size(); ++v)
     for (int i : pool.samples[v]) {
       coverable[i] = 1;
       measured[i] = measured[i] || v < pinned;
     }
-  CoverageNeed result{std::vector<int>(samples.size(), -1), std::vector<double>(groups, 0)};
-  std::vector<double> total(groups, 0), already(groups, 0);
+  CoverageNeed result{std::vector<int>(samples.size(), -1), std::vector<double>(groups.size(), 0)};
+  std::vector<double> total(groups.size(), 0), already(groups.size(), 0);
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    if (!coverable[i] && !at.isDone(i)) continue;
-    const int g = coverageGroup(samples[i].sample);
+    const int g = groups.of(samples[i].sample);
+    if (g < 0 || (!coverable[i] && !at.isDone(i))) continue;
     ++total[g];
     if (measured[i] || at.isDone(i))
       ++already[g];
     else
       result.group[i] = g;
   }
-  for (std::size_t g = 0; g < groups; ++g) {
-    const double share = g == 0 ? at.settings().coverage.priority
-                                : at.settings().coverage.of(Role::Normal, kTaskTypes[g - 1]);
-    result.need[g] = std::max(0.0, std::ceil(share * total[g] - 1e-9) - already[g]);
-  }
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    result.need[g] = std::max(
+        0.0, std::ceil(groups.share(g, at.settings().coverage) * total[g] - 1e-9) - already[g]);
   return result;
 }
 
@@ -270,7 +299,7 @@ double viewsBound(const Placement& at, const MeasuredViews& pool, std::size_t pi
                   std::size_t samples, const SelectionAim& aim) {
   const std::vector<std::vector<int>> sets = unpinnedSets(pool, pinned);
   return static_cast<double>(pinned) +
-         (at.settings().coverage.full()
+         (at.settings().everySample()
               ? setCoverLowerBound(sets, requiredSamples(at, pool, pinned, samples))
               : partialCoverLowerBound(sets, aim.needs.group, aim.needs.need));
 }
@@ -289,7 +318,7 @@ Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_
   std::vector<std::size_t> all(pool.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<std::size_t> greedy = greedyCover(at, pool, all, pinned, samples);
-  const bool full = at.settings().coverage.full();
+  const bool full = at.settings().everySample();
   const bool by_time = at.settings().objective == Objective::CycleTime;
   const bool weighted = by_time || !framed.empty();  // poses cost other than one each
   SelectionAim aim{coverageNeed(at, pool, pinned, samples),

@@ -108,9 +108,10 @@ std::vector<char> addFramedPoses(const Placement& at, MeasuredViews& pool,
 
 // What the coverage targets (planner.coverage) ask of the views after the `pinned` ones:
 // per sample its group (0: the priority samples, 1 + a task type's place in kTaskTypes: that
-// task's others), or -1 when it counts as measured already (done in an earlier placement,
-// or by a pinned view) or no view of the pool measures it; per group the samples still to
-// measure.
+// task's others; under planner.aim characteristics, the gdt task's samples in one group per
+// face the characteristics are judged on, each needing kCoveredEnough of them), or -1 when
+// it counts as measured already (done in an earlier placement, or by a pinned view), no view
+// of the pool measures it, or nothing asks for it; per group the samples still to measure.
 struct CoverageNeed {
   std::vector<int> group;
   std::vector<double> need;

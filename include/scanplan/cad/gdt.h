@@ -68,4 +68,19 @@ std::vector<std::string> datumLetters(const std::string& reference);
 // The faces of the datum features a reference names, sorted; none when a letter names none.
 std::vector<int> datumFaces(const Gdt& gdt, const std::string& reference);
 
+// The faces of the datum features `c` references, sorted and unique.
+std::vector<int> datumFaces(const Gdt& gdt, const Characteristic& c);
+
+// Whether every datum a geometric tolerance references names faces (a dimension has no
+// datums): else its frame cannot be fitted.
+bool datumsLinked(const Gdt& gdt, const Characteristic& c);
+
+// Whether a measurement can verify `c`: it has a width, faces, and datums that name faces.
+bool verifiable(const Gdt& gdt, const Characteristic& c);
+
+// The faces of the verifiable characteristics of `gdt`, sorted and unique.
+std::vector<int> verifiedFaces(const Gdt& gdt);
+// The faces of the datum features they reference, sorted and unique.
+std::vector<int> verifiedDatumFaces(const Gdt& gdt);
+
 }  // namespace scanplan

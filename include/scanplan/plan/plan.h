@@ -107,12 +107,30 @@ enum class Shortfall {
   TooNoisy,
   NotLinked,
   NotRegistered,
-  SetupsNotJoined
+  SetupsNotJoined,
+  DatumsUnmeasured  // less than half its datum features' area measured: no frame to fit
 };
-constexpr int kShortfalls = 7;
+constexpr int kShortfalls = 8;
 // "none", "uncovered", "too_sparse", "too_noisy", "not_linked", "not_registered",
-// "setups_not_joined"
+// "setups_not_joined", "datums_unmeasured"
 std::string_view toString(Shortfall reason);
+
+// Why a characteristic left short of capable is beyond what the views can do
+// (docs/capability.md, "Limits"); None where it is capable, or more views may help.
+enum class Limit {
+  None,
+  NotLinked,          // the import linked it to no face, or a datum to none
+  NotTargeted,        // no task samples its faces: the planner did not aim at them
+  NoPoseReaches,      // the planner's search found no pose for enough of its faces
+  SetupsNotJoined,    // measured enough only across setups whose frames are not joined
+  NotRegistered,      // measured enough only with views that register to nothing
+  BelowScannerError,  // the scanner's acceptance error alone is too large for the tolerance
+  RegistrationError   // the views' registration errors alone are too large for it
+};
+constexpr int kLimits = 8;
+// "none", "not_linked", "not_targeted", "no_pose_reaches", "setups_not_joined",
+// "not_registered", "below_scanner_error", "registration_error"
+std::string_view toString(Limit limit);
 
 // What U is made of (docs/capability.md, "Error budget"), each the expanded uncertainty
 // (95%) of the characteristic's value from that source alone, mm (degrees for an angle).
@@ -134,6 +152,11 @@ struct Capability {
   double ratio = 0;  // width / (2 U)
   Verdict verdict = Verdict::NotCapable;
   Shortfall reason = Shortfall::None;
+  Limit limit = Limit::None;
+  std::vector<int> views;  // ids of the views that measure its faces in its frame
+  // The virtual inspection's U and bias of its value (docs/capability.md, "Virtual
+  // inspection"), under planner.aim characteristics.
+  std::optional<double> inspected_uncertainty, inspected_bias;
   // Where its faces lie unmeasured on the working plane: the index (into
   // restOrientations(part)) of the rest orientation that turns most of them up.
   std::optional<std::size_t> rest;

@@ -14,6 +14,11 @@
 
 namespace scanplan {
 
+// The share of its faces' area a capable characteristic has measured, and of its datum
+// features' area (to fit its datum reference frame).
+constexpr double kCoveredEnough = 0.9;
+constexpr double kDatumsCoveredEnough = 0.5;
+
 // The capability of each of `characteristics` under the views of `plan` (each in its own
 // orientation's placement), with the simulation, the capability options
 // (planner.capable_ratio) and the seed `spec` sets.

@@ -69,6 +69,13 @@ enum class Objective {
   CycleTime  // its seconds on the cell: acquisition, settling, handshake and a share of motion
 };
 
+// planner.aim (docs/planning.md, "Aim"): what the selection must measure.
+enum class Aim {
+  Samples,         // every coverable sample, to the coverage targets
+  Characteristics  // what each characteristic's capability needs of its faces and its
+                   // datums'; the other tasks' samples to their coverage targets
+};
+
 struct PlannerSettings {
   std::uint64_t seed = 1;  // k-means and any other randomness
   double vm_step = 5;      // visibility-map grid step, degrees
@@ -91,6 +98,10 @@ struct PlannerSettings {
                                    // one is covered but not capable; kept if more are capable
   CoverageTargets coverage;        // below 1: the selection is a partial cover
   Objective objective = Objective::Views;
+  Aim aim = Aim::Samples;
+
+  // Whether the selection must measure every sample a pose of the pool measures.
+  bool everySample() const { return aim == Aim::Samples && coverage.full(); }
 };
 
 struct Spec {
