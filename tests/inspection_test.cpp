@@ -1,6 +1,7 @@
 // The virtual inspection: characteristics evaluated from points against hand computations,
 // and declared deviations of a simulated part found again.
 
+#include "hole_plate.h"
 #include "planning/evaluation.h"
 #include "support.h"
 
@@ -23,37 +24,8 @@
 namespace scanplan {
 namespace {
 
-// A 200 x 100 x 20 mm plate with a through hole of 20 mm at (100, 50); datum A its top,
-// B its side x = 0, C its side y = 0; the hole's position to A, B, C (0.5), the top's
-// flatness (0.1) and the hole's diameter (20 +-0.1).
-struct HolePlate {
-  Part part;
-  int top = 0, side_x = 0, side_y = 0;
-  std::vector<int> hole;
-  std::vector<Characteristic> characteristics;
-};
-
-HolePlate holePlate(const test::TempDir& dir) {
-  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 20).Shape();
-  const TopoDS_Shape drill =
-      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(100, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape();
-  BRepTools::Write(BRepAlgoAPI_Cut(plate, drill).Shape(), dir.file("plate.brep").c_str());
-  HolePlate p;
-  p.part = importPart(dir.file("plate.brep"));
-  for (const Face& f : p.part.faces) {
-    if (f.type == SurfaceType::Cylinder) p.hole.push_back(f.id);
-    if (f.type != SurfaceType::Plane) continue;
-    if (f.bounds.min.z() > 19.99) p.top = f.id;
-    if (f.bounds.max.x() < 0.01) p.side_x = f.id;
-    if (f.bounds.max.y() < 0.01) p.side_y = f.id;
-  }
-  p.part.gdt.datums = {{"A", {p.top}}, {"B", {p.side_x}}, {"C", {p.side_y}}};
-  Characteristic position{1, "position", false, 0.5, 0, 0.5, {"A", "B", "C"}, p.hole};
-  Characteristic flatness{2, "flatness", false, 0.1, 0, 0.1, {}, {p.top}};
-  Characteristic diameter{3, "diameter", true, 20, 19.9, 20.1, {}, p.hole};
-  p.characteristics = {position, flatness, diameter};
-  return p;
-}
+using test::HolePlate;
+using test::holePlate;
 
 // A part's faces as designed, 1 mm apart: the points the evaluation judges, kept in `all`
 // for the nominal too.

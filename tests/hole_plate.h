@@ -1,0 +1,53 @@
+#pragma once
+// A plate with a hole and its GD&T, shared by the tests of the inspection and of the
+// planner's aim.
+
+#include "support.h"
+
+#include <scanplan/cad/gdt.h>
+#include <scanplan/cad/import.h>
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepTools.hxx>
+#include <gp_Ax2.hxx>
+
+#include <vector>
+
+namespace scanplan::test {
+
+// A 200 x 100 x `thickness` mm plate with a through hole of 20 mm at (100, 50); datum A its top,
+// B its side x = 0, C its side y = 0; the hole's position to A, B, C (0.5), the top's
+// flatness (0.1) and the hole's diameter (20 +-0.1).
+struct HolePlate {
+  Part part;
+  int top = 0, side_x = 0, side_y = 0;
+  std::vector<int> hole;
+  std::vector<Characteristic> characteristics;
+};
+
+inline HolePlate holePlate(const test::TempDir& dir, double thickness = 20) {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, thickness).Shape();
+  const TopoDS_Shape drill =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(100, 50, -1), gp_Dir(0, 0, 1)), 10, thickness + 2)
+          .Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(plate, drill).Shape(), dir.file("plate.brep").c_str());
+  HolePlate p;
+  p.part = importPart(dir.file("plate.brep"));
+  for (const Face& f : p.part.faces) {
+    if (f.type == SurfaceType::Cylinder) p.hole.push_back(f.id);
+    if (f.type != SurfaceType::Plane) continue;
+    if (f.bounds.min.z() > thickness - 0.01) p.top = f.id;
+    if (f.bounds.max.x() < 0.01) p.side_x = f.id;
+    if (f.bounds.max.y() < 0.01) p.side_y = f.id;
+  }
+  p.part.gdt.datums = {{"A", {p.top}}, {"B", {p.side_x}}, {"C", {p.side_y}}};
+  Characteristic position{1, "position", false, 0.5, 0, 0.5, {"A", "B", "C"}, p.hole};
+  Characteristic flatness{2, "flatness", false, 0.1, 0, 0.1, {}, {p.top}};
+  Characteristic diameter{3, "diameter", true, 20, 19.9, 20.1, {}, p.hole};
+  p.characteristics = {position, flatness, diameter};
+  return p;
+}
+
+}  // namespace scanplan::test
