@@ -228,6 +228,17 @@ void addFaceAreas(const Plan& plan, json& root) {
       {"area", area}, {"measured", measured}, {"share", area > 0 ? measured / area : 0.0}};
 }
 
+// How many characteristics the first views make capable, when the plan says.
+void addCapableByViews(const Plan& plan, json& root) {
+  if (plan.capable_by_views.empty()) return;
+  std::vector<std::size_t> views, capable;
+  for (const CapableCount& c : plan.capable_by_views) {
+    views.push_back(c.views);
+    capable.push_back(c.capable);
+  }
+  root["summary"]["capable_by_views"] = {{"views", views}, {"capable", capable}};
+}
+
 json cycleJson(const CycleTime& c) {
   json result = {{"model", c.model},   {"seconds", c.total()},
                  {"views", c.views},   {"acquisition", c.acquisition},
@@ -482,6 +493,7 @@ json planJson(const Plan& plan) {
   if (plan.cycle) result["summary"]["cycle"] = cycleJson(*plan.cycle);
   if (!plan.characteristics.empty()) addCharacteristics(plan, result);
   if (!plan.face_areas.empty()) addFaceAreas(plan, result);
+  addCapableByViews(plan, result);
   return result;
 }
 
@@ -576,6 +588,27 @@ struct PlanReader {
       if (entry.contains(p.name)) s.*p.value = field<double>(entry, p.name, path, "scanner");
     validate(s, path);
     return s;
+  }
+
+  // summary.capable_by_views: counts of views rising to at most `views`, each with no more
+  // capable characteristics than `characteristics`; none when the plan has none.
+  std::vector<CapableCount> capableByViews(const json& root, std::size_t views,
+                                           std::size_t characteristics) const {
+    const json section = root.value("summary", json()).value("capable_by_views", json());
+    if (section.is_null()) return {};
+    const std::string where = "summary capable_by_views";
+    const auto counts = field<std::vector<std::size_t>>(section, "views", path, where);
+    const auto capable = field<std::vector<std::size_t>>(section, "capable", path, where);
+    std::vector<CapableCount> result;
+    for (std::size_t k = 0; k < counts.size(); ++k) {
+      if (capable.size() != counts.size() || counts[k] < 1 || counts[k] > views ||
+          (k > 0 && counts[k] <= counts[k - 1]) || capable[k] > characteristics)
+        throw InputError(path, where + ": expected rising counts of views up to " +
+                                   std::to_string(views) + ", each with at most " +
+                                   std::to_string(characteristics) + " capable");
+      result.push_back({counts[k], capable[k]});
+    }
+    return result;
   }
 
   // face_areas: one entry per face, in face order, each a finite area and no more of it
@@ -1047,7 +1080,7 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "measured_by_registered_views", "bridging_views", "unregistrable_views",
        "registration_components", "registered_by", "setups", "path_length",
        "nearest_neighbour_path_length", "orientations", "robot", "sweep_views", "bound",
-       "cycle", "coverage_by_views", "measured_area"},
+       "cycle", "coverage_by_views", "measured_area", "capable_by_views"},
       path, "summary");
   // clang-format on
   detail::refuseUnknownKeys(
@@ -1163,6 +1196,8 @@ Plan readPlanFields(const std::string& path) {
     }
   if (plan.capabilities.size() != plan.characteristics.size()) plan.capabilities.clear();
   plan.face_areas = reader.faceAreas(root, plan.part_faces);
+  plan.capable_by_views =
+      reader.capableByViews(root, plan.views.size(), plan.characteristics.size());
   plan.cell = reader.cell(root);
   if (plan.cell) {
     plan.cell_poses = reader.cellPoses(root, plan.views.size());

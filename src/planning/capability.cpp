@@ -572,12 +572,14 @@ std::string_view toString(Shortfall reason) {
   return "?";
 }
 
-std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
-                                     const std::vector<Characteristic>& characteristics) {
-  if (characteristics.empty()) return {};
+namespace {
+
+// The capability of each of `characteristics` under the views of `plan`, whose looks at
+// `patches` are found.
+std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                               const std::vector<Characteristic>& characteristics,
+                               const std::vector<Patch>& patches) {
   const CapabilityOptions& options = spec.spec.planner.capability;
-  std::vector<Patch> patches = patchesOf(part, characteristics);
-  look(part, spec, plan, patches);
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   const detail::TwistDraws moves(errors);
   const std::vector<RestOrientation> rests = restOrientations(part);
@@ -637,6 +639,69 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
     k.limit = limitOf(part, c, k, plan, options);
     k.views = servingViews(framed, plan);
     result.push_back(k);
+  }
+  return result;
+}
+
+// The plan of its first `count` views; a view whose registration runs through a later one
+// registers to nothing.
+Plan firstViews(const Plan& plan, std::size_t count) {
+  Plan first = plan;
+  first.views.resize(count);
+  if (!first.registration) return first;
+  std::vector<ViewRegistration>& views = first.registration->views;
+  views.resize(count);
+  const auto chained = [](RegistrationMethod m) {
+    return m == RegistrationMethod::Markers || m == RegistrationMethod::Icp;
+  };
+  for (std::size_t v = 0; v < count; ++v) {
+    std::size_t at = v;
+    for (std::size_t hops = 0; chained(views[at].method) && hops <= count; ++hops) {
+      if (views[at].to < 1 || static_cast<std::size_t>(views[at].to) > count) {
+        views[v] = {RegistrationMethod::None, 0, views[v].bridge, views[v].constrained,
+                    views[v].markers};
+        break;
+      }
+      at = static_cast<std::size_t>(views[at].to) - 1;
+    }
+  }
+  return first;
+}
+
+}  // namespace
+
+std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                                     const std::vector<Characteristic>& characteristics) {
+  if (characteristics.empty()) return {};
+  std::vector<Patch> patches = patchesOf(part, characteristics);
+  look(part, spec, plan, patches);
+  return judged(part, spec, plan, characteristics, patches);
+}
+
+std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
+                                         const Plan& plan,
+                                         const std::vector<Characteristic>& characteristics,
+                                         std::size_t points) {
+  const bool ordered = std::all_of(plan.views.begin(), plan.views.end(), [&](const View& v) {
+    return v.id == static_cast<int>(&v - plan.views.data()) + 1;
+  });
+  if (characteristics.empty() || plan.views.empty() || !plan.orientations.empty() || !ordered)
+    return {};
+  std::vector<Patch> patches = patchesOf(part, characteristics);
+  look(part, spec, plan, patches);
+  std::vector<CapableCount> result;
+  const std::size_t n = plan.views.size();
+  for (std::size_t step = 1; step <= std::min(points, n); ++step) {
+    const std::size_t count = (n * step + points - 1) / points;
+    if (!result.empty() && result.back().views == count) continue;
+    std::vector<Patch> seen = patches;
+    for (Patch& p : seen) std::erase_if(p.looks, [&](const Look& l) { return l.view >= count; });
+    const std::vector<Capability> judged_here =
+        judged(part, spec, firstViews(plan, count), characteristics, seen);
+    result.push_back({count, static_cast<std::size_t>(std::count_if(
+                                 judged_here.begin(), judged_here.end(), [](const Capability& k) {
+                                   return k.verdict == Verdict::Capable;
+                                 }))});
   }
   return result;
 }

@@ -441,6 +441,15 @@ if (summary.coverage_by_views && summary.coverage_by_views.measured.length > 0) 
   if (seconds && seconds.length === measured.length)
     $('coverage-curve').append(...coverageChart(seconds, measured, coverable, 'seconds'));
 }
+if (summary.capable_by_views) {
+  const { views, capable } = summary.capable_by_views;
+  const toleranced = (plan.characteristics || []).filter((c) => c.capability && c.capability.verdict !== 'untoleranced').length;
+  const seconds = summary.cycle && summary.cycle.by_views;
+  const timed = seconds && seconds.length >= views[views.length - 1];
+  $('capable-curve').append(...coverageChart(timed ? views.map((v) => seconds[v - 1]) : views, capable, toleranced,
+    timed ? 'seconds' : 'views'));
+  $('capable-curve').dataset.capable = capable.join(' ');
+}
 
 // Per task and role: samples, measured, not coverable.
 {
@@ -471,14 +480,18 @@ function selectCharacteristic(index) {
   characteristicRows.forEach((row, i) => row.classList.toggle('selected', i === index));
   const faces = new Set(c.faces);
   paintFaces(faces);
-  const measuring = data.views.filter((v) => v.faces.some((f) => faces.has(f)));
+  const serving = new Set(k.views || []);
+  const measuring = serving.size > 0 ? data.views.filter((v) => serving.has(v.id))
+    : data.views.filter((v) => v.faces.some((f) => faces.has(f)));
   paintViews(new Set(measuring.map((v) => v.id)));
   const rows = [['characteristic', `${c.id}: ${c.kind}`], ['value', limits(c)], ['datums', c.datums.join(' | ') || '–'],
-    ['faces', c.faces.join(', ')], ['views measuring it', measuring.map(viewName).join(', ') || 'none']];
+    ['faces', c.faces.join(', ')], ['views serving it', measuring.map(viewName).join(', ') || 'none']];
   if (c.capability) {
     rows.push(['covered', pct(k.covered, 1)], ['points', `${fmt(k.points, 0)} (${fmt(k.density, 2)} per mm²)`],
       ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (k = 2)', `${fmt(k.uncertainty, 4)} mm`],
-      ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)]);
+      ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)], ['beyond the views', limitText(k)]);
+    if (k.inspected_uncertainty !== null && k.inspected_uncertainty !== undefined)
+      rows.push(['inspected U (k = 2), planned', `${fmt(k.inspected_uncertainty, 4)} mm, bias ${fmt(k.inspected_bias, 4)}`]);
     if (k.budget) {
       rows.push(['U from the noise', `${fmt(k.budget.noise, 4)} mm`],
         ['U from the registration', `${fmt(k.budget.registration, 4)} mm`],
@@ -498,6 +511,8 @@ function selectCharacteristic(index) {
 function limits(c) {
   return c.dimension ? `${fmt(c.value, 3)} (${fmt(c.limits[0], 3)} to ${fmt(c.limits[1], 3)})` : fmt(c.value, 3);
 }
+// Why a characteristic left short is out of the views' reach, as plan.json says it.
+function limitText(k) { return k.limit && k.limit !== 'none' ? k.limit.replaceAll('_', ' ') : '–'; }
 function verdictText(k) {
   return `${k.verdict.replaceAll('_', ' ')}${k.reason !== 'none' ? ` (${k.reason.replaceAll('_', ' ')})` : ''}` +
     (k.rest_orientation ? `; rest orientation ${k.rest_orientation} reaches it` : '');
@@ -522,7 +537,10 @@ if (characteristics.length === 0) {
 } else {
   const columns = [{ title: 'id', num: true }, { title: 'kind' },
     { title: 'value', num: true }, { title: 'faces' }, { title: 'covered', num: true }, { title: 'points', num: true },
-    { title: 'U mm', num: true }, { title: 'ratio', num: true }, { title: 'verdict' }];
+    { title: 'U mm', num: true }, { title: 'ratio', num: true }, { title: 'verdict' }, { title: 'views', num: true },
+    { title: 'beyond the views' }];
+  const planned = characteristics.some((c) => c.capability && typeof c.capability.inspected_uncertainty === 'number');
+  if (planned && inspected.size === 0) columns.push({ title: 'inspected U mm', num: true });
   if (inspected.size > 0) {
     columns.push({ title: 'inspected bias', num: true }, { title: 'inspected U mm', num: true },
       { title: 'inspected verdict' });
@@ -531,7 +549,10 @@ if (characteristics.length === 0) {
     characteristics.map((c) => {
       const k = c.capability;
       const row = [c.id, c.kind, limits(c), c.faces.join(', '), k ? pct(k.covered, 1) : '–', k ? fmt(k.points, 0) : '–',
-        k ? fmt(k.uncertainty, 4) : '–', k ? fmt(k.ratio, 2) : '–', k ? verdictText(k) : '–'];
+        k ? fmt(k.uncertainty, 4) : '–', k ? fmt(k.ratio, 2) : '–', k ? verdictText(k) : '–',
+        k && k.views ? k.views.length : '–', k ? limitText(k) : '–'];
+      if (planned && inspected.size === 0)
+        row.push(k && typeof k.inspected_uncertainty === 'number' ? fmt(k.inspected_uncertainty, 4) : '–');
       if (inspected.size > 0) {
         const m = inspected.get(c.id);
         row.push(m && m.evaluated ? fmt(m.bias, 4) : '–', m && m.evaluated ? fmt(m.uncertainty, 4) : '–',

@@ -71,6 +71,19 @@ try {
         curve.measured[curve.measured.length - 1] === planned.summary.measured,
         `coverage curves ${JSON.stringify(curves)} for ${curve.measured.length} views, ending at ` +
         `${curve.measured[curve.measured.length - 1]} of ${planned.summary.measured} measured`);
+  // The capability curve: one point per count of views plan.json gives and the origin, its
+  // last the characteristics capable in the characteristics table.
+  const capableCurve = planned.summary.capable_by_views;
+  if (capableCurve) {
+    const drawn = await page.evaluate(() => {
+      const chart = document.querySelector('#capable-curve svg');
+      return chart ? chart.querySelector('polyline').getAttribute('points').trim().split(/\s+/).length : 0;
+    });
+    const capableRows = (planned.characteristics || []).filter((c) => c.capability && c.capability.verdict === 'capable').length;
+    check(drawn === capableCurve.views.length + 1 && capableCurve.capable[capableCurve.capable.length - 1] === capableRows,
+          `capability curve: ${drawn} points for ${capableCurve.views.length} counts of views, ending at ` +
+          `${capableCurve.capable[capableCurve.capable.length - 1]} capable of ${capableRows} in the table`);
+  }
 
   // The WebGL canvas: share of pixels off the background colour, and distinct colours.
   const pixels = await page.evaluate(() => {
@@ -114,10 +127,13 @@ try {
       text: document.getElementById('selection').textContent, highlighted: Number(document.body.dataset.highlighted),
       views: Number(document.body.dataset.highlightedViews),
     }));
-    // The views measuring it, from plan.json: those measuring a sample on one of its faces.
+    // The views serving it, as plan.json lists them (else those measuring a sample on one of
+    // its faces).
     const faces = new Set(characteristics[0].faces), measuring = new Set();
-    for (const s of plan.samples) if (faces.has(s.face)) s.measured_by.forEach((id) => measuring.add(id));
-    check(/characteristic/.test(picked.text) && /views measuring it/.test(picked.text) &&
+    const serving = (characteristics[0].capability || {}).views || [];
+    if (serving.length > 0) serving.forEach((id) => measuring.add(id));
+    else for (const s of plan.samples) if (faces.has(s.face)) s.measured_by.forEach((id) => measuring.add(id));
+    check(/characteristic/.test(picked.text) && /views serving it/.test(picked.text) &&
           picked.highlighted === characteristics[0].faces.length && picked.views === measuring.size,
           `clicking characteristic 1 selects its ${picked.highlighted} faces (it has ${characteristics[0].faces.length}) ` +
           `and ${picked.views} views (${measuring.size} measure its samples)`);

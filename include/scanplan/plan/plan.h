@@ -162,6 +162,12 @@ struct Capability {
   std::optional<std::size_t> rest;
 };
 
+// How many characteristics a plan's first `views` views make capable.
+struct CapableCount {
+  std::size_t views = 0;
+  std::size_t capable = 0;
+};
+
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
@@ -194,6 +200,8 @@ struct Plan {
   // (planning/capability.h), in the same order.
   std::vector<Characteristic> characteristics;
   std::vector<Capability> capabilities;
+  // How many the first views make capable (capableByViews): the trade-off chart's curve.
+  std::vector<CapableCount> capable_by_views;
   // Per face of the part, in face order: its measured area (planning/coverage_area.h);
   // empty for a plan read from a version that had none.
   std::vector<FaceArea> face_areas;
