@@ -1152,5 +1152,47 @@ TEST(Cli, RestOverridesTheSpecsPlacement) {
   EXPECT_NE(r.out.find("unknown face id 999"), std::string::npos) << r.out;
 }
 
+// --aim characteristics: planned for its GD&T alone (gdt: from-file leaves the dimensioned
+// faces out), FTC 11's linear distance is not targeted; aimed at characteristics its faces
+// are, and each characteristic's inspected U in plan.json is what `scanplan inspect` finds
+// of the same plan with the same seed.
+TEST(Cli, AimAtCharacteristicsTargetsTheirFacesAndInspectsThePlan) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("gdt.yaml"), "gdt: from-file\ntasks: [{type: gdt}]\n");
+  const std::string plan =
+      "-q plan " + part + " --spec " + dir.file("gdt.yaml") + " --no-registration --no-report -o ";
+  ASSERT_EQ(run(plan + dir.file("samples")).code, 0);
+  const CommandResult r = run(plan + dir.file("aimed") + " --aim characteristics");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Plan samples = readPlan(dir.file("samples/plan.json"));
+  const Plan aimed = readPlan(dir.file("aimed/plan.json"));
+  ASSERT_EQ(samples.capabilities.size(), aimed.capabilities.size());
+  std::size_t untargeted = 0, inspected = 0;
+  for (std::size_t k = 0; k < samples.capabilities.size(); ++k) {
+    if (samples.capabilities[k].limit != Limit::NotTargeted) continue;
+    ++untargeted;
+    EXPECT_NE(aimed.capabilities[k].limit, Limit::NotTargeted) << k;
+  }
+  EXPECT_GT(untargeted, 0u);
+  ASSERT_EQ(run("-q inspect " + dir.file("aimed/plan.json") + " " + part + " --spec " +
+                dir.file("gdt.yaml") + " -o " + dir.file("inspection.json"))
+                .code,
+            0);
+  const nlohmann::json inspection =
+      nlohmann::json::parse(std::ifstream(dir.file("inspection.json")));
+  for (const nlohmann::json& c : inspection.at("characteristics")) {
+    const auto k =
+        std::find_if(aimed.capabilities.begin(), aimed.capabilities.end(),
+                     [&](const Capability& x) { return x.characteristic == c.at("id"); });
+    ASSERT_NE(k, aimed.capabilities.end());
+    if (!c.at("evaluated").get<bool>()) continue;
+    ++inspected;
+    ASSERT_TRUE(k->inspected_uncertainty.has_value()) << c.at("id");
+    EXPECT_NEAR(*k->inspected_uncertainty, c.at("uncertainty").get<double>(), 1e-9);
+  }
+  EXPECT_GT(inspected, 0u);
+}
+
 }  // namespace
 }  // namespace scanplan

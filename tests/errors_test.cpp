@@ -453,6 +453,8 @@ TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
                "unknown key 'globl' in planner.coverage");
   EXPECT_PRED2(contains, specError(dir, "planner: {objective: seconds}\n"),
                "planner.objective must be views or cycle_time, not 'seconds'");
+  EXPECT_PRED2(contains, specError(dir, "planner: {aim: tolerances}\n"),
+               "planner.aim must be samples or characteristics, not 'tolerances'");
 }
 
 // What YAML or a CSV would let through silently: a second document, a key given twice in a

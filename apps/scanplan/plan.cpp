@@ -37,6 +37,7 @@ struct Options {
   bool png = false;
   bool place_markers = false;
   std::optional<double> coverage;  // --coverage: planner.coverage for every task
+  std::string aim;                 // --aim: planner.aim
   std::string rest;                // --rest: part.rest
 };
 
@@ -141,6 +142,8 @@ int run(const Options& options, const GlobalOptions& global) {
     spec.planner.coverage.others = *options.coverage;
     spec.planner.coverage.tasks.clear();
   }
+  if (!options.aim.empty())
+    spec.planner.aim = options.aim == "samples" ? Aim::Samples : Aim::Characteristics;
   const Part part = importWithWarnings(options.part, {}, progress);
   PlanningOptions planning;
   planning.registration = !options.no_registration;
@@ -207,6 +210,12 @@ void addPlanCommand(CLI::App& app, const GlobalOptions& global, Action& selected
                       "Share of the coverable samples of every task to measure, such as 0.95 "
                       "(the priority faces' samples keep the spec's share, all of them by "
                       "default); overrides planner.coverage");
+  command
+      ->add_option("--aim", options->aim,
+                   "What the views must measure: samples (every coverable sample) or "
+                   "characteristics (what each characteristic's capability needs); overrides "
+                   "planner.aim")
+      ->check(CLI::IsMember({"samples", "characteristics"}));
   command->add_option("--rest", options->rest,
                       "How the part stands, overriding the spec's part.rest: auto (its steadiest "
                       "rest), all (every rest orientation), drawn (as the CAD model is drawn) or a "

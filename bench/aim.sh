@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Plans aimed at samples and at characteristics (docs/benchmarks.md, "Aim"): plans PART with
+# SPEC under each planner.aim and prints a table row per aim from plan.json: views, cycle
+# time, characteristics capable of those with a tolerance, the limits of those left short,
+# and the planning time. With --inspected, then a row per characteristic of the plan aimed
+# at characteristics: its predicted U beside the virtual inspection's U and bias.
+#   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected]
+set -euo pipefail
+exe=$1 part=$2 spec=${3:--} inspected=${4:-}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+echo "| aim | views | cycle s | capable | beyond the views | planning s |"
+echo "|---|---|---|---|---|---|"
+for aim in samples characteristics; do
+  args=(plan "$part" -o "$out/$aim" --no-report -q --aim "$aim")
+  [ "$spec" = "-" ] || args+=(--spec "$spec")
+  /usr/bin/time -f "%e" -o "$out/time" "$exe" "${args[@]}" > /dev/null
+  python3 - "$out/$aim/plan.json" "$aim" "$(cat "$out/time")" <<'PY'
+import collections, json, sys
+plan = json.load(open(sys.argv[1]))
+s = plan["summary"]
+judged = [c["capability"] for c in plan.get("characteristics", []) if c.get("capability")]
+toleranced = [k for k in judged if k["verdict"] != "untoleranced"]
+capable = sum(k["verdict"] == "capable" for k in toleranced)
+limits = collections.Counter(k.get("limit", "none") for k in toleranced if k["verdict"] != "capable")
+cycle = s.get("cycle", {}).get("seconds")
+print(f"| {sys.argv[2]} | {s['views']} | {'-' if cycle is None else f'{cycle:.0f}'} | "
+      f"{capable} of {len(toleranced)} | "
+      f"{', '.join(f'{n} {l}' for l, n in sorted(limits.items())) or '-'} | {float(sys.argv[3]):.1f} |")
+PY
+done
+[ "$inspected" = "--inspected" ] || exit 0
+echo
+echo "| id | kind | width | predicted U | inspected U | inspected bias | predicted / (|bias| + U) |"
+echo "|---|---|---|---|---|---|---|"
+python3 - "$out/characteristics/plan.json" <<'PY'
+import json, sys
+plan = json.load(open(sys.argv[1]))
+for c in plan.get("characteristics", []):
+    k = c.get("capability") or {}
+    if k.get("verdict") == "untoleranced" or k.get("inspected_uncertainty") is None:
+        continue
+    width = c["limits"][1] - c["limits"][0]
+    seen = abs(k["inspected_bias"]) + k["inspected_uncertainty"]
+    print(f"| {c['id']} | {c['kind']} | {width:g} | {k['uncertainty']:.4f} | "
+          f"{k['inspected_uncertainty']:.4f} | {k['inspected_bias']:.4f} | "
+          f"{k['uncertainty'] / seen if seen > 0 else float('nan'):.2f} |")
+PY
