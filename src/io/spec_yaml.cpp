@@ -13,6 +13,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -368,6 +369,18 @@ CoverageTargets readCoverage(const YAML::Node& node, const SpecReader& reader) {
   return targets;
 }
 
+// planner.`key`, one of `two` names: the first is Enum's first value, the second its second.
+template <class Enum>
+void readChoice(const YAML::Node& node, const std::string& key,
+                const std::array<std::string, 2>& two, const SpecReader& reader, Enum& value) {
+  const YAML::Node given = node[key];
+  if (!given) return;
+  const auto name = reader.scalar<std::string>(given, "planner." + key);
+  if (name != two[0] && name != two[1])
+    reader.fail("planner." + key + " must be " + two[0] + " or " + two[1] + ", not '" + name + "'");
+  value = static_cast<Enum>(name == two[0] ? 0 : 1);
+}
+
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   checkKeys(node,
             {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
@@ -394,18 +407,8 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
     p.tilt_max = reader.scalar<double>(tilt[1], "planner.tilt");
   }
   if (const YAML::Node coverage = node["coverage"]) p.coverage = readCoverage(coverage, reader);
-  if (const YAML::Node objective = node["objective"]) {
-    const auto name = reader.scalar<std::string>(objective, "planner.objective");
-    if (name != "views" && name != "cycle_time")
-      reader.fail("planner.objective must be views or cycle_time, not '" + name + "'");
-    p.objective = name == "views" ? Objective::Views : Objective::CycleTime;
-  }
-  if (const YAML::Node aim = node["aim"]) {
-    const auto name = reader.scalar<std::string>(aim, "planner.aim");
-    if (name != "samples" && name != "characteristics")
-      reader.fail("planner.aim must be samples or characteristics, not '" + name + "'");
-    p.aim = name == "samples" ? Aim::Samples : Aim::Characteristics;
-  }
+  readChoice(node, "objective", {"views", "cycle_time"}, reader, p.objective);
+  readChoice(node, "aim", {"samples", "characteristics"}, reader, p.aim);
   if (const YAML::Node rescue = node["rescue"]) {
     checkKeys(rescue, {"step", "rotations", "narrow"}, reader, "planner.rescue");
     reader.read(rescue, "planner.rescue", "step", p.rescue_step);

@@ -476,18 +476,34 @@ void judge(const Characteristic& c, Capability& k, const CapabilityOptions& opti
   const bool sparse = (!fitted && k.covered < kCoveredEnough) || k.points < kMinPoints;
   if (!(c.width() > 0)) {
     k.verdict = Verdict::Untoleranced;
-  } else if (datums_covered < kDatumsCoveredEnough) {
-    k.verdict = Verdict::NotCapable;
-    k.reason = Shortfall::DatumsUnmeasured;
   } else if (!fitted && k.covered < kMostlyUncovered) {
     k.verdict = Verdict::NotCapable;
     k.reason = Shortfall::Uncovered;
+  } else if (datums_covered < kDatumsCoveredEnough) {
+    k.verdict = Verdict::NotCapable;
+    k.reason = Shortfall::DatumsUnmeasured;
   } else if (k.ratio >= options.capable_ratio && !sparse) {
     k.verdict = Verdict::Capable;
   } else {
     k.verdict = k.ratio >= options.marginal_ratio ? Verdict::Marginal : Verdict::NotCapable;
     k.reason = sparse ? Shortfall::TooSparse : Shortfall::TooNoisy;
   }
+}
+
+// The measured datum patches of `framed` (into `measured`), and the share of the datum
+// features' area they cover (1 without datums). A patch face down on the working plane
+// does not count: the plane the part stands on simulates it.
+double datumShare(const InOneFrame& framed, const Pose& placed,
+                  std::vector<const Patch*>& measured) {
+  double area = 0, covered = 0;
+  for (const Patch& p : framed.datum) {
+    if (onPlane(placed, p)) continue;
+    area += p.area;
+    if (p.looks.empty()) continue;
+    measured.push_back(&p);
+    covered += p.area;
+  }
+  return area > 0 ? covered / area : 1;
 }
 
 // The ids of the views whose looks at `patches` count.
@@ -575,12 +591,12 @@ std::string_view toString(Shortfall reason) {
 namespace {
 
 // The capability of each of `characteristics` under the views of `plan`, whose looks at
-// `patches` are found.
+// `patches` and registration `errors` are found.
 std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                const std::vector<Characteristic>& characteristics,
-                               const std::vector<Patch>& patches) {
+                               const std::vector<Patch>& patches,
+                               const std::vector<detail::ViewError>& errors) {
   const CapabilityOptions& options = spec.spec.planner.capability;
-  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   const detail::TwistDraws moves(errors);
   const std::vector<RestOrientation> rests = restOrientations(part);
   std::vector<Capability> result;
@@ -596,14 +612,7 @@ std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const
         all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part.gdt, c)), errors);
     std::vector<const Patch*> mine, measured, datum;
     for (const Patch& p : framed.feature) mine.push_back(&p);
-    double datum_area = 0, datum_covered = 0;
-    for (const Patch& p : framed.datum) {
-      if (onPlane(plan.part_to_world, p)) continue;  // the plane simulates it
-      datum_area += p.area;
-      if (p.looks.empty()) continue;
-      datum.push_back(&p);
-      datum_covered += p.area;
-    }
+    const double datums_covered = datumShare(framed, plan.part_to_world, datum);
     Capability k;
     k.characteristic = c.id;
     double covered = 0;
@@ -622,8 +631,7 @@ std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const
                           spec.spec.planner.seed);
       k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
     }
-    judge(c, k, options, cylinderFitted(part, c, mine, measured),
-          datum_area > 0 ? datum_covered / datum_area : 1);
+    judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);
     if (c.faces.empty() || !datumsLinked(part.gdt, c)) {  // nothing to fit, or no frame to fit in
       k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
       k.reason = Shortfall::NotLinked;
@@ -643,6 +651,22 @@ std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const
   return result;
 }
 
+bool chained(RegistrationMethod m) {
+  return m == RegistrationMethod::Markers || m == RegistrationMethod::Icp;
+}
+
+// Whether view `v` of `plan` is placed: its chain of registrations ends at a view that
+// fixes a frame, not at one registered to nothing.
+bool placedIn(const Plan& plan, std::size_t v) {
+  const std::vector<ViewRegistration>& views = plan.registration->views;
+  std::size_t at = v;
+  for (std::size_t hops = 0; chained(views[at].method) && hops <= views.size(); ++hops) {
+    if (views[at].to < 1 || static_cast<std::size_t>(views[at].to) > views.size()) return false;
+    at = static_cast<std::size_t>(views[at].to) - 1;
+  }
+  return views[at].method != RegistrationMethod::None;
+}
+
 // The plan of its first `count` views; a view whose registration runs through a later one
 // registers to nothing.
 Plan firstViews(const Plan& plan, std::size_t count) {
@@ -651,9 +675,6 @@ Plan firstViews(const Plan& plan, std::size_t count) {
   if (!first.registration) return first;
   std::vector<ViewRegistration>& views = first.registration->views;
   views.resize(count);
-  const auto chained = [](RegistrationMethod m) {
-    return m == RegistrationMethod::Markers || m == RegistrationMethod::Icp;
-  };
   for (std::size_t v = 0; v < count; ++v) {
     std::size_t at = v;
     for (std::size_t hops = 0; chained(views[at].method) && hops <= count; ++hops) {
@@ -675,7 +696,8 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
   if (characteristics.empty()) return {};
   std::vector<Patch> patches = patchesOf(part, characteristics);
   look(part, spec, plan, patches);
-  return judged(part, spec, plan, characteristics, patches);
+  return judged(part, spec, plan, characteristics, patches,
+                detail::registrationErrors(part, spec, plan));
 }
 
 std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
@@ -689,6 +711,9 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
     return {};
   std::vector<Patch> patches = patchesOf(part, characteristics);
   look(part, spec, plan, patches);
+  // A link's error is the same in the first views: a view keeps its own, or, registering
+  // through a later one, is placed nowhere.
+  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   std::vector<CapableCount> result;
   const std::size_t n = plan.views.size();
   for (std::size_t step = 1; step <= std::min(points, n); ++step) {
@@ -696,8 +721,13 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
     if (!result.empty() && result.back().views == count) continue;
     std::vector<Patch> seen = patches;
     for (Patch& p : seen) std::erase_if(p.looks, [&](const Look& l) { return l.view >= count; });
+    const Plan first = firstViews(plan, count);
+    std::vector<detail::ViewError> first_errors(errors.begin(),
+                                                errors.begin() + static_cast<long>(count));
+    for (std::size_t v = 0; v < count && first.registration; ++v)
+      first_errors[v].placed = first_errors[v].placed && placedIn(first, v);
     const std::vector<Capability> judged_here =
-        judged(part, spec, firstViews(plan, count), characteristics, seen);
+        judged(part, spec, first, characteristics, seen, first_errors);
     result.push_back({count, static_cast<std::size_t>(std::count_if(
                                  judged_here.begin(), judged_here.end(), [](const Capability& k) {
                                    return k.verdict == Verdict::Capable;
