@@ -36,6 +36,7 @@ namespace {
 
 constexpr double kMinPoints = 25;  // fewer points cannot fit a feature soundly
 constexpr double kMostlyUncovered = 0.5;
+constexpr int kLeastCurveDraws = 20;  // Monte Carlo draws of a point of capableByViews
 
 // What a view measures at a sample: the noise of its points and how many there are.
 struct Look {
@@ -595,8 +596,8 @@ namespace {
 std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                const std::vector<Characteristic>& characteristics,
                                const std::vector<Patch>& patches,
-                               const std::vector<detail::ViewError>& errors) {
-  const CapabilityOptions& options = spec.spec.planner.capability;
+                               const std::vector<detail::ViewError>& errors,
+                               const CapabilityOptions& options) {
   const detail::TwistDraws moves(errors);
   const std::vector<RestOrientation> rests = restOrientations(part);
   std::vector<Capability> result;
@@ -697,13 +698,13 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
   std::vector<Patch> patches = patchesOf(part, characteristics);
   look(part, spec, plan, patches);
   return judged(part, spec, plan, characteristics, patches,
-                detail::registrationErrors(part, spec, plan));
+                detail::registrationErrors(part, spec, plan), spec.spec.planner.capability);
 }
 
 std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
                                          const Plan& plan,
                                          const std::vector<Characteristic>& characteristics,
-                                         std::size_t points) {
+                                         const std::vector<Capability>& all, std::size_t points) {
   const bool ordered = std::all_of(plan.views.begin(), plan.views.end(), [&](const View& v) {
     return v.id == static_cast<int>(&v - plan.views.data()) + 1;
   });
@@ -714,9 +715,16 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
   // A link's error is the same in the first views: a view keeps its own, or, registering
   // through a later one, is placed nowhere.
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  CapabilityOptions options = spec.spec.planner.capability;
+  options.draws = std::max(kLeastCurveDraws, options.draws / 4);
+  const auto capable = [](const std::vector<Capability>& judged_here) {
+    return static_cast<std::size_t>(
+        std::count_if(judged_here.begin(), judged_here.end(),
+                      [](const Capability& k) { return k.verdict == Verdict::Capable; }));
+  };
   std::vector<CapableCount> result;
   const std::size_t n = plan.views.size();
-  for (std::size_t step = 1; step <= std::min(points, n); ++step) {
+  for (std::size_t step = 1; step < std::min(points, n); ++step) {
     const std::size_t count = (n * step + points - 1) / points;
     if (!result.empty() && result.back().views == count) continue;
     std::vector<Patch> seen = patches;
@@ -726,13 +734,10 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
                                                 errors.begin() + static_cast<long>(count));
     for (std::size_t v = 0; v < count && first.registration; ++v)
       first_errors[v].placed = first_errors[v].placed && placedIn(first, v);
-    const std::vector<Capability> judged_here =
-        judged(part, spec, first, characteristics, seen, first_errors);
-    result.push_back({count, static_cast<std::size_t>(std::count_if(
-                                 judged_here.begin(), judged_here.end(), [](const Capability& k) {
-                                   return k.verdict == Verdict::Capable;
-                                 }))});
+    result.push_back(
+        {count, capable(judged(part, spec, first, characteristics, seen, first_errors, options))});
   }
+  result.push_back({n, capable(all)});
   return result;
 }
 

@@ -727,7 +727,8 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
   report(progress, "measurement capability", 0);
   plan.characteristics = characteristics(part.gdt);
   plan.capabilities = capabilities(part, resolved, plan, plan.characteristics);
-  plan.capable_by_views = capableByViews(part, resolved, plan, plan.characteristics);
+  plan.capable_by_views =
+      capableByViews(part, resolved, plan, plan.characteristics, plan.capabilities);
   plan.times.push_back({"capability", secondsSince(judged)});
   if (spec.planner.aim == Aim::Characteristics) {
     const auto inspected = Clock::now();

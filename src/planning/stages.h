@@ -137,8 +137,8 @@ struct Selection {
 // every sample some pool view measures (planner.selection_seconds, starting from the
 // greedy cover); views whose samples all others also measure dropped (last first); the
 // rest ordered by marginal coverage, priority samples first. Below coverage targets of 1,
-// or by cycle time (planner.objective), CBC solves the partial cover of the targets at the
-// poses' costs instead. With `registering` (the markers views register by, none: by
+// by cycle time (planner.objective), or aimed at characteristics (planner.aim), CBC solves
+// the partial cover of the targets (coverageNeed) at the poses' costs instead. With `registering` (the markers views register by, none: by
 // geometry alone), the connectedCover of the same targets and costs, unless no view of it
 // registers to another; its bound is then the LP relaxation's. Under registration by
 // reference points (`framed`: per pose, whether it registers by the markers by itself, as

@@ -26,12 +26,14 @@ std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec,
                                      const std::vector<Characteristic>& characteristics);
 
 // How many characteristics the plan's first views make capable, at `points` counts of views
-// spread up to all of them (the last the plan's own count): the trade-off of capability
-// against views and cycle time. A view whose registration runs through a later view
-// registers to nothing. Empty for a plan of several rest orientations.
+// spread up to all of them: the trade-off of capability against views and cycle time. The
+// last is the plan's own count, judged `all` (its capabilities); the others are judged
+// with a quarter of the Monte Carlo draws, a view whose registration runs through a later
+// view registering to nothing. Empty for a plan of several rest orientations.
 std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
                                          const Plan& plan,
                                          const std::vector<Characteristic>& characteristics,
+                                         const std::vector<Capability>& all,
                                          std::size_t points = 8);
 
 }  // namespace scanplan
