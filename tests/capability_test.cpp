@@ -204,11 +204,12 @@ TEST(ErrorBudget, IcpOnACornerOfThreePlanesHasTheClosedFormCovariance) {
 // The 200 x 100 mm top of a plate (flatness 0.2), seen straight on by a scanner of a
 // 100 x 100 mm field, noise 0.01 mm and a flatness error of 0.02 mm: by `views` views spread
 // along x, the first the reference and the others placed by a robot of accuracy 0.1 mm.
-Capability twoHalvesCase(const test::TempDir& dir, int views) {
+// `field`: the fields' side, mm (at 250 each view sees the whole top).
+Capability twoHalvesCase(const test::TempDir& dir, int views, double field = 100) {
   BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 10).Shape(), dir.file("plate.brep").c_str());
   const Part part = importPart(dir.file("plate.brep"));
   Spec spec = defaultSpec();
-  spec.scanner.fov_width = spec.scanner.fov_height = 100;
+  spec.scanner.fov_width = spec.scanner.fov_height = field;
   spec.scanner.point_spacing = 2;
   spec.scanner.flatness_error = 0.02;
   Plan plan;
@@ -219,7 +220,7 @@ Capability twoHalvesCase(const test::TempDir& dir, int views) {
   for (int k = 0; k < views; ++k) {
     View view;
     view.id = k + 1;
-    const double x = views == 1 ? 100 : 45 + 110 * k;
+    const double x = views == 1 || field > 200 ? 100 : 45 + 110 * k;
     view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
     view.camera_to_world.translation() = Vec3(x, 50, 10 + spec.scanner.standoff);
     view.target = Vec3(x, 50, 10);
@@ -262,6 +263,19 @@ TEST(Capability, ARegistrationStepBetweenTwoViewsShowsInTheFlatnessAndOneViewLea
   EXPECT_NEAR(two.uncertainty,
               std::hypot(two.budget.noise, two.budget.registration, two.budget.scanner), 1e-12);
   EXPECT_LT(two.ratio, one.ratio);
+}
+
+// Two views that both see the whole top, the second placed by the robot: their points lie
+// in two layers its offset along the normal apart, and the flatness spans both. The fitted
+// plane lies between them, so U from the registration is 1.96 s, the 95% of |offset|,
+// though each sample's mean position lies on one plane.
+TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
+  test::TempDir dir;
+  const Capability both = twoHalvesCase(dir, 2, 250);
+  const double s = 0.1 / 2.7955;
+  RecordProperty("registration_u_overlapping", std::to_string(both.budget.registration));
+  EXPECT_NEAR(both.covered, 1, 0.02);
+  EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
 }
 
 // A characteristic the import linked to no face is not "uncovered": it is "not linked".

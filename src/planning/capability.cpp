@@ -233,10 +233,23 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
   return 0;
 }
 
+// Each look's displacement at its patch under `moves`, less `less` (per patch): where the
+// views that measure a patch lie apart, their points lie in layers, and a zone spans them
+// all.
+std::vector<double> lookDisplacements(const Measured& m, const std::vector<detail::Twist>& moves,
+                                      const std::vector<double>& less) {
+  std::vector<double> layers;
+  for (std::size_t i = 0; i < m.feature.size(); ++i)
+    for (const Look& l : m.feature[i]->looks)
+      layers.push_back((detail::alongNormal(l.position, l.normal) * moves[l.view])(0) - less[i]);
+  return layers;
+}
+
 // One draw of the registration's error on the value: each view moved by a draw of its
-// error, each patch by the mean of its views' motions. A rigid motion of the whole does not
-// change a form, a size or an angle: only the views' motions against one another, and
-// against the datums' views, do.
+// error. A size or an angle is fitted to each patch moved by the mean of its views' motions;
+// a zone (form, profile) holds every view's points, each patch's layers apart. A rigid motion
+// of the whole does not change a form, a size or an angle: only the views' motions against
+// one another, and against the datums' views, do.
 double registrationError(Effect effect, const Measured& m,
                          const std::vector<detail::Twist>& moves) {
   const auto moved = [&](const Patch* p) {
@@ -251,9 +264,25 @@ double registrationError(Effect effect, const Measured& m,
   std::vector<double> d, datum_d;
   for (const Patch* p : m.feature) d.push_back(moved(p));
   for (const Patch* p : m.datum) datum_d.push_back(moved(p));
-  relativeToDatums(m, datum_d, d);
+  std::vector<double> datum_shift(d.size(), 0.0);  // the datums' fitted motion at each patch
+  if (!m.datum.empty()) {
+    std::vector<double> shifted = d;
+    relativeToDatums(m, datum_d, shifted);
+    for (std::size_t i = 0; i < d.size(); ++i) datum_shift[i] = d[i] - shifted[i];
+    d = shifted;
+  }
   const bool relative = !m.datum.empty();
   const Fitted f = fitted(m.fit, d);
+  std::vector<double> fitted_at = f.at;  // the fitted geometry, in the frame the layers lie
+  for (std::size_t i = 0; i < d.size(); ++i) fitted_at[i] += datum_shift[i];
+  switch (effect) {
+    case Effect::Form:
+      return relative ? range(f.at) + range(lookDisplacements(m, moves, fitted_at))
+                      : range(lookDisplacements(m, moves, fitted_at));
+    case Effect::Profile:
+      return 2 * largestMagnitude(lookDisplacements(m, moves, relative ? datum_shift : fitted_at));
+    default: break;
+  }
   switch (effect) {
     case Effect::Diameter: return 2 * std::abs(f.offset);
     case Effect::Radius: return std::abs(f.offset);
@@ -263,10 +292,8 @@ double registrationError(Effect effect, const Measured& m,
       return std::abs(sum);
     }
     case Effect::Angle: return degrees(std::atan(range(f.residual) / m.fit.extent));
-    case Effect::Form: return relative ? range(f.at) + range(f.residual) : range(f.residual);
-    case Effect::Profile: return 2 * largestMagnitude(relative ? d : f.residual);
+    default: return 0;
   }
-  return 0;
 }
 
 // The value 95% of `errors` stay under.
