@@ -278,6 +278,67 @@ TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
   EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
 }
 
+// The capability curve of two views, each on one half of a plate's top (flatness 0.2),
+// without registration: the first view alone measures half the face, not capable; both
+// measure it all, capable. Registered by four shared markers to a third view, the
+// reference, the two halves are placed only once it is among the first views.
+TEST(Capability, TheFirstViewsCountTheCharacteristicsTheyMakeCapable) {
+  test::TempDir dir;
+  BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 100;
+  Plan plan;
+  plan.scanner = spec.scanner;
+  for (int k = 0; k < 2; ++k) {
+    View view;
+    view.id = k + 1;
+    view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
+    view.camera_to_world.translation() = Vec3(45 + 110 * k, 50, 10 + spec.scanner.standoff);
+    view.target = Vec3(45 + 110 * k, 50, 10);
+    plan.views.push_back(view);
+  }
+  Characteristic flatness;
+  flatness.id = 1;
+  flatness.kind = "flatness";
+  flatness.value = flatness.upper = 0.2;
+  for (const Face& f : part.faces)
+    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  const ResolvedSpec resolved = resolveSpec(part, spec);
+  const std::vector<Capability> all = capabilities(part, resolved, plan, {flatness});
+  ASSERT_EQ(all.front().verdict, Verdict::Capable);
+  const std::vector<CapableCount> curve = capableByViews(part, resolved, plan, {flatness}, all, 2);
+  ASSERT_EQ(curve.size(), 2u);
+  EXPECT_EQ(curve[0].views, 1u);
+  EXPECT_EQ(curve[0].capable, 0u);
+  EXPECT_EQ(curve[1].views, 2u);
+  EXPECT_EQ(curve[1].capable, 1u);
+
+  for (const Vec3& p : {Vec3(-50, -50, 0), Vec3(250, -50, 0), Vec3(250, 150, 0), Vec3(-50, 150, 0)})
+    plan.markers.push_back({p, Vec3::UnitZ()});
+  View reference = plan.views[0];
+  reference.id = 3;
+  plan.views.push_back(reference);
+  Registration registration;
+  registration.method = RegistrationMode::Markers;
+  for (int k = 0; k < 3; ++k) {
+    ViewRegistration r;
+    r.method = k == 2 ? RegistrationMethod::Reference : RegistrationMethod::Markers;
+    r.to = k == 2 ? 0 : 3;
+    r.markers = {0, 1, 2, 3};
+    registration.views.push_back(r);
+  }
+  plan.registration = registration;
+  const std::vector<Capability> registered = capabilities(part, resolved, plan, {flatness});
+  ASSERT_EQ(registered.front().verdict, Verdict::Capable);
+  const std::vector<CapableCount> chained =
+      capableByViews(part, resolved, plan, {flatness}, registered, 3);
+  ASSERT_EQ(chained.size(), 3u);
+  EXPECT_EQ(chained[1].views, 2u);
+  EXPECT_EQ(chained[1].capable, 0u);  // both halves register through the third view
+  EXPECT_EQ(chained[2].capable, 1u);
+}
+
 // A characteristic the import linked to no face is not "uncovered": it is "not linked".
 TEST(Capability, ACharacteristicWithoutFacesIsNotLinked) {
   test::TempDir dir;

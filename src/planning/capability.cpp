@@ -683,37 +683,24 @@ bool chained(RegistrationMethod m) {
   return m == RegistrationMethod::Markers || m == RegistrationMethod::Icp;
 }
 
-// Whether view `v` of `plan` is placed: its chain of registrations ends at a view that
-// fixes a frame, not at one registered to nothing.
-bool placedIn(const Plan& plan, std::size_t v) {
+// Whether view `v` of `plan` is placed among its first `count` views: its chain of
+// registrations ends, within them, at a view that fixes a frame.
+bool placedWithin(const Plan& plan, std::size_t v, std::size_t count) {
+  if (!plan.registration) return true;
   const std::vector<ViewRegistration>& views = plan.registration->views;
   std::size_t at = v;
-  for (std::size_t hops = 0; chained(views[at].method) && hops <= views.size(); ++hops) {
-    if (views[at].to < 1 || static_cast<std::size_t>(views[at].to) > views.size()) return false;
+  for (std::size_t hops = 0; chained(views[at].method) && hops <= count; ++hops) {
+    if (views[at].to < 1 || static_cast<std::size_t>(views[at].to) > count) return false;
     at = static_cast<std::size_t>(views[at].to) - 1;
   }
   return views[at].method != RegistrationMethod::None;
 }
 
-// The plan of its first `count` views; a view whose registration runs through a later one
-// registers to nothing.
+// The plan of its first `count` views.
 Plan firstViews(const Plan& plan, std::size_t count) {
   Plan first = plan;
   first.views.resize(count);
-  if (!first.registration) return first;
-  std::vector<ViewRegistration>& views = first.registration->views;
-  views.resize(count);
-  for (std::size_t v = 0; v < count; ++v) {
-    std::size_t at = v;
-    for (std::size_t hops = 0; chained(views[at].method) && hops <= count; ++hops) {
-      if (views[at].to < 1 || static_cast<std::size_t>(views[at].to) > count) {
-        views[v] = {RegistrationMethod::None, 0, views[v].bridge, views[v].constrained,
-                    views[v].markers};
-        break;
-      }
-      at = static_cast<std::size_t>(views[at].to) - 1;
-    }
-  }
+  if (first.registration) first.registration->views.resize(count);
   return first;
 }
 
@@ -759,8 +746,8 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
     const Plan first = firstViews(plan, count);
     std::vector<detail::ViewError> first_errors(errors.begin(),
                                                 errors.begin() + static_cast<long>(count));
-    for (std::size_t v = 0; v < count && first.registration; ++v)
-      first_errors[v].placed = first_errors[v].placed && placedIn(first, v);
+    for (std::size_t v = 0; v < count; ++v)
+      first_errors[v].placed = first_errors[v].placed && placedWithin(plan, v, count);
     result.push_back(
         {count, capable(judged(part, spec, first, characteristics, seen, first_errors, options))});
   }
