@@ -57,7 +57,7 @@ std::vector<View> smallPool(const Scanner& scanner) {
 Spec plateSpec(const test::HolePlate& p) {
   Spec spec = defaultSpec();
   spec.planner.aim = Aim::Characteristics;
-  spec.planner.capability.draws = 100;
+  spec.planner.capability.draws = 50;
   Task gdt{TaskType::Gdt, {}, {}, {}};
   for (int face : p.hole) gdt.faces.push_back({face, {}, {}});
   for (int face : {p.top, p.side_x, p.side_y}) gdt.faces.push_back({face, {}, {}});
