@@ -121,10 +121,9 @@ struct PlatePlanning {
     return samples;
   }
   static std::vector<SurfacePoint> pointsOf(const std::vector<PlannedSample>& samples) {
-    std::vector<SurfacePoint> points;
-    for (const PlannedSample& s : samples)
-      points.push_back({s.sample.position, s.sample.normal, s.sample.face});
-    return points;
+    Plan plan;
+    plan.samples = samples;
+    return plan.samplePoints();
   }
 
   const Simulator simulator;

@@ -102,6 +102,27 @@ double sumOfHalfNormals95() {
   return (lo + hi) / 2;
 }
 
+// A view of id `id` straight down at (x, y) on a top 10 mm high, at the scanner's standoff.
+View downAt(int id, const Scanner& scanner, double x, double y) {
+  View view;
+  view.id = id;
+  view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
+  view.camera_to_world.translation() = Vec3(x, y, 10 + scanner.standoff);
+  view.target = Vec3(x, y, 10);
+  return view;
+}
+
+// The flatness `zone` of a 10 mm plate's top face.
+Characteristic topFlatness(const Part& part, double zone) {
+  Characteristic flatness;
+  flatness.id = 1;
+  flatness.kind = "flatness";
+  flatness.value = flatness.upper = zone;
+  for (const Face& f : part.faces)
+    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  return flatness;
+}
+
 struct PlaneCase {
   double u = 0;
   Capability capability;
@@ -117,18 +138,8 @@ PlaneCase planeCase(const test::TempDir& dir, double spacing) {
   spec.scanner.point_spacing = spacing;
   Plan plan;
   plan.scanner = spec.scanner;
-  View view;
-  view.id = 1;
-  view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
-  view.camera_to_world.translation() = Vec3(50, 50, 10 + spec.scanner.standoff);
-  view.target = Vec3(50, 50, 10);
-  plan.views = {view};
-  Characteristic flatness;
-  flatness.id = 1;
-  flatness.kind = "flatness";
-  flatness.value = flatness.upper = 0.05;
-  for (const Face& f : part.faces)
-    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  plan.views = {downAt(1, spec.scanner, 50, 50)};
+  const Characteristic flatness = topFlatness(part, 0.05);
   const std::vector<Capability> result =
       capabilities(part, resolveSpec(part, spec), plan, {flatness});
   return {result.front().uncertainty, result.front()};
@@ -218,25 +229,14 @@ Capability twoHalvesCase(const test::TempDir& dir, int views, double field = 100
   registration.method = RegistrationMode::Robot;
   registration.robot_accuracy = 0.1;
   for (int k = 0; k < views; ++k) {
-    View view;
-    view.id = k + 1;
     const double x = views == 1 || field > 200 ? 100 : 45 + 110 * k;
-    view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
-    view.camera_to_world.translation() = Vec3(x, 50, 10 + spec.scanner.standoff);
-    view.target = Vec3(x, 50, 10);
-    plan.views.push_back(view);
+    plan.views.push_back(downAt(k + 1, spec.scanner, x, 50));
     ViewRegistration placed;
     placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
     registration.views.push_back(placed);
   }
   plan.registration = registration;
-  Characteristic flatness;
-  flatness.id = 1;
-  flatness.kind = "flatness";
-  flatness.value = flatness.upper = 0.2;
-  for (const Face& f : part.faces)
-    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
-  return capabilities(part, resolveSpec(part, spec), plan, {flatness}).front();
+  return capabilities(part, resolveSpec(part, spec), plan, {topFlatness(part, 0.2)}).front();
 }
 
 // The registration's share of U. Two views, each on one half of the face, the second
@@ -290,24 +290,13 @@ TEST(Capability, TheFirstViewsCountTheCharacteristicsTheyMakeCapable) {
   spec.scanner.fov_width = spec.scanner.fov_height = 100;
   Plan plan;
   plan.scanner = spec.scanner;
-  for (int k = 0; k < 2; ++k) {
-    View view;
-    view.id = k + 1;
-    view.camera_to_world.linear() = Vec3(1, -1, -1).asDiagonal();
-    view.camera_to_world.translation() = Vec3(45 + 110 * k, 50, 10 + spec.scanner.standoff);
-    view.target = Vec3(45 + 110 * k, 50, 10);
-    plan.views.push_back(view);
-  }
-  Characteristic flatness;
-  flatness.id = 1;
-  flatness.kind = "flatness";
-  flatness.value = flatness.upper = 0.2;
-  for (const Face& f : part.faces)
-    if (f.bounds.min.z() > 9.99) flatness.faces = {f.id};
+  for (int k = 0; k < 2; ++k) plan.views.push_back(downAt(k + 1, spec.scanner, 45 + 110 * k, 50));
+  const Characteristic flatness = topFlatness(part, 0.2);
   const ResolvedSpec resolved = resolveSpec(part, spec);
   const std::vector<Capability> all = capabilities(part, resolved, plan, {flatness});
   ASSERT_EQ(all.front().verdict, Verdict::Capable);
-  const std::vector<CapableCount> curve = capableByViews(part, resolved, plan, {flatness}, all, 2);
+  const std::vector<CapableCount> curve =
+      judgeCapability(part, resolved, plan, {flatness}, 2).by_views;
   ASSERT_EQ(curve.size(), 2u);
   EXPECT_EQ(curve[0].views, 1u);
   EXPECT_EQ(curve[0].capable, 0u);
@@ -332,7 +321,7 @@ TEST(Capability, TheFirstViewsCountTheCharacteristicsTheyMakeCapable) {
   const std::vector<Capability> registered = capabilities(part, resolved, plan, {flatness});
   ASSERT_EQ(registered.front().verdict, Verdict::Capable);
   const std::vector<CapableCount> chained =
-      capableByViews(part, resolved, plan, {flatness}, registered, 3);
+      judgeCapability(part, resolved, plan, {flatness}, 3).by_views;
   ASSERT_EQ(chained.size(), 3u);
   EXPECT_EQ(chained[1].views, 2u);
   EXPECT_EQ(chained[1].capable, 0u);  // both halves register through the third view

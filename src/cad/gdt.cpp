@@ -94,4 +94,11 @@ std::vector<int> verifiedDatumFaces(const Gdt& gdt) {
   return sortedUnique(faces);
 }
 
+std::vector<int> judgedFaces(const Gdt& gdt) {
+  std::vector<int> faces = verifiedFaces(gdt);
+  const std::vector<int> datums = verifiedDatumFaces(gdt);
+  faces.insert(faces.end(), datums.begin(), datums.end());
+  return sortedUnique(faces);
+}
+
 }  // namespace scanplan

@@ -679,6 +679,12 @@ std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const
   return result;
 }
 
+std::size_t capableCount(const std::vector<Capability>& judged) {
+  return static_cast<std::size_t>(
+      std::count_if(judged.begin(), judged.end(),
+                    [](const Capability& k) { return k.verdict == Verdict::Capable; }));
+}
+
 bool chained(RegistrationMethod m) {
   return m == RegistrationMethod::Markers || m == RegistrationMethod::Icp;
 }
@@ -696,46 +702,21 @@ bool placedWithin(const Plan& plan, std::size_t v, std::size_t count) {
   return views[at].method != RegistrationMethod::None;
 }
 
-// The plan of its first `count` views.
-Plan firstViews(const Plan& plan, std::size_t count) {
-  Plan first = plan;
-  first.views.resize(count);
-  if (first.registration) first.registration->views.resize(count);
-  return first;
-}
-
-}  // namespace
-
-std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
-                                     const std::vector<Characteristic>& characteristics) {
-  if (characteristics.empty()) return {};
-  std::vector<Patch> patches = patchesOf(part, characteristics);
-  look(part, spec, plan, patches);
-  return judged(part, spec, plan, characteristics, patches,
-                detail::registrationErrors(part, spec, plan), spec.spec.planner.capability);
-}
-
+// How many characteristics the first views of `plan` make capable, at `points` counts of
+// views spread up to all `n` of them (capable_at_n at the last), from the looks at
+// `patches` and the registration `errors` of the whole plan.
 std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
                                          const Plan& plan,
                                          const std::vector<Characteristic>& characteristics,
-                                         const std::vector<Capability>& all, std::size_t points) {
+                                         const std::vector<Patch>& patches,
+                                         const std::vector<detail::ViewError>& errors,
+                                         std::size_t capable_at_n, std::size_t points) {
   const bool ordered = std::all_of(plan.views.begin(), plan.views.end(), [&](const View& v) {
     return v.id == static_cast<int>(&v - plan.views.data()) + 1;
   });
-  if (characteristics.empty() || plan.views.empty() || !plan.orientations.empty() || !ordered)
-    return {};
-  std::vector<Patch> patches = patchesOf(part, characteristics);
-  look(part, spec, plan, patches);
-  // A link's error is the same in the first views: a view keeps its own, or, registering
-  // through a later one, is placed nowhere.
-  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  if (plan.views.empty() || !plan.orientations.empty() || !ordered) return {};
   CapabilityOptions options = spec.spec.planner.capability;
   options.draws = std::max(kLeastCurveDraws, options.draws / 4);
-  const auto capable = [](const std::vector<Capability>& judged_here) {
-    return static_cast<std::size_t>(
-        std::count_if(judged_here.begin(), judged_here.end(),
-                      [](const Capability& k) { return k.verdict == Verdict::Capable; }));
-  };
   std::vector<CapableCount> result;
   const std::size_t n = plan.views.size();
   for (std::size_t step = 1; step < std::min(points, n); ++step) {
@@ -743,15 +724,38 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
     if (!result.empty() && result.back().views == count) continue;
     std::vector<Patch> seen = patches;
     for (Patch& p : seen) std::erase_if(p.looks, [&](const Look& l) { return l.view >= count; });
-    const Plan first = firstViews(plan, count);
-    std::vector<detail::ViewError> first_errors(errors.begin(),
-                                                errors.begin() + static_cast<long>(count));
-    for (std::size_t v = 0; v < count; ++v)
-      first_errors[v].placed = first_errors[v].placed && placedWithin(plan, v, count);
+    // A link's error is the same in the first views: a view keeps its own, or, registering
+    // through a later one, is placed nowhere.
+    std::vector<detail::ViewError> first = errors;
+    for (std::size_t v = 0; v < n; ++v)
+      first[v].placed = v < count && errors[v].placed && placedWithin(plan, v, count);
     result.push_back(
-        {count, capable(judged(part, spec, first, characteristics, seen, first_errors, options))});
+        {count, capableCount(judged(part, spec, plan, characteristics, seen, first, options))});
   }
-  result.push_back({n, capable(all)});
+  result.push_back({n, capable_at_n});
+  return result;
+}
+
+}  // namespace
+
+std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                                     const std::vector<Characteristic>& characteristics) {
+  return judgeCapability(part, spec, plan, characteristics, 0).capabilities;
+}
+
+CapabilityJudgement judgeCapability(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                                    const std::vector<Characteristic>& characteristics,
+                                    std::size_t points) {
+  if (characteristics.empty()) return {};
+  std::vector<Patch> patches = patchesOf(part, characteristics);
+  look(part, spec, plan, patches);
+  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  CapabilityJudgement result;
+  result.capabilities =
+      judged(part, spec, plan, characteristics, patches, errors, spec.spec.planner.capability);
+  if (points > 0)
+    result.by_views = capableByViews(part, spec, plan, characteristics, patches, errors,
+                                     capableCount(result.capabilities), points);
   return result;
 }
 

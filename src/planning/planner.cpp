@@ -700,9 +700,7 @@ void checkByInspection(const Part& part, const ResolvedSpec& spec, Plan& plan,
 Spec aimedSpec(const Part& part, Spec spec) {
   if (spec.planner.aim != Aim::Characteristics) return spec;
   Task targets{TaskType::Gdt, {}, {}, {}};
-  std::vector<int> faces = verifiedFaces(part.gdt);
-  for (int f : verifiedDatumFaces(part.gdt)) faces.push_back(f);
-  for (int face : faces) targets.faces.push_back({face, {}, {}});
+  for (int face : judgedFaces(part.gdt)) targets.faces.push_back({face, {}, {}});
   if (!targets.faces.empty()) spec.tasks.push_back(targets);
   return spec;
 }
@@ -726,9 +724,9 @@ Plan planAndJudge(const Part& part, const Spec& spec, const PlanningOptions& opt
   const auto judged = Clock::now();
   report(progress, "measurement capability", 0);
   plan.characteristics = characteristics(part.gdt);
-  plan.capabilities = capabilities(part, resolved, plan, plan.characteristics);
-  plan.capable_by_views =
-      capableByViews(part, resolved, plan, plan.characteristics, plan.capabilities);
+  CapabilityJudgement judged_plan = judgeCapability(part, resolved, plan, plan.characteristics);
+  plan.capabilities = std::move(judged_plan.capabilities);
+  plan.capable_by_views = std::move(judged_plan.by_views);
   plan.times.push_back({"capability", secondsSince(judged)});
   if (spec.planner.aim == Aim::Characteristics) {
     const auto inspected = Clock::now();

@@ -12,7 +12,6 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <iterator>
 #include <map>
 #include <numeric>
 
@@ -127,18 +126,17 @@ std::pair<std::vector<std::size_t>, SetCoverResult> exactCover(
 
 // The groups of the partial cover: 0 for the priority samples, then one per task type for
 // the others; under planner.aim characteristics, then one per face the characteristics are
-// judged on, which holds the gdt task's samples on it: their faces (`own`) and their datum
-// features' (`datum`).
+// judged on, which holds the gdt task's samples on it: their own faces (`own`) and their
+// datum features'.
 struct CoverageGroups {
-  std::vector<int> own, datum, faces;  // faces: both, sorted
+  std::vector<int> own, faces;  // faces: theirs and their datums', sorted
   bool by_characteristics = false;
 
   explicit CoverageGroups(const Placement& at)
       : by_characteristics(at.settings().aim == Aim::Characteristics) {
     if (!by_characteristics) return;
     own = verifiedFaces(at.part.gdt);
-    datum = verifiedDatumFaces(at.part.gdt);
-    std::set_union(own.begin(), own.end(), datum.begin(), datum.end(), std::back_inserter(faces));
+    faces = judgedFaces(at.part.gdt);
   }
   std::size_t size() const { return 1 + kTaskTypes.size() + faces.size(); }
   // A sample's group, or -1: a gdt sample the characteristics do not ask for.

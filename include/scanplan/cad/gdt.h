@@ -82,5 +82,7 @@ bool verifiable(const Gdt& gdt, const Characteristic& c);
 std::vector<int> verifiedFaces(const Gdt& gdt);
 // The faces of the datum features they reference, sorted and unique.
 std::vector<int> verifiedDatumFaces(const Gdt& gdt);
+// Both: every face a verifiable characteristic is judged on, sorted and unique.
+std::vector<int> judgedFaces(const Gdt& gdt);
 
 }  // namespace scanplan

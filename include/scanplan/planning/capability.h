@@ -25,15 +25,18 @@ constexpr double kDatumsCoveredEnough = 0.5;
 std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                      const std::vector<Characteristic>& characteristics);
 
-// How many characteristics the plan's first views make capable, at `points` counts of views
-// spread up to all of them: the trade-off of capability against views and cycle time. The
-// last is the plan's own count, judged `all` (its capabilities); the others are judged
-// with a quarter of the Monte Carlo draws, a view whose registration runs through a later
-// view registering to nothing. Empty for a plan of several rest orientations.
-std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
-                                         const Plan& plan,
-                                         const std::vector<Characteristic>& characteristics,
-                                         const std::vector<Capability>& all,
-                                         std::size_t points = 8);
+// The capability of each characteristic, and how many of them the plan's first views make
+// capable: the trade-off of capability against views and cycle time, at `points` counts of
+// views spread up to all of them (0: none). The last count is the plan's own, judged as
+// `capabilities`; the others with a quarter of the Monte Carlo draws, a view whose
+// registration runs through a later view registering to nothing. No counts for a plan of
+// several rest orientations.
+struct CapabilityJudgement {
+  std::vector<Capability> capabilities;
+  std::vector<CapableCount> by_views;
+};
+CapabilityJudgement judgeCapability(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                                    const std::vector<Characteristic>& characteristics,
+                                    std::size_t points = 8);
 
 }  // namespace scanplan
