@@ -618,15 +618,22 @@ std::string_view toString(Shortfall reason) {
 
 namespace {
 
-// The capability of each of `characteristics` under the views of `plan`, whose looks at
-// `patches` and registration `errors` are found.
+// What the capability of characteristics is judged from: the looks of the views of the
+// plan at the characteristics' patches, its registration errors and the part's rest
+// orientations, found once for every count of views judged.
+struct Judging {
+  std::vector<Patch> patches;
+  std::vector<detail::ViewError> errors;
+  std::vector<RestOrientation> rests;
+};
+
+// The capability of each of `characteristics` under the views of `plan`, judged from `by`.
 std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                const std::vector<Characteristic>& characteristics,
-                               const std::vector<Patch>& patches,
-                               const std::vector<detail::ViewError>& errors,
-                               const CapabilityOptions& options) {
+                               const Judging& by, const CapabilityOptions& options) {
+  const std::vector<Patch>& patches = by.patches;
+  const std::vector<detail::ViewError>& errors = by.errors;
   const detail::TwistDraws moves(errors);
-  const std::vector<RestOrientation> rests = restOrientations(part);
   std::vector<Capability> result;
   for (const Characteristic& c : characteristics) {
     const auto on = [&](const std::vector<int>& faces) {
@@ -671,7 +678,7 @@ std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const
         k.reason = framed.lost_to_setups >= framed.lost_unregistered ? Shortfall::SetupsNotJoined
                                                                      : Shortfall::NotRegistered;
     }
-    if (k.covered < kCoveredEnough) k.rest = restFor(all, rests, plan.part_to_world);
+    if (k.covered < kCoveredEnough) k.rest = restFor(all, by.rests, plan.part_to_world);
     k.limit = limitOf(part, c, k, plan, options);
     k.views = servingViews(framed, plan);
     result.push_back(k);
@@ -703,14 +710,13 @@ bool placedWithin(const Plan& plan, std::size_t v, std::size_t count) {
 }
 
 // How many characteristics the first views of `plan` make capable, at `points` counts of
-// views spread up to all `n` of them (capable_at_n at the last), from the looks at
-// `patches` and the registration `errors` of the whole plan.
+// views spread up to all `n` of them (capable_at_n at the last), judged from `all`, the
+// whole plan's.
 std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& spec,
                                          const Plan& plan,
                                          const std::vector<Characteristic>& characteristics,
-                                         const std::vector<Patch>& patches,
-                                         const std::vector<detail::ViewError>& errors,
-                                         std::size_t capable_at_n, std::size_t points) {
+                                         const Judging& all, std::size_t capable_at_n,
+                                         std::size_t points) {
   const bool ordered = std::all_of(plan.views.begin(), plan.views.end(), [&](const View& v) {
     return v.id == static_cast<int>(&v - plan.views.data()) + 1;
   });
@@ -722,15 +728,15 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
   for (std::size_t step = 1; step < std::min(points, n); ++step) {
     const std::size_t count = (n * step + points - 1) / points;
     if (!result.empty() && result.back().views == count) continue;
-    std::vector<Patch> seen = patches;
-    for (Patch& p : seen) std::erase_if(p.looks, [&](const Look& l) { return l.view >= count; });
+    Judging first = all;
+    for (Patch& p : first.patches)
+      std::erase_if(p.looks, [&](const Look& l) { return l.view >= count; });
     // A link's error is the same in the first views: a view keeps its own, or, registering
     // through a later one, is placed nowhere.
-    std::vector<detail::ViewError> first = errors;
     for (std::size_t v = 0; v < n; ++v)
-      first[v].placed = v < count && errors[v].placed && placedWithin(plan, v, count);
+      first.errors[v].placed = v < count && all.errors[v].placed && placedWithin(plan, v, count);
     result.push_back(
-        {count, capableCount(judged(part, spec, plan, characteristics, seen, first, options))});
+        {count, capableCount(judged(part, spec, plan, characteristics, first, options))});
   }
   result.push_back({n, capable_at_n});
   return result;
@@ -747,14 +753,13 @@ CapabilityJudgement judgeCapability(const Part& part, const ResolvedSpec& spec, 
                                     const std::vector<Characteristic>& characteristics,
                                     std::size_t points) {
   if (characteristics.empty()) return {};
-  std::vector<Patch> patches = patchesOf(part, characteristics);
-  look(part, spec, plan, patches);
-  const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
+  Judging by{patchesOf(part, characteristics), detail::registrationErrors(part, spec, plan),
+             restOrientations(part)};
+  look(part, spec, plan, by.patches);
   CapabilityJudgement result;
-  result.capabilities =
-      judged(part, spec, plan, characteristics, patches, errors, spec.spec.planner.capability);
+  result.capabilities = judged(part, spec, plan, characteristics, by, spec.spec.planner.capability);
   if (points > 0)
-    result.by_views = capableByViews(part, spec, plan, characteristics, patches, errors,
+    result.by_views = capableByViews(part, spec, plan, characteristics, by,
                                      capableCount(result.capabilities), points);
   return result;
 }
