@@ -893,6 +893,50 @@ TEST(Cell, JointsAlongTheOrderTravelLeastWithTheWindingCountedByBruteForce) {
   EXPECT_NEAR(cost({&*chosen[0], &*chosen[1], &*chosen[2], &*chosen[3]}), best, 1e-9);
 }
 
+// The seconds between two views that the views are ordered by are the least move time
+// over every pair of their solutions: on a UR10e, whose joints all turn ±360°, each view
+// has up to 8 × 2⁶ solutions, compared one by one. And where a view's solutions are not
+// every combination of their joints' turns, still the brute force's: axes 1 and 2 each a
+// radian or a turn less, but never both a radian, so that one of them must travel far.
+TEST(Cell, TravelTimesBetweenViewsAreTheLeastOverEverySolutionPair) {
+  Cell cell;
+  cell.robot = robotPreset("ur10e");
+  cell.mount.translation() = Vec3(0, 0, 150);
+  std::vector<View> views;
+  for (int k = 0; k < 4; ++k) {
+    const double a = radians(-50 + 35 * k);
+    const Vec3 target(700 * std::cos(a), 700 * std::sin(a), 0);
+    views.push_back(viewAt(target + Vec3(250 * std::cos(2 * a), 100, 450), target));
+  }
+  const auto bruteForce = [&](const CellSolutions& solutions, std::size_t i, std::size_t j) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const CellPose& a : solutions[i])
+      for (const CellPose& b : solutions[j]) best = std::min(best, moveTime(cell, a, b));
+    return best;
+  };
+  const auto expectBruteForce = [&](const CellSolutions& solutions) {
+    const Eigen::MatrixXd times = jointTravelTimes(cell, solutions);
+    for (std::size_t i = 0; i < solutions.size(); ++i) {
+      for (std::size_t j = 0; j < solutions.size(); ++j) {
+        if (i == j) continue;
+        EXPECT_EQ(times(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)),
+                  bruteForce(solutions, i, j))
+            << i << " -> " << j;
+      }
+    }
+  };
+  const CellSolutions solutions = cellSolutions(cell, views);
+  for (const std::vector<CellPose>& s : solutions) ASSERT_GT(s.size(), 64u);
+  expectBruteForce(solutions);
+
+  const double turn = 2 * M_PI;
+  const CellPose rest{0, {0, 0, 0, 0, 0, 0}}, first{0, {1, 1 - turn, 0, 0, 0, 0}},
+      second{0, {1 - turn, 1, 0, 0, 0, 0}};
+  expectBruteForce({{rest}, {first, second}});
+  EXPECT_GT(jointTravelTimes(cell, {{rest}, {first, second}})(0, 1),
+            moveTime(cell, rest, CellPose{0, {1, 1, 0, 0, 0, 0}}));
+}
+
 // The payload's inertia: the scanner's body as a uniform box of the tool's mass, its axes
 // turned into the flange's by the mount (a quarter turn about z swaps x and y), unless the
 // spec gives it. A 2 kg box 0.3 × 0.12 × 0.26 m: Jx = m (b² + c²) / 12 and so on.

@@ -6,6 +6,8 @@
 #include <scanplan/robot/motion.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 
@@ -26,6 +28,74 @@ std::vector<CellPose> withOtherTurns(const RobotModel& robot, std::vector<CellPo
       }
   }
   return poses;
+}
+
+// Solutions of a view that are one pose with wide joints at other turns: the same table
+// angle, each joint's values a whole number of turns apart. Per joint, the values it takes.
+struct Turned {
+  CellPose first;
+  std::array<std::vector<double>, 6> turns;
+  std::size_t count = 0;  // solutions in it
+  // Every combination of the joints' turns is a solution of it, as withOtherTurns makes
+  // them: a joint's turn can then be chosen apart from the others'.
+  bool everyCombination() const {
+    std::size_t combinations = 1;
+    for (const std::vector<double>& t : turns) combinations *= t.size();
+    return combinations == count;
+  }
+};
+
+bool turnsOf(const CellPose& a, const CellPose& b) {
+  if (a.table_angle != b.table_angle) return false;
+  for (int j = 0; j < 6; ++j)
+    if (std::abs(std::remainder(a.joints[j] - b.joints[j], 2 * M_PI)) > 1e-9) return false;
+  return true;
+}
+
+std::vector<Turned> turned(const std::vector<CellPose>& solutions) {
+  std::vector<Turned> result;
+  for (const CellPose& s : solutions) {
+    auto it = std::find_if(result.begin(), result.end(),
+                           [&](const Turned& t) { return turnsOf(t.first, s); });
+    if (it == result.end()) it = result.insert(result.end(), Turned{s, {}, 0});
+    ++it->count;
+    for (int j = 0; j < 6; ++j)
+      if (std::find(it->turns[j].begin(), it->turns[j].end(), s.joints[j]) == it->turns[j].end())
+        it->turns[j].push_back(s.joints[j]);
+  }
+  return result;
+}
+
+// The least move time from a solution of `a` to one of `b`. The time is the slowest
+// joint's (or the table's), each growing with its own travel, so with every combination of
+// turns present the least is each joint's least travel over its turns.
+double leastMoveTime(const Cell& cell, const Turned& a, const Turned& b) {
+  CellPose from{a.first.table_angle, {}}, to{b.first.table_angle, {}};
+  for (int j = 0; j < 6; ++j) {
+    double least = std::numeric_limits<double>::infinity();
+    for (double x : a.turns[j])
+      for (double y : b.turns[j]) least = std::min(least, std::abs(y - x));
+    to.joints[j] = least;
+  }
+  return moveTime(cell, from, to);
+}
+
+// The least move time between the solutions of two views.
+double leastMoveTime(const Cell& cell, const std::vector<CellPose>& a,
+                     const std::vector<Turned>& turned_a, const std::vector<CellPose>& b,
+                     const std::vector<Turned>& turned_b) {
+  const auto complete = [](const std::vector<Turned>& t) {
+    return std::all_of(t.begin(), t.end(), [](const Turned& x) { return x.everyCombination(); });
+  };
+  double best = std::numeric_limits<double>::infinity();
+  if (complete(turned_a) && complete(turned_b)) {
+    for (const Turned& x : turned_a)
+      for (const Turned& y : turned_b) best = std::min(best, leastMoveTime(cell, x, y));
+  } else {
+    for (const CellPose& x : a)
+      for (const CellPose& y : b) best = std::min(best, moveTime(cell, x, y));
+  }
+  return best;
 }
 
 }  // namespace
@@ -115,15 +185,16 @@ std::vector<std::optional<CellPose>> cellPoses(const Cell& cell, const std::vect
 
 Eigen::MatrixXd jointTravelTimes(const Cell& cell, const CellSolutions& solutions) {
   constexpr double kUnreached = 1000;
+  std::vector<std::vector<Turned>> turns;
+  for (const std::vector<CellPose>& s : solutions) turns.push_back(turned(s));
   const auto n = static_cast<Eigen::Index>(solutions.size());
   Eigen::MatrixXd times = Eigen::MatrixXd::Zero(n, n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = i + 1; j < n; ++j) {
-      double best = kUnreached;
-      for (const CellPose& a : solutions[static_cast<std::size_t>(i)])
-        for (const CellPose& b : solutions[static_cast<std::size_t>(j)])
-          best = std::min(best, moveTime(cell, a, b));
-      times(i, j) = times(j, i) = best;
+  for (std::size_t i = 0; i < solutions.size(); ++i)
+    for (std::size_t j = i + 1; j < solutions.size(); ++j) {
+      const double best =
+          std::min(kUnreached, leastMoveTime(cell, solutions[i], turns[i], solutions[j], turns[j]));
+      const auto a = static_cast<Eigen::Index>(i), b = static_cast<Eigen::Index>(j);
+      times(a, b) = times(b, a) = best;
     }
   return times;
 }
