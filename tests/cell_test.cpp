@@ -107,7 +107,7 @@ TEST(Cell, SpecReadsTheCell) {
                "step: 10}\n"
                "  tool: {mass: 2.7, centre: [0, 10, 95], inertia: [0.02, 0.03, 0.01]}\n"
                "  signals: {view: 17, trigger: 2, acknowledge: 3, "
-               "table: {angle: 1, move: 4, ready: 5}}\n"
+               "table: {angle: 1, move: 4, ready: 5}, timeout: 2.5}\n"
                "  home: [0, -10, 20, 0, 45, 0]\n  approach: 80\n"
                "  joint_margin: 3\n");
   ASSERT_TRUE(spec.cell);
@@ -118,6 +118,7 @@ TEST(Cell, SpecReadsTheCell) {
   EXPECT_EQ(spec.cell->signals.acknowledge, 3);
   ASSERT_TRUE(spec.cell->signals.table);
   EXPECT_EQ(spec.cell->signals.table->ready, 5);
+  EXPECT_EQ(spec.cell->signals.timeout, 2.5);
   ASSERT_TRUE(spec.cell->home);
   EXPECT_NEAR((*spec.cell->home)[4], M_PI / 4, 1e-12);
   EXPECT_EQ(spec.cell->approach, 80);
@@ -156,6 +157,8 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: ur5e}\n  tool: {inertia: [0.1, -0.1, 0.1]}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
+        "cell:\n  robot: {preset: ur5e}\n  signals: {timeout: 0}\n",
+        "cell:\n  robot: {preset: ur5e}\n  signals: {timeout: 1e9}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
         "cell:\n  robot: {preset: ur5e}\n  motion_step: 2\n",
         "cell:\n  robot: {preset: ur5e}\n  joint_margin: -1\n",
@@ -258,14 +261,17 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
     EXPECT_TRUE(
         forwardKinematics(back.cell->robot, back.cell_poses[v]->joints)
             .isApprox(forwardKinematics(plan.cell->robot, plan.cell_poses[v]->joints), 1e-9));
-  // A FANUC arm keeps its maker and its J2-J3 coupling through plan.json.
+  // A FANUC arm keeps its maker and its J2-J3 coupling through plan.json, and the cell its
+  // handshake's timeout.
   Plan fanuc = plan;
   fanuc.cell->robot = robotPreset("fanuc-m20id-25");
+  fanuc.cell->signals.timeout = 2.5;
   fanuc.cell_poses.assign(fanuc.views.size(), std::nullopt);
   writePlan(fanuc, dir.file("fanuc.json"));
   const Plan fanuc_back = readPlan(dir.file("fanuc.json"));
   EXPECT_EQ(fanuc_back.cell->robot.maker, "fanuc");
   EXPECT_EQ(fanuc_back.cell->robot.j23_coupling, 1);
+  EXPECT_EQ(fanuc_back.cell->signals.timeout, 2.5);
   // A cell that would hang or mislead the programs is refused: a table step of 0.
   nlohmann::json json = planJson(plan);
   json["cell"]["table"]["step"] = 0;

@@ -478,6 +478,35 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
 
 // Each format runs on its robots only, and URScript drives a table only through its
 // signals: anything else is refused naming the format.
+// Every wait on an input lasts the signals' timeout, 2.5 s here, in each controller's unit:
+// KRL's timer in milliseconds, RAPID's \MaxTime in seconds, FANUC's $WAITTMOUT in
+// hundredths of a second, URScript's count of seconds waited.
+TEST(RobotProgram, EveryControllerWaitsTheSignalsTimeoutForItsInputs) {
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+      ++n;
+    return n;
+  };
+  RobotProgram p = program();
+  p.cell.signals.timeout = 2.5;
+  const std::string krl = krlProgram(withRobot(p, "kuka-kr16-r1610-2"));
+  EXPECT_EQ(count(krl, "$TIMER[1] = -2500\n"), 2u);  // the acknowledgement, then its end
+  EXPECT_EQ(count(krl, "within 2.5 s\n"), 2u);
+  EXPECT_EQ(count(krl, "-10000"), 0u);
+  const std::string rapid = rapidProgram(p);
+  EXPECT_EQ(count(rapid, "\\MaxTime:=2.5 \\TimeFlag:=bTimeout;"), 2u);
+  EXPECT_EQ(count(rapid, "MaxTime:=10"), 0u);
+  const std::string fanuc = fanucProgram(withRobot(p, "fanuc-m20id-25"));
+  EXPECT_EQ(count(fanuc, "$WAITTMOUT=250 ;"), p.steps.size());  // at each view
+  EXPECT_EQ(count(fanuc, "$WAITTMOUT=1000"), 0u);
+  RobotProgram ur = urProgram();
+  ur.cell.signals.timeout = 2.5;
+  const std::string script = urScript(ur);
+  EXPECT_EQ(count(script, "      if waited > 2.5:\n"), 1u);  // the one wait every input takes
+  EXPECT_EQ(count(script, "waited > 10"), 0u);
+}
+
 TEST(RobotProgram, AFormatTheCellCannotRunIsRefused) {
   auto refusal = [](const std::function<void()>& write) {
     try {

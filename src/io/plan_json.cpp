@@ -351,7 +351,10 @@ json robotLengths(const RobotModel& r) {
 }
 
 json signalsJson(const CellSignals& s) {
-  json result = {{"view", s.view}, {"trigger", s.trigger}, {"acknowledge", s.acknowledge}};
+  json result = {{"view", s.view},
+                 {"trigger", s.trigger},
+                 {"acknowledge", s.acknowledge},
+                 {"timeout", s.timeout}};
   if (s.table)
     result["table"] = {
         {"angle", s.table->angle}, {"move", s.table->move}, {"ready", s.table->ready}};
@@ -771,6 +774,7 @@ struct PlanReader {
     s.view = fieldOr(entry, "view", s.view, path, "cell signals");
     s.trigger = fieldOr(entry, "trigger", s.trigger, path, "cell signals");
     s.acknowledge = fieldOr(entry, "acknowledge", s.acknowledge, path, "cell signals");
+    s.timeout = fieldOr(entry, "timeout", s.timeout, path, "cell signals");
     if (const json table = objectAt(entry, "table"); !table.empty())
       s.table = TableSignals{field<int>(table, "angle", path, "cell signals table"),
                              field<int>(table, "move", path, "cell signals table"),

@@ -641,9 +641,10 @@ ToolLoad readTool(const YAML::Node& node, const SpecReader& reader) {
   return tool;
 }
 
-// cell.signals: {view, trigger, acknowledge, table: {angle, move, ready}}, whole numbers.
+// cell.signals: {view, trigger, acknowledge, table: {angle, move, ready}}, whole numbers;
+// timeout, seconds.
 CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
-  checkKeys(node, {"view", "trigger", "acknowledge", "table"}, reader, "cell.signals");
+  checkKeys(node, {"view", "trigger", "acknowledge", "table", "timeout"}, reader, "cell.signals");
   auto number = [&](const YAML::Node& at, const std::string& section, const char* key, int& into) {
     reader.read(at, section, key, into);
   };
@@ -651,6 +652,7 @@ CellSignals readSignals(const YAML::Node& node, const SpecReader& reader) {
   number(node, "cell.signals", "view", signals.view);
   number(node, "cell.signals", "trigger", signals.trigger);
   number(node, "cell.signals", "acknowledge", signals.acknowledge);
+  reader.read(node, "cell.signals", "timeout", signals.timeout);
   if (const YAML::Node table = node["table"]) {
     checkKeys(table, {"angle", "move", "ready"}, reader, "cell.signals.table");
     for (const char* key : {"angle", "move", "ready"})

@@ -53,6 +53,8 @@ void validate(const Cell& c, const std::string& source) {
                                    {"signals.table.ready", c.signals.table->ready}});
   for (const auto& [key, number] : signals)
     require(number >= 0 && number <= 4095, key + " must be within [0, 4095]");
+  require(c.signals.timeout >= 0.1 && c.signals.timeout <= 3600,
+          "signals.timeout must be within [0.1, 3600] s");
   for (int i = 0; c.home && i < 6; ++i)
     require((*c.home)[i] >= c.robot.lower[i] && (*c.home)[i] <= c.robot.upper[i],
             "home: joint " + std::to_string(i + 1) + " is beyond its limits");

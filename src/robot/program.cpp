@@ -28,7 +28,6 @@ namespace {
 
 using detail::commentText;
 using detail::header;
-using detail::kHandshakeSeconds;
 using detail::loadCentre;
 
 std::string identifier(const std::string& name, std::size_t length) {
@@ -208,8 +207,8 @@ void checkClearMoves(const RobotProgram& program, bool allow, const std::string&
 }
 
 // KRL's scan handshake: the view number, the trigger, and each wait on the acknowledgement
-// bounded by timer 1 ($TIMER_FLAG[1] rises when $TIMER[1], set below 0, reaches 0): on a
-// timeout the trigger drops and the program halts.
+// bounded (sig.timeout) by timer 1 ($TIMER_FLAG[1] rises when $TIMER[1], set below 0, reaches 0):
+// on a timeout the trigger drops and the program halts.
 std::string krlScan(const CellSignals& sig) {
   const auto wait = [&](bool state, std::string_view what) {
     return fmt::format(
@@ -217,9 +216,9 @@ std::string krlScan(const CellSignals& sig) {
         "  WAIT FOR {is}$IN[{in}] OR $TIMER_FLAG[1]\n  $TIMER_STOP[1] = TRUE\n"
         "  IF {isnt}$IN[{in}] THEN\n    $OUT[{out}] = FALSE\n    HALT ; no {what} within {s} s\n"
         "  ENDIF\n",
-        fmt::arg("ms", kHandshakeSeconds * 1000), fmt::arg("is", state ? "" : "NOT "),
+        fmt::arg("ms", std::lround(sig.timeout * 1000)), fmt::arg("is", state ? "" : "NOT "),
         fmt::arg("isnt", state ? "NOT " : ""), fmt::arg("in", sig.acknowledge),
-        fmt::arg("out", sig.trigger), fmt::arg("what", what), fmt::arg("s", kHandshakeSeconds));
+        fmt::arg("out", sig.trigger), fmt::arg("what", what), fmt::arg("s", sig.timeout));
   };
   return fmt::format(
              "DEF SCAN(VIEW:IN)\n  INT VIEW\n  SIGNAL VIEW_NO $OUT[{0}] TO $OUT[{1}]\n"
@@ -310,8 +309,8 @@ std::string krlData(const RobotProgram& p) {
 }
 
 // RAPID's scan handshake: the view number, the trigger, and each wait on the
-// acknowledgement bounded by \MaxTime with its \TimeFlag: on a timeout the trigger drops,
-// the error goes to the event log and the program stops.
+// acknowledgement bounded (sig.timeout) by \MaxTime with its \TimeFlag: on a timeout the trigger
+// drops, the error goes to the event log and the program stops.
 std::string rapidScan(const CellSignals& sig) {
   const auto wait = [&](int state, std::string_view what) {
     return fmt::format(
@@ -319,7 +318,7 @@ std::string rapidScan(const CellSignals& sig) {
         "    IF bTimeout THEN\n      SetDO DO_{out}, 0;\n"
         "      ErrWrite \"scanplan: no {what}\", \"view \" + NumToStr(view, 0);\n"
         "      Stop;\n    ENDIF\n",
-        fmt::arg("in", sig.acknowledge), fmt::arg("state", state), fmt::arg("s", kHandshakeSeconds),
+        fmt::arg("in", sig.acknowledge), fmt::arg("state", state), fmt::arg("s", sig.timeout),
         fmt::arg("out", sig.trigger), fmt::arg("what", what));
   };
   return "  PROC Scan(num view)\n    WaitTime 0.2;\n" +
@@ -423,9 +422,9 @@ std::string urHandshake(int request, int done, std::string_view what) {
       request, done, what);
 }
 
-// The wait on an input of every URScript handshake: at most kHandshakeSeconds, then the
+// The wait on an input of every URScript handshake: at most `timeout` seconds, then the
 // request dropped, an error shown and the program halted.
-std::string urAwaitInput() {
+std::string urAwaitInput(double timeout) {
   return fmt::format(
       "  def await_input(n, state, request, what):\n    waited = 0.0\n"
       "    while get_standard_digital_in(n) != state:\n      sleep(0.01)\n"
@@ -433,7 +432,7 @@ std::string urAwaitInput() {
       "        set_standard_digital_out(request, False)\n"
       "        popup(what, \"scanplan\", error=True)\n        halt()\n      end\n    end\n"
       "  end\n",
-      kHandshakeSeconds);
+      timeout);
 }
 
 std::string urScript(const RobotProgram& p) {
@@ -452,7 +451,7 @@ std::string urScript(const RobotProgram& p) {
              p.load_inertia.y(), p.load_inertia.z())
       << fmt::format("  set_standard_digital_out({}, False)\n", sig.trigger)
       << (sig.table ? fmt::format("  set_standard_digital_out({}, False)\n", sig.table->move) : "")
-      << urAwaitInput() << "  def scan(view):\n    sleep(0.2)\n"
+      << urAwaitInput(sig.timeout) << "  def scan(view):\n    sleep(0.2)\n"
       << fmt::format("    write_output_integer_register({}, view)\n", sig.view)
       << urHandshake(sig.trigger, sig.acknowledge, "acknowledgement of the scan") << "  end\n";
   if (sig.table)

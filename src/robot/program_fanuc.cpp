@@ -52,14 +52,14 @@ void frameRemarks(std::vector<std::string>& lines, const std::string& name, cons
 }
 
 // The scan handshake at `view`: the view number to the group output, the trigger raised,
-// the acknowledgement awaited (at most kHandshakeSeconds, else to the error labels), the
+// the acknowledgement awaited (at most sig.timeout, else to the error labels), the
 // trigger dropped, the acknowledgement's end awaited.
 void scanLines(std::vector<std::string>& lines, const CellSignals& sig, int view) {
   lines.insert(
       lines.end(),
       {"WAIT .20(sec)", fmt::format("GO[{}]={}", sig.view, view),
        fmt::format("DO[{}]=ON", sig.trigger),
-       fmt::format("$WAITTMOUT={}", detail::kHandshakeSeconds * 100),
+       fmt::format("$WAITTMOUT={}", std::lround(sig.timeout * 100)),  // hundredths of a second
        fmt::format("WAIT DI[{}]=ON TIMEOUT,LBL[{}]", sig.acknowledge, kNoAcknowledge),
        fmt::format("DO[{}]=OFF", sig.trigger),
        fmt::format("WAIT DI[{}]=OFF TIMEOUT,LBL[{}]", sig.acknowledge, kAcknowledgeStuck)});

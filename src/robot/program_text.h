@@ -10,10 +10,6 @@
 
 namespace scanplan::detail {
 
-// How long a program waits for the scanner's (or the table's) input before it stops the
-// cell with an error, s.
-constexpr int kHandshakeSeconds = 10;
-
 // `text` from the user's files (a path, a robot's name) for a one-line comment: every byte
 // outside printable ASCII, a line break above all, becomes '?', so that nothing of it can
 // end the comment and stand as a statement, nor trouble a controller's 8-bit editor.

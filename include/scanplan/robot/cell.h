@@ -49,10 +49,12 @@ struct TableSignals {
 // The controller's signals, numbered as the controller counts them (docs/cell.md). At
 // each view the program writes the view number to group output (KRL, RAPID) or integer
 // output register (URScript) `view`, raises output `trigger`, waits for input
-// `acknowledge`, drops the trigger and waits for the acknowledgement to drop.
+// `acknowledge`, drops the trigger and waits for the acknowledgement to drop. Each wait on
+// an input lasts `timeout` seconds at most; then the program stops the cell with an error.
 struct CellSignals {
   int view = 2, trigger = 1, acknowledge = 1;  // KRL: the view number on $OUT[2] to $OUT[17]
   std::optional<TableSignals> table;           // none: URScript cannot drive the table
+  double timeout = 10;                         // s
 };
 
 struct Cell {
