@@ -90,15 +90,25 @@ struct NearestWithin {
 };
 
 // Each source point's nearest fixed point within `distance`; the result's fitness and
-// inlier RMSE as Open3D computes them.
+// inlier RMSE as Open3D computes them. `before`, the correspondences of the source's last
+// match: a point's fixed point then bounds where its nearest lies now, which the search
+// starts from. The nearest is the same, found sooner.
 registration::RegistrationResult match(const detail::IndexedCloud& fixed,
-                                       const open3d::geometry::PointCloud& source,
-                                       double distance) {
+                                       const open3d::geometry::PointCloud& source, double distance,
+                                       const registration::CorrespondenceSet& before = {}) {
+  std::vector<int> partner(source.points_.size(), -1);
+  for (const Eigen::Vector2i& c : before) partner[static_cast<std::size_t>(c[0])] = c[1];
   registration::RegistrationResult result;
   double squares = 0;
   for (std::size_t i = 0; i < source.points_.size(); ++i) {
+    const double* point = source.points_[i].data();
     NearestWithin nearest{distance * distance};
-    fixed.tree.findNeighbors(nearest, source.points_[i].data(), nanoflann::SearchParams());
+    if (partner[i] >= 0) {
+      const auto j = static_cast<unsigned>(partner[i]);
+      const double squared = fixed.tree.distance.evalMetric(point, j, 3);
+      if (squared < nearest.best) nearest = {squared, j, true};
+    }
+    fixed.tree.findNeighbors(nearest, point, nanoflann::SearchParams());
     if (!nearest.found) continue;
     result.correspondence_set_.emplace_back(static_cast<int>(i), static_cast<int>(nearest.index));
     squares += nearest.best;
@@ -126,7 +136,7 @@ registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
     transformation = update * transformation;
     source.Transform(update);
     const registration::RegistrationResult before = std::move(result);
-    result = match(fixed, source, distance);
+    result = match(fixed, source, distance, before.correspondence_set_);
     if (std::abs(before.fitness_ - result.fitness_) < 1e-4 &&
         std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-4)
       break;
