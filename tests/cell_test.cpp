@@ -943,6 +943,18 @@ TEST(Cell, TravelTimesBetweenViewsAreTheLeastOverEverySolutionPair) {
             moveTime(cell, rest, CellPose{0, {1, 1, 0, 0, 0, 0}}));
 }
 
+// The views the planner leaves out when the robot cannot clear their moves: those in two
+// moves between views that no route clears; moves to or from home (which may itself
+// collide) and a move alone (whose order may be what fails) blame no view.
+TEST(Cell, TheViewsBehindMovesNotClearedAreThoseNoRouteReachesOrLeaves) {
+  EXPECT_EQ(viewsBehind({{104, 111}, {111, 146}}), std::vector<int>{111});
+  EXPECT_EQ(viewsBehind({{3, 4}, {4, 5}, {9, 2}, {2, 7}}), (std::vector<int>{2, 4}));
+  EXPECT_TRUE(viewsBehind({{3, 4}, {9, 2}}).empty());
+  EXPECT_TRUE(viewsBehind({{0, 5}, {5, 0}}).empty());
+  EXPECT_TRUE(viewsBehind({{0, 5}, {5, 6}}).empty());
+  EXPECT_TRUE(viewsBehind({}).empty());
+}
+
 // The payload's inertia: the scanner's body as a uniform box of the tool's mass, its axes
 // turned into the flange's by the mount (a quarter turn about z swaps x and y), unless the
 // spec gives it. A 2 kg box 0.3 × 0.12 × 0.26 m: Jx = m (b² + c²) / 12 and so on.

@@ -280,9 +280,16 @@ double secondsSince(Clock::time_point start) {
 class StageClock {
  public:
   explicit StageClock(Plan& plan) : plan_(plan) {}
+  // A stage that runs again (another round of selection) adds to its time.
   void lap(const std::string& stage) {
     const auto now = Clock::now();
-    plan_.times.push_back({stage, std::chrono::duration<double>(now - stage_start_).count()});
+    const double seconds = std::chrono::duration<double>(now - stage_start_).count();
+    const auto same = std::find_if(plan_.times.begin(), plan_.times.end(),
+                                   [&](const StageTime& t) { return t.stage == stage; });
+    if (same != plan_.times.end())
+      same->seconds += seconds;
+    else
+      plan_.times.push_back({stage, seconds});
     stage_start_ = now;
   }
   double total() const { return secondsSince(start_); }
@@ -476,6 +483,73 @@ Sequenced registerAndSequence(const detail::Placement& at, Plan& plan, StageCloc
   return sequence(at, plan, *plan.registration, clock, progress);
 }
 
+// What the views are chosen from, besides the pool: the first `pinned` poses, always kept;
+// the markers views are kept registering by (none: registration need not be kept); per
+// pose, whether it registers by the markers alone; each sample's visibility.
+struct Choice {
+  std::size_t pinned;
+  bool registration;
+  const std::optional<std::vector<Marker>>& registering;
+  const std::vector<char>& framed;
+  const std::vector<Visibility>& visibility;
+};
+
+// Selects the plan's views from `pool`, registers and orders them, and moves the cell's
+// robot through them. The pool indices of the views selected.
+std::vector<std::size_t> selectAndMove(const detail::Placement& at,
+                                       const detail::MeasuredViews& pool, const Choice& choice,
+                                       Plan& plan, StageClock& clock, const Progress& progress) {
+  report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
+  const detail::Selection selection = detail::selectViews(
+      at, pool, choice.pinned, plan.samples, choice.registering, choice.framed, progress);
+  detail::applySelection(pool, selection.views, plan);
+  plan.bound = selection.bound;
+  clock.lap("selection");
+
+  // Without registration, the views are ordered all the same, none bound to follow another.
+  Sequenced sequenced = choice.registration ? registerAndSequence(at, plan, clock, progress)
+                                            : sequence(at, plan, Registration{}, clock, progress);
+  CellSolutions& solutions = sequenced.solutions;
+  detail::explainUncoverable(at, choice.visibility, pool, plan.samples);
+  clock.lap("not coverable");
+  if (at.cell.cell) {
+    const Cell& cell = *at.cell.cell;
+    plan.cell = cell;
+    if (solutions.size() != plan.views.size())  // not sequenced in joint space
+      solutions = cellSolutions(cell, plan.views, at.cell.collisions);
+    plan.cell_poses = cellPoses(cell, plan.views, visitingOrder(plan), solutions);
+    report(progress, "robot motion", 0);
+    const RobotProgram program =
+        safeProgram(plan, cell, *at.cell.collisions, plan.cell_poses, "plan", "");
+    takeProgramPoses(program, plan);
+    plan.cycle = programCycle(program, at.scanner(), at.spec.spec.cycle);
+    plan.cell_motion = CellMotion{plan.cycle->motion + plan.cycle->table, program.uncleared};
+    clock.lap("robot motion");
+  }
+  if (plan.cycle && sequenced.times.rows() == static_cast<Eigen::Index>(plan.views.size()))
+    plan.cycle->by_views =
+        cycleByViews(insertionPathLengths(sequenced.times), at.scanner(), at.spec.spec.cycle);
+  return selection.views;
+}
+
+// Rounds of selection after the first that leave out the poses behind moves the cell
+// could not clear.
+constexpr int kClearingRounds = 2;
+
+// The pool poses behind the moves the robot could not clear (viewsBehind), the plan's views
+// being the pool's `selected`. The pinned views and views not of the pool (bridging views)
+// are kept.
+std::vector<std::size_t> blockedPoses(const std::vector<RobotMove>& uncleared,
+                                      const std::vector<std::size_t>& selected,
+                                      std::size_t pinned) {
+  std::vector<std::size_t> result;
+  for (const int id : viewsBehind(uncleared)) {
+    const auto k = static_cast<std::size_t>(id - 1);
+    if (k < selected.size() && selected[k] >= pinned) result.push_back(selected[k]);
+  }
+  return result;
+}
+
 // Plans the views for `sampled` (part frame) with the part placed by `part_to_world`;
 // samples marked in `done` (measured in another placement) are not aimed at and count as
 // covered in the selection.
@@ -525,34 +599,25 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     framed.clear();  // the selection prices poses by it under reference points only
   clock.lap("candidate pool");
 
-  report(progress, "selecting among " + std::to_string(pool.size()) + " poses", 0);
-  const detail::Selection selection =
-      detail::selectViews(at, pool, pinned, plan.samples, registering, framed, progress);
-  detail::applySelection(pool, selection.views, plan);
-  plan.bound = selection.bound;
-  clock.lap("selection");
-
-  // Without registration, the views are ordered all the same, none bound to follow another.
-  Sequenced sequenced = options.registration ? registerAndSequence(at, plan, clock, progress)
-                                             : sequence(at, plan, Registration{}, clock, progress);
-  CellSolutions& solutions = sequenced.solutions;
-  detail::explainUncoverable(at, visibility, pool, plan.samples);
-  clock.lap("not coverable");
-  if (cell) {
-    plan.cell = cell;
-    if (solutions.size() != plan.views.size())  // not sequenced in joint space
-      solutions = cellSolutions(*cell, plan.views, collisions.get());
-    plan.cell_poses = cellPoses(*cell, plan.views, visitingOrder(plan), solutions);
-    report(progress, "robot motion", 0);
-    const RobotProgram program = safeProgram(plan, *cell, *collisions, plan.cell_poses, "plan", "");
-    takeProgramPoses(program, plan);
-    plan.cycle = programCycle(program, at.scanner(), spec.spec.cycle);
-    plan.cell_motion = CellMotion{plan.cycle->motion + plan.cycle->table, program.uncleared};
-    clock.lap("robot motion");
+  const Plan unselected = plan;
+  for (int round = 0;; ++round) {
+    const std::vector<std::size_t> selected =
+        selectAndMove(at, pool, {pinned, options.registration, registering, framed, visibility},
+                      plan, clock, progress);
+    if (!plan.cell_motion || round == kClearingRounds) break;
+    const std::vector<std::size_t> blocked =
+        blockedPoses(plan.cell_motion->uncleared, selected, pinned);
+    if (blocked.empty()) break;
+    // Those poses taken out of the pool, the views are chosen again.
+    for (std::size_t v : blocked) pool.samples[v].clear();
+    report(progress,
+           "selecting again without " + std::to_string(blocked.size()) +
+               (blocked.size() == 1 ? " pose" : " poses") + " the robot cannot move clear to",
+           0);
+    std::vector<StageTime> times = std::move(plan.times);
+    plan = unselected;
+    plan.times = std::move(times);
   }
-  if (plan.cycle && sequenced.times.rows() == static_cast<Eigen::Index>(plan.views.size()))
-    plan.cycle->by_views =
-        cycleByViews(insertionPathLengths(sequenced.times), at.scanner(), spec.spec.cycle);
   plan.seconds = clock.total();
   return plan;
 }

@@ -5,6 +5,8 @@
 #include <scanplan/robot/kinematics.h>
 #include <scanplan/robot/motion.h>
 
+#include <algorithm>
+#include <iterator>
 #include <map>
 
 namespace scanplan {
@@ -62,6 +64,19 @@ RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollision
   RobotProgram program = robotProgram(plan, cell, poses, name, source);
   planMotion(program, collisions, viaLift(cell, plan.scanner));
   return program;
+}
+
+std::vector<int> viewsBehind(const std::vector<RobotMove>& uncleared) {
+  std::vector<RobotMove> between;  // the moves between two views
+  std::copy_if(uncleared.begin(), uncleared.end(), std::back_inserter(between),
+               [](const RobotMove& m) { return m.from > 0 && m.to > 0; });
+  std::map<int, int> moves;  // view id: the moves it is in
+  for (const RobotMove& m : between)
+    for (const int id : {m.from, m.to}) ++moves[id];
+  std::vector<int> behind;
+  for (const auto& [id, n] : moves)
+    if (n > 1) behind.push_back(id);
+  return behind;
 }
 
 }  // namespace scanplan

@@ -32,4 +32,10 @@ RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollision
                          const std::vector<std::optional<CellPose>>& poses, const std::string& name,
                          const std::string& source);
 
+// The views no route reaches or leaves: those in two of the moves between views that the
+// robot could not clear (`uncleared`; view 0 is home), in ascending order. A move to or
+// from home blames no view (home itself may be what collides), nor does a move alone (the
+// order may be what fails).
+std::vector<int> viewsBehind(const std::vector<RobotMove>& uncleared);
+
 }  // namespace scanplan
