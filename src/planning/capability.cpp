@@ -22,6 +22,7 @@
 #include <scanplan/scanner/simulation.h>
 #include <scanplan/solve/fits.h>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -627,62 +628,69 @@ struct Judging {
   std::vector<RestOrientation> rests;
 };
 
-// The capability of each of `characteristics` under the views of `plan`, judged from `by`.
+// The capability of `c` under the views of `plan`, judged from `by`, the plan's registration
+// errors drawn by `moves`.
+Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                     const Characteristic& c, const Judging& by, const detail::TwistDraws& moves,
+                     const CapabilityOptions& options) {
+  const auto on = [&](const std::vector<int>& faces) {
+    std::vector<const Patch*> mine;
+    for (const Patch& p : by.patches)
+      if (std::binary_search(faces.begin(), faces.end(), p.point.face)) mine.push_back(&p);
+    return mine;
+  };
+  const std::vector<const Patch*> all = on(c.faces);
+  const InOneFrame framed = inOneFrame(
+      all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part.gdt, c)), by.errors);
+  std::vector<const Patch*> mine, measured, datum;
+  for (const Patch& p : framed.feature) mine.push_back(&p);
+  const double datums_covered = datumShare(framed, plan.part_to_world, datum);
+  Capability k;
+  k.characteristic = c.id;
+  double covered = 0;
+  for (const Patch* p : mine) {
+    k.area += p->area;
+    if (p->looks.empty()) continue;
+    measured.push_back(p);
+    covered += p->area;
+    k.points += p->points();
+  }
+  k.covered = k.area > 0 ? covered / k.area : 0;
+  k.density = covered > 0 ? k.points / covered : 0;
+  k.largest_gap = largestGap(mine);
+  if (!measured.empty()) {
+    k.budget = budgetOf(c, Measured(measured, datum), plan.scanner, moves, options,
+                        spec.spec.planner.seed);
+    k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
+  }
+  judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);
+  if (c.faces.empty() || !datumsLinked(part.gdt, c)) {  // nothing to fit, or no frame to fit in
+    k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
+    k.reason = Shortfall::NotLinked;
+  } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {
+    // Measured enough, but partly in views the frame cannot take.
+    const double lost = framed.lost_to_setups + framed.lost_unregistered;
+    const double enough = k.reason == Shortfall::Uncovered ? kMostlyUncovered : kCoveredEnough;
+    if (lost > 0 && (covered + lost) / k.area >= enough)
+      k.reason = framed.lost_to_setups >= framed.lost_unregistered ? Shortfall::SetupsNotJoined
+                                                                   : Shortfall::NotRegistered;
+  }
+  if (k.covered < kCoveredEnough) k.rest = restFor(all, by.rests, plan.part_to_world);
+  k.limit = limitOf(part, c, k, plan, options);
+  k.views = servingViews(framed, plan);
+  return k;
+}
+
+// The capability of each of `characteristics` under the views of `plan`, judged from `by`:
+// each apart from the others (its own random draws), all at once.
 std::vector<Capability> judged(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                const std::vector<Characteristic>& characteristics,
                                const Judging& by, const CapabilityOptions& options) {
-  const std::vector<Patch>& patches = by.patches;
-  const std::vector<detail::ViewError>& errors = by.errors;
-  const detail::TwistDraws moves(errors);
-  std::vector<Capability> result;
-  for (const Characteristic& c : characteristics) {
-    const auto on = [&](const std::vector<int>& faces) {
-      std::vector<const Patch*> mine;
-      for (const Patch& p : patches)
-        if (std::binary_search(faces.begin(), faces.end(), p.point.face)) mine.push_back(&p);
-      return mine;
-    };
-    const std::vector<const Patch*> all = on(c.faces);
-    const InOneFrame framed = inOneFrame(
-        all, c.dimension ? std::vector<const Patch*>{} : on(datumFaces(part.gdt, c)), errors);
-    std::vector<const Patch*> mine, measured, datum;
-    for (const Patch& p : framed.feature) mine.push_back(&p);
-    const double datums_covered = datumShare(framed, plan.part_to_world, datum);
-    Capability k;
-    k.characteristic = c.id;
-    double covered = 0;
-    for (const Patch* p : mine) {
-      k.area += p->area;
-      if (p->looks.empty()) continue;
-      measured.push_back(p);
-      covered += p->area;
-      k.points += p->points();
-    }
-    k.covered = k.area > 0 ? covered / k.area : 0;
-    k.density = covered > 0 ? k.points / covered : 0;
-    k.largest_gap = largestGap(mine);
-    if (!measured.empty()) {
-      k.budget = budgetOf(c, Measured(measured, datum), plan.scanner, moves, options,
-                          spec.spec.planner.seed);
-      k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
-    }
-    judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);
-    if (c.faces.empty() || !datumsLinked(part.gdt, c)) {  // nothing to fit, or no frame to fit in
-      k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
-      k.reason = Shortfall::NotLinked;
-    } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {
-      // Measured enough, but partly in views the frame cannot take.
-      const double lost = framed.lost_to_setups + framed.lost_unregistered;
-      const double enough = k.reason == Shortfall::Uncovered ? kMostlyUncovered : kCoveredEnough;
-      if (lost > 0 && (covered + lost) / k.area >= enough)
-        k.reason = framed.lost_to_setups >= framed.lost_unregistered ? Shortfall::SetupsNotJoined
-                                                                     : Shortfall::NotRegistered;
-    }
-    if (k.covered < kCoveredEnough) k.rest = restFor(all, by.rests, plan.part_to_world);
-    k.limit = limitOf(part, c, k, plan, options);
-    k.views = servingViews(framed, plan);
-    result.push_back(k);
-  }
+  const detail::TwistDraws moves(by.errors);
+  std::vector<Capability> result(characteristics.size());
+  tbb::parallel_for(std::size_t{0}, characteristics.size(), [&](std::size_t i) {
+    result[i] = judgedOne(part, spec, plan, characteristics[i], by, moves, options);
+  });
   return result;
 }
 
