@@ -35,17 +35,24 @@ inline int topFace(const Part& part) {
 // (coverableByDenseCandidates: poses aimed at each sample, simulated by the same model as
 // the plan's, built afresh), and how many of those the plan measures. It confirms that the
 // plan's pool and selection miss nothing those poses reach, not the simulation model.
-inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part,
-                                                                const Plan& plan) {
+// Every `stride`-th sample only, where the plan has thousands.
+inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part, const Plan& plan,
+                                                                std::size_t stride = 1) {
   SimulationOptions simulation;
   simulation.part_to_world = plan.part_to_world;
   const Simulator simulator(part, plan.scanner, simulation);
-  const std::vector<SurfacePoint> points = plan.samplePoints();
+  const std::vector<SurfacePoint> all = plan.samplePoints();
+  std::vector<SurfacePoint> points;
+  std::vector<bool> measured_by_plan;
+  for (std::size_t i = 0; i < all.size(); i += stride) {
+    points.push_back(all[i]);
+    measured_by_plan.push_back(!plan.samples[i].measured_by.empty());
+  }
   const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
   std::size_t can = 0, measured = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     can += coverable[i];
-    measured += coverable[i] && !plan.samples[i].measured_by.empty();
+    measured += coverable[i] && measured_by_plan[i];
   }
   return {can, measured};
 }

@@ -183,7 +183,8 @@ TEST(Sweep, CurvedPanelUnderAnInterpolatedPatch) {
 namespace scanplan {
 namespace {
 
-// The 1.9 m sheet-metal base plate: a surface plan of its largest face, resting flat.
+// The 1.9 m sheet-metal base plate: a surface plan of its largest face, resting flat. Of
+// every fourth of its 4,333 samples, those the dense reference reaches are measured.
 TEST(Sweep, SheetMetalBasePlate) {
   SHARED_DATA_OR_SKIP(path, "mech/asitx_sheetmetal_base_plate_46004-252-23D.stp");
   const Part part = importPart(path);
@@ -201,8 +202,8 @@ TEST(Sweep, SheetMetalBasePlate) {
       dir);
   const Plan plan = planViews(part, spec, withoutRegistration());
   ASSERT_EQ(plan.sweeps.size(), 1u);
-  const auto [can, measured] = coverableAndMeasured(part, plan);
-  ASSERT_GT(can, 0u);
+  const auto [can, measured] = coverableAndMeasured(part, plan, 4);
+  ASSERT_GT(can, 1000u);
   EXPECT_GE(static_cast<double>(measured), 0.95 * static_cast<double>(can));
 }
 
