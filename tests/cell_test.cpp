@@ -104,7 +104,7 @@ TEST(Cell, SpecReadsTheCell) {
                "          base: {position: [-1000, 0, 0], rotation: [0, 0, 90]}}\n"
                "  mount: {position: [0, 0, 120], rotation: [0, 0, 0]}\n"
                "  table: {origin: [0, 0, 0], axis: [0, 0, 1], range: [-90, 90], "
-               "step: 10}\n"
+               "step: 10, unit: orbit_a}\n"
                "  tool: {mass: 2.7, centre: [0, 10, 95], inertia: [0.02, 0.03, 0.01]}\n"
                "  signals: {view: 17, trigger: 2, acknowledge: 3, "
                "table: {angle: 1, move: 4, ready: 5}, timeout: 2.5}\n"
@@ -131,6 +131,7 @@ TEST(Cell, SpecReadsTheCell) {
   EXPECT_NEAR(spec.cell->mount.translation().z(), 120, 1e-12);
   ASSERT_TRUE(spec.cell->table);
   EXPECT_NEAR(spec.cell->table->upper, M_PI / 2, 1e-12);
+  EXPECT_EQ(spec.cell->table->unit, "orbit_a");
   EXPECT_NEAR(spec.cell->table->step, M_PI / 18, 1e-12);
   // Explicit parameters instead of a preset.
   const Spec custom = specWith(dir,
@@ -158,6 +159,8 @@ TEST(Cell, SpecRejectsABadCell) {
         "cell:\n  robot: {preset: ur5e}\n  signals: {trigger: -2}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {table: {angle: 1}}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {timeout: 0}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {unit: 1st}\n",
+        "cell:\n  robot: {preset: abb-irb2400-10}\n  table: {unit: \"STN\\\";Stop;\"}\n",
         "cell:\n  robot: {preset: ur5e}\n  signals: {timeout: 1e9}\n",
         "cell:\n  robot: {preset: abb-irb2400-10}\n  home: [0, 0, 0, 0, 0, 500]\n",
         "cell:\n  robot: {preset: ur5e}\n  motion_step: 2\n",
@@ -266,12 +269,14 @@ TEST(Cell, AUniversalRobotWithATableMeasuresEverySide) {
   Plan fanuc = plan;
   fanuc.cell->robot = robotPreset("fanuc-m20id-25");
   fanuc.cell->signals.timeout = 2.5;
+  fanuc.cell->table->unit = "STN_2";
   fanuc.cell_poses.assign(fanuc.views.size(), std::nullopt);
   writePlan(fanuc, dir.file("fanuc.json"));
   const Plan fanuc_back = readPlan(dir.file("fanuc.json"));
   EXPECT_EQ(fanuc_back.cell->robot.maker, "fanuc");
   EXPECT_EQ(fanuc_back.cell->robot.j23_coupling, 1);
   EXPECT_EQ(fanuc_back.cell->signals.timeout, 2.5);
+  EXPECT_EQ(fanuc_back.cell->table->unit, "STN_2");
   // A cell that would hang or mislead the programs is refused: a table step of 0.
   nlohmann::json json = planJson(plan);
   json["cell"]["table"]["step"] = 0;

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <random>
 #include <regex>
 #include <set>
@@ -117,6 +118,36 @@ std::vector<double> numbersIn(const std::string& text) {
        it != std::sregex_iterator(); ++it)
     values.push_back(std::stod(it->str()));
   return values;
+}
+
+// Every robtarget of `p`'s RAPID program, in its work object wPart as the controller reads
+// it (the object frame in the table's frame turned to the step's angle), is the step's
+// flange on the scanner's mount.
+void expectRobtargetsHoldTheFlange(const RobotProgram& p) {
+  const auto pose = [](const double* n) {
+    Pose result = Pose::Identity();
+    result.translation() = Vec3(n[0], n[1], n[2]);
+    result.linear() = Eigen::Quaterniond(n[3], n[4], n[5], n[6]).normalized().toRotationMatrix();
+    return result;
+  };
+  std::optional<Pose> object;
+  std::size_t k = 0;
+  for (const std::string& line : lines(rapidProgram(p))) {
+    if (line.find("PERS wobjdata wPart") != std::string::npos) {
+      const std::vector<double> n = numbersIn(line.substr(line.find(":=")));
+      ASSERT_GE(n.size(), 14u);  // ..., uframe, oframe: each [x,y,z],[q1,q2,q3,q4]
+      object = pose(n.data() + n.size() - 7);
+    }
+    if (line.find("CONST robtarget") == std::string::npos) continue;
+    ASSERT_TRUE(object) << "a robtarget before the work object";
+    ASSERT_LT(k, p.steps.size());
+    const ProgramStep& step = p.steps[k++];
+    const Pose target = pose(numbersIn(line.substr(line.find(":="))).data());
+    const Pose world = tableTurn(p.cell, step.pose.table_angle) * tableFrame(*p.cell.table) *
+                       *object * target * p.cell.mount.inverse();
+    EXPECT_TRUE((p.cell.base.inverse() * world).isApprox(step.flange, 1e-5)) << step.view;
+  }
+  EXPECT_EQ(k, p.steps.size());
 }
 
 TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
@@ -277,9 +308,18 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
                       "0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0.02100,0.03400,"
                       "0.01700]];"),
             std::string::npos);
-  // cos 15°, sin 15°: the quaternion of 30° about z.
-  EXPECT_NE(text.find("PERS wobjdata wPart := [FALSE,TRUE,\"\",[[1000.000,0.000,0.000],[0.965926,"
-                      "0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];"),
+  // The work object moves with the table (coordinated with its mechanical unit): the user
+  // frame is the table's, the object frame the part in it, turned 30° about z on the
+  // table's axis at the world's origin (cos 15°, sin 15°: the quaternion of 30° about z).
+  EXPECT_NE(text.find("PERS wobjdata wPart := [FALSE,FALSE,\"STN_1\",[[0,0,0],[1,0,0,0]],"
+                      "[[0.000,0.000,0.000],[0.965926,0.000000,0.000000,0.258819]]];"),
+            std::string::npos);
+  // Without a table, it stands still in the robot's base frame: the part 1 m ahead of it.
+  RobotProgram fixed = p;
+  fixed.cell.table.reset();
+  EXPECT_NE(rapidProgram(fixed).find(
+                "PERS wobjdata wPart := [FALSE,TRUE,\"\",[[1000.000,0.000,0.000],[0.965926,"
+                "0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];"),
             std::string::npos);
   // The trigger reset at the start; each wait bounded (WaitDI \MaxTime with its \TimeFlag),
   // a timeout dropping the trigger, logged and stopping the program.
@@ -292,21 +332,16 @@ TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
                 "      Stop;\n    ENDIF\n    SetDO DO_3, 0;\n"
                 "    WaitDI DI_4, 0 \\MaxTime:=10 \\TimeFlag:=bTimeout;\n"),
       std::string::npos);
-  // Each robtarget is the scanner in the work object: carried back by the work object and
-  // the table, it is the flange on its mount.
+  // Each robtarget is the scanner in the work object, the flange on its mount where the
+  // controller puts it; also with the table off the world's origin and its axis tilted.
   ASSERT_EQ(robtargets.size(), p.steps.size());
-  for (std::size_t k = 0; k < robtargets.size(); ++k) {
-    const std::vector<double>& r = robtargets[k];
-    ASSERT_GE(r.size(), 11u);
-    Pose target = Pose::Identity();
-    target.translation() = Vec3(r[0], r[1], r[2]);
-    target.linear() = Eigen::Quaterniond(r[3], r[4], r[5], r[6]).normalized().toRotationMatrix();
-    const ProgramStep& step = p.steps[k];
-    const Pose world = tableTurn(p.cell, step.pose.table_angle) * p.cell.base * p.work_object *
-                       target * p.cell.mount.inverse();
-    EXPECT_TRUE((p.cell.base.inverse() * world).isApprox(step.flange, 1e-5)) << step.view;
-    EXPECT_EQ(r[10], rapidCfx(p.cell.robot, step.pose.joints)) << step.view;  // cfx
-  }
+  for (std::size_t k = 0; k < robtargets.size(); ++k)
+    EXPECT_EQ(robtargets[k][10], rapidCfx(p.cell.robot, p.steps[k].pose.joints)) << k;  // cfx
+  expectRobtargetsHoldTheFlange(p);
+  RobotProgram moved = p;
+  moved.cell.table->origin = Vec3(200, -150, 30);
+  moved.cell.table->axis = Vec3(0, 0.1, 1).normalized();
+  expectRobtargetsHoldTheFlange(moved);
 }
 
 // ABB's cfx tells apart the configurations of one flange pose: the 8 inverse-kinematics

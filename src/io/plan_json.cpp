@@ -396,7 +396,8 @@ void addCell(const Plan& plan, json& result) {
                       {"range", {degrees(cell.table->lower), degrees(cell.table->upper)}},
                       {"step", degrees(cell.table->step)},
                       {"speed", degrees(cell.table->speed)},
-                      {"acceleration", degrees(cell.table->acceleration)}};
+                      {"acceleration", degrees(cell.table->acceleration)},
+                      {"unit", cell.table->unit}};
   result["cell"] = robot;
   for (std::size_t v = 0; v < plan.views.size() && v < plan.cell_poses.size(); ++v) {
     const std::optional<CellPose>& pose = plan.cell_poses[v];
@@ -819,6 +820,7 @@ struct PlanReader {
       t.speed = radians(fieldOr(table, "speed", degrees(t.speed), path, "cell table"));
       t.acceleration =
           radians(fieldOr(table, "acceleration", degrees(t.acceleration), path, "cell table"));
+      t.unit = fieldOr(table, "unit", t.unit, path, "cell table");
     }
     validate(cell, path);
     return cell;

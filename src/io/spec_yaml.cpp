@@ -228,7 +228,7 @@ class SpecReader {
     for (const auto& item : node) {
       const std::string field = item.first.as<std::string>();
       if (field != "origin" && field != "axis" && field != "range" && field != "step" &&
-          field != "speed" && field != "acceleration")
+          field != "speed" && field != "acceleration" && field != "unit")
         fail(key + ": unknown field '" + field + "'");
     }
     RotaryTable t;
@@ -243,6 +243,7 @@ class SpecReader {
     if (node["speed"]) t.speed = radians(scalar<double>(node["speed"], key + ".speed"));
     if (node["acceleration"])
       t.acceleration = radians(scalar<double>(node["acceleration"], key + ".acceleration"));
+    if (node["unit"]) t.unit = scalar<std::string>(node["unit"], key + ".unit");
     return t;
   }
 

@@ -4,6 +4,8 @@
 #include <scanplan/core/errors.h>
 #include <scanplan/robot/cell.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace scanplan {
@@ -36,6 +38,14 @@ void validate(const Cell& c, const std::string& source) {
             "table.speed must lie within [1, 3600] °/s");
     require(t.acceleration >= radians(1) && t.acceleration <= radians(36000),
             "table.acceleration must lie within [1, 36000] °/s²");
+    const bool named = !t.unit.empty() && t.unit.size() <= 32 &&
+                       std::isalpha(static_cast<unsigned char>(t.unit[0])) &&
+                       std::all_of(t.unit.begin(), t.unit.end(), [](char ch) {
+                         return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_';
+                       });
+    require(named,
+            "table.unit must be a name of at most 32 letters, digits and underscores, "
+            "starting with a letter");
   }
   require(c.clearance >= 0 && c.clearance <= kLongestLength, "clearance must not be negative (mm)");
   require(c.tool.mass > 0 && c.tool.mass <= 1000, "tool.mass must be within (0, 1000] kg");
@@ -77,6 +87,18 @@ Vec3 loadInertia(const Cell& cell, const Box& scanner_body) {
           .asDiagonal();
   const Eigen::Matrix3d turn = cell.mount.linear();
   return (turn * box * turn.transpose()).diagonal();
+}
+
+Pose tableFrame(const RotaryTable& table) {
+  const Vec3 z = table.axis.normalized();
+  Vec3 x = Vec3::UnitX() - z * z.x();
+  if (x.norm() < 1e-6) x = Vec3::UnitY() - z * z.y();
+  Pose frame = Pose::Identity();
+  frame.linear().col(0) = x.normalized();
+  frame.linear().col(1) = z.cross(x.normalized());
+  frame.linear().col(2) = z;
+  frame.translation() = table.origin;
+  return frame;
 }
 
 Pose tableTurn(const Cell& cell, double angle) {

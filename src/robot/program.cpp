@@ -380,6 +380,23 @@ std::string rapidMove(const RobotProgram& p, const Waypoint& w) {
                      rapidJoints(p.cell, w.pose), kTravelSpeed);
 }
 
+// RAPID's work object of the part. Fixed without a table: the part in the robot's base
+// frame, the controller's world by default. With one, coordinated with the table's
+// mechanical unit (ufprog FALSE, ufmec): the user frame is then the table's, as the
+// controller's system parameters calibrate it, and the object frame the part in it (ABB,
+// MultiMove application manual, "Coordinated work objects").
+std::string rapidWorkObject(const RobotProgram& p) {
+  if (!p.cell.table)
+    return fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
+                       rapidPose(p.work_object));
+  const Pose part = tableFrame(*p.cell.table).inverse() * p.cell.base * p.work_object;
+  return fmt::format(
+      "  ! wPart moves with the table, mechanical unit {0}: the part in the table's frame\n"
+      "  ! (origin on its axis, z along it, x along the world's x at angle 0)\n"
+      "  PERS wobjdata wPart := [FALSE,FALSE,\"{0}\",[[0,0,0],[1,0,0,0]],[{1}]];\n",
+      p.cell.table->unit, rapidPose(part));
+}
+
 std::string rapidProgram(const RobotProgram& p) {
   checkProgramFormat(p.cell, "rapid");
   std::ostringstream out;
@@ -391,9 +408,7 @@ std::string rapidProgram(const RobotProgram& p) {
              "[1,0,0,0],{:.5f},{:.5f},{:.5f}]];\n",
              rapidPose(p.cell.mount), p.cell.tool.mass, centre.x(), centre.y(), centre.z(),
              p.load_inertia.x(), p.load_inertia.y(), p.load_inertia.z())
-      << fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
-                     rapidPose(p.work_object))
-      << rapidTargets(p) << "  VAR bool bTimeout;\n\n  PROC main()\n"
+      << rapidWorkObject(p) << rapidTargets(p) << "  VAR bool bTimeout;\n\n  PROC main()\n"
       << fmt::format("    SetDO DO_{}, 0;\n", p.cell.signals.trigger);
   for (const Waypoint& w : waypoints(p)) out << rapidMove(p, w);
   out << "  ENDPROC\n\n" << rapidScan(p.cell.signals) << "ENDMODULE\n";

@@ -26,7 +26,15 @@ struct RotaryTable {
   double step = radians(5);            // angles tried, radians
   double speed = M_PI / 2;             // its top speed, rad/s: a quarter turn a second
   double acceleration = M_PI / 2;      // rad/s²: its top speed in a second (docs/cycle.md)
+  // Its mechanical unit as the controller's system parameters name it: RAPID's work object
+  // is coordinated with it.
+  std::string unit = "STN_1";
 };
+
+// The table's own frame, turning with it, at angle 0 (world): its origin, z along its axis,
+// x along the world's x (else y) laid into its plane. RAPID's coordinated work object gives
+// the part in this frame.
+Pose tableFrame(const RotaryTable& table);
 
 // The scanner as the robot's load, for the controller's payload: its mass and centre of
 // gravity in the flange frame. The default stands for a 2 kg head centred on the mount's

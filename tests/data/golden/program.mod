@@ -7,7 +7,9 @@ MODULE ctc01_plan
   ! scanner poses in the part's frame (the work object: the part, table at 0), mm
   ! scan handshake: view number to output 9, trigger output 3, acknowledge input 4
   PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0.02100,0.03400,0.01700]];
-  PERS wobjdata wPart := [FALSE,TRUE,"",[[1000.000,0.000,0.000],[0.965926,0.000000,0.000000,0.258819]],[[0,0,0],[1,0,0,0]]];
+  ! wPart moves with the table, mechanical unit STN_1: the part in the table's frame
+  ! (origin on its axis, z along it, x along the world's x at angle 0)
+  PERS wobjdata wPart := [FALSE,FALSE,"STN_1",[[0,0,0],[1,0,0,0]],[[0.000,0.000,0.000],[0.965926,0.000000,0.000000,0.258819]]];
   CONST jointtarget jView4 := [[5.7296,11.4592,-17.1887,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST jointtarget jApproach4 := [[5.7296,5.7296,-11.4592,22.9183,28.6479,34.3775],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
   CONST robtarget pView4 := [[239.907,49.467,1432.983],[0.523934,0.480878,0.666812,0.222738],[0,0,0,0],[0.0000,9E+09,9E+09,9E+09,9E+09,9E+09]];
