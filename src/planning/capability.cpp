@@ -265,26 +265,22 @@ double registrationError(Effect effect, const Measured& m,
   std::vector<double> d, datum_d;
   for (const Patch* p : m.feature) d.push_back(moved(p));
   for (const Patch* p : m.datum) datum_d.push_back(moved(p));
+  const bool relative = !m.datum.empty();
   std::vector<double> datum_shift(d.size(), 0.0);  // the datums' fitted motion at each patch
-  if (!m.datum.empty()) {
+  if (relative) {
     std::vector<double> shifted = d;
     relativeToDatums(m, datum_d, shifted);
     for (std::size_t i = 0; i < d.size(); ++i) datum_shift[i] = d[i] - shifted[i];
     d = shifted;
   }
-  const bool relative = !m.datum.empty();
   const Fitted f = fitted(m.fit, d);
   std::vector<double> fitted_at = f.at;  // the fitted geometry, in the frame the layers lie
   for (std::size_t i = 0; i < d.size(); ++i) fitted_at[i] += datum_shift[i];
   switch (effect) {
     case Effect::Form:
-      return relative ? range(f.at) + range(lookDisplacements(m, moves, fitted_at))
-                      : range(lookDisplacements(m, moves, fitted_at));
+      return (relative ? range(f.at) : 0.0) + range(lookDisplacements(m, moves, fitted_at));
     case Effect::Profile:
       return 2 * largestMagnitude(lookDisplacements(m, moves, relative ? datum_shift : fitted_at));
-    default: break;
-  }
-  switch (effect) {
     case Effect::Diameter: return 2 * std::abs(f.offset);
     case Effect::Radius: return std::abs(f.offset);
     case Effect::Size: {  // opposite faces moved alike keep their distance
@@ -293,8 +289,8 @@ double registrationError(Effect effect, const Measured& m,
       return std::abs(sum);
     }
     case Effect::Angle: return degrees(std::atan(range(f.residual) / m.fit.extent));
-    default: return 0;
   }
+  return 0;
 }
 
 // The value 95% of `errors` stay under.

@@ -599,12 +599,13 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
     framed.clear();  // the selection prices poses by it under reference points only
   clock.lap("candidate pool");
 
-  const Plan unselected = plan;
+  // The plan before its views, to choose them again from: in a cell only.
+  const std::optional<Plan> unselected = cell ? std::optional<Plan>(plan) : std::nullopt;
   for (int round = 0;; ++round) {
     const std::vector<std::size_t> selected =
         selectAndMove(at, pool, {pinned, options.registration, registering, framed, visibility},
                       plan, clock, progress);
-    if (!plan.cell_motion || round == kClearingRounds) break;
+    if (!unselected || round == kClearingRounds) break;
     const std::vector<std::size_t> blocked =
         blockedPoses(plan.cell_motion->uncleared, selected, pinned);
     if (blocked.empty()) break;
@@ -615,7 +616,7 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
                (blocked.size() == 1 ? " pose" : " poses") + " the robot cannot move clear to",
            0);
     std::vector<StageTime> times = std::move(plan.times);
-    plan = unselected;
+    plan = *unselected;
     plan.times = std::move(times);
   }
   plan.seconds = clock.total();

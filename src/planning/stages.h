@@ -138,12 +138,13 @@ struct Selection {
 // greedy cover); views whose samples all others also measure dropped (last first); the
 // rest ordered by marginal coverage, priority samples first. Below coverage targets of 1,
 // by cycle time (planner.objective), or aimed at characteristics (planner.aim), CBC solves
-// the partial cover of the targets (coverageNeed) at the poses' costs instead. With `registering` (the markers views register by, none: by
-// geometry alone), the connectedCover of the same targets and costs, unless no view of it
-// registers to another; its bound is then the LP relaxation's. Under registration by
-// reference points (`framed`: per pose, whether it registers by the markers by itself, as
-// addFramedPoses gives it), the partial cover instead, each pose not framed costing twice
-// its cost. The bound counts views.
+// the partial cover of the targets (coverageNeed) at the poses' costs instead. With
+// `registering` (the markers views register by, none: by geometry alone), the
+// connectedCover of the same targets and costs, unless no view of it registers to another;
+// its bound is then the LP relaxation's. Under registration by reference points
+// (`framed`: per pose, whether it registers by the markers by itself, as addFramedPoses
+// gives it), the partial cover instead, each pose not framed costing twice its cost. The
+// bound counts views.
 // Progress shows the connectedCover's, or the share of its budget CBC has used.
 Selection selectViews(const Placement& at, const MeasuredViews& pool, std::size_t pinned,
                       const std::vector<PlannedSample>& samples,
