@@ -251,6 +251,34 @@ TEST(GlobalSampling, BoxFacesGetFewSpreadSamples) {
       }
 }
 
+TEST(GlobalSampling, EveryFaceKeepsASampleHoweverSmall) {
+  // A 100 x 60 x 40 mm box with two shallow grooves along x in its top: each groove's
+  // floor (3 mm wide, 1 mm down) lies within the decimation radius of the top's samples
+  // with the same normal, and each groove's 1 mm walls near the other's.
+  test::TempDir dir;
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(100, 60, 40).Shape();
+  for (const double y : {20.0, 37.0})
+    block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeBox(gp_Pnt(-1, y, 39), 102, 3, 2).Shape());
+  BRepTools::Write(block, dir.file("grooves.brep").c_str());
+  const Part part = importPart(dir.file("grooves.brep"));
+  SamplingOptions options;
+  options.decimation_radius = 20;
+  const std::vector<Sample> samples = sampleGlobal(part, {}, options);
+  std::set<int> sampled;
+  for (const Sample& s : samples) sampled.insert(s.face);
+  for (const Face& face : part.faces) EXPECT_TRUE(sampled.count(face.id)) << "face " << face.id;
+  EXPECT_EQ(part.faces.size(), 6u + 2 + 3 * 2);  // the box's, one more on top, the grooves'
+}
+
+TEST(GlobalSampling, EveryFaceOfTheDieCastPartIsSampled) {
+  // 232 faces, many of them fillets and ribs narrower than the decimation radius.
+  SHARED_DATA_OR_SKIP(path, "mech/asi_repatch-hpdc.stp");
+  const Part part = importPart(path);
+  std::set<int> sampled;
+  for (const Sample& s : sampleGlobal(part, {})) sampled.insert(s.face);
+  for (const Face& face : part.faces) EXPECT_TRUE(sampled.count(face.id)) << "face " << face.id;
+}
+
 TEST(GlobalSampling, CurvedFacesKeepMoreSamplesThanFlatOnes) {
   test::TempDir dir;
   Part part = boxWithHole(dir);

@@ -83,18 +83,8 @@ Key commonest(const std::map<Key, std::size_t>& counts) {
       ->first;
 }
 
-// A face's coverage by its measured area: measured from 99 % of it (the area points'
-// resolution), partly from any of it.
-FaceCoverage areaCoverage(const FaceArea& f) {
-  return !(f.area > 0)                 ? FaceCoverage::NotTarget
-         : f.measured >= 0.99 * f.area ? FaceCoverage::Measured
-         : f.measured > 0              ? FaceCoverage::Partly
-                                       : FaceCoverage::NotMeasured;
-}
-
-// Per face of the part: its samples, measured and not coverable, its coverage (for a face
-// without samples under a scan of the whole part, by its measured area), whether it bears
-// GD&T, and the commonest reason of its not coverable samples.
+// Per face of the part: its samples, measured and not coverable, its coverage, whether it
+// bears GD&T, and the commonest reason of its not coverable samples.
 void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
   std::vector<std::map<Uncoverable, std::size_t>> reasons(part.faces.size());
   std::vector<std::map<Loss, std::size_t>> losses(part.faces.size());
@@ -120,18 +110,12 @@ void sceneFaces(PlanScene& scene, const Plan& plan, const Part& part) {
     }
     if (s.uncoverable == Uncoverable::Lost) ++losses[face - 1][s.last_loss];
   }
-  // A scan of the whole part (a global task) targets every face, those its sampling left
-  // without a sample too: they take their coverage from their measured area.
-  const bool whole = std::any_of(plan.samples.begin(), plan.samples.end(),
-                                 [](const auto& s) { return s.sample.task == TaskType::Global; });
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     FaceStatus& status = scene.faces[f];
     status.coverage = status.samples == 0                 ? FaceCoverage::NotTarget
                       : status.measured == status.samples ? FaceCoverage::Measured
                       : status.measured > 0               ? FaceCoverage::Partly
                                                           : FaceCoverage::NotMeasured;
-    if (status.samples == 0 && whole && f < plan.face_areas.size())
-      status.coverage = areaCoverage(plan.face_areas[f]);
     if (!reasons[f].empty()) status.reason = commonest(reasons[f]);
     if (!losses[f].empty()) status.loss = commonest(losses[f]);
   }

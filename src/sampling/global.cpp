@@ -1,19 +1,28 @@
-// Global sampling: all faces, decimated by distance and normal angle (nanoflann).
+// Global sampling: all faces, decimated by distance and normal angle (nanoflann), each face
+// keeping at least one sample.
 
 #include <scanplan/sampling/sampling.h>
 
 #include "core/kd_tree.h"
 
 #include <cmath>
+#include <unordered_map>
 
 namespace scanplan {
-std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle) {
+std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle,
+                             FaceSamples faces) {
   if (samples.empty()) return {};
   detail::PositionCloud<Sample> cloud{samples};
   detail::PositionTree<Sample> tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const double min_dot = std::cos(radians(angle));
   std::vector<char> removed(samples.size(), 0);
+  // Samples of each face not removed yet; with KeepOne, a face's last one is not removed.
+  std::unordered_map<int, int> left;
+  for (const Sample& s : samples) ++left[s.face];
+  const auto removable = [&](std::size_t j) {
+    return faces == FaceSamples::MayVanish || left[samples[j].face] > 1;
+  };
   std::vector<Sample> kept;
   detail::Neighbours neighbours;
   nanoflann::SearchParams params;
@@ -25,8 +34,9 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
     tree.radiusSearch(samples[i].position.data(), radius * radius, neighbours, params);
     for (const auto& [j, distance2] : neighbours)
       if (j != i && !removed[j] && distance2 < radius * radius &&
-          samples[j].normal.dot(samples[i].normal) >= min_dot) {
+          samples[j].normal.dot(samples[i].normal) >= min_dot && removable(j)) {
         removed[j] = 1;
+        --left[samples[j].face];
         kept.back().weight += samples[j].weight;
       }
   }
@@ -40,7 +50,7 @@ std::vector<Sample> sampleGlobal(const Part& part, const std::vector<int>& exclu
     if (std::find(excluded.begin(), excluded.end(), face.id) == excluded.end())
       faces.push_back(face.id);
   return decimate(sampleSurface(part, faces, Role::Normal, TaskType::Global, options),
-                  options.decimation_radius, options.decimation_angle);
+                  options.decimation_radius, options.decimation_angle, FaceSamples::KeepOne);
 }
 
 }  // namespace scanplan

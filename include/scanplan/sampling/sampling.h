@@ -57,7 +57,8 @@ std::vector<Sample> sampleBorders(const Part& part, const std::vector<int>& face
                                   TaskType task, const SamplingOptions& options = {});
 
 // Global sampling: every face (but `excluded`) surface-sampled, then decimated by distance
-// and normal angle, so flat areas keep few samples and curved ones more.
+// and normal angle, so flat areas keep few samples and curved ones more; every face keeps at
+// least one, so that a scan of the whole part is aimed at its small faces too.
 std::vector<Sample> sampleGlobal(const Part& part, const std::vector<int>& excluded,
                                  const SamplingOptions& options = {});
 
@@ -73,10 +74,15 @@ std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples);
 std::vector<SurfacePoint> surfacePoints(const std::vector<Sample>& samples,
                                         const std::vector<int>& members);
 
+// Whether decimation may take away every sample of a face.
+enum class FaceSamples { MayVanish, KeepOne };
+
 // Greedy decimation: keeps a sample unless an earlier kept one lies within `radius`
-// with a normal within `angle` degrees, which then stands for its weight too.
+// with a normal within `angle` degrees, which then stands for its weight too. With
+// FaceSamples::KeepOne, a face's last sample stays however near it lies to another's.
 // Deterministic (input order).
-std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle);
+std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, double angle,
+                             FaceSamples faces = FaceSamples::MayVanish);
 
 // Every task's samples, merged, in task order (resolveSpec in spec.h makes the targets):
 // gdt, surface and trim samples are priority; global samples of priority faces too;
