@@ -10,8 +10,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 
 namespace scanplan {
@@ -85,6 +87,39 @@ std::vector<View> bridgingPoses(const RegistrationGraph& graph, const Sides& sid
   return poses;
 }
 
+// The observations of bridging poses, kept while the tries go towards one component:
+// after a view that only comes nearer, the next try looks at nearly the same poses. Kept
+// only without a turning table, whose angle, besides the pose, decides what a view sees.
+class Observed {
+ public:
+  explicit Observed(bool keep) : keep_(keep) {}
+
+  // What `poses` observe: those met before as they were, the others observed now.
+  std::vector<Observation> of(const RegistrationGraph& graph, const std::vector<View>& poses) {
+    if (!keep_) return graph.observe(poses);
+    std::vector<View> fresh;
+    for (const View& pose : poses)
+      if (!known_.count(key(pose))) fresh.push_back(pose);
+    std::vector<Observation> seen = graph.observe(fresh);
+    for (std::size_t k = 0; k < fresh.size(); ++k)
+      known_.emplace(key(fresh[k]), std::move(seen[k]));
+    std::vector<Observation> result;
+    for (const View& pose : poses) result.push_back(known_.at(key(pose)));
+    return result;
+  }
+
+ private:
+  using Key = std::array<double, 16>;
+  static Key key(const View& pose) {
+    Key k;
+    Eigen::Map<Eigen::Matrix4d>(k.data()) = pose.camera_to_world.matrix();
+    return k;
+  }
+
+  bool keep_;
+  std::map<Key, Observation> known_;
+};
+
 struct Candidate {
   std::size_t pose;
   std::size_t partner;
@@ -139,7 +174,8 @@ std::vector<Candidate> bridgeCandidates(const RegistrationGraph& graph, const Si
 // component whose root is `towards`. The candidate kept registers to the main component
 // (verified) and, when one does, to that component too; otherwise it brings the main
 // component closer to it. Nothing when no candidate does either.
-std::optional<View> bridge(RegistrationGraph& graph, const CellCheck& cell, int id, int towards) {
+std::optional<View> bridge(RegistrationGraph& graph, const CellCheck& cell, int id, int towards,
+                           Observed& observed) {
   const Sides sides = graph.sidesOf(towards);
   if (sides.main_points.empty() || sides.other_points.empty()) return std::nullopt;
   std::vector<View> poses = bridgingPoses(graph, sides);
@@ -149,7 +185,7 @@ std::optional<View> bridge(RegistrationGraph& graph, const CellCheck& cell, int 
     pose.id = id;
     pose.task = "bridge";
   }
-  const std::vector<Observation> seen = graph.observe(poses);
+  const std::vector<Observation> seen = observed.of(graph, poses);
   const std::vector<Candidate> candidates = bridgeCandidates(graph, sides, poses, seen);
   constexpr std::size_t kTries = 5;  // candidates verified before giving up
   for (std::size_t c = 0; c < std::min(candidates.size(), kTries); ++c) {
@@ -195,9 +231,10 @@ Registration registerWithBridging(const Simulator& simulator, std::vector<View>&
     report(progress, "registration: bridging " + std::to_string(components) + " components",
            std::min(1.0, static_cast<double>(tries++) / static_cast<double>(components - 1)));
     const std::size_t kept = views.size(), before = graph->components();
+    Observed observed(options.table == nullptr);
     while (graph->components() == before && views.size() - kept < kChain &&
            views.size() - first_bridge < budget) {
-      const std::optional<View> view = bridge(*graph, cell, next_id, towards);
+      const std::optional<View> view = bridge(*graph, cell, next_id, towards, observed);
       if (!view) break;
       views.push_back(*view);
       ++next_id;
