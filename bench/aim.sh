@@ -3,10 +3,12 @@
 # SPEC under each planner.aim and prints a table row per aim from plan.json: views, cycle
 # time, characteristics capable of those with a tolerance, the limits of those left short,
 # and the planning time. With --inspected, then a row per characteristic of the plan aimed
-# at characteristics: its predicted U beside the virtual inspection's U and bias.
-#   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected]
+# at characteristics: its predicted U beside the virtual inspection's U and bias, from the
+# plan's own inspection (20 runs), or from `scanplan inspect` with RUNS runs when given (the
+# inspected U of 20 runs is itself uncertain by about 16 %).
+#   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected [RUNS]]
 set -euo pipefail
-exe=$1 part=$2 spec=${3:--} inspected=${4:-}
+exe=$1 part=$2 spec=${3:--} inspected=${4:-} runs=${5:-}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "| aim | views | cycle s | capable | beyond the views | planning s |"
@@ -33,16 +35,30 @@ done
 echo
 echo "| id | kind | width | predicted U | inspected U | inspected bias | predicted / (|bias| + U) |"
 echo "|---|---|---|---|---|---|---|"
-python3 - "$out/characteristics/plan.json" <<'PY'
+inspection=-
+if [ -n "$runs" ]; then
+  args=(inspect "$out/characteristics/plan.json" "$part" --runs "$runs" -q
+        -o "$out/inspection.json")
+  [ "$spec" = "-" ] || args+=(--spec "$spec")
+  "$exe" "${args[@]}" > /dev/null
+  inspection=$out/inspection.json
+fi
+python3 - "$out/characteristics/plan.json" "$inspection" <<'PY'
 import json, sys
 plan = json.load(open(sys.argv[1]))
+# (U, bias) per characteristic: the plan's own inspection's, or the given inspection's.
+inspected = {c["id"]: (c["uncertainty"], c["bias"])
+             for c in (json.load(open(sys.argv[2]))["characteristics"] if sys.argv[2] != "-" else [])
+             if c.get("evaluated")}
 for c in plan.get("characteristics", []):
     k = c.get("capability") or {}
-    if k.get("verdict") == "untoleranced" or k.get("inspected_uncertainty") is None:
+    if sys.argv[2] == "-" and k.get("inspected_uncertainty") is not None:
+        inspected[c["id"]] = (k["inspected_uncertainty"], k["inspected_bias"])
+    if k.get("verdict") == "untoleranced" or c["id"] not in inspected:
         continue
+    u, bias = inspected[c["id"]]
     width = c["limits"][1] - c["limits"][0]
-    seen = abs(k["inspected_bias"]) + k["inspected_uncertainty"]
+    seen = abs(bias) + u
     print(f"| {c['id']} | {c['kind']} | {width:g} | {k['uncertainty']:.4f} | "
-          f"{k['inspected_uncertainty']:.4f} | {k['inspected_bias']:.4f} | "
-          f"{k['uncertainty'] / seen if seen > 0 else float('nan'):.2f} |")
+          f"{u:.4f} | {bias:.4f} | {k['uncertainty'] / seen if seen > 0 else float('nan'):.2f} |")
 PY
