@@ -333,6 +333,32 @@ TEST(SimulatedCloud, NoiseGrowsWithRange) {
   EXPECT_NEAR(sigma, expected, 0.1 * expected);
 }
 
+// A plane through the volume centre turned 45° from facing the camera: the noise lies along
+// the camera's rays, sigma / cos 45° there (pointQuality's sigma), and its part along the
+// plane's normal is sigma (pointQuality's along_normal), which a plane fit sees. Measured
+// from the simulated cloud's distances to the plane; the patch is small (30 mm) so that
+// depth stays within 4 % of the standoff.
+TEST(SimulatedCloud, PointQualityGivesTheNoiseAlongTheNormalOfATiltedPlane) {
+  Scanner s = scanner();
+  s.point_spacing = 0.25;
+  s.noise_sigma = 0.05;
+  const Vec3 normal = tilted(45, 1);  // towards the projector, which then lights it at 20°
+  const Vec3 across = 15 * Vec3(std::cos(radians(45)), 0, std::sin(radians(45)));
+  TriangleMesh mesh;
+  test::addRectangle(mesh, centre(), across, Vec3(0, -15, 0), 1);
+  Simulator simulator(test::meshPart(mesh), s, noPlane());
+  const PointCloud cloud = simulator.cloud(identityView(), 5);
+  ASSERT_GT(cloud.points.size(), 5000u);
+  double sum2 = 0;
+  for (const Vec3& p : cloud.points) sum2 += std::pow((p - centre()).dot(normal), 2);
+  const double measured = std::sqrt(sum2 / static_cast<double>(cloud.points.size()));
+  const PointQuality q = pointQuality(s, identityView(), centre(), normal);
+  RecordProperty("noise_along_normal", std::to_string(measured));
+  EXPECT_NEAR(q.sigma, s.noise_sigma / std::cos(radians(45)), 1e-12);
+  EXPECT_NEAR(q.along_normal, s.noise_sigma, 1e-12);
+  EXPECT_NEAR(measured, q.along_normal, 0.06 * q.along_normal);
+}
+
 TEST(SimulatedCloud, PlyHasHeaderAndOneRecordPerPoint) {
   PointCloud cloud;
   cloud.points = {Vec3(1, 2, 3), Vec3(4, 5, 6)};

@@ -147,14 +147,64 @@ class DatumMotion {
   Eigen::LDLT<Normal6> normal_;
 };
 
+// The two faces of an angle between faces, each fitted apart as a rigid motion that best
+// explains its patches' displacements, as the inspection fits a plane to each face: the
+// angle between them changes under displacements `d` of the patches by the two fits' turns
+// apart about the axis across both faces' normals. Empty unless the patches lie on exactly
+// two faces that are not parallel.
+class FacePair {
+ public:
+  explicit FacePair(const std::vector<const Patch*>& patches) {
+    std::map<int, std::vector<std::size_t>> by_face;
+    for (std::size_t i = 0; i < patches.size(); ++i) by_face[patches[i]->point.face].push_back(i);
+    if (by_face.size() != 2) return;
+    std::vector<Vec3> normals;
+    for (auto& [face, members] : by_face) {
+      std::vector<const Patch*> on;
+      Vec3 normal = Vec3::Zero();
+      for (std::size_t i : members) {
+        on.push_back(patches[i]);
+        normal += patches[i]->point.normal;
+      }
+      members_.push_back(std::move(members));
+      fits_.emplace_back(on);
+      normals.push_back(normal.normalized());
+    }
+    const Vec3 across = normals[0].cross(normals[1]);
+    if (across.norm() < std::sin(radians(1))) fits_.clear();
+    axis_ = across.normalized();
+  }
+  bool empty() const { return fits_.empty(); }
+  // The angle's change, degrees.
+  double change(const std::vector<double>& d) const {
+    Vec3 turns[2];
+    for (std::size_t k = 0; k < 2; ++k) {
+      std::vector<double> on;
+      for (std::size_t i : members_[k]) on.push_back(d[i]);
+      turns[k] = fits_[k].motion(on).head<3>();
+    }
+    return degrees(std::abs((turns[0] - turns[1]).dot(axis_)));
+  }
+
+ private:
+  std::vector<std::vector<std::size_t>> members_;  // per face: its patches' indices
+  std::vector<DatumMotion> fits_;
+  Vec3 axis_ = Vec3::Zero();
+};
+
 // What a characteristic's draws read: its measured patches and their fit, and its datum
 // features' patches (none without datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
   Fit fit;
   DatumMotion datum_motion;
+  FacePair faces;
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d)
-      : feature(std::move(f)), datum(std::move(d)), fit(fitOf(feature)), datum_motion(datum) {}
+      : feature(std::move(f)),
+        datum(std::move(d)),
+        fit(fitOf(feature)),
+        datum_motion(datum),
+        faces(feature) {}
 };
 
 // `d` (per feature patch) less the datum features' fitted motion under their `datum_d`.
@@ -196,6 +246,13 @@ double largestMagnitude(const std::vector<double>& values) {
   return m;
 }
 
+// The change of an angle between faces under the patches' displacements `d`, degrees: as
+// the two faces' own fits see it; else (not two faces at an angle) the tilt the whole fit
+// leaves over its extent, `f` its displacements.
+double angleChange(const Measured& m, const std::vector<double>& d, const std::vector<double>& f) {
+  return m.faces.empty() ? degrees(std::atan(range(f) / m.fit.extent)) : m.faces.change(d);
+}
+
 // Per face of the patches, the weighted mean of `d`: a face's offset.
 std::vector<double> faceOffsets(const Measured& m, const std::vector<double>& d) {
   std::map<int, std::pair<double, double>> faces;  // weighted offset sum, weight
@@ -227,7 +284,7 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
       for (double o : faceOffsets(m, d)) squares += o * o;
       return std::sqrt(squares);
     }
-    case Effect::Angle: return degrees(std::atan(range(f.at) / m.fit.extent));
+    case Effect::Angle: return angleChange(m, d, f.at);
     case Effect::Form: return range(f.at);
     case Effect::Profile: return 2 * largestMagnitude(f.at);
   }
@@ -288,7 +345,7 @@ double registrationError(Effect effect, const Measured& m,
       for (double o : faceOffsets(m, d)) sum += o;
       return std::abs(sum);
     }
-    case Effect::Angle: return degrees(std::atan(range(f.residual) / m.fit.extent));
+    case Effect::Angle: return angleChange(m, d, f.residual);
   }
   return 0;
 }
@@ -371,7 +428,8 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
         const Vec3 position = placed * points[i].position;
         const Vec3 normal = placed.linear() * points[i].normal;
         const PointQuality q = pointQuality(plan.scanner, plan.views[v], position, normal);
-        patches[i].looks.push_back({q.sigma, patches[i].area * q.density, v, position, normal});
+        patches[i].looks.push_back(
+            {q.along_normal, patches[i].area * q.density, v, position, normal});
       }
     }
   }

@@ -120,7 +120,8 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
       const double count = std::max(std::min(a.density, b.density) * spacing * spacing, 1.0);
       p.push_back(points[s].position);
       n.push_back(points[s].normal);
-      variances.push_back((a.sigma * a.sigma + b.sigma * b.sigma) / count);
+      variances.push_back((a.along_normal * a.along_normal + b.along_normal * b.along_normal) /
+                          count);
     }
     if (p.size() < 6) {  // too little overlap to say: the view is left out
       own[v] = TwistCovariance::Identity() * kUnknown;

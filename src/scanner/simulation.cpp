@@ -613,7 +613,8 @@ PointQuality pointQuality(const Scanner& scanner, const View& view, const Vec3& 
   const double z = ray.dot(view.axis()) / scanner.standoff;
   const double cosine = std::max(-ray.normalized().dot(normal), 1e-3);
   const double pitch = scanner.point_spacing * z;
-  return {scanner.noise_sigma * z * z / cosine, cosine / (pitch * pitch)};
+  const double sigma = scanner.noise_sigma * z * z / cosine;
+  return {sigma, sigma * cosine, cosine / (pitch * pitch)};
 }
 
 }  // namespace scanplan

@@ -83,10 +83,11 @@ struct PointCloud {
 };
 
 // What a view's camera records on the surface at a point it measures (docs/simulation.md):
-// the depth noise of its points and their density, points per mm², from the pixel grid
-// (point_spacing at the standoff) at the point's depth and incidence.
+// the depth noise of its points (along the camera's ray), its part along the surface normal,
+// and their density, points per mm², from the pixel grid (point_spacing at the standoff) at
+// the point's depth and incidence.
 struct PointQuality {
-  double sigma = 0, density = 0;
+  double sigma = 0, along_normal = 0, density = 0;
 };
 PointQuality pointQuality(const Scanner& scanner, const View& view, const Vec3& position,
                           const Vec3& normal);
