@@ -1,15 +1,16 @@
 // Measurement capability per characteristic (docs/capability.md). The characteristics'
 // faces are sampled once; each sample stands for its area, and each view that measures it
-// puts there as many points as its pixel grid lays on that area, each with the noise of
-// the simulation at its distance and incidence. The ideal geometry is fitted to the points
-// by least squares (linearised: an offset along the normals, a shift and a small turn),
-// and the noise's effect on the fitted geometry is drawn by Monte Carlo:
+// puts there as many points as its pixel grid lays on that area, each with the part along
+// the surface normal of the simulation's noise at its distance and incidence. The ideal
+// geometry is fitted to the points by least squares (linearised: an offset along the
+// normals, a shift and a small turn), and the noise's effect on the fitted geometry is
+// drawn by Monte Carlo:
 // - form, orientation and runout: the peak-to-valley of the fitted geometry's
 //   displacement over the faces;
 // - profile and position: twice its largest displacement (zones about the nominal);
 // - diameter and radius: the fitted offset (twice for a diameter); a distance between
-//   faces: the faces' own offsets together; an angle between faces: the peak-to-valley
-//   over the faces' extent, in degrees.
+//   faces: the faces' own offsets together; an angle between two faces: their fits' turns
+//   apart, each face fitted on its own, in degrees.
 // U is the error that 95% of the draws stay under.
 
 #include "core/kd_tree.h"
