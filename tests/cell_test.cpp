@@ -948,6 +948,27 @@ TEST(Cell, TravelTimesBetweenViewsAreTheLeastOverEverySolutionPair) {
             moveTime(cell, rest, CellPose{0, {1, 1, 0, 0, 0, 0}}));
 }
 
+// The table's frame, which RAPID's coordinated work object gives the part in: its origin,
+// z along its axis, x the world's x laid across the axis (the world's y where the axis
+// lies along x), y completing a right-handed frame. Against hand values: an axis tilted
+// towards y keeps x the world's x; an axis along x takes the world's y.
+TEST(Cell, TheTablesFrameHasItsAxisAsZAndTheWorldsXLaidAcrossIt) {
+  RotaryTable table;
+  table.origin = Vec3(200, -150, 30);
+  table.axis = Vec3(0, 0.1, 1);
+  const double a = 0.1 / std::sqrt(1.01), b = 1 / std::sqrt(1.01);
+  Pose frame = tableFrame(table);
+  EXPECT_TRUE(frame.translation().isApprox(table.origin, 1e-12));
+  EXPECT_TRUE(frame.linear().col(0).isApprox(Vec3(1, 0, 0), 1e-12));
+  EXPECT_TRUE(frame.linear().col(1).isApprox(Vec3(0, b, -a), 1e-12));
+  EXPECT_TRUE(frame.linear().col(2).isApprox(Vec3(0, a, b), 1e-12));
+  table.axis = Vec3(2, 0, 0);
+  frame = tableFrame(table);
+  EXPECT_TRUE(frame.linear().col(0).isApprox(Vec3(0, 1, 0), 1e-12));
+  EXPECT_TRUE(frame.linear().col(1).isApprox(Vec3(0, 0, 1), 1e-12));
+  EXPECT_TRUE(frame.linear().col(2).isApprox(Vec3(1, 0, 0), 1e-12));
+}
+
 // The views the planner leaves out when the robot cannot clear their moves: those in two
 // moves between views that no route clears; moves to or from home (which may itself
 // collide) and a move alone (whose order may be what fails) blame no view.

@@ -116,14 +116,14 @@ Fit fitOf(const std::vector<const Patch*>& patches) {
   return fit;
 }
 
-// The rigid motion that best explains the datum patches' displacements `d` along their
-// normals (weighted least squares), the directions the datum leaves free held at 0: its
-// effect on `p` along `n`.
-class DatumMotion {
+// The rigid motion that best explains patches' displacements `d` along their normals
+// (weighted least squares), the directions the patches leave free held at 0: a datum's
+// fitted motion, or one face's.
+class RigidFit {
  public:
-  explicit DatumMotion(const std::vector<const Patch*>& datum) {
+  explicit RigidFit(const std::vector<const Patch*>& patches) {
     Normal6 normal = Normal6::Zero();
-    for (const Patch* p : datum) {
+    for (const Patch* p : patches) {
       const auto row = detail::alongNormal(p->point.position, p->point.normal);
       const double w = 1 / (p->meanSigma() * p->meanSigma());
       rows_.push_back(row);
@@ -159,21 +159,21 @@ class FacePair {
     std::map<int, std::vector<std::size_t>> by_face;
     for (std::size_t i = 0; i < patches.size(); ++i) by_face[patches[i]->point.face].push_back(i);
     if (by_face.size() != 2) return;
-    std::vector<Vec3> normals;
-    for (auto& [face, members] : by_face) {
-      std::vector<const Patch*> on;
-      Vec3 normal = Vec3::Zero();
-      for (std::size_t i : members) {
-        on.push_back(patches[i]);
-        normal += patches[i]->point.normal;
-      }
-      members_.push_back(std::move(members));
-      fits_.emplace_back(on);
-      normals.push_back(normal.normalized());
+    Vec3 normals[2] = {Vec3::Zero(), Vec3::Zero()};
+    std::size_t k = 0;
+    for (const auto& [face, members] : by_face) {
+      for (std::size_t i : members) normals[k] += patches[i]->point.normal;
+      normals[k++].normalize();
     }
     const Vec3 across = normals[0].cross(normals[1]);
-    if (across.norm() < std::sin(radians(1))) fits_.clear();
+    if (across.norm() < std::sin(radians(1))) return;  // parallel faces: no axis to turn about
     axis_ = across.normalized();
+    for (auto& [face, members] : by_face) {
+      std::vector<const Patch*> on;
+      for (std::size_t i : members) on.push_back(patches[i]);
+      fits_.emplace_back(on);
+      members_.push_back(std::move(members));
+    }
   }
   bool empty() const { return fits_.empty(); }
   // The angle's change, degrees.
@@ -189,7 +189,7 @@ class FacePair {
 
  private:
   std::vector<std::vector<std::size_t>> members_;  // per face: its patches' indices
-  std::vector<DatumMotion> fits_;
+  std::vector<RigidFit> fits_;
   Vec3 axis_ = Vec3::Zero();
 };
 
@@ -198,7 +198,7 @@ class FacePair {
 struct Measured {
   std::vector<const Patch*> feature, datum;
   Fit fit;
-  DatumMotion datum_motion;
+  RigidFit datum_motion;
   FacePair faces;
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d)
       : feature(std::move(f)),

@@ -17,12 +17,12 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
   tree.buildIndex();
   const double min_dot = std::cos(radians(angle));
   std::vector<char> removed(samples.size(), 0);
-  // Samples of each face not removed yet; with KeepOne, a face's last one is not removed.
+  // With KeepOne, each face's samples not removed yet: a face's last one is not removed.
+  const bool keep_one = faces == FaceSamples::KeepOne;
   std::unordered_map<int, int> left;
-  for (const Sample& s : samples) ++left[s.face];
-  const auto removable = [&](std::size_t j) {
-    return faces == FaceSamples::MayVanish || left[samples[j].face] > 1;
-  };
+  if (keep_one)
+    for (const Sample& s : samples) ++left[s.face];
+  const auto removable = [&](std::size_t j) { return !keep_one || left[samples[j].face] > 1; };
   std::vector<Sample> kept;
   detail::Neighbours neighbours;
   nanoflann::SearchParams params;
@@ -36,7 +36,7 @@ std::vector<Sample> decimate(const std::vector<Sample>& samples, double radius, 
       if (j != i && !removed[j] && distance2 < radius * radius &&
           samples[j].normal.dot(samples[i].normal) >= min_dot && removable(j)) {
         removed[j] = 1;
-        --left[samples[j].face];
+        if (keep_one) --left[samples[j].face];
         kept.back().weight += samples[j].weight;
       }
   }
