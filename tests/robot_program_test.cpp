@@ -150,6 +150,40 @@ void expectRobtargetsHoldTheFlange(const RobotProgram& p) {
   EXPECT_EQ(k, p.steps.size());
 }
 
+// A KRL FRAME's pose from its numbers X, Y, Z (mm), A, B, C (degrees): turned by A about z,
+// then B about the new y, then C about the newest x (KUKA's convention).
+Pose krlPose(const double* n) {
+  Pose pose = Pose::Identity();
+  pose.translation() = Vec3(n[0], n[1], n[2]);
+  pose.linear() = (Eigen::AngleAxisd(radians(n[3]), Vec3::UnitZ()) *
+                   Eigen::AngleAxisd(radians(n[4]), Vec3::UnitY()) *
+                   Eigen::AngleAxisd(radians(n[5]), Vec3::UnitX()))
+                      .toRotationMatrix();
+  return pose;
+}
+
+// Every view's scanner pose in `p`'s KRL program (the E6POS comment), in the base the
+// controller makes of EK's offset (the table's frame turned to the E6POS's E1), is the step's
+// flange on the scanner's mount.
+void expectKrlScannerPosesHoldTheFlange(const RobotProgram& p) {
+  std::optional<Pose> offset;
+  std::size_t k = 0;
+  for (const std::string& line : lines(krlProgram(p))) {
+    if (line.find("$BASE = EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, {") == 2)
+      offset = krlPose(numbersIn(line.substr(line.find('{'))).data());
+    if (line.find("; scanner {E6POS:") == std::string::npos) continue;
+    ASSERT_TRUE(offset) << "a scanner pose before the coupled base";
+    ASSERT_LT(k, p.steps.size());
+    const ProgramStep& step = p.steps[k++];
+    const std::vector<double> n = numbersIn(line.substr(line.find("E6POS:") + 6));
+    ASSERT_EQ(n.size(), 8u) << line;  // X, Y, Z, A, B, C, then E1's number and angle
+    const Pose world = tableTurn(p.cell, radians(n[7])) * tableFrame(*p.cell.table) * *offset *
+                       krlPose(n.data()) * p.cell.mount.inverse();
+    EXPECT_TRUE((p.cell.base.inverse() * world).isApprox(step.flange, 1e-5)) << step.view;
+  }
+  EXPECT_EQ(k, p.steps.size());
+}
+
 TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = withRobot(program(), "kuka-kr16-r1610-2");
   const std::string text = krlProgram(p);
@@ -164,8 +198,10 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
       std::regex(R"(DEF [A-Za-z_][A-Za-z0-9_]{0,23}\(\)|DEF SCAN\(VIEW:IN\))"),
       std::regex(R"(END|\s*INT VIEW|)"),
       std::regex(R"(\s*BAS\(#(INITMOV|VEL_PTP|ACC_PTP), \d+\))"),
-      std::regex(R"(\s*\$(TOOL|BASE) = \{X )" + n + ", Y " + n + ", Z " + n + ", A " + n + ", B " +
-                 n + ", C " + n + R"(\})"),
+      std::regex(
+          R"(\s*\$(TOOL|BASE) = (EK\(MACHINE_DEF\[2\]\.ROOT, MACHINE_DEF\[2\]\.MECH_TYPE, )?)"
+          R"(\{X )" +
+          n + ", Y " + n + ", Z " + n + ", A " + n + ", B " + n + ", C " + n + R"(\}\)?)"),
       std::regex(R"(\s*\$LOAD\.M = )" + n),
       std::regex(R"(\s*\$LOAD\.CM = \{X )" + n + ", Y " + n + ", Z " + n + R"(, A 0, B 0, C 0\})"),
       std::regex(R"(\s*\$LOAD\.J = \{X )" + n + ", Y " + n + ", Z " + n + R"(\})"),
@@ -180,7 +216,16 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   };
   // The tool, the work object, the load and the handshake's signals are the cell's.
   EXPECT_NE(text.find("$TOOL = {X 0.000, Y 0.000, Z 150.000,"), std::string::npos);
-  EXPECT_NE(text.find("$BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}"),
+  // The base turns with the table: coupled to it by EK, the part on the table's axis at the
+  // world's origin, turned 30° about z. Without a table, it stands still in the robot's base
+  // frame: the part 1 m ahead of it.
+  EXPECT_NE(text.find("$BASE = EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, {X 0.000, Y "
+                      "0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000})"),
+            std::string::npos);
+  RobotProgram fixed = p;
+  fixed.cell.table.reset();
+  EXPECT_NE(krlProgram(fixed).find(
+                "  $BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}\n"),
             std::string::npos);
   EXPECT_NE(text.find("$LOAD.M = 3.200\n  $LOAD.CM = {X 0.000, Y 0.000, Z 90.000,"),
             std::string::npos);
@@ -192,9 +237,7 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_NE(text.find("SIGNAL VIEW_NO $OUT[9] TO $OUT[24]"), std::string::npos);
   // The trigger reset at the start; each wait bounded by timer 1, the trigger dropped and the
   // program halted when the acknowledgement does not come.
-  EXPECT_NE(text.find("  $BASE = {X 1000.000, Y 0.000, Z 0.000, A 30.0000, B 0.0000, C 0.0000}\n"
-                      "  $OUT[3] = FALSE\n"),
-            std::string::npos);
+  EXPECT_NE(text.find("A 30.0000, B 0.0000, C 0.0000})\n  $OUT[3] = FALSE\n"), std::string::npos);
   EXPECT_NE(text.find("  $OUT[3] = TRUE\n  $TIMER_STOP[1] = TRUE\n  $TIMER[1] = -10000\n"
                       "  $TIMER_STOP[1] = FALSE\n  WAIT FOR $IN[4] OR $TIMER_FLAG[1]\n"
                       "  $TIMER_STOP[1] = TRUE\n  IF NOT $IN[4] THEN\n    $OUT[3] = FALSE\n"
@@ -244,6 +287,13 @@ TEST(RobotProgram, KrlFollowsItsGrammarAndHoldsTheJoints) {
       EXPECT_NEAR(ptp[k][2 * j + 1], degrees(path[k].pose.joints[j]), 1e-4);
     EXPECT_NEAR(ptp[k][13], degrees(path[k].pose.table_angle), 1e-4);
   }
+  // Each scanner pose is the scanner in the coupled base, the flange on its mount where the
+  // controller puts it; also with the table off the world's origin and its axis tilted.
+  expectKrlScannerPosesHoldTheFlange(p);
+  RobotProgram moved = p;
+  moved.cell.table->origin = Vec3(200, -150, 30);
+  moved.cell.table->axis = Vec3(0, 0.1, 1).normalized();
+  expectKrlScannerPosesHoldTheFlange(moved);
 }
 
 TEST(RobotProgram, RapidFollowsItsGrammarAndHoldsTheTargets) {
@@ -449,6 +499,45 @@ TEST(RobotProgram, FanucFollowsItsGrammarAndHoldsTheJoints) {
   EXPECT_THROW(fanucProgram(zero), UsageError);
 }
 
+// A URScript pose from its numbers x, y, z (m) and a rotation vector (radians), in mm.
+Pose urPoseOf(const double* n) {
+  Pose pose = Pose::Identity();
+  pose.translation() = 1000 * Vec3(n[0], n[1], n[2]);
+  const Vec3 r(n[3], n[4], n[5]);
+  if (r.norm() > 0) pose.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix();
+  return pose;
+}
+
+// Every view's scanner pose in `p`'s URScript, pose_trans(part_frame, ...) as the controller
+// composes it with part_frame as last set (the table's frame, turned about its z, on the
+// part on it), is the step's flange on the scanner's mount.
+void expectUrScannerPosesHoldTheFlange(const RobotProgram& p) {
+  std::map<std::string, Pose> frames;
+  std::optional<Pose> part;
+  std::size_t k = 0;
+  const std::regex given(R"(  (table_frame|part_on_table) = p\[(.*)\])");
+  const std::regex turned(
+      R"(  part_frame = pose_trans\(table_frame, pose_trans\(p\[0, 0, 0, 0, 0, ([-0-9.]+)\], )"
+      R"(part_on_table\)\))");
+  for (const std::string& line : lines(urScript(p))) {
+    std::smatch m;
+    if (std::regex_match(line, m, given)) frames[m[1]] = urPoseOf(numbersIn(m[2]).data());
+    if (std::regex_match(line, m, turned)) {
+      ASSERT_EQ(frames.size(), 2u) << "part_frame set before its frames";
+      part = frames["table_frame"] * Eigen::AngleAxisd(std::stod(m[1]), Vec3::UnitZ()) *
+             frames["part_on_table"];
+    }
+    if (line.find("scanner pose_trans(part_frame, p[") == std::string::npos) continue;
+    ASSERT_TRUE(part) << "a scanner pose before part_frame";
+    ASSERT_LT(k, p.steps.size());
+    const ProgramStep& step = p.steps[k++];
+    const Pose scanner = urPoseOf(numbersIn(line.substr(line.find("p["))).data());
+    EXPECT_TRUE((*part * scanner * p.cell.mount.inverse()).isApprox(step.flange, 1e-5))
+        << step.view;
+  }
+  EXPECT_EQ(k, p.steps.size());
+}
+
 TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
   const RobotProgram p = urProgram();
   const std::string text = urScript(p);
@@ -484,7 +573,9 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
               R"(\s*(scan\(\d+\)|turn_table\([-0-9.]+\)|sleep\([0-9.]+\)|sync\(\)|)"
               R"(set_standard_digital_out\(\d, (True|False)\)|set_tcp\(p\[([-0-9.]+, ){5}[-0-9.]+\]\)|)"
               R"(set_target_payload\([0-9.]+, \[([-0-9.]+, ){2}[-0-9.]+\], \[([0-9.]+, ){5}[0-9.]+\]\)|)"
-              R"(part_frame = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
+              R"((part_frame|table_frame|part_on_table) = p\[([-0-9.]+, ){5}[-0-9.]+\]|)"
+              R"(part_frame = pose_trans\(table_frame, pose_trans\(p\[0, 0, 0, 0, 0, [-0-9.]+\], )"
+              R"(part_on_table\)\)|)"
               R"(write_output_(integer|float)_register\(\d+, (view|angle)\)|)"
               R"(await_input\(\d+, (True|False), \d, "scanplan: [a-z ]+"\)|)"
               R"(waited = 0\.0|waited = waited \+ 0\.01|halt\(\)|)"
@@ -509,6 +600,23 @@ TEST(RobotProgram, UrScriptFollowsItsGrammarAndHoldsTheJoints) {
       text.find("write_output_float_register(2, angle)\n    set_standard_digital_out(5, True)\n"
                 "    await_input(6, True, 5, \"scanplan: no table ready\")\n"),
       std::string::npos);
+  // The part's frame turns with the table: each scanner pose in it is the flange on its
+  // mount; also with the part placed off the table's axis, the table off the origin and its
+  // axis tilted, and the robot's base moved. Without a table, part_frame stands still.
+  expectUrScannerPosesHoldTheFlange(p);
+  RobotProgram moved = p;
+  moved.work_object = Eigen::Translation3d(900, 100, -50) * Eigen::AngleAxisd(0.4, Vec3::UnitZ());
+  moved.cell.base.translation() = Vec3(-1000, 0, 0);
+  moved.cell.table->origin = Vec3(200, -150, 30);
+  moved.cell.table->axis = Vec3(0, 0.1, 1).normalized();
+  expectUrScannerPosesHoldTheFlange(moved);
+  RobotProgram fixed = p;
+  fixed.cell.table.reset();
+  fixed.cell.signals.table.reset();
+  fixed.work_object.translation() = Vec3(700, 0, 0);
+  EXPECT_NE(urScript(fixed).find("  part_frame = p[0.700000, 0.000000, 0.000000, 0.000000, "
+                                 "0.000000, 0.000000]\n"),
+            std::string::npos);
 }
 
 // Each format runs on its robots only, and URScript drives a table only through its

@@ -123,6 +123,10 @@ std::string toString(const RobotMove& move) {
   return name(move.from) + " -> " + name(move.to);
 }
 
+Pose partOnTable(const RobotProgram& p) {
+  return tableFrame(*p.cell.table).inverse() * p.cell.base * p.work_object;
+}
+
 Pose scannerInPart(const RobotProgram& p, const ProgramStep& step) {
   const Cell& cell = p.cell;
   // The part's frame in the base frame with the table at the step's angle.
@@ -241,6 +245,19 @@ std::vector<std::string> krlNames(const std::vector<Waypoint>& path) {
 // approach to a view and its retract.
 constexpr int kKrlTravelPercent = 20, kKrlApproachPercent = 5;
 
+// KRL's $BASE, the part's frame. Fixed without a table: the part in the robot's base
+// frame, the controller's world by default. With one, coupled to the table, the external
+// kinematic MACHINE_DEF[2] (the first after the robot's MACHINE_DEF[1]), by EK(root, kind,
+// offset): the base then turns with E1, and the offset is the part in the table's flange
+// frame, whose root the controller's machine data calibrate.
+std::string krlBase(const RobotProgram& p) {
+  if (!p.cell.table) return "  $BASE = " + krlFrame(p.work_object) + "\n";
+  return "  ; $BASE turns with the table (E1): the part in the table's frame (origin on its\n"
+         "  ; axis, z along it, x along the world's x at E1 = 0)\n"
+         "  $BASE = EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, " +
+         krlFrame(partOnTable(p)) + ")\n";
+}
+
 }  // namespace
 
 std::string krlProgram(const RobotProgram& p) {
@@ -258,8 +275,7 @@ std::string krlProgram(const RobotProgram& p) {
                      centre.y(), centre.z())
       << fmt::format("  $LOAD.J = {{X {:.5f}, Y {:.5f}, Z {:.5f}}}\n", inertia.x(), inertia.y(),
                      inertia.z())
-      << "  $BASE = " << krlFrame(p.work_object) << "\n"
-      << fmt::format("  $OUT[{}] = FALSE\n", p.cell.signals.trigger);
+      << krlBase(p) << fmt::format("  $OUT[{}] = FALSE\n", p.cell.signals.trigger);
   int taken = 0;
   const std::vector<Waypoint> path = waypoints(p);
   const std::vector<std::string> names = krlNames(path);
@@ -389,12 +405,11 @@ std::string rapidWorkObject(const RobotProgram& p) {
   if (!p.cell.table)
     return fmt::format("  PERS wobjdata wPart := [FALSE,TRUE,\"\",[{}],[[0,0,0],[1,0,0,0]]];\n",
                        rapidPose(p.work_object));
-  const Pose part = tableFrame(*p.cell.table).inverse() * p.cell.base * p.work_object;
   return fmt::format(
       "  ! wPart moves with the table, mechanical unit {0}: the part in the table's frame\n"
       "  ! (origin on its axis, z along it, x along the world's x at angle 0)\n"
       "  PERS wobjdata wPart := [FALSE,FALSE,\"{0}\",[[0,0,0],[1,0,0,0]],[{1}]];\n",
-      p.cell.table->unit, rapidPose(part));
+      p.cell.table->unit, rapidPose(partOnTable(p)));
 }
 
 std::string rapidProgram(const RobotProgram& p) {
@@ -450,6 +465,18 @@ std::string urAwaitInput(double timeout) {
       timeout);
 }
 
+// URScript's part_frame, the part's frame in the robot's base frame. With a table it turns
+// with it: the table's frame at 0 and the part on it are given, and part_frame is set again
+// after each turn.
+std::string urPartFrame(const RobotProgram& p) {
+  if (!p.cell.table) return "  part_frame = " + urPose(p.work_object) + "\n";
+  return "  # part_frame turns with the table: table_frame is the table's at 0 (origin on its\n"
+         "  # axis, z along it, x along the world's x), part_on_table the part in it\n"
+         "  table_frame = " +
+         urPose(p.cell.base.inverse() * tableFrame(*p.cell.table)) +
+         "\n  part_on_table = " + urPose(partOnTable(p)) + "\n";
+}
+
 std::string urScript(const RobotProgram& p) {
   checkProgramFormat(p.cell, "urscript");
   const CellSignals& sig = p.cell.signals;
@@ -457,7 +484,7 @@ std::string urScript(const RobotProgram& p) {
   std::ostringstream out;
   out << header(p, "#", true) << "def " << p.name << "():\n"
       << "  set_tcp(" << urPose(p.cell.mount) << ")\n"
-      << "  part_frame = " << urPose(p.work_object) << "\n"
+      << urPartFrame(p)
       << fmt::format(
              "  set_target_payload({:.3f}, [{:.6f}, {:.6f}, {:.6f}], [{:.5f}, {:.5f}, {:.5f}, 0, "
              "0, "
@@ -482,7 +509,11 @@ std::string urScript(const RobotProgram& p) {
     else
       out << "  # " << w.what << (w.step ? " view " + std::to_string(w.step->view) : "") << "\n";
     if (p.cell.table && (!table || *table != w.pose.table_angle))
-      out << fmt::format("  turn_table({:.4f})\n", degrees(w.pose.table_angle));
+      out << fmt::format("  turn_table({:.4f})\n", degrees(w.pose.table_angle))
+          << fmt::format(
+                 "  part_frame = pose_trans(table_frame, pose_trans(p[0, 0, 0, 0, 0, {:.6f}], "
+                 "part_on_table))\n",
+                 w.pose.table_angle);
     table = w.pose.table_angle;
     const Joints& q = w.pose.joints;
     out << fmt::format("  movej([{:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}, {:.6f}], a=1.2, v=0.5)\n",

@@ -37,9 +37,9 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
   const CellSignals& s = p.cell.signals;
   out << comment << " joints in " << (urscript ? "radians" : "degrees")
       << " as the controller counts them; the tool is the scanner frame on its mount\n"
-      << comment
-      << " scanner poses in the part's frame (the work object: the part, table at 0), mm\n"
-      << comment
+      << comment << " scanner poses in the part's frame"
+      << (p.cell.table ? ", which turns with the table" : "")
+      << (urscript ? ", m and rotation vectors\n" : ", mm\n") << comment
       << fmt::format(
              " scan handshake: view number to output {}, trigger output {}, "
              "acknowledge input {}\n",

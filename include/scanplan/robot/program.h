@@ -46,6 +46,10 @@ struct RobotProgram {
   std::vector<RobotMove> uncleared;  // moves that collide and could not be lifted clear
 };
 
+// The part's frame in the table's frame (tableFrame), mm: where the part rides on a cell with
+// a table, as the programs' coordinated work objects give it.
+Pose partOnTable(const RobotProgram& program);
+
 // The scanner frame (the tool) at `step` in the part's frame as the table stands then, mm:
 // the same for every table angle, since the part turns with the table.
 Pose scannerInPart(const RobotProgram& program, const ProgramStep& step);

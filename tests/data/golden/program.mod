@@ -4,7 +4,7 @@ MODULE ctc01_plan
   ! robot abb-irb2400-10, 3 views in sequence order, rotary table as external axis 1
   ! left out, the cell cannot reach them: views 9
   ! joints in degrees as the controller counts them; the tool is the scanner frame on its mount
-  ! scanner poses in the part's frame (the work object: the part, table at 0), mm
+  ! scanner poses in the part's frame, which turns with the table, mm
   ! scan handshake: view number to output 9, trigger output 3, acknowledge input 4
   PERS tooldata tScanner := [TRUE,[[0.000,0.000,150.000],[1.000000,0.000000,0.000000,0.000000]],[3.200,[0.000,0.000,90.000],[1,0,0,0],0.02100,0.03400,0.01700]];
   ! wPart moves with the table, mechanical unit STN_1: the part in the table's frame
