@@ -11,6 +11,7 @@
 #include <scanplan/planning.h>
 #include <scanplan/planning/capability.h>
 
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
 
@@ -278,6 +279,54 @@ TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
   RecordProperty("registration_u_overlapping", std::to_string(both.budget.registration));
   EXPECT_NEAR(both.covered, 1, 0.02);
   EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
+}
+
+// The parallelism of a step's lower top (x 100 to 300, z 10) to its upper top, datum A (x 0
+// to 100, z 20), each seen straight down in a 100 mm field: the datum by the reference view,
+// the lower top's halves by two views the robot places (accuracy 0.1 mm, sigma s per axis).
+// The zone's planes keep the datum's orientation and are free in place, so it spans the two
+// halves' offsets apart, |d2 - d3|, of sigma s sqrt 2: U = 1.96 s sqrt 2. (A fit of the
+// lower top turns with the step between its halves; its turn and the halves' residuals
+// about it, added, come to over twice that.)
+TEST(Capability, AParallelismSpansTheLayersOfItsFaceInTheDatumsFrame) {
+  test::TempDir dir;
+  const TopoDS_Shape base = BRepPrimAPI_MakeBox(300, 100, 10).Shape();
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 10), 100, 100, 10).Shape();
+  BRepTools::Write(BRepAlgoAPI_Fuse(base, block).Shape(), dir.file("step.brep").c_str());
+  Part part = importPart(dir.file("step.brep"));
+  Characteristic parallelism;
+  parallelism.id = 1;
+  parallelism.kind = "parallelism";
+  parallelism.value = parallelism.upper = 0.2;
+  parallelism.datums = {"A"};
+  for (const Face& f : part.faces) {
+    if (f.type != SurfaceType::Plane || f.bounds.max.z() - f.bounds.min.z() > 0.01) continue;
+    if (f.bounds.min.z() > 19.99) part.gdt.datums = {{"A", {f.id}}};
+    if (std::abs(f.bounds.min.z() - 10) < 0.01 && f.bounds.min.x() > 99.99)
+      parallelism.faces = {f.id};
+  }
+  ASSERT_EQ(part.gdt.datums.size(), 1u);
+  ASSERT_EQ(parallelism.faces.size(), 1u);
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 100;
+  spec.scanner.point_spacing = 2;
+  Plan plan;
+  plan.scanner = spec.scanner;
+  Registration registration;
+  registration.method = RegistrationMode::Robot;
+  registration.robot_accuracy = 0.1;
+  for (int k = 0; k < 3; ++k) {
+    plan.views.push_back(downAt(k + 1, spec.scanner, 50 + 100 * k, 50));
+    ViewRegistration placed;
+    placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
+    registration.views.push_back(placed);
+  }
+  plan.registration = registration;
+  const Capability k = capabilities(part, resolveSpec(part, spec), plan, {parallelism}).front();
+  const double s = 0.1 / 2.7955;  // as in TwoOverlappingViewsLeaveTheirOffsetInTheFlatness
+  RecordProperty("registration_u", std::to_string(k.budget.registration));
+  EXPECT_NEAR(k.covered, 1, 0.02);
+  EXPECT_NEAR(k.budget.registration, 1.96 * s * std::sqrt(2.0), 0.1 * 1.96 * s * std::sqrt(2.0));
 }
 
 // The capability curve of two views, each on one half of a plate's top (flatness 0.2),

@@ -93,6 +93,33 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
+// Points measured where the part's surface is lie on it, wherever they fall: the hole's
+// wall, which the mesh approximates by flat facets, sampled again at other points than the
+// nominal's own, has a profile of 0 in the frame of the plate's faces (the distance to the
+// nearest facet, not along the nearest sample's normal, which puts points across a facet's
+// edge off the wall); moved out along its normals by 0.05 mm, a profile of 2 x 0.05.
+TEST(Inspection, APointOnTheWallBetweenTheNominalsSamplesLiesOnTheWall) {
+  test::TempDir dir;
+  const HolePlate p = holePlate(dir);
+  std::vector<SurfacePoint> all;
+  detail::FacePoints wall = designed(p.part, all);
+  const detail::Nominal nominal(p.part, all);
+  for (int f : p.hole) wall.erase(f);
+  detail::FacePoints out = wall;
+  SimulationOptions options;
+  options.working_plane = false;
+  for (const SurfacePoint& s :
+       Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
+    if (std::count(p.hole.begin(), p.hole.end(), s.face)) {
+      wall[s.face].push_back(s.position);
+      out[s.face].push_back(s.position + 0.05 * s.normal);
+    }
+  const Characteristic profile{4,   "profile_of_surface", false, 0.2, 0,
+                               0.2, {"A", "B", "C"},      p.hole};
+  EXPECT_NEAR(valueOf(profile, p.part, nominal, wall), 0, 1e-6);
+  EXPECT_NEAR(valueOf(profile, p.part, nominal, out), 0.1, 2e-3);
+}
+
 // A view moved by a known registration error moves what it measures by that error: the
 // datums measured by one view, the hole by another whose points are moved by a rigid motion
 // (detail::displacement, as the inspection applies its registration draws). A translation

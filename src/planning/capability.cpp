@@ -14,6 +14,7 @@
 // U is the error that 95% of the draws stay under.
 
 #include "core/kd_tree.h"
+#include "planning/evaluation.h"
 #include "planning/registration_error.h"
 
 #include <scanplan/cad/localization.h>
@@ -57,11 +58,12 @@ struct Patch {
     for (const Look& l : looks) n += l.points;
     return n;
   }
-  // The noise of the points' mean (inverse-variance weighted), for least-squares fits.
+  // The noise of the points' mean, each point alike as the evaluation's least squares
+  // weighs them.
   double meanSigma() const {
-    double weight = 0;
-    for (const Look& l : looks) weight += l.points / (l.sigma * l.sigma);
-    return 1 / std::sqrt(weight);
+    double variance = 0;
+    for (const Look& l : looks) variance += l.points * l.sigma * l.sigma;
+    return std::sqrt(variance) / points();
   }
 };
 
@@ -86,10 +88,11 @@ using Normal = Eigen::Matrix<double, 7, 7>;
 
 // The least-squares fit of the ideal geometry to a characteristic's measured patches,
 // linearised: an offset along the normals (a size), a shift and a small turn. Each
-// patch's row maps the parameters to its displacement along its normal.
+// patch's row maps the parameters to its displacement along its normal; each weighs as its
+// points, every point alike, as the evaluation fits them.
 struct Fit {
   std::vector<Row> rows;
-  std::vector<double> sigmas;  // of each patch's mean point
+  std::vector<double> weights;  // each patch's points
   Eigen::LDLT<Normal> normal;
   double extent = 0;  // the patches' largest distance apart (their box's diagonal), mm
 };
@@ -105,10 +108,9 @@ Fit fitOf(const std::vector<const Patch*>& patches) {
   for (const Patch* p : patches) {
     Row row;
     row << 1, p->point.normal, (p->point.position - centre).cross(p->point.normal);
-    const double sigma = p->meanSigma();
-    normal += row * row.transpose() / (sigma * sigma);
+    normal += row * row.transpose() * p->points();
     fit.rows.push_back(row);
-    fit.sigmas.push_back(sigma);
+    fit.weights.push_back(p->points());
   }
   // Directions the faces leave free (along a plane, about a cylinder's axis) stay at 0.
   normal += 1e-9 * (normal.trace() + 1) * Normal::Identity();
@@ -117,15 +119,18 @@ Fit fitOf(const std::vector<const Patch*>& patches) {
 }
 
 // The rigid motion that best explains patches' displacements `d` along their normals
-// (weighted least squares), the directions the patches leave free held at 0: a datum's
-// fitted motion, or one face's.
+// (least squares, each point alike), the directions the patches leave free held at 0: a
+// datum's fitted motion, or one face's.
 class RigidFit {
  public:
-  explicit RigidFit(const std::vector<const Patch*>& patches) {
+  // `shares`: each patch's weight over its points' (none: all alike).
+  explicit RigidFit(const std::vector<const Patch*>& patches,
+                    const std::vector<double>& shares = {}) {
     Normal6 normal = Normal6::Zero();
-    for (const Patch* p : patches) {
+    for (std::size_t i = 0; i < patches.size(); ++i) {
+      const Patch* p = patches[i];
       const auto row = detail::alongNormal(p->point.position, p->point.normal);
-      const double w = 1 / (p->meanSigma() * p->meanSigma());
+      const double w = (shares.empty() ? 1 : shares[i]) * p->points();
       rows_.push_back(row);
       weights_.push_back(w);
       normal += row.transpose() * row * w;
@@ -193,6 +198,28 @@ class FacePair {
   Vec3 axis_ = Vec3::Zero();
 };
 
+// Each datum patch's share in the datum reference frame's fit, as the inspection aligns it
+// (evaluation.h): each datum weighs kDatumPrecedence times the next, shared among its
+// patches by their points.
+std::vector<double> datumShares(const Gdt& gdt, const Characteristic& c,
+                                const std::vector<const Patch*>& datum) {
+  std::vector<std::size_t> order(datum.size(), 0);
+  std::vector<double> totals(c.datums.size() + 1, 0.0);
+  for (std::size_t i = 0; i < datum.size(); ++i) {
+    while (order[i] < c.datums.size()) {
+      const std::vector<int> faces = datumFaces(gdt, c.datums[order[i]]);
+      if (std::binary_search(faces.begin(), faces.end(), datum[i]->point.face)) break;
+      ++order[i];
+    }
+    totals[order[i]] += datum[i]->points();
+  }
+  std::vector<double> shares;
+  for (std::size_t i = 0; i < datum.size(); ++i)
+    shares.push_back(std::pow(detail::kDatumPrecedence, -static_cast<double>(order[i])) /
+                     totals[order[i]]);
+  return shares;
+}
+
 // What a characteristic's draws read: its measured patches and their fit, and its datum
 // features' patches (none without datums).
 struct Measured {
@@ -200,12 +227,17 @@ struct Measured {
   Fit fit;
   RigidFit datum_motion;
   FacePair faces;
-  Measured(std::vector<const Patch*> f, std::vector<const Patch*> d)
+  bool planar;  // the patches lie on one plane
+  Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
+           const std::vector<double>& datum_shares)
       : feature(std::move(f)),
         datum(std::move(d)),
         fit(fitOf(feature)),
-        datum_motion(datum),
-        faces(feature) {}
+        datum_motion(datum, datum_shares),
+        faces(feature),
+        planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
+          return p->point.normal.dot(feature.front()->point.normal) > std::cos(radians(1));
+        })) {}
 };
 
 // `d` (per feature patch) less the datum features' fitted motion under their `datum_d`.
@@ -224,8 +256,7 @@ struct Fitted {
 };
 Fitted fitted(const Fit& fit, const std::vector<double>& d) {
   Row pull = Row::Zero();
-  for (std::size_t i = 0; i < d.size(); ++i)
-    pull += fit.rows[i] * d[i] / (fit.sigmas[i] * fit.sigmas[i]);
+  for (std::size_t i = 0; i < d.size(); ++i) pull += fit.rows[i] * d[i] * fit.weights[i];
   const Row x = fit.normal.solve(pull);
   Fitted f;
   f.offset = x[0];
@@ -258,7 +289,7 @@ double angleChange(const Measured& m, const std::vector<double>& d, const std::v
 std::vector<double> faceOffsets(const Measured& m, const std::vector<double>& d) {
   std::map<int, std::pair<double, double>> faces;  // weighted offset sum, weight
   for (std::size_t i = 0; i < d.size(); ++i) {
-    const double w = 1 / (m.fit.sigmas[i] * m.fit.sigmas[i]);
+    const double w = m.fit.weights[i];
     faces[m.feature[i]->point.face].first += w * d[i];
     faces[m.feature[i]->point.face].second += w;
   }
@@ -305,7 +336,7 @@ std::vector<double> lookDisplacements(const Measured& m, const std::vector<detai
 }
 
 // One draw of the registration's error on the value: each view moved by a draw of its
-// error. A size or an angle is fitted to each patch moved by the mean of its views' motions;
+// error. A size or an angle is fitted to each patch moved by the mean of its points' motions;
 // a zone (form, profile) holds every view's points, each patch's layers apart. A rigid motion
 // of the whole does not change a form, a size or an angle: only the views' motions against
 // one another, and against the datums' views, do.
@@ -314,9 +345,8 @@ double registrationError(Effect effect, const Measured& m,
   const auto moved = [&](const Patch* p) {
     double sum = 0, weight = 0;
     for (const Look& l : p->looks) {
-      const double w = l.points / (l.sigma * l.sigma);
-      sum += w * (detail::alongNormal(l.position, l.normal) * moves[l.view])(0);
-      weight += w;
+      sum += l.points * (detail::alongNormal(l.position, l.normal) * moves[l.view])(0);
+      weight += l.points;
     }
     return weight > 0 ? sum / weight : 0.0;
   };
@@ -335,7 +365,8 @@ double registrationError(Effect effect, const Measured& m,
   std::vector<double> fitted_at = f.at;  // the fitted geometry, in the frame the layers lie
   for (std::size_t i = 0; i < d.size(); ++i) fitted_at[i] += datum_shift[i];
   switch (effect) {
-    case Effect::Form:
+    case Effect::Form:  // a plane's orientation: the layers in the datums' frame, place free
+      if (relative && m.planar) return range(lookDisplacements(m, moves, datum_shift));
       return (relative ? range(f.at) : 0.0) + range(lookDisplacements(m, moves, fitted_at));
     case Effect::Profile:
       return 2 * largestMagnitude(lookDisplacements(m, moves, relative ? datum_shift : fitted_at));
@@ -714,8 +745,8 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    k.budget = budgetOf(c, Measured(measured, datum), plan.scanner, moves, options,
-                        spec.spec.planner.seed);
+    k.budget = budgetOf(c, Measured(measured, datum, datumShares(part.gdt, c, datum)), plan.scanner,
+                        moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
   judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);

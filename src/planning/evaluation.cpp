@@ -5,10 +5,14 @@
 
 #include "core/kd_tree.h"
 
+#include <scanplan/cad/mesh.h>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <set>
@@ -17,8 +21,6 @@ namespace scanplan::detail {
 
 namespace {
 
-// Each datum weighs this many times the next (primary, secondary, tertiary).
-constexpr double kPrecedence = 100;
 // Cross-sections of circularity and circular runout, mm along the axis.
 constexpr double kSlice = 3;
 constexpr std::size_t kLeastPoints = 12;
@@ -389,10 +391,43 @@ Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal
 
 }  // namespace
 
+// A face's triangles, found near a point by their centres; `reach` the farthest any
+// vertex lies from its triangle's centre.
+struct Facets {
+  std::vector<std::array<Vec3, 3>> corners;
+  std::vector<Vec3> normals, centres;
+  double reach = 0;
+  std::unique_ptr<PointCloudAdaptor> cloud;
+  std::unique_ptr<PointTree> tree;
+};
+
 struct Nominal::Trees {
   std::map<int, std::unique_ptr<PointCloudAdaptor>> clouds;
   std::map<int, std::unique_ptr<PointTree>> trees;
+  std::map<int, Facets> facets;
 };
+
+namespace {
+
+// `f`: the triangles of the part's mesh on face `id`, indexed in place.
+void fillFacets(const Part& part, int id, Facets& f) {
+  const Face& face = part.face(id);
+  for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
+    const Vec3i& tri = part.mesh.triangles[static_cast<std::size_t>(t)];
+    const std::array<Vec3, 3> corners{part.mesh.vertices[tri[0]], part.mesh.vertices[tri[1]],
+                                      part.mesh.vertices[tri[2]]};
+    const Vec3 centre = (corners[0] + corners[1] + corners[2]) / 3;
+    for (const Vec3& c : corners) f.reach = std::max(f.reach, (c - centre).norm());
+    f.corners.push_back(corners);
+    f.normals.push_back(part.mesh.normal(t));
+    f.centres.push_back(centre);
+  }
+  f.cloud = std::make_unique<PointCloudAdaptor>(PointCloudAdaptor{f.centres});
+  f.tree = std::make_unique<PointTree>(3, *f.cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  f.tree->buildIndex();
+}
+
+}  // namespace
 
 Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     : trees_(std::make_unique<Trees>()) {
@@ -411,6 +446,7 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     f.normal = plane.normal;
     for (const Vec3& p : f.points) f.rim = std::max(f.rim, perpendicular(p - f.centroid, f.normal));
     if (f.type == SurfaceType::Cylinder) f.cylinder = cylinderFromNormals(f.points, f.normals);
+    if (part.face(id).triangle_count > 0) fillFacets(part, id, trees_->facets[id]);
     auto& cloud = trees_->clouds[id] =
         std::make_unique<PointCloudAdaptor>(PointCloudAdaptor{f.points});
     auto& tree = trees_->trees[id] =
@@ -431,7 +467,29 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   unsigned index = 0;
   double squared = 0;
   trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
-  return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+  const auto found = trees_->facets.find(id);
+  if (found == trees_->facets.end())
+    return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+  // The face's surface lies within the nearest sample's distance: its triangles that may
+  // reach that near, and the nearest point on them.
+  const Facets& facets = found->second;
+  const double within = std::sqrt(squared) + facets.reach + 1e-9;
+  Neighbours near;
+  nanoflann::SearchParams unsorted;
+  unsorted.sorted = false;
+  facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
+  double best = std::numeric_limits<double>::infinity();
+  std::pair<Vec3, double> result{f.normals[index], f.normals[index].dot(p - f.points[index])};
+  for (const auto& [t, d2] : near) {
+    const auto& c = facets.corners[t];
+    const Vec3 q = closestPointOnTriangle(p, c[0], c[1], c[2]);
+    const double d = (p - q).norm();
+    if (d >= best) continue;
+    best = d;
+    const Vec3& n = facets.normals[t];
+    result = {n, n.dot(p - q) < 0 ? -d : d};
+  }
+  return result;
 }
 
 namespace {
@@ -489,7 +547,7 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
                                             gdt, nominal, points, constraints);
           !why.empty())
         return {std::nullopt, why};
-    weight /= kPrecedence;
+    weight /= kDatumPrecedence;
   }
   Eigen::Matrix<double, 6, 6>& normal = constraints.normal;
   normal += 1e-14 * (normal.trace() + 1) * Eigen::Matrix<double, 6, 6>::Identity();

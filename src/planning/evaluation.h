@@ -20,6 +20,10 @@
 
 namespace scanplan::detail {
 
+// In a datum reference frame, each datum weighs this many times the next (primary,
+// secondary, tertiary), each datum's points alike.
+constexpr double kDatumPrecedence = 100;
+
 // Points by the face they lie on (part frame).
 using FacePoints = std::map<int, std::vector<Vec3>>;
 
