@@ -213,6 +213,24 @@ TEST(ErrorBudget, IcpOnACornerOfThreePlanesHasTheClosedFormCovariance) {
   for (int axis = 3; axis < 6; ++axis) EXPECT_NEAR(c(axis, axis), v / m, 1e-6 * v / m);
 }
 
+// Views straight down at (x, 50) for each of `xs`, the first the reference, the others
+// placed by a robot of accuracy 0.1 mm.
+Plan robotPlacedViews(const Scanner& scanner, const std::vector<double>& xs) {
+  Plan plan;
+  plan.scanner = scanner;
+  Registration registration;
+  registration.method = RegistrationMode::Robot;
+  registration.robot_accuracy = 0.1;
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    plan.views.push_back(downAt(static_cast<int>(k) + 1, scanner, xs[k], 50));
+    ViewRegistration placed;
+    placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
+    registration.views.push_back(placed);
+  }
+  plan.registration = registration;
+  return plan;
+}
+
 // The 200 x 100 mm top of a plate (flatness 0.2), seen straight on by a scanner of a
 // 100 x 100 mm field, noise 0.01 mm and a flatness error of 0.02 mm: by `views` views spread
 // along x, the first the reference and the others placed by a robot of accuracy 0.1 mm.
@@ -224,19 +242,9 @@ Capability twoHalvesCase(const test::TempDir& dir, int views, double field = 100
   spec.scanner.fov_width = spec.scanner.fov_height = field;
   spec.scanner.point_spacing = 2;
   spec.scanner.flatness_error = 0.02;
-  Plan plan;
-  plan.scanner = spec.scanner;
-  Registration registration;
-  registration.method = RegistrationMode::Robot;
-  registration.robot_accuracy = 0.1;
-  for (int k = 0; k < views; ++k) {
-    const double x = views == 1 || field > 200 ? 100 : 45 + 110 * k;
-    plan.views.push_back(downAt(k + 1, spec.scanner, x, 50));
-    ViewRegistration placed;
-    placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
-    registration.views.push_back(placed);
-  }
-  plan.registration = registration;
+  std::vector<double> xs;
+  for (int k = 0; k < views; ++k) xs.push_back(views == 1 || field > 200 ? 100 : 45 + 110 * k);
+  const Plan plan = robotPlacedViews(spec.scanner, xs);
   return capabilities(part, resolveSpec(part, spec), plan, {topFlatness(part, 0.2)}).front();
 }
 
@@ -310,18 +318,7 @@ TEST(Capability, AParallelismSpansTheLayersOfItsFaceInTheDatumsFrame) {
   Spec spec = defaultSpec();
   spec.scanner.fov_width = spec.scanner.fov_height = 100;
   spec.scanner.point_spacing = 2;
-  Plan plan;
-  plan.scanner = spec.scanner;
-  Registration registration;
-  registration.method = RegistrationMode::Robot;
-  registration.robot_accuracy = 0.1;
-  for (int k = 0; k < 3; ++k) {
-    plan.views.push_back(downAt(k + 1, spec.scanner, 50 + 100 * k, 50));
-    ViewRegistration placed;
-    placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
-    registration.views.push_back(placed);
-  }
-  plan.registration = registration;
+  const Plan plan = robotPlacedViews(spec.scanner, {50, 150, 250});
   const Capability k = capabilities(part, resolveSpec(part, spec), plan, {parallelism}).front();
   const double s = 0.1 / 2.7955;  // as in TwoOverlappingViewsLeaveTheirOffsetInTheFlatness
   RecordProperty("registration_u", std::to_string(k.budget.registration));
