@@ -203,15 +203,15 @@ class FacePair {
 // patches by their points.
 std::vector<double> datumShares(const Gdt& gdt, const Characteristic& c,
                                 const std::vector<const Patch*>& datum) {
-  std::vector<std::size_t> order(datum.size(), 0);
+  std::map<int, std::size_t> rank;  // each datum face's place in the frame, the first naming it
+  for (std::size_t k = c.datums.size(); k-- > 0;)
+    for (int face : datumFaces(gdt, c.datums[k])) rank[face] = k;
+  std::vector<std::size_t> order;
   std::vector<double> totals(c.datums.size() + 1, 0.0);
-  for (std::size_t i = 0; i < datum.size(); ++i) {
-    while (order[i] < c.datums.size()) {
-      const std::vector<int> faces = datumFaces(gdt, c.datums[order[i]]);
-      if (std::binary_search(faces.begin(), faces.end(), datum[i]->point.face)) break;
-      ++order[i];
-    }
-    totals[order[i]] += datum[i]->points();
+  for (const Patch* p : datum) {
+    const auto found = rank.find(p->point.face);
+    order.push_back(found == rank.end() ? c.datums.size() : found->second);
+    totals[order.back()] += p->points();
   }
   std::vector<double> shares;
   for (std::size_t i = 0; i < datum.size(); ++i)
@@ -220,10 +220,17 @@ std::vector<double> datumShares(const Gdt& gdt, const Characteristic& c,
   return shares;
 }
 
+std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
+  std::vector<double> sigmas;
+  for (const Patch* p : patches) sigmas.push_back(p->meanSigma());
+  return sigmas;
+}
+
 // What a characteristic's draws read: its measured patches and their fit, and its datum
 // features' patches (none without datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
+  std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   Fit fit;
   RigidFit datum_motion;
   FacePair faces;
@@ -232,6 +239,8 @@ struct Measured {
            const std::vector<double>& datum_shares)
       : feature(std::move(f)),
         datum(std::move(d)),
+        feature_sigmas(sigmasOf(feature)),
+        datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
         datum_motion(datum, datum_shares),
         faces(feature),
@@ -304,8 +313,8 @@ std::vector<double> faceOffsets(const Measured& m, const std::vector<double>& d)
 double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
   std::normal_distribution<double> normal;
   std::vector<double> d, datum_d;
-  for (const Patch* p : m.feature) d.push_back(p->meanSigma() * normal(random));
-  for (const Patch* p : m.datum) datum_d.push_back(p->meanSigma() * normal(random));
+  for (double sigma : m.feature_sigmas) d.push_back(sigma * normal(random));
+  for (double sigma : m.datum_sigmas) datum_d.push_back(sigma * normal(random));
   relativeToDatums(m, datum_d, d);
   const Fitted f = fitted(m.fit, d);
   switch (effect) {

@@ -467,9 +467,9 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   unsigned index = 0;
   double squared = 0;
   trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
+  std::pair<Vec3, double> result{f.normals[index], f.normals[index].dot(p - f.points[index])};
   const auto found = trees_->facets.find(id);
-  if (found == trees_->facets.end())
-    return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+  if (found == trees_->facets.end()) return result;
   // The face's surface lies within the nearest sample's distance: its triangles that may
   // reach that near, and the nearest point on them.
   const Facets& facets = found->second;
@@ -479,7 +479,6 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   unsorted.sorted = false;
   facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
   double best = std::numeric_limits<double>::infinity();
-  std::pair<Vec3, double> result{f.normals[index], f.normals[index].dot(p - f.points[index])};
   for (const auto& [t, d2] : near) {
     const auto& c = facets.corners[t];
     const Vec3 q = closestPointOnTriangle(p, c[0], c[1], c[2]);
