@@ -120,6 +120,35 @@ TEST(Inspection, APointOnTheWallBetweenTheNominalsSamplesLiesOnTheWall) {
   EXPECT_NEAR(valueOf(profile, p.part, nominal, out), 0.1, 2e-3);
 }
 
+// A hole's wall slid 0.3 mm along its own axis lies on the same cylinder: its profile is 0,
+// though the points near the plate's top are carried past the wall's edge (measured to the
+// nearest point of the wall, they would lie 0.3 mm off, a profile of 0.6). Slid 0.3 mm across
+// the axis, the wall's profile is twice that, 0.6.
+TEST(Inspection, AWallSlidAlongItselfPastItsEdgeKeepsItsProfile) {
+  test::TempDir dir;
+  const HolePlate p = holePlate(dir);
+  std::vector<SurfacePoint> all;
+  detail::FacePoints slid = designed(p.part, all);
+  const detail::Nominal nominal(p.part, all);
+  for (int f : p.hole) slid.erase(f);
+  detail::FacePoints across = slid;
+  SimulationOptions options;
+  options.working_plane = false;
+  std::size_t past_edge = 0;
+  for (const SurfacePoint& s :
+       Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
+    if (std::count(p.hole.begin(), p.hole.end(), s.face)) {
+      slid[s.face].push_back(s.position + Vec3(0, 0, 0.3));
+      across[s.face].push_back(s.position + Vec3(0.3, 0, 0));
+      past_edge += s.position.z() > 20 - 0.3;
+    }
+  ASSERT_GT(past_edge, 10u);
+  const Characteristic profile{4,   "profile_of_surface", false, 0.2, 0,
+                               0.2, {"A", "B", "C"},      p.hole};
+  EXPECT_NEAR(valueOf(profile, p.part, nominal, slid), 0, 1e-6);
+  EXPECT_NEAR(valueOf(profile, p.part, nominal, across), 0.6, 0.01);
+}
+
 // A view moved by a known registration error moves what it measures by that error: the
 // datums measured by one view, the hole by another whose points are moved by a rigid motion
 // (detail::displacement, as the inspection applies its registration draws). A translation

@@ -471,7 +471,8 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   const auto found = trees_->facets.find(id);
   if (found == trees_->facets.end()) return result;
   // The face's surface lies within the nearest sample's distance: its triangles that may
-  // reach that near, and the nearest point on them.
+  // reach that near, the nearest point on them, and the distance along that triangle's
+  // normal (the whole distance but past the face's edge).
   const Facets& facets = found->second;
   const double within = std::sqrt(squared) + facets.reach + 1e-9;
   Neighbours near;
@@ -486,7 +487,7 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
     if (d >= best) continue;
     best = d;
     const Vec3& n = facets.normals[t];
-    result = {n, n.dot(p - q) < 0 ? -d : d};
+    result = {n, n.dot(p - q)};
   }
   return result;
 }

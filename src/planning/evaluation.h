@@ -43,8 +43,10 @@ class Nominal {
   Nominal(const Part& part, std::span<const SurfacePoint> points);
   ~Nominal();
   const NominalFace* face(int id) const;
-  // The normal of face `id` at its sample nearest `p`, and the signed distance from `p`
-  // to it along that normal.
+  // The normal of face `id` at its point nearest `p` (on its triangles; without them, its
+  // nearest sample), and the signed distance from `p` to it along that normal: a point
+  // carried past the face's edge is as far from the face as it lies along its normal, as a
+  // surface comparison measures deviations normal to the nominal.
   std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
 
  private:
