@@ -5,10 +5,11 @@
 # and the planning time. With --inspected, then a row per characteristic of the plan aimed
 # at characteristics: its predicted U beside the virtual inspection's U and bias, from the
 # plan's own inspection (20 runs), or from `scanplan inspect` with RUNS runs when given (the
-# inspected U of 20 runs is itself uncertain by about 16 %).
-#   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected [RUNS]]
+# inspected U of 20 runs is itself uncertain by about 16 %), its points SPACING mm apart at
+# the standoff when given (`scanplan inspect --spacing`; default a hundredth of the field).
+#   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected [RUNS [SPACING]]]
 set -euo pipefail
-exe=$1 part=$2 spec=${3:--} inspected=${4:-} runs=${5:-}
+exe=$1 part=$2 spec=${3:--} inspected=${4:-} runs=${5:-} spacing=${6:-}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "| aim | views | cycle s | capable | beyond the views | planning s |"
@@ -40,6 +41,7 @@ if [ -n "$runs" ]; then
   args=(inspect "$out/characteristics/plan.json" "$part" --runs "$runs" -q
         -o "$out/inspection.json")
   [ "$spec" = "-" ] || args+=(--spec "$spec")
+  [ -z "$spacing" ] || args+=(--spacing "$spacing")
   "$exe" "${args[@]}" > /dev/null
   inspection=$out/inspection.json
 fi
