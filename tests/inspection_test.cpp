@@ -20,6 +20,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 namespace scanplan {
@@ -93,31 +94,42 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
+// The hole plate's faces as designed but its hole's wall (`rest`), and the wall sampled again
+// at other points than the nominal's own, 0.5 mm apart (`wall`).
+struct ResampledWall {
+  test::TempDir dir;
+  HolePlate p = holePlate(dir);
+  std::vector<SurfacePoint> all;
+  detail::FacePoints rest = designed(p.part, all);
+  detail::Nominal nominal{p.part, all};
+  std::vector<SurfacePoint> wall;
+  ResampledWall() {
+    for (int f : p.hole) rest.erase(f);
+    SimulationOptions options;
+    options.working_plane = false;
+    for (const SurfacePoint& s :
+         Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
+      if (std::count(p.hole.begin(), p.hole.end(), s.face)) wall.push_back(s);
+  }
+  // The profile of the wall (datums A, B, C: the plate's faces), its points each moved by
+  // `move`.
+  double profile(const std::function<Vec3(const SurfacePoint&)>& move) const {
+    detail::FacePoints points = rest;
+    for (const SurfacePoint& s : wall) points[s.face].push_back(s.position + move(s));
+    const Characteristic c{4, "profile_of_surface", false, 0.2, 0, 0.2, {"A", "B", "C"}, p.hole};
+    return valueOf(c, p.part, nominal, points);
+  }
+};
+
 // Points measured where the part's surface is lie on it, wherever they fall: the hole's
 // wall, which the mesh approximates by flat facets, sampled again at other points than the
 // nominal's own, has a profile of 0 in the frame of the plate's faces (the distance to the
 // nearest facet, not along the nearest sample's normal, which puts points across a facet's
 // edge off the wall); moved out along its normals by 0.05 mm, a profile of 2 x 0.05.
 TEST(Inspection, APointOnTheWallBetweenTheNominalsSamplesLiesOnTheWall) {
-  test::TempDir dir;
-  const HolePlate p = holePlate(dir);
-  std::vector<SurfacePoint> all;
-  detail::FacePoints wall = designed(p.part, all);
-  const detail::Nominal nominal(p.part, all);
-  for (int f : p.hole) wall.erase(f);
-  detail::FacePoints out = wall;
-  SimulationOptions options;
-  options.working_plane = false;
-  for (const SurfacePoint& s :
-       Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
-    if (std::count(p.hole.begin(), p.hole.end(), s.face)) {
-      wall[s.face].push_back(s.position);
-      out[s.face].push_back(s.position + 0.05 * s.normal);
-    }
-  const Characteristic profile{4,   "profile_of_surface", false, 0.2, 0,
-                               0.2, {"A", "B", "C"},      p.hole};
-  EXPECT_NEAR(valueOf(profile, p.part, nominal, wall), 0, 1e-6);
-  EXPECT_NEAR(valueOf(profile, p.part, nominal, out), 0.1, 2e-3);
+  const ResampledWall w;
+  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3::Zero(); }), 0, 1e-6);
+  EXPECT_NEAR(w.profile([](const SurfacePoint& s) { return Vec3(0.05 * s.normal); }), 0.1, 2e-3);
 }
 
 // A hole's wall slid 0.3 mm along its own axis lies on the same cylinder: its profile is 0,
@@ -125,28 +137,12 @@ TEST(Inspection, APointOnTheWallBetweenTheNominalsSamplesLiesOnTheWall) {
 // nearest point of the wall, they would lie 0.3 mm off, a profile of 0.6). Slid 0.3 mm across
 // the axis, the wall's profile is twice that, 0.6.
 TEST(Inspection, AWallSlidAlongItselfPastItsEdgeKeepsItsProfile) {
-  test::TempDir dir;
-  const HolePlate p = holePlate(dir);
-  std::vector<SurfacePoint> all;
-  detail::FacePoints slid = designed(p.part, all);
-  const detail::Nominal nominal(p.part, all);
-  for (int f : p.hole) slid.erase(f);
-  detail::FacePoints across = slid;
-  SimulationOptions options;
-  options.working_plane = false;
-  std::size_t past_edge = 0;
-  for (const SurfacePoint& s :
-       Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
-    if (std::count(p.hole.begin(), p.hole.end(), s.face)) {
-      slid[s.face].push_back(s.position + Vec3(0, 0, 0.3));
-      across[s.face].push_back(s.position + Vec3(0.3, 0, 0));
-      past_edge += s.position.z() > 20 - 0.3;
-    }
-  ASSERT_GT(past_edge, 10u);
-  const Characteristic profile{4,   "profile_of_surface", false, 0.2, 0,
-                               0.2, {"A", "B", "C"},      p.hole};
-  EXPECT_NEAR(valueOf(profile, p.part, nominal, slid), 0, 1e-6);
-  EXPECT_NEAR(valueOf(profile, p.part, nominal, across), 0.6, 0.01);
+  const ResampledWall w;
+  ASSERT_GT(std::count_if(w.wall.begin(), w.wall.end(),
+                          [](const SurfacePoint& s) { return s.position.z() > 20 - 0.3; }),
+            10);
+  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0, 0, 0.3); }), 0, 1e-6);
+  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0.3, 0, 0); }), 0.6, 0.01);
 }
 
 // A view moved by a known registration error moves what it measures by that error: the

@@ -1,6 +1,7 @@
 // Registration feasibility against analytic cases: the stability of planes, cylinders
 // and corners, markers, ICP on simulated clouds, bridging, and the sequence.
 
+#include "planning/registration_error.h"
 #include "support.h"
 
 #include <scanplan/cad/import.h>
@@ -221,6 +222,91 @@ std::vector<Marker> plateMarkers(const std::vector<std::pair<double, double>>& a
   std::vector<Marker> markers;
   for (const auto& [x, y] : at) markers.push_back({Vec3(x, y, 10), Vec3::UnitZ()});
   return markers;
+}
+
+// Markers at `xs` x `ys` on the plate of PlateScene (z = 10), facing up.
+std::vector<Marker> markerGrid(const std::vector<double>& xs, const std::vector<double>& ys) {
+  std::vector<std::pair<double, double>> at;
+  for (double x : xs)
+    for (double y : ys) at.emplace_back(x, y);
+  return plateMarkers(at);
+}
+
+// The mean square of the displacement, mm², that a rigid fit of `markers` (each measured in
+// both views, per axis sigma 1) leaves over a grid across the field of a view aimed at
+// (`x`, 0) on the plate: the full 6x6 covariance of the fit (detail::rigidFitCovariance).
+double fitError(const std::vector<Marker>& markers, double x) {
+  std::vector<Vec3> at;
+  for (const Marker& m : markers) at.push_back(m.position);
+  const detail::TwistCovariance covariance = detail::rigidFitCovariance(at, std::sqrt(2.0));
+  double sum = 0;
+  int count = 0;
+  for (double u = -150; u <= 150; u += 50)
+    for (double v = -100; v <= 100; v += 50) {
+      Eigen::Matrix<double, 3, 6> jacobian;  // displacement = w x p + t
+      const Vec3 p(x + u, v, 10);
+      jacobian << 0, p.z(), -p.y(), 1, 0, 0, -p.z(), 0, p.x(), 0, 1, 0, p.y(), -p.x(), 0, 0, 0, 1;
+      sum += (jacobian * covariance * jacobian.transpose()).trace();
+      ++count;
+    }
+  return sum / count;
+}
+
+// Each view registers along the chain of pairs whose errors add up least. Three views of the
+// plate in a row (aimed at x = -100, 0 and 100), the first seeing the most markers (the
+// reference); markers in the middle that all three see, one more that only the first two
+// see and one that only the last two see. Fifteen in the middle: the third view's direct
+// link to the first is surer than the chain through the second, though each of the chain's
+// pairs shares one marker more (their errors add). Three close together in the middle (a
+// triangle 30 mm across, as few and as close as still register): the
+// direct link is far weaker, and the third registers through the second, its pairs sharing
+// three spread markers more each.
+TEST(RegistrationTest, EachViewRegistersAlongTheChainWhoseErrorsAddUpLeast) {
+  const PlateScene scene;
+  const Simulator simulator(scene.part, scene.scanner);
+  const std::vector<View> row = {aimedAt(scene.scanner, Vec3(-100, 0, 10), Vec3::UnitZ(), 1),
+                                 aimedAt(scene.scanner, Vec3(0, 0, 10), Vec3::UnitZ(), 2),
+                                 aimedAt(scene.scanner, Vec3(100, 0, 10), Vec3::UnitZ(), 3)};
+  const std::vector<Marker> first_only = markerGrid({-230, -190}, {-100, -50, 0, 50, 100});
+  RegistrationOptions options;
+  options.bridging = false;
+  const auto third = [&](const std::vector<Marker>& middle, const std::vector<Marker>& first_two,
+                         const std::vector<Marker>& last_two) {
+    std::vector<Marker> markers = first_only;
+    for (const auto* list : {&middle, &first_two, &last_two})
+      markers.insert(markers.end(), list->begin(), list->end());
+    std::vector<View> views = row;
+    const Registration r = registerWithBridging(simulator, views, markers, options, {});
+    EXPECT_EQ(r.reference, 1);
+    EXPECT_EQ(r.views[1].to, 1);
+    const PairCheck* first = r.pair(1, 3);
+    EXPECT_TRUE(first && first->markers && first->shared_markers == middle.size());
+    const PairCheck* through = r.pair(1, 2);
+    EXPECT_TRUE(through && through->shared_markers == middle.size() + first_two.size());
+    return r.views[2];
+  };
+  const auto with = [](std::vector<Marker> a, const std::vector<Marker>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+
+  const std::vector<Marker> wide = markerGrid({-40, 0, 40}, {-100, -50, 0, 50, 100});
+  const std::vector<Marker> one_left = plateMarkers({{-100, 0}}),
+                            one_right = plateMarkers({{100, 0}});
+  ASSERT_LT(fitError(wide, 100),
+            fitError(with(wide, one_left), 100) + fitError(with(wide, one_right), 100));
+  const ViewRegistration direct = third(wide, one_left, one_right);
+  EXPECT_EQ(direct.method, RegistrationMethod::Markers);
+  EXPECT_EQ(direct.to, 1);
+
+  const std::vector<Marker> close = plateMarkers({{-15, -10}, {15, -10}, {0, 14}});
+  const std::vector<Marker> left = markerGrid({-140, -100}, {-90, 0, 90}),
+                            right = markerGrid({100, 140}, {-90, 0, 90});
+  ASSERT_GT(fitError(close, 100),
+            fitError(with(close, left), 100) + fitError(with(close, right), 100));
+  const ViewRegistration chained = third(close, left, right);
+  EXPECT_EQ(chained.method, RegistrationMethod::Markers);
+  EXPECT_EQ(chained.to, 2);
 }
 
 RegistrationOptions referencePoints() {

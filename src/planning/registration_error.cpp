@@ -246,8 +246,7 @@ std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& 
     if (!plan.orientations.empty()) errors[v].frame = plan.orientations[orientation[v]].frame;
   if (!plan.registration || plan.registration->views.size() != n) return errors;
   const RegistrationOptions options = registrationOptions(spec.spec);
-  const double sigma =
-      options.marker_sigma > 0 ? options.marker_sigma : plan.scanner.point_spacing / 20;
+  const double sigma = markerSigma(options, plan.scanner);
   std::vector<TwistCovariance> icp(n, TwistCovariance::Zero());
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
     icpErrors(part, spec, plan, k, orientation, icp);

@@ -14,9 +14,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numeric>
+#include <queue>
 
 namespace scanplan {
 
@@ -70,6 +72,10 @@ bool robotRegistersAll(const RegistrationOptions& options) {
 std::size_t Registration::registered() const {
   return static_cast<std::size_t>(std::count_if(
       views.begin(), views.end(), [](auto& v) { return v.method != RegistrationMethod::None; }));
+}
+
+double markerSigma(const RegistrationOptions& options, const Scanner& scanner) {
+  return options.marker_sigma > 0 ? options.marker_sigma : scanner.point_spacing / 20;
 }
 
 bool Registration::links(const PairCheck& pair) const {
@@ -271,37 +277,95 @@ Registration RegistrationGraph::result(std::size_t first_bridge) {
       reference = static_cast<int>(v);
   }
   registration.reference = views_[reference].id;
-  std::vector<int> queue;
-  std::vector<char> reached(views_.size(), 0);
   // Views seeing the reference points register into their frame, the reference too; else
   // the reference fixes the frame.
+  std::vector<std::size_t> roots;
   for (std::size_t v = 0; v < views_.size(); ++v)
     if (framed_[v]) {
       registration.views[v].method = RegistrationMethod::ReferencePoints;
-      queue.push_back(static_cast<int>(v));
-      reached[v] = 1;
+      roots.push_back(v);
     }
-  if (queue.empty()) {
+  if (roots.empty()) {
     registration.views[reference].method = RegistrationMethod::Reference;
-    queue.push_back(reference);
-    reached[reference] = 1;
+    roots.push_back(static_cast<std::size_t>(reference));
   }
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    const int v = queue[q];
-    for (std::size_t p : used_) {
-      const auto [i, j] = ends_[p];
-      const int other = static_cast<int>(i) == v   ? static_cast<int>(j)
-                        : static_cast<int>(j) == v ? static_cast<int>(i)
-                                                   : -1;
-      if (other < 0 || reached[other]) continue;
-      reached[other] = 1;
-      registration.views[other].method =
-          pairs_[p].markers ? RegistrationMethod::Markers : RegistrationMethod::Icp;
-      registration.views[other].to = views_[v].id;
-      queue.push_back(other);
-    }
+  for (const auto& [v, p] : leastErrorLinks(registration, roots)) {
+    const auto [i, j] = ends_[p];
+    registration.views[v].method =
+        pairs_[p].markers ? RegistrationMethod::Markers : RegistrationMethod::Icp;
+    registration.views[v].to = views_[i == v ? j : i].id;
   }
   return registration;
+}
+
+bool RegistrationGraph::surer(std::size_t a, std::size_t b) const {
+  const PairCheck &x = pairs_[a], &y = pairs_[b];
+  if (x.markers != y.markers) return x.markers;
+  if (x.markers) return x.shared_markers > y.shared_markers;
+  return x.condition < y.condition;
+}
+
+double RegistrationGraph::linkVariance(std::size_t p) const {
+  const PairCheck& pair = pairs_[p];
+  if (!pair.markers) {
+    const double error = pair.icp ? pair.icp->error : options_.tolerance;
+    return error * error;
+  }
+  std::vector<int> shared;
+  const auto& [i, j] = ends_[p];
+  std::set_intersection(seen_[i].markers.begin(), seen_[i].markers.end(), seen_[j].markers.begin(),
+                        seen_[j].markers.end(), std::back_inserter(shared));
+  // About the markers' centroid the fit's shift and turn are apart: the shift's variance
+  // sigma² / n per axis, the turn's sigma² times the inverse of the markers' spread.
+  const std::vector<Vec3> at = overlaps_->markerPositions(shared);
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& q : at) centre += q / static_cast<double>(at.size());
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (const Vec3& q : at) {
+    const Vec3 d = q - centre;
+    spread += d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose();
+  }
+  const Scanner& s = simulator_.scanner();
+  const double sigma = std::sqrt(2.0) * markerSigma(options_, s);
+  const double lever = std::hypot(s.fov_width, s.fov_height) / 2;
+  const double turn = spread.inverse().trace();
+  const double variance =
+      sigma * sigma * (3 / static_cast<double>(at.size()) + lever * lever * turn);
+  return std::isfinite(variance) ? variance : std::numeric_limits<double>::max();
+}
+
+std::map<std::size_t, std::size_t> RegistrationGraph::leastErrorLinks(
+    const Registration& registration, const std::vector<std::size_t>& roots) const {
+  std::vector<std::vector<std::size_t>> incident(views_.size());  // pairs that link
+  std::vector<double> cost(pairs_.size(), 0);
+  for (std::size_t p = 0; p < pairs_.size(); ++p)
+    if (registration.links(pairs_[p])) {
+      incident[ends_[p].first].push_back(p);
+      incident[ends_[p].second].push_back(p);
+      cost[p] = linkVariance(p);
+    }
+  std::vector<double> total(views_.size(), std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  for (std::size_t v : roots) {
+    total[v] = 0;
+    queue.push({0, v});
+  }
+  std::map<std::size_t, std::size_t> link;  // view -> the pair it registers by
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > total[v]) continue;
+    for (std::size_t p : incident[v]) {
+      const std::size_t other = ends_[p].first == v ? ends_[p].second : ends_[p].first;
+      if (d + cost[p] < total[other]) {
+        total[other] = d + cost[p];
+        link[other] = p;
+        queue.push({total[other], other});
+      }
+    }
+  }
+  return link;
 }
 
 std::vector<std::size_t> RegistrationGraph::insert(const View& view, const Observation& seen) {
@@ -346,12 +410,8 @@ std::vector<double> RegistrationGraph::distances(const std::vector<Vec3>& to) co
 }
 
 void RegistrationGraph::connect(std::vector<std::size_t> candidates, bool shown) {
-  std::stable_sort(candidates.begin(), candidates.end(), [&](std::size_t x, std::size_t y) {
-    const PairCheck &a = pairs_[x], &b = pairs_[y];
-    if (a.markers != b.markers) return a.markers;
-    if (a.markers) return a.shared_markers > b.shared_markers;
-    return a.condition < b.condition;
-  });
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](std::size_t x, std::size_t y) { return surer(x, y); });
   const auto registrable = static_cast<std::size_t>(std::count_if(
       candidates.begin(), candidates.end(), [&](std::size_t p) { return pairs_[p].passes(); }));
   std::size_t verified_up_to = 0;  // candidates before this index were ICP-verified ahead

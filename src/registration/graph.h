@@ -9,6 +9,7 @@
 #include <scanplan/core/progress.h>
 #include <scanplan/registration/registration.h>
 
+#include <map>
 #include <memory>
 #include <span>
 #include <utility>
@@ -53,8 +54,10 @@ class RegistrationGraph {
   // could register to.
   std::vector<int> bridgeable();
 
-  // The registration of each view: a tree rooted at the reference view, over the pairs
-  // used. Views from `first_bridge` on are bridging views.
+  // The registration of each view: a tree rooted at the reference view (or at the views
+  // seeing the reference points), each view linked to it by the chain of pairs that link
+  // (registration.links) whose errors add up least. Views from `first_bridge` on are
+  // bridging views.
   Registration result(std::size_t first_bridge);
 
   const Simulator& simulator() const { return simulator_; }
@@ -66,6 +69,18 @@ class RegistrationGraph {
  private:
   // Verifies the pair (when verification is on and it is an ICP pair).
   bool verify(std::size_t p);
+  // Whether pair `a` is tried before pair `b` to join components: markers before ICP, more
+  // shared markers, a better conditioned overlap.
+  bool surer(std::size_t a, std::size_t b) const;
+  // The mean square, mm², of the displacement pair `p`'s registration error gives a point
+  // half the field's diagonal from where it holds: by markers, the rigid fit of the shared
+  // markers under the marker noise (each position measured in both views); by ICP, the
+  // check's own error (the tolerance when not checked).
+  double linkVariance(std::size_t p) const;
+  // Per view the `roots` reach by pairs that link (in `registration`), the pair it
+  // registers by: the chain of least summed linkVariance (Dijkstra), as a chain's errors add.
+  std::map<std::size_t, std::size_t> leastErrorLinks(const Registration& registration,
+                                                     const std::vector<std::size_t>& roots) const;
   int find(int v);
   // Stores the view and the checks of its pairs with every view before it; returns the
   // indices of those pairs.

@@ -157,10 +157,14 @@ bool Overlaps::referencePoints() const {
   return options_.method == RegistrationMode::ReferencePoints;
 }
 
-bool Overlaps::registers(const std::vector<int>& markers) const {
+std::vector<Vec3> Overlaps::markerPositions(const std::vector<int>& markers) const {
   std::vector<Vec3> positions;
   for (int m : markers) positions.push_back(markers_.points()[m].position);
-  return markersRegister(positions, options_.min_markers, options_.marker_spread);
+  return positions;
+}
+
+bool Overlaps::registers(const std::vector<int>& markers) const {
+  return markersRegister(markerPositions(markers), options_.min_markers, options_.marker_spread);
 }
 
 }  // namespace scanplan::detail

@@ -48,6 +48,9 @@ class Overlaps {
   // the markers' frame: min_markers of them, not all within marker_spread of one line.
   bool framed(const std::vector<int>& markers) const;
 
+  // The markers' positions (indices), at table angle 0.
+  std::vector<Vec3> markerPositions(const std::vector<int>& markers) const;
+
   const std::vector<SurfacePoint>& points() const { return points_.points(); }
   double spacing() const { return spacing_; }
 

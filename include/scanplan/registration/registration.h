@@ -123,6 +123,10 @@ struct RegistrationOptions {
   std::shared_ptr<const TableTurn> table;
 };
 
+// The standard deviation of a marker centre, mm: `options.marker_sigma`, else a twentieth of
+// the scanner's point spacing.
+double markerSigma(const RegistrationOptions& options, const Scanner& scanner);
+
 // \throw InputError naming `source` and the option out of range.
 void validate(const RegistrationOptions& options, const std::string& source);
 
