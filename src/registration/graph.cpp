@@ -432,7 +432,6 @@ void RegistrationGraph::connect(std::vector<std::size_t> candidates, bool shown)
     }
     if (!verify(p)) continue;
     sets_.join(std::max(a, b), std::min(a, b));
-    used_.push_back(p);
   }
 }
 

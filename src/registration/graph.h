@@ -1,7 +1,8 @@
 #pragma once
 // The registration graph (docs/registration.md): the views, the checks of their pairs, and a
-// spanning forest of registrable pairs, each ICP pair verified before it is used. Planning's
-// bridging grows it view by view (planning/bridging.h).
+// spanning forest of registrable pairs, each ICP pair verified before it is used, which
+// decides the views that register; each registers along its chain of least error.
+// Planning's bridging grows it view by view (planning/bridging.h).
 
 #include "registration/overlaps.h"
 
@@ -116,7 +117,6 @@ class RegistrationGraph {
   std::vector<char> constrained_;  // per view: something could register to it
   std::vector<char> framed_;       // per view: registers by the reference points it sees
   int frame_ = -1;                 // the first view that does, if any
-  std::vector<std::size_t> used_;  // pairs of the spanning tree
   std::shared_ptr<IcpMemo> memo_;
   // The last main component (per view: in it) and each surface point's distance from it,
   // the same for every component bridged towards until a bridge joins one.

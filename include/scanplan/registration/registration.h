@@ -241,8 +241,9 @@ struct Registration {
 void appendRegistration(Registration& into, Registration from, int id_offset);
 
 // Checks every pair of `views` and keeps a spanning forest of registrable pairs (markers
-// first, then the most stable ICP pairs, each verified before it is used). It adds no
-// views: planning's bridging does (planning/bridging.h).
+// first, then the most stable ICP pairs, each verified before it is used), which decides
+// the views that register; each registers along the chain of registering pairs whose
+// errors add up least. It adds no views: planning's bridging does (planning/bridging.h).
 Registration registerViews(const Simulator& simulator, std::span<const View> views,
                            const std::vector<Marker>& markers, const RegistrationOptions& options,
                            const Progress& progress = {});
