@@ -28,21 +28,6 @@ namespace {
 // distribution with 3 degrees of freedom).
 constexpr double kRadius95 = 2.7955;
 
-Eigen::Matrix3d cross(const Vec3& p) {
-  Eigen::Matrix3d m;
-  m << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
-  return m;
-}
-
-// The inverse of an information matrix; directions it leaves free get a large variance
-// rather than an infinity.
-TwistCovariance inverted(const TwistCovariance& information) {
-  const double scale = std::max(information.trace(), 1e-300);
-  return (information + 1e-12 * scale * TwistCovariance::Identity())
-      .ldlt()
-      .solve(TwistCovariance::Identity());
-}
-
 // The markers a view of orientation `k` registers by, where it sees them: those of the
 // working plane turned against the table angle it is taken at.
 std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v) {
@@ -145,16 +130,6 @@ Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
   Eigen::Matrix<double, 1, 6> row;
   row << p.cross(n).transpose(), n.transpose();
   return row;
-}
-
-TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma) {
-  TwistCovariance information = TwistCovariance::Zero();
-  for (const Vec3& p : points) {
-    Eigen::Matrix<double, 3, 6> jacobian;
-    jacobian << -cross(p), Eigen::Matrix3d::Identity();
-    information += jacobian.transpose() * jacobian / (sigma * sigma);
-  }
-  return inverted(information);
 }
 
 TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3> normals,

@@ -3,6 +3,8 @@
 // (docs/capability.md, "Error budget"): the covariance of a small rigid motion per view,
 // from the method that registers it and the chain of views it registers through.
 
+#include "registration/rigid_fit.h"
+
 #include <scanplan/cad/part.h>
 #include <scanplan/plan/plan.h>
 #include <scanplan/spec/spec.h>
@@ -18,16 +20,11 @@ namespace scanplan::detail {
 // A small rigid motion (rotation w, radians, then translation t, mm, about the world's
 // origin): a point p moves by w x p + t.
 using Twist = Eigen::Matrix<double, 6, 1>;
-using TwistCovariance = Eigen::Matrix<double, 6, 6>;
 
 // The motion of `p` under `twist`.
 Vec3 displacement(const Twist& twist, const Vec3& p);
 // The row mapping a twist to the displacement of `p` along `n`: n . (w x p + t).
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
-
-// Covariance of the rigid fit that maps measured points onto known ones, each measured
-// with independent noise of `sigma` mm per axis (point to point, first order).
-TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma);
 
 // Covariance of point-to-plane ICP on an overlap: per point its position, normal and the
 // variance of its distance along the normal (both views' noise, over the points it stands

@@ -4,6 +4,7 @@
 
 #include "core/kd_tree.h"
 #include "registration/icp.h"
+#include "registration/rigid_fit.h"
 
 #include <scanplan/core/errors.h>
 #include <scanplan/registration/registration.h>
@@ -311,27 +312,16 @@ double RegistrationGraph::linkVariance(std::size_t p) const {
     const double error = pair.icp ? pair.icp->error : options_.tolerance;
     return error * error;
   }
-  std::vector<int> shared;
   const auto& [i, j] = ends_[p];
-  std::set_intersection(seen_[i].markers.begin(), seen_[i].markers.end(), seen_[j].markers.begin(),
-                        seen_[j].markers.end(), std::back_inserter(shared));
-  // About the markers' centroid the fit's shift and turn are apart: the shift's variance
-  // sigma² / n per axis, the turn's sigma² times the inverse of the markers' spread.
-  const std::vector<Vec3> at = overlaps_->markerPositions(shared);
+  std::vector<Vec3> at = overlaps_->markerPositions(shared(seen_[i].markers, seen_[j].markers));
+  // About the markers' centroid, where the fit's shift and turn are apart.
   Vec3 centre = Vec3::Zero();
   for (const Vec3& q : at) centre += q / static_cast<double>(at.size());
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
-  for (const Vec3& q : at) {
-    const Vec3 d = q - centre;
-    spread += d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose();
-  }
+  for (Vec3& q : at) q -= centre;
   const Scanner& s = simulator_.scanner();
-  const double sigma = std::sqrt(2.0) * markerSigma(options_, s);
+  const TwistCovariance fit = rigidFitCovariance(at, std::sqrt(2.0) * markerSigma(options_, s));
   const double lever = std::hypot(s.fov_width, s.fov_height) / 2;
-  const double turn = spread.inverse().trace();
-  const double variance =
-      sigma * sigma * (3 / static_cast<double>(at.size()) + lever * lever * turn);
-  return std::isfinite(variance) ? variance : std::numeric_limits<double>::max();
+  return fit.bottomRightCorner<3, 3>().trace() + lever * lever * fit.topLeftCorner<3, 3>().trace();
 }
 
 std::map<std::size_t, std::size_t> RegistrationGraph::leastErrorLinks(

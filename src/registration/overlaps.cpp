@@ -14,17 +14,17 @@ bool disjoint(const Box& a, const Box& b) {
          (b.max.array() < a.min.array()).any();
 }
 
-std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> both;
-  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
-  return both;
-}
-
 double pointSpacing(const Simulator& simulator, const RegistrationOptions& options) {
   return options.point_spacing > 0 ? options.point_spacing : simulator.scanner().fov_height / 40;
 }
 
 }  // namespace
+
+std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
+  std::vector<int> both;
+  std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(both));
+  return both;
+}
 
 std::vector<SurfacePoint> markerPoints(const std::vector<Marker>& markers) {
   std::vector<SurfacePoint> points;

@@ -19,6 +19,9 @@ struct Observation {
   double table_angle = 0;  // the view is taken at, radians (RegistrationOptions::table)
 };
 
+// The indices in both of the ascending lists `a` and `b`, ascending.
+std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b);
+
 // Markers as points on the surface, for the simulation to measure (face 0).
 std::vector<SurfacePoint> markerPoints(const std::vector<Marker>& markers);
 
