@@ -2,6 +2,7 @@
 // against analytic least-squares results on a plane.
 
 #include "planning/registration_error.h"
+#include "planning/simulated_registration.h"
 #include "support.h"
 
 #include <scanplan/cad/gdt.h>
@@ -191,6 +192,84 @@ TEST(ErrorBudget, TheRigidFitOfFourMarkersHasTheClosedFormCovariance) {
   EXPECT_NEAR(c(0, 0), sigma * sigma / (4 * a * a), 1e-6 * sigma * sigma / (a * a));
 }
 
+// Three views in a chain, the first the reference, each of the others registered to the one
+// before by four markers both see: `first` those the first two share, `second` those the
+// last two share (marker indices into a 400 mm square's corners and a 200 mm square's).
+Plan markerChain(const std::vector<int>& first, const std::vector<int>& second) {
+  Plan plan;
+  plan.scanner = defaultSpec().scanner;
+  for (const double a : {200.0, 100.0})
+    for (const Vec3& d : {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)})
+      plan.markers.push_back({a * d, Vec3::UnitZ()});
+  Registration registration;
+  registration.method = RegistrationMode::Markers;
+  const std::vector<std::vector<int>> seen = {first, first, second};
+  for (int k = 0; k < 3; ++k) {
+    plan.views.push_back(downAt(k + 1, plan.scanner, 0, 0));
+    ViewRegistration r;
+    r.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Markers;
+    r.to = k;
+    r.markers = seen[static_cast<std::size_t>(k)];
+    if (k == 1) r.markers.insert(r.markers.end(), second.begin(), second.end());
+    registration.views.push_back(r);
+  }
+  plan.registration = registration;
+  return plan;
+}
+
+// The model's registration errors of `plan`'s views, marker centres measured with `sigma`.
+std::vector<detail::ViewError> chainErrors(const Plan& plan, double sigma) {
+  ResolvedSpec spec;
+  spec.spec = defaultSpec();
+  spec.spec.registration.marker_sigma = sigma;
+  return detail::registrationErrors(Part{}, spec, plan);
+}
+
+// The variance, over `draws` runs of the simulated registration, of where the last view
+// puts the point `p` along `n`.
+double simulatedVariance(const Plan& plan, double sigma, const Vec3& p, const Vec3& n, int draws) {
+  const std::vector<detail::ViewError> errors = chainErrors(plan, sigma);
+  const detail::SimulatedRegistration registration(plan, errors, sigma);
+  std::mt19937_64 random(7);
+  double sum = 0, squares = 0;
+  for (int k = 0; k < draws; ++k) {
+    const double d = n.dot(registration.draw(random).back() * p - p);
+    sum += d;
+    squares += d * d;
+  }
+  return squares / draws - (sum / draws) * (sum / draws);
+}
+
+// The inspection's registration fits the noisy marker centres themselves (Umeyama) and
+// composes the fits along the chain. Where the two links share no marker, their errors are
+// apart, and the last view's spread where the model says: the two links' first-order
+// covariances added (4000 runs, within 8 %: the estimate's own spread is 2 %), at the
+// centre and 150 mm off it. Where all three views see the same four markers, the middle
+// view's centres enter both fits and cancel: the last view lies as if fitted to the first
+// directly, one link's variance, where the model, taking the links apart, counts two.
+TEST(SimulatedRegistration, AChainOfMarkerFitsSpreadsAsTheLinksCovariancesAdded) {
+  const double sigma = 0.02;
+  const Plan apart = markerChain({0, 1, 2, 3}, {4, 5, 6, 7});
+  const std::vector<detail::ViewError> errors = chainErrors(apart, sigma);
+  for (const Vec3& p : {Vec3(0, 0, 10), Vec3(150, 0, 10)})
+    for (const Vec3& n : {Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
+      const auto row = detail::alongNormal(p, n);
+      const double model = (row * errors.back().covariance * row.transpose())(0);
+      EXPECT_NEAR(simulatedVariance(apart, sigma, p, n, 4000), model, 0.08 * model)
+          << p.transpose() << " along " << n.transpose();
+    }
+  const Plan shared = markerChain({0, 1, 2, 3}, {0, 1, 2, 3});
+  const auto row = detail::alongNormal(Vec3(0, 0, 10), Vec3::UnitZ());
+  const double one_link =
+      (row *
+       detail::rigidFitCovariance(
+           std::vector<Vec3>{{-200, -200, 0}, {200, -200, 0}, {200, 200, 0}, {-200, 200, 0}},
+           std::sqrt(2.0) * sigma) *
+       row.transpose())(0);
+  EXPECT_NEAR(simulatedVariance(shared, sigma, Vec3(0, 0, 10), Vec3::UnitZ(), 4000), one_link,
+              0.08 * one_link);
+}
+
 // ICP on three orthogonal planes through the origin, each a centred grid of m points of
 // variance v along its normal: a translation along x is fixed by the plane x = 0 alone,
 // variance v / m; the turns do not mix in, since each grid is centred.
@@ -287,6 +366,55 @@ TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
   RecordProperty("registration_u_overlapping", std::to_string(both.budget.registration));
   EXPECT_NEAR(both.covered, 1, 0.02);
   EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
+}
+
+// A plate's top (flatness 0.2) seen whole by two views: the first placed by a robot of
+// accuracy `robot` mm, the second registered to it by four markers shared in a 2000 mm
+// square around the plate (marker sigma 0.02 mm); the reference view sees nothing of the
+// plate. Both views move by the robot's error; only the markers' link moves one against
+// the other.
+Capability chainedLayersCase(const test::TempDir& dir, double robot) {
+  BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 10).Shape(), dir.file("plate.brep").c_str());
+  const Part part = importPart(dir.file("plate.brep"));
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 250;
+  spec.scanner.point_spacing = 2;
+  spec.registration.marker_sigma = 0.02;
+  Plan plan;
+  plan.scanner = spec.scanner;
+  for (const Vec3& d : {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)})
+    plan.markers.push_back({Vec3(100, 50, 0) + 1000 * d, Vec3::UnitZ()});
+  Registration registration;
+  registration.method = RegistrationMode::Markers;
+  registration.robot_accuracy = robot;
+  const RegistrationMethod methods[] = {RegistrationMethod::Reference, RegistrationMethod::Robot,
+                                        RegistrationMethod::Markers};
+  for (int k = 0; k < 3; ++k) {
+    plan.views.push_back(downAt(k + 1, spec.scanner, k == 0 ? 2000 : 100, 50));
+    ViewRegistration r;
+    r.method = methods[k];
+    r.to = k == 2 ? 2 : 1;
+    r.markers = {0, 1, 2, 3};
+    registration.views.push_back(r);
+  }
+  plan.registration = registration;
+  return capabilities(part, resolveSpec(part, spec), plan, {topFlatness(part, 0.2)}).front();
+}
+
+// The second view's layer lies off the first's by the markers' link alone: the rigid fit
+// of four markers, each centre noisy in both views (sigma 0.02 sqrt 2), moves the plate's
+// top by sigma 0.02 sqrt 2 / 2 along its normal (the square's tilt adds under 1 %), so U
+// from the registration is 1.96 times that. The robot's error moves both views alike: ten
+// times the robot's error leaves U as it is.
+TEST(Capability, ViewsRegisteredThroughTheSameLinkMoveTogetherAndLeaveOnlyTheirOwnLinksOffset) {
+  test::TempDir dir;
+  const Capability precise = chainedLayersCase(dir, 0.1);
+  const Capability rough = chainedLayersCase(dir, 1.0);
+  const double link = 0.02 * std::sqrt(2.0) / 2;
+  RecordProperty("registration_u", std::to_string(precise.budget.registration));
+  EXPECT_NEAR(precise.covered, 1, 0.02);
+  EXPECT_NEAR(precise.budget.registration, 1.96 * link, 0.1 * 1.96 * link);  // the draws' spread
+  EXPECT_NEAR(rough.budget.registration, precise.budget.registration, 1e-9);
 }
 
 // The parallelism of a step's lower top (x 100 to 300, z 10) to its upper top, datum A (x 0

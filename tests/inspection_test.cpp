@@ -147,7 +147,7 @@ TEST(Inspection, AWallSlidAlongItselfPastItsEdgeKeepsItsProfile) {
 
 // A view moved by a known registration error moves what it measures by that error: the
 // datums measured by one view, the hole by another whose points are moved by a rigid motion
-// (detail::displacement, as the inspection applies its registration draws). A translation
+// (detail::displacement, to first order the motion a registration's error gives). A translation
 // of 0.1 mm in x puts the hole's axis 0.1 off: a zone of 0.2. A turn of 0.0005 rad about z
 // through the origin carries the axis at (100, 50) by 0.0005 x |(100, 50)| = 0.0559: a zone
 // of 0.1118.

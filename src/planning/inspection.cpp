@@ -3,14 +3,14 @@
 // the scanner's points each simulated point stands for; puts on it the scanner's
 // acceptance errors drawn for that view (a bow over the field within the flatness error, a
 // scale within the sphere-spacing error over the volume's diagonal, an offset along the
-// surface within half the probing error of size); moves it by a draw of its registration
-// error; and applies the declared deviations. Each characteristic is evaluated from the
-// points of one frame, the one holding most of its faces' and datums' points, as the
-// evaluation defines it; the part's own value comes from the same evaluation on the
-// deviated surface, sampled densely, without error.
+// surface within half the probing error of size); moves it where a run of its
+// registration puts it (simulated_registration.h); and applies the declared deviations. Each
+// characteristic is evaluated from the points of one frame, the one holding most of its faces' and
+// datums' points, as the evaluation defines it; the part's own value comes from the same evaluation
+// on the deviated surface, sampled densely, without error.
 
 #include "planning/evaluation.h"
-#include "planning/registration_error.h"
+#include "planning/simulated_registration.h"
 
 #include <scanplan/core/errors.h>
 #include <scanplan/planning/inspection.h>
@@ -133,10 +133,10 @@ struct Setup {
 };
 
 RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
-                      const detail::TwistDraws& draws, int run) {
+                      const detail::SimulatedRegistration& registration, int run) {
   const std::vector<std::size_t> orientation = viewOrientations(s.plan);
   std::mt19937_64 random(s.options.seed * 1000003 + static_cast<std::uint64_t>(run));
-  const std::vector<detail::Twist> moves = draws.draw(random);
+  const std::vector<Pose> moves = registration.draw(random);
   std::vector<AcceptanceErrors> acceptance;
   for (std::size_t v = 0; v < s.plan.views.size(); ++v)
     acceptance.push_back(drawAcceptance(s.plan.scanner, random));
@@ -153,9 +153,10 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
       const int face = cloud.faces[i];
       if (!s.faces.count(face)) continue;
-      Vec3 p = acceptance[v].apply(s.plan.scanner, view, cloud.points[i], cloud.normals[i]);
-      p += detail::displacement(moves[v], p);
-      const Vec3 in_part = to_part * p, normal = to_part.linear() * cloud.normals[i];
+      const Vec3 p =
+          moves[v] * acceptance[v].apply(s.plan.scanner, view, cloud.points[i], cloud.normals[i]);
+      const Vec3 in_part = to_part * p,
+                 normal = to_part.linear() * moves[v].linear() * cloud.normals[i];
       mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
     }
   });
@@ -239,7 +240,8 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
 
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;
-  const detail::TwistDraws draws(errors);
+  const detail::SimulatedRegistration registration(
+      plan, errors, markerSigma(registrationOptions(spec.spec), plan.scanner));
   // Each simulated point the mean of the scanner's points around it.
   Scanner averaged = plan.scanner;
   averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / result.spacing);
@@ -262,7 +264,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
     report(progress,
            "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
            static_cast<double>(run) / options.runs);
-    const RunPoints points = simulateRun(setup, simulators, draws, run);
+    const RunPoints points = simulateRun(setup, simulators, registration, run);
     for (std::size_t i = 0; i < list.size(); ++i) {
       InspectedCharacteristic& k = result.characteristics[i];
       if (!k.evaluated) continue;

@@ -7,7 +7,8 @@
 //   views lay there with both views' noise, plus the residual its verification left;
 // - the robot: its pose accuracy, taken as the radius holding 95% of a view's position
 //   errors (isotropic, no turn);
-// and along a chain the errors of the links add.
+// and along a chain the errors of the links add: views registered through the same link
+// move by the same draw of its error.
 
 #include "planning/registration_error.h"
 
@@ -27,20 +28,6 @@ namespace {
 // The radius holding 95% of a 3-D isotropic Gaussian's draws, in its sigmas (the chi
 // distribution with 3 degrees of freedom).
 constexpr double kRadius95 = 2.7955;
-
-// The markers a view of orientation `k` registers by, where it sees them: those of the
-// working plane turned against the table angle it is taken at.
-std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v) {
-  std::vector<Marker> markers =
-      plan.orientations.empty() ? plan.markers : plan.orientations[k].markers;
-  if (plan.cell && plan.cell->table && v < plan.cell_poses.size() && plan.cell_poses[v]) {
-    const TableTurn table{plan.cell->table->origin, plan.cell->table->axis, {}};
-    markers = markersAtTableAngle(std::move(markers), table, plan.cell_poses[v]->table_angle);
-  }
-  std::vector<Vec3> positions;
-  for (const Marker& m : markers) positions.push_back(m.position);
-  return positions;
-}
 
 // A covariance that marks a view whose error cannot be told (the plan's markers or overlap
 // not found again): it is left out, as a view registered to nothing.
@@ -122,6 +109,18 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
 
 }  // namespace
 
+std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v) {
+  std::vector<Marker> markers =
+      plan.orientations.empty() ? plan.markers : plan.orientations[k].markers;
+  if (plan.cell && plan.cell->table && v < plan.cell_poses.size() && plan.cell_poses[v]) {
+    const TableTurn table{plan.cell->table->origin, plan.cell->table->axis, {}};
+    markers = markersAtTableAngle(std::move(markers), table, plan.cell_poses[v]->table_angle);
+  }
+  std::vector<Vec3> positions;
+  for (const Marker& m : markers) positions.push_back(m.position);
+  return positions;
+}
+
 Vec3 displacement(const Twist& twist, const Vec3& p) {
   return Vec3(twist.head<3>()).cross(p) + twist.tail<3>();
 }
@@ -199,7 +198,8 @@ void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
   const auto settle = [&](std::size_t v, auto& self, std::size_t depth) -> void {
     if (done[v]) return;
     done[v] = 1;
-    errors[v].covariance = links[v].own;
+    errors[v].covariance = errors[v].link = links[v].own;
+    errors[v].parent = links[v].parent;
     errors[v].placed = links[v].placed;
     if (!links[v].parent || depth > n) return;
     const std::size_t parent = *links[v].parent;
@@ -236,22 +236,46 @@ std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& 
   return errors;
 }
 
-TwistDraws::TwistDraws(const std::vector<ViewError>& errors) {
-  for (const ViewError& e : errors) {
-    const Eigen::SelfAdjointEigenSolver<TwistCovariance> eigen(e.covariance);
-    roots_.push_back(eigen.eigenvectors() *
-                     eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal());
-  }
+Chains chainsOf(const std::vector<ViewError>& errors) {
+  const std::size_t n = errors.size();
+  Chains chains;
+  chains.parents.resize(n);
+  std::vector<char> state(n, 0);  // 1: on the chain being followed, 2: ordered
+  const auto visit = [&](std::size_t v, auto& self) -> void {
+    if (state[v]) return;
+    state[v] = 1;
+    const std::optional<std::size_t>& parent = errors[v].parent;
+    if (parent && *parent < n && state[*parent] != 1) {  // a loop is cut where it closes
+      self(*parent, self);
+      chains.parents[v] = parent;
+    }
+    state[v] = 2;
+    chains.order.push_back(v);
+  };
+  for (std::size_t v = 0; v < n; ++v) visit(v, visit);
+  return chains;
+}
+
+TwistCovariance squareRoot(const TwistCovariance& covariance) {
+  const Eigen::SelfAdjointEigenSolver<TwistCovariance> eigen(covariance);
+  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
+}
+
+TwistDraws::TwistDraws(const std::vector<ViewError>& errors) : chains_(chainsOf(errors)) {
+  for (const ViewError& e : errors) roots_.push_back(squareRoot(e.link));
 }
 
 std::vector<Twist> TwistDraws::draw(std::mt19937_64& random) const {
   std::normal_distribution<double> normal;
-  std::vector<Twist> draws;
+  std::vector<Twist> own;
   for (const TwistCovariance& root : roots_) {
     Twist z;
     for (int i = 0; i < 6; ++i) z[i] = normal(random);
-    draws.push_back(root * z);
+    own.push_back(root * z);
   }
+  std::vector<Twist> draws = own;
+  for (std::size_t v : chains_.order)
+    if (chains_.parents[v]) draws[v] += draws[*chains_.parents[v]];
   return draws;
 }
 

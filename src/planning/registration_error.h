@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <random>
 #include <span>
 #include <vector>
@@ -33,10 +34,12 @@ TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3
                               std::span<const double> variances);
 
 // A view's registration error: the covariance of its motion in the frame of its setup,
-// through the chain of views it registers by; `placed` false when it registers to nothing
-// (its points join no frame).
+// through the chain of views it registers by (its own link's and its parent's added);
+// `placed` false when it registers to nothing (its points join no frame).
 struct ViewError {
   TwistCovariance covariance = TwistCovariance::Zero();
+  TwistCovariance link = TwistCovariance::Zero();  // its own registration's
+  std::optional<std::size_t> parent;  // the view it registers to (none: its setup's frame)
   bool placed = true;
   std::size_t frame = 0;  // its setup's frame (PlannedOrientation::frame)
 };
@@ -46,15 +49,34 @@ struct ViewError {
 std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& spec,
                                           const Plan& plan);
 
-// Draws of each view's motion from its covariance.
+// Where view `v` of `plan`, of orientation `k`, sees the markers of its orientation (in
+// their order): those of the working plane turned against the table angle it is taken at.
+std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v);
+
+// The chains of `errors`: every view after the view it registers to, and that view (none:
+// its setup's frame, or a loop cut where it closes).
+struct Chains {
+  std::vector<std::size_t> order;
+  std::vector<std::optional<std::size_t>> parents;
+};
+Chains chainsOf(const std::vector<ViewError>& errors);
+
+// L with L L^T `covariance` (negative eigenvalues taken as 0).
+TwistCovariance squareRoot(const TwistCovariance& covariance);
+
+// Draws of the views' motions as their chains make them: each link's error drawn once,
+// and a view moved by its own link's and by every link its parent's chain runs through.
+// Views that register through the same views move together by those links' errors, so
+// only the links apart move them against one another.
 class TwistDraws {
  public:
   explicit TwistDraws(const std::vector<ViewError>& errors);
-  // One draw for every view, of its own.
+  // One draw of every link, each view's motion the sum along its chain.
   std::vector<Twist> draw(std::mt19937_64& random) const;
 
  private:
-  std::vector<TwistCovariance> roots_;  // L with L L^T the covariance
+  std::vector<TwistCovariance> roots_;  // per view, its link's covariance's square root
+  Chains chains_;
 };
 
 }  // namespace scanplan::detail
