@@ -4,7 +4,8 @@
 //   with registration.marker_sigma;
 // - markers shared with the view it registers to: the same fit, both views' centres noisy;
 // - ICP: point-to-plane ICP on the overlap, each overlap point standing for the points the
-//   views lay there with both views' noise, plus the residual its verification left;
+//   views lay there with both views' noise, plus the residual its verification left,
+//   brought to the scanner's own point spacing (residualAtScannerSpacing);
 // - the robot: its pose accuracy, taken as the radius holding 95% of a view's position
 //   errors (isotropic, no turn);
 // and along a chain the errors of the links add: views registered through the same link
@@ -44,6 +45,18 @@ std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<in
   for (int i : indices)
     if (i >= 0 && static_cast<std::size_t>(i) < all.size()) chosen.push_back(all[i]);
   return chosen;
+}
+
+// The RMS displacement a verified pair's ICP left on the verification's clouds, as the
+// scanner's own cloud would leave it. Point-to-plane ICP against a sampled surface is
+// off where the surface curves between the fixed cloud's points, by the curvature times
+// the spacing squared: on CTC 02's links the residual falls 3.7 times from 1.5 to 0.75 mm
+// and 2.1 times from 0.75 to 0.5 mm (docs/capability.md, "Error budget"). So it is scaled
+// by the square of the scanner's point spacing over the clouds'.
+double residualAtScannerSpacing(double residual, const RegistrationOptions& options,
+                                const Scanner& scanner) {
+  const double ratio = scanner.point_spacing / icpCloudSpacing(options, scanner);
+  return residual * std::min(1.0, ratio * ratio);
 }
 
 // The ICP covariance of every view of orientation `k` registered by ICP, against the view
@@ -101,9 +114,10 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
     }
     own[v] = icpCovariance(p, n, variances);
     if (const PairCheck* pair = registration.pair(plan.views[v].id, r.to);
-        pair && pair->icp && std::isfinite(pair->icp->error))
-      own[v].bottomRightCorner<3, 3>() +=
-          Eigen::Matrix3d::Identity() * pair->icp->error * pair->icp->error / 3;
+        pair && pair->icp && std::isfinite(pair->icp->error)) {
+      const double left = residualAtScannerSpacing(pair->icp->error, options, plan.scanner);
+      own[v].bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * left * left / 3;
+    }
   }
 }
 

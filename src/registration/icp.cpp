@@ -47,10 +47,6 @@ Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
   return motion.matrix();
 }
 
-double cloudSpacing(const Simulator& simulator, const RegistrationOptions& options) {
-  return options.cloud_spacing > 0 ? options.cloud_spacing : simulator.scanner().fov_height / 150;
-}
-
 // The `points` within `margin` of the box around `to`.
 std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>& to,
                        double margin) {
@@ -155,9 +151,13 @@ IndexedCloud::IndexedCloud(IcpCloud made)
 
 }  // namespace detail
 
+double icpCloudSpacing(const RegistrationOptions& options, const Scanner& scanner) {
+  return options.cloud_spacing > 0 ? options.cloud_spacing : scanner.fov_height / 150;
+}
+
 IcpCloud icpCloud(const Simulator& simulator, const View& view,
                   const RegistrationOptions& options) {
-  const double spacing = cloudSpacing(simulator, options);
+  const double spacing = icpCloudSpacing(options, simulator.scanner());
   IcpCloud cloud;
   cloud.id = view.id;
   PointCloud simulated = simulator.cloud(view, options.seed, spacing);
@@ -182,7 +182,7 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   oneThread();
   const IcpCloud& fixed = indexed.cloud;
   const Scanner& scanner = simulator.scanner();
-  const double spacing = cloudSpacing(simulator, options);
+  const double spacing = icpCloudSpacing(options, simulator.scanner());
   IcpCheck check;
   check.points = moved.points.size();
   if (fixed.points.size() < kLeastPoints || moved.points.size() < kLeastPoints) return check;
