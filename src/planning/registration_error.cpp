@@ -13,11 +13,15 @@
 
 #include "planning/registration_error.h"
 
+#include "planning/marker_adjustment.h"
+
 #include <scanplan/planning/planner.h>
 #include <scanplan/registration/registration.h>
 #include <scanplan/scanner/simulation.h>
 
 #include <Eigen/Dense>
+
+#include <memory>
 
 #include <algorithm>
 #include <cmath>
@@ -139,6 +143,13 @@ Vec3 displacement(const Twist& twist, const Vec3& p) {
   return Vec3(twist.head<3>()).cross(p) + twist.tail<3>();
 }
 
+Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p) {
+  Eigen::Matrix<double, 3, 6> m;
+  m.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
+  m.rightCols<3>() = Eigen::Matrix3d::Identity();
+  return m;
+}
+
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
   Eigen::Matrix<double, 1, 6> row;
   row << p.cross(n).transpose(), n.transpose();
@@ -163,6 +174,8 @@ struct Link {
   TwistCovariance own = TwistCovariance::Zero();
   std::optional<std::size_t> parent;
   bool placed = true;
+  std::shared_ptr<const Eigen::MatrixXd> adjusted;  // ViewError::adjusted
+  std::size_t slot = 0;
 };
 
 // The link of view `v` by the markers it registers by (the ICP links' errors are found
@@ -215,6 +228,8 @@ void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
     errors[v].covariance = errors[v].link = links[v].own;
     errors[v].parent = links[v].parent;
     errors[v].placed = links[v].placed;
+    errors[v].adjusted = links[v].adjusted;
+    errors[v].slot = links[v].slot;
     if (!links[v].parent || depth > n) return;
     const std::size_t parent = *links[v].parent;
     self(parent, self, depth + 1);
@@ -222,6 +237,30 @@ void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
     errors[v].placed = errors[v].placed && errors[parent].placed;
   };
   for (std::size_t v = 0; v < n; ++v) settle(v, settle, 0);
+}
+
+// The views registered by markers, adjusted in groups (marker_adjustment.h): each one's
+// link runs to its group's root, with the group's covariance for its motion.
+void adjust(const Plan& plan, double sigma, std::vector<Link>& links) {
+  std::vector<std::optional<std::size_t>> parents;
+  std::vector<char> placed;
+  for (const Link& link : links) {
+    parents.push_back(link.parent);
+    placed.push_back(link.placed);
+  }
+  for (const MarkerGroup& group : markerGroups(plan, parents, placed)) {
+    const Eigen::MatrixXd covariance = adjustedCovariance(plan, group, sigma);
+    const auto factor = std::make_shared<const Eigen::MatrixXd>(
+        Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(covariance).matrixL()));
+    for (std::size_t i = 0; i < group.members.size(); ++i) {
+      Link& link = links[group.members[i]];
+      const auto at = static_cast<Eigen::Index>(6 * i);
+      link.own = covariance.block<6, 6>(at, at);
+      link.parent = group.root;
+      link.adjusted = factor;
+      link.slot = i;
+    }
+  }
 }
 
 }  // namespace
@@ -246,6 +285,7 @@ std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& 
     links[v].own = icp[v];
     markLink(plan, v, orientation[v], index, sigma, links[v]);
   }
+  adjust(plan, sigma, links);
   chain(links, errors);
   return errors;
 }
@@ -275,17 +315,39 @@ TwistCovariance squareRoot(const TwistCovariance& covariance) {
   return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
 }
 
-TwistDraws::TwistDraws(const std::vector<ViewError>& errors) : chains_(chainsOf(errors)) {
-  for (const ViewError& e : errors) roots_.push_back(squareRoot(e.link));
+TwistDraws::TwistDraws(const std::vector<ViewError>& errors)
+    : chains_(chainsOf(errors)), group_of_(errors.size(), -1) {
+  for (std::size_t v = 0; v < errors.size(); ++v) {
+    roots_.push_back(squareRoot(errors[v].link));
+    slots_.push_back(errors[v].slot);
+    if (!errors[v].adjusted) continue;
+    const auto same = std::find_if(groups_.begin(), groups_.end(),
+                                   [&](const auto& g) { return g.first == errors[v].adjusted; });
+    group_of_[v] = static_cast<int>(same - groups_.begin());
+    if (same == groups_.end()) groups_.push_back({errors[v].adjusted, {}});
+    groups_[static_cast<std::size_t>(group_of_[v])].second.push_back(v);
+  }
 }
 
 std::vector<Twist> TwistDraws::draw(std::mt19937_64& random) const {
   std::normal_distribution<double> normal;
-  std::vector<Twist> own;
-  for (const TwistCovariance& root : roots_) {
-    Twist z;
-    for (int i = 0; i < 6; ++i) z[i] = normal(random);
-    own.push_back(root * z);
+  std::vector<Twist> own(roots_.size(), Twist::Zero());
+  std::vector<char> drawn(groups_.size(), 0);
+  for (std::size_t v = 0; v < roots_.size(); ++v) {
+    const int g = group_of_[v];
+    if (g < 0) {
+      Twist z;
+      for (int i = 0; i < 6; ++i) z[i] = normal(random);
+      own[v] = roots_[v] * z;
+    } else if (!drawn[static_cast<std::size_t>(g)]) {  // the whole group at its first view
+      drawn[static_cast<std::size_t>(g)] = 1;
+      const auto& [factor, views] = groups_[static_cast<std::size_t>(g)];
+      Eigen::VectorXd z(factor->rows());
+      for (Eigen::Index i = 0; i < z.size(); ++i) z[i] = normal(random);
+      const Eigen::VectorXd joint = factor->triangularView<Eigen::Lower>() * z;
+      for (std::size_t u : views)
+        own[u] = joint.segment<6>(static_cast<Eigen::Index>(6 * slots_[u]));
+    }
   }
   std::vector<Twist> draws = own;
   for (std::size_t v : chains_.order)

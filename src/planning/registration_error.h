@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <optional>
 #include <random>
 #include <span>
@@ -24,6 +25,8 @@ using Twist = Eigen::Matrix<double, 6, 1>;
 
 // The motion of `p` under `twist`.
 Vec3 displacement(const Twist& twist, const Vec3& p);
+// The matrix mapping a twist to the displacement of `p`: w x p + t.
+Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p);
 // The row mapping a twist to the displacement of `p` along `n`: n . (w x p + t).
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
 
@@ -42,6 +45,11 @@ struct ViewError {
   std::optional<std::size_t> parent;  // the view it registers to (none: its setup's frame)
   bool placed = true;
   std::size_t frame = 0;  // its setup's frame (PlannedOrientation::frame)
+  // Registered by markers: the lower Cholesky factor of its group's joint covariance
+  // (marker_adjustment.h), shared by the group's views, and its 6 rows' place in it; its
+  // parent is the group's root.
+  std::shared_ptr<const Eigen::MatrixXd> adjusted;
+  std::size_t slot = 0;
 };
 
 // Per view of `plan` (in its order). Without a registration in the plan every view is
@@ -77,6 +85,10 @@ class TwistDraws {
  private:
   std::vector<TwistCovariance> roots_;  // per view, its link's covariance's square root
   Chains chains_;
+  // The groups adjusted together, each drawn at once: its factor and its views.
+  std::vector<std::pair<std::shared_ptr<const Eigen::MatrixXd>, std::vector<std::size_t>>> groups_;
+  std::vector<int> group_of_;       // per view, its group (-1: none)
+  std::vector<std::size_t> slots_;  // per view, its place in its group's factor
 };
 
 }  // namespace scanplan::detail

@@ -1,18 +1,21 @@
 #pragma once
 // The registration as a run of the cell makes it, for the virtual inspection
 // (docs/capability.md, "Virtual inspection"): each view measures the centres of the markers
-// it sees with noise, and is placed by the rigid fit of those centres onto the centres the
-// view it registers to measured (reference points: onto the known centres), the fits
-// composed along the chain. The capability model's first-order covariance of that fit
-// (registration_error.h) is not used for marker links, so the inspection checks it. ICP
-// links and the robot take a draw of the covariance the model gives them: an ICP run per
-// link and per run would take minutes.
+// it sees with noise; the views of a group registered by shared markers are placed by
+// fitting all their poses and one position per marker to those centres at once (marker
+// adjustment, by alternating rigid fits), the views registered by reference points by the
+// rigid fit of their centres onto the known ones; and the placements compose along the
+// chains. The capability model's first-order covariances of those fits
+// (registration_error.h, marker_adjustment.h) are not used, so the inspection checks
+// them. ICP links and the robot take a draw of the covariance the model gives them: an
+// ICP run per link and per run would take minutes.
 
 #include "planning/registration_error.h"
 
 #include <scanplan/core/view.h>
 
 #include <map>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -29,14 +32,31 @@ class SimulatedRegistration {
   std::vector<Pose> draw(std::mt19937_64& random) const;
 
  private:
-  enum class Kind { Fixed, Markers, Known, Drawn };
+  enum class Kind { Fixed, Adjusted, Known, Drawn };
   struct Link {
     Kind kind = Kind::Fixed;
     std::map<int, Vec3> seen;                        // marker: where the view sees its centre
-    std::vector<int> fitted;                         // the markers its fit takes (shared, or known)
     TwistCovariance root = TwistCovariance::Zero();  // Drawn: L with L L^T its covariance
   };
+  // A group adjusted together: its views, the root (held fixed) first, and per view the
+  // markers it sees that another view of the group sees too: (index into the group's
+  // markers, marker).
+  struct Group {
+    std::vector<std::size_t> views;
+    std::size_t markers = 0;
+    std::vector<std::vector<std::pair<std::size_t, int>>> seen;
+    std::shared_ptr<const Eigen::MatrixXd> factor;  // ViewError::adjusted
+  };
+  using Measured = std::vector<std::map<int, Vec3>>;  // per view, the centres it measured
+  // The group's views' motions relative to its root, into `own`.
+  void adjust(const Group& group, const Measured& measured, std::vector<Pose>& own) const;
+  // The first-order solution of the group's fit for the centres `measured`: the start.
+  std::vector<Pose> start(const Group& group, const Measured& measured) const;
+
+  std::vector<std::size_t> slots_;  // per view, its place in its group's factor
+
   std::vector<Link> links_;
+  std::vector<Group> groups_;
   Chains chains_;
   double sigma_;
 };
