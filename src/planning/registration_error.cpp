@@ -2,7 +2,8 @@
 // - the reference view fixes its setup's frame: none;
 // - reference points: the rigid fit of the known markers it sees, their centres measured
 //   with registration.marker_sigma;
-// - markers shared with the view it registers to: the same fit, both views' centres noisy;
+// - markers shared with the view it registers to: the same fit, both views' centres noisy,
+//   then each group of views joined by markers adjusted together (marker_adjustment.h);
 // - ICP: point-to-plane ICP on the overlap, each overlap point standing for the points the
 //   views lay there with both views' noise, plus the residual its verification left,
 //   brought to the scanner's own point spacing (residualAtScannerSpacing);

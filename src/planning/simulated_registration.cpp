@@ -47,8 +47,7 @@ SimulatedRegistration::SimulatedRegistration(const Plan& plan, const std::vector
       if (m >= 0 && static_cast<std::size_t>(m) < positions.size())
         link.seen[m] = positions[static_cast<std::size_t>(m)];
     if (!errors[v].placed) continue;
-    if (errors[v].adjusted && errors[v].parent) {
-      link.kind = Kind::Adjusted;
+    if (errors[v].adjusted && errors[v].parent) {  // placed by its group's fit
       const auto same = std::find_if(by_factor.begin(), by_factor.end(), [&](const auto& f) {
         return f.first == errors[v].adjusted.get();
       });
@@ -67,20 +66,22 @@ SimulatedRegistration::SimulatedRegistration(const Plan& plan, const std::vector
       link.root = squareRoot(errors[v].link);
     }
   }
-  for (Group& group : groups_) {
-    std::map<int, std::size_t> count;  // views of the group seeing each marker
-    for (std::size_t v : group.views)
-      for (const auto& [m, at] : links_[v].seen) ++count[m];
-    std::map<int, std::size_t> index;
-    for (const auto& [m, c] : count)
-      if (c >= 2) index.emplace(m, index.size());
-    group.markers = index.size();
-    for (std::size_t v : group.views) {
-      group.seen.emplace_back();
-      for (const auto& [m, at] : links_[v].seen)
-        if (const auto found = index.find(m); found != index.end())
-          group.seen.back().push_back({found->second, m});
-    }
+  for (Group& group : groups_) indexMarkers(group);
+}
+
+void SimulatedRegistration::indexMarkers(Group& group) const {
+  std::map<int, std::size_t> count;  // views of the group seeing each marker
+  for (std::size_t v : group.views)
+    for (const auto& [m, at] : links_[v].seen) ++count[m];
+  std::map<int, std::size_t> index;
+  for (const auto& [m, c] : count)
+    if (c >= 2) index.emplace(m, index.size());
+  group.markers = index.size();
+  for (std::size_t v : group.views) {
+    group.seen.emplace_back();
+    for (const auto& [m, at] : links_[v].seen)
+      if (const auto found = index.find(m); found != index.end())
+        group.seen.back().push_back({found->second, m});
   }
 }
 

@@ -32,7 +32,7 @@ class SimulatedRegistration {
   std::vector<Pose> draw(std::mt19937_64& random) const;
 
  private:
-  enum class Kind { Fixed, Adjusted, Known, Drawn };
+  enum class Kind { Fixed, Known, Drawn };  // Fixed: the reference, or placed by its group
   struct Link {
     Kind kind = Kind::Fixed;
     std::map<int, Vec3> seen;                        // marker: where the view sees its centre
@@ -48,6 +48,8 @@ class SimulatedRegistration {
     std::shared_ptr<const Eigen::MatrixXd> factor;  // ViewError::adjusted
   };
   using Measured = std::vector<std::map<int, Vec3>>;  // per view, the centres it measured
+  // The group's markers that two of its views see, and where each view sees them.
+  void indexMarkers(Group& group) const;
   // The group's views' motions relative to its root, into `own`.
   void adjust(const Group& group, const Measured& measured, std::vector<Pose>& own) const;
   // The first-order solution of the group's fit for the centres `measured`: the start.
