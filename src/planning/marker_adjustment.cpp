@@ -5,24 +5,22 @@
 #include <map>
 
 namespace scanplan::detail {
-namespace {
-
-bool byMarkers(const Plan& plan, std::size_t v) {
-  return plan.registration->views[v].method == RegistrationMethod::Markers;
-}
-
-}  // namespace
 
 std::vector<MarkerGroup> markerGroups(const Plan& plan,
                                       const std::vector<std::optional<std::size_t>>& parents,
                                       const std::vector<char>& placed) {
+  const std::vector<std::size_t> orientation = viewOrientations(plan);
+  // Whether `v` joins the group of the view it registers to: by markers, in the same
+  // setup (a link across setups, by the part's markers, stays a link of its own).
+  const auto joins = [&](std::size_t v) {
+    return plan.registration->views[v].method == RegistrationMethod::Markers && parents[v] &&
+           orientation[*parents[v]] == orientation[v];
+  };
   std::map<std::size_t, MarkerGroup> by_root;
   for (std::size_t v = 0; v < parents.size(); ++v) {
-    if (!byMarkers(plan, v) || !placed[v] || !parents[v]) continue;
+    if (!joins(v) || !placed[v]) continue;
     std::size_t root = *parents[v];
-    for (std::size_t hops = 0; byMarkers(plan, root) && parents[root] && hops <= parents.size();
-         ++hops)
-      root = *parents[root];
+    for (std::size_t hops = 0; joins(root) && hops <= parents.size(); ++hops) root = *parents[root];
     MarkerGroup& group = by_root[root];
     group.root = root;
     group.members.push_back(v);

@@ -15,8 +15,8 @@
 namespace scanplan::detail {
 
 // Views joined by marker links to one root: the first view up their chain that is not
-// registered by markers (the reference, or a view registered otherwise), whose pose the
-// group's fit holds fixed.
+// registered by markers to a view of its own setup (the reference, a view registered
+// otherwise, or across setups), whose pose the group's fit holds fixed.
 struct MarkerGroup {
   std::size_t root = 0;
   std::vector<std::size_t> members;  // in the plan's order

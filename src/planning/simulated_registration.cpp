@@ -61,7 +61,8 @@ SimulatedRegistration::SimulatedRegistration(const Plan& plan, const std::vector
       groups_[group].views.push_back(v);
     } else if (r.method == RegistrationMethod::ReferencePoints) {
       link.kind = Kind::Known;
-    } else if (r.method == RegistrationMethod::Icp || r.method == RegistrationMethod::Robot) {
+    } else if (r.method == RegistrationMethod::Icp || r.method == RegistrationMethod::Robot ||
+               r.method == RegistrationMethod::Markers) {  // markers: a link across setups
       link.kind = Kind::Drawn;
       link.root = squareRoot(errors[v].link);
     }

@@ -7,8 +7,9 @@
 // rigid fit of their centres onto the known ones; and the placements compose along the
 // chains. The capability model's first-order covariances of those fits
 // (registration_error.h, marker_adjustment.h) are not used, so the inspection checks
-// them. ICP links and the robot take a draw of the covariance the model gives them: an
-// ICP run per link and per run would take minutes.
+// them. ICP links, the robot and marker links across setups take a draw of the
+// covariance the model gives them: an ICP run per link and per run would take minutes,
+// and the two setups' markers lie in frames of their own.
 
 #include "planning/registration_error.h"
 
