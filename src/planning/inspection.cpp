@@ -4,10 +4,10 @@
 // acceptance errors drawn for that view (a bow over the field within the flatness error, a
 // scale within the sphere-spacing error over the volume's diagonal, an offset along the
 // surface within half the probing error of size); moves it where a run of its
-// registration puts it (simulated_registration.h); and applies the declared deviations. Each
-// characteristic is evaluated from the points of one frame, the one holding most of its faces' and
-// datums' points, as the evaluation defines it; the part's own value comes from the same evaluation
-// on the deviated surface, sampled densely, without error.
+// registration puts it (simulated_registration.h); and applies the declared deviations.
+// Each characteristic is evaluated from the points of one frame, the one holding most of
+// its faces' and datums' points, as the evaluation defines it; the part's own value comes
+// from the same evaluation on the deviated surface, sampled densely, without error.
 
 #include "planning/evaluation.h"
 #include "planning/simulated_registration.h"

@@ -22,11 +22,10 @@
 
 #include <Eigen/Dense>
 
-#include <memory>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 namespace scanplan::detail {
 namespace {

@@ -172,6 +172,7 @@ IcpCloud icpCloud(const Simulator& simulator, const View& view, const Registrati
 // The spacing of the clouds ICP verifies pairs on, mm: `options.cloud_spacing`, else a
 // 150th of the scanner's field height.
 double icpCloudSpacing(const RegistrationOptions& options, const Scanner& scanner);
+
 // checkIcp on clouds made beforehand.
 IcpCheck checkIcp(const Simulator& simulator, const IcpCloud& fixed, const IcpCloud& moved,
                   const RegistrationOptions& options);
