@@ -1,6 +1,7 @@
 // Characteristics against the STEP files' own PMI entities, and measurement capability
 // against analytic least-squares results on a plane.
 
+#include "planning/marker_adjustment.h"
 #include "planning/registration_error.h"
 #include "planning/simulated_registration.h"
 #include "support.h"
@@ -295,6 +296,37 @@ TEST(SimulatedRegistration, ALoopOfMarkerSetsHoldsTheLastViewTighterThanAnyChain
   EXPECT_NEAR(modelVariance(loop, sigma, centre, up), 2.0 / 3 * link, 1e-6 * link);
   EXPECT_NEAR(simulatedVariance(loop, sigma, centre, up, 4000), 2.0 / 3 * link,
               0.08 * 2.0 / 3 * link);
+}
+
+// Four views in a chain by markers over two setups (two views each), the third registered
+// to the second by markers on the part: each setup's views form a group of their own, the
+// third its second group's root, since the two setups' markers lie in frames of their own.
+// The third keeps its own link to the second, the rigid fit of the markers they share.
+TEST(MarkerGroups, StayWithinASetup) {
+  Plan plan = markerViews({{0, 1, 2, 3}, {0, 1, 2, 3}, {0, 1, 2, 3}});
+  plan.views.push_back(downAt(4, plan.scanner, 0, 0));
+  ViewRegistration fourth;
+  fourth.method = RegistrationMethod::Markers;
+  fourth.to = 3;
+  fourth.markers = {0, 1, 2, 3};
+  plan.registration->views.push_back(fourth);
+  plan.orientations.resize(2);
+  plan.orientations[0].views = {1, 2};
+  plan.orientations[1].views = {3, 4};
+  for (PlannedOrientation& o : plan.orientations) o.markers = plan.markers;
+  const std::vector<std::optional<std::size_t>> parents = {std::nullopt, 0, 1, 2};
+  const std::vector<detail::MarkerGroup> groups =
+      detail::markerGroups(plan, parents, std::vector<char>(4, 1));
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].root, 0u);
+  EXPECT_EQ(groups[0].members, std::vector<std::size_t>{1});
+  EXPECT_EQ(groups[1].root, 2u);
+  EXPECT_EQ(groups[1].members, std::vector<std::size_t>{3});
+  const std::vector<detail::ViewError> errors = markerErrors(plan, 0.02);
+  EXPECT_FALSE(errors[2].adjusted);
+  EXPECT_EQ(errors[2].parent, std::optional<std::size_t>(1));
+  EXPECT_TRUE(errors[3].adjusted);
+  EXPECT_EQ(errors[3].parent, std::optional<std::size_t>(2));
 }
 
 // ICP on three orthogonal planes through the origin, each a centred grid of m points of
