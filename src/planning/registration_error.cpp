@@ -15,6 +15,7 @@
 #include "planning/registration_error.h"
 
 #include "planning/marker_adjustment.h"
+#include "registration/overlaps.h"
 
 #include <scanplan/planning/planner.h>
 #include <scanplan/registration/registration.h>
@@ -96,9 +97,7 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
     if (r.method != RegistrationMethod::Icp || !index.count(r.to)) continue;
     const auto to = local.find(index[r.to]);
     if (to == local.end()) continue;
-    std::vector<int> both;
-    std::set_intersection(measured[i].begin(), measured[i].end(), measured[to->second].begin(),
-                          measured[to->second].end(), std::back_inserter(both));
+    const std::vector<int> both = shared(measured[i], measured[to->second]);
     std::vector<Vec3> p, n;
     std::vector<double> variances;
     for (int s : both) {
@@ -141,13 +140,6 @@ std::vector<Vec3> markerPositions(const Plan& plan, std::size_t k, std::size_t v
 
 Vec3 displacement(const Twist& twist, const Vec3& p) {
   return Vec3(twist.head<3>()).cross(p) + twist.tail<3>();
-}
-
-Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p) {
-  Eigen::Matrix<double, 3, 6> m;
-  m.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
-  m.rightCols<3>() = Eigen::Matrix3d::Identity();
-  return m;
 }
 
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
@@ -198,12 +190,10 @@ void markLink(const Plan& plan, std::size_t v, std::size_t orientation,
       break;
     case RegistrationMethod::Markers: {
       if (to == index.end()) break;
-      std::vector<int> shared, mine = r.markers, theirs = registration.views[to->second].markers;
+      std::vector<int> mine = r.markers, theirs = registration.views[to->second].markers;
       std::sort(mine.begin(), mine.end());
       std::sort(theirs.begin(), theirs.end());
-      std::set_intersection(mine.begin(), mine.end(), theirs.begin(), theirs.end(),
-                            std::back_inserter(shared));
-      link.own = markerFit(positionsOf(markerPositions(plan, orientation, v), shared),
+      link.own = markerFit(positionsOf(markerPositions(plan, orientation, v), shared(mine, theirs)),
                            std::sqrt(2.0) * sigma);
       link.parent = to->second;
       break;
@@ -220,23 +210,19 @@ void markLink(const Plan& plan, std::size_t v, std::size_t orientation,
 
 // Along each chain, to the view that fixes the frame, the links' errors add.
 void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
-  const std::size_t n = links.size();
-  std::vector<char> done(n, 0);
-  const auto settle = [&](std::size_t v, auto& self, std::size_t depth) -> void {
-    if (done[v]) return;
-    done[v] = 1;
+  for (std::size_t v = 0; v < links.size(); ++v) {
     errors[v].covariance = errors[v].link = links[v].own;
     errors[v].parent = links[v].parent;
     errors[v].placed = links[v].placed;
     errors[v].adjusted = links[v].adjusted;
     errors[v].slot = links[v].slot;
-    if (!links[v].parent || depth > n) return;
-    const std::size_t parent = *links[v].parent;
-    self(parent, self, depth + 1);
-    errors[v].covariance += errors[parent].covariance;
-    errors[v].placed = errors[v].placed && errors[parent].placed;
-  };
-  for (std::size_t v = 0; v < n; ++v) settle(v, settle, 0);
+  }
+  const Chains chains = chainsOf(errors);
+  for (std::size_t v : chains.order)
+    if (const std::optional<std::size_t>& parent = chains.parents[v]) {
+      errors[v].covariance += errors[*parent].covariance;
+      errors[v].placed = errors[v].placed && errors[*parent].placed;
+    }
 }
 
 // The views registered by markers, adjusted in groups (marker_adjustment.h): each one's

@@ -25,8 +25,6 @@ using Twist = Eigen::Matrix<double, 6, 1>;
 
 // The motion of `p` under `twist`.
 Vec3 displacement(const Twist& twist, const Vec3& p);
-// The matrix mapping a twist to the displacement of `p`: w x p + t.
-Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p);
 // The row mapping a twist to the displacement of `p` along `n`: n . (w x p + t).
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
 

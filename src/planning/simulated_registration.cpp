@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <iterator>
 
 namespace scanplan::detail {
 namespace {

@@ -8,15 +8,12 @@
 
 namespace scanplan::detail {
 
-namespace {
-
-Eigen::Matrix3d cross(const Vec3& p) {
-  Eigen::Matrix3d m;
-  m << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p) {
+  Eigen::Matrix<double, 3, 6> m;
+  m.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
+  m.rightCols<3>() = Eigen::Matrix3d::Identity();
   return m;
 }
-
-}  // namespace
 
 TwistCovariance inverted(const TwistCovariance& information) {
   const double scale = std::max(information.trace(), 1e-300);
@@ -28,8 +25,7 @@ TwistCovariance inverted(const TwistCovariance& information) {
 TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma) {
   TwistCovariance information = TwistCovariance::Zero();
   for (const Vec3& p : points) {
-    Eigen::Matrix<double, 3, 6> jacobian;
-    jacobian << -cross(p), Eigen::Matrix3d::Identity();
+    const Eigen::Matrix<double, 3, 6> jacobian = motionAt(p);
     information += jacobian.transpose() * jacobian / (sigma * sigma);
   }
   return inverted(information);

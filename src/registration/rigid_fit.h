@@ -13,6 +13,9 @@ namespace scanplan::detail {
 // Of a small rigid motion (rotation w, radians, then translation t, mm).
 using TwistCovariance = Eigen::Matrix<double, 6, 6>;
 
+// The matrix mapping a small rigid motion to the displacement of `p`: w x p + t.
+Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p);
+
 // The inverse of an information matrix; directions it leaves free get a large variance
 // rather than an infinity.
 TwistCovariance inverted(const TwistCovariance& information);
