@@ -290,9 +290,7 @@ double fitError(const std::vector<Marker>& markers, double x) {
   int count = 0;
   for (double u = -150; u <= 150; u += 50)
     for (double v = -100; v <= 100; v += 50) {
-      Eigen::Matrix<double, 3, 6> jacobian;  // displacement = w x p + t
-      const Vec3 p(x + u, v, 10);
-      jacobian << 0, p.z(), -p.y(), 1, 0, 0, -p.z(), 0, p.x(), 0, 1, 0, p.y(), -p.x(), 0, 0, 0, 1;
+      const Eigen::Matrix<double, 3, 6> jacobian = detail::motionAt(Vec3(x + u, v, 10));
       sum += (jacobian * covariance * jacobian.transpose()).trace();
       ++count;
     }
