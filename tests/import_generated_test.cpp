@@ -4,6 +4,7 @@
 #include "occt_support.h"
 #include "support.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/import.h>
 #include <scanplan/core/errors.h>
 
@@ -14,10 +15,14 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <GeomConvert.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <Geom_ConicalSurface.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
+#include <Geom_ToroidalSurface.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <Interface_Static.hxx>
@@ -39,6 +44,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <random>
 #include <regex>
 
 namespace scanplan {
@@ -78,6 +84,54 @@ void expectBoxWithHole(const Part& part) {
   double mesh_volume = signedVolume(part.mesh);
   EXPECT_GT(mesh_volume, kVolume);
   EXPECT_LT(mesh_volume, kVolume + 2 * M_PI * kR * kC * part.linear_deflection);
+}
+
+// The point of a cylinder, cone (both nappes), sphere and torus nearest points scattered about them
+// lies as far as OCCT's projection onto the same surface finds, on the surface (OCCT's distance
+// from it 0), and off it along its normal there.
+TEST(ElementarySurface, TheNearestPointIsOcctsProjection) {
+  const gp_Ax3 frame(gp_Pnt(10, -5, 3), gp_Dir(1, 2, 2));
+  const Vec3 origin(10, -5, 3), axis = Vec3(1, 2, 2).normalized();
+  struct Case {
+    ElementarySurface ours;
+    Handle(Geom_Surface) occt;
+    double v_from, v_to;  // the surface's v range searched (u goes round)
+  };
+  const std::vector<Case> cases = {
+      {{SurfaceType::Cylinder, origin, axis, 12},
+       new Geom_CylindricalSurface(frame, 12),
+       -100,
+       100},
+      {{SurfaceType::Cone, origin, axis, 12, 0, radians(20)},
+       new Geom_ConicalSurface(frame, radians(20), 12),
+       -200,
+       200},
+      {{SurfaceType::Sphere, origin, axis, 12},
+       new Geom_SphericalSurface(frame, 12),
+       -M_PI / 2,
+       M_PI / 2},
+      {{SurfaceType::Torus, origin, axis, 30, 8},
+       new Geom_ToroidalSurface(frame, 30, 8),
+       0,
+       2 * M_PI},
+  };
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> within(-40, 40);
+  for (const Case& c : cases)
+    for (int k = 0; k < 50; ++k) {
+      const Vec3 p = origin + Vec3(within(random), within(random), within(random));
+      const auto [q, normal] = nearestOn(c.ours, p);
+      const Handle(Geom_Surface) trimmed =
+          new Geom_RectangularTrimmedSurface(c.occt, 0, 2 * M_PI, c.v_from, c.v_to);
+      GeomAPI_ProjectPointOnSurf projected(gp_Pnt(p.x(), p.y(), p.z()), trimmed);
+      ASSERT_GT(projected.NbPoints(), 0) << int(c.ours.type) << " " << k;
+      EXPECT_NEAR((p - q).norm(), projected.LowerDistance(), 1e-6) << int(c.ours.type) << " " << k;
+      GeomAPI_ProjectPointOnSurf back(gp_Pnt(q.x(), q.y(), q.z()), trimmed);
+      ASSERT_GT(back.NbPoints(), 0);
+      EXPECT_NEAR(back.LowerDistance(), 0, 1e-6);
+      EXPECT_NEAR((p - q).cross(normal).norm(), 0, 1e-6);
+      EXPECT_NEAR(normal.norm(), 1, 1e-12);
+    }
 }
 
 TEST(GeneratedPart, BoxWithHoleFromBrep) {

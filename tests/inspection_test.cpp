@@ -29,17 +29,16 @@ namespace {
 using test::HolePlate;
 using test::holePlate;
 
-// A part's faces as designed, 1 mm apart: the points the evaluation judges, kept in `all`
-// for the nominal too.
+// A part's faces as designed, 1 mm apart: the points the evaluation judges (on the B-Rep's
+// surfaces), kept in `all` for the nominal too (on the mesh, as the simulation samples it).
 detail::FacePoints designed(const Part& part, std::vector<SurfacePoint>& all) {
   SimulationOptions options;
   options.working_plane = false;
+  all = Simulator(part, defaultSpec().scanner, options).surfacePoints(1, 1);
+  const detail::Nominal nominal(part, all);
   detail::FacePoints points;
-  for (const SurfacePoint& s :
-       Simulator(part, defaultSpec().scanner, options).surfacePoints(1, 1)) {
-    all.push_back(s);
-    points[s.face].push_back(s.position);
-  }
+  for (const SurfacePoint& s : all)
+    points[s.face].push_back(nominal.onDesigned(s.face, s.position, s.normal).position);
   return points;
 }
 
@@ -94,22 +93,25 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
-// The hole plate's faces as designed but its hole's wall (`rest`), and the wall sampled again
-// at other points than the nominal's own, 0.5 mm apart (`wall`).
-struct ResampledWall {
-  test::TempDir dir;
+// The hole plate, as read or (`brep` false) as its mesh alone, whose hole's wall is its
+// flat facets.
+HolePlate plateAs(const test::TempDir& dir, bool brep) {
   HolePlate p = holePlate(dir);
-  std::vector<SurfacePoint> all;
-  detail::FacePoints rest = designed(p.part, all);
-  detail::Nominal nominal{p.part, all};
-  std::vector<SurfacePoint> wall;
-  ResampledWall() {
+  if (!brep) p.part.brep.reset();
+  return p;
+}
+
+// The hole plate's faces as designed but its hole's wall (`rest`), and the wall sampled again
+// at other points than the nominal's own, 0.5 mm apart (`wall`), on the wall as designed.
+struct ResampledWall {
+  explicit ResampledWall(bool brep) : p(plateAs(dir, brep)) {
     for (int f : p.hole) rest.erase(f);
     SimulationOptions options;
     options.working_plane = false;
     for (const SurfacePoint& s :
          Simulator(p.part, defaultSpec().scanner, options).surfacePoints(0.5, 7))
-      if (std::count(p.hole.begin(), p.hole.end(), s.face)) wall.push_back(s);
+      if (std::count(p.hole.begin(), p.hole.end(), s.face))
+        wall.push_back(nominal.onDesigned(s.face, s.position, s.normal));
   }
   // The profile of the wall (datums A, B, C: the plate's faces), its points each moved by
   // `move`.
@@ -119,30 +121,44 @@ struct ResampledWall {
     const Characteristic c{4, "profile_of_surface", false, 0.2, 0, 0.2, {"A", "B", "C"}, p.hole};
     return valueOf(c, p.part, nominal, points);
   }
+
+  test::TempDir dir;
+  HolePlate p;
+  std::vector<SurfacePoint> all;
+  detail::FacePoints rest = designed(p.part, all);
+  detail::Nominal nominal{p.part, all};
+  std::vector<SurfacePoint> wall;
 };
 
 // Points measured where the part's surface is lie on it, wherever they fall: the hole's
-// wall, which the mesh approximates by flat facets, sampled again at other points than the
-// nominal's own, has a profile of 0 in the frame of the plate's faces (the distance to the
-// nearest facet, not along the nearest sample's normal, which puts points across a facet's
-// edge off the wall); moved out along its normals by 0.05 mm, a profile of 2 x 0.05.
+// wall, sampled again at other points than the nominal's own, has a profile of 0 in the
+// frame of the plate's faces, on the B-Rep's cylinder and on the mesh's flat facets alone
+// (the distance to the nearest facet, not along the nearest sample's normal, which puts
+// points across a facet's edge off the wall); moved out along its normals by 0.05 mm, a
+// profile of 2 x 0.05.
 TEST(Inspection, APointOnTheWallBetweenTheNominalsSamplesLiesOnTheWall) {
-  const ResampledWall w;
-  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3::Zero(); }), 0, 1e-6);
-  EXPECT_NEAR(w.profile([](const SurfacePoint& s) { return Vec3(0.05 * s.normal); }), 0.1, 2e-3);
+  for (const bool brep : {true, false}) {
+    const ResampledWall w(brep);
+    EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3::Zero(); }), 0, 1e-6) << brep;
+    EXPECT_NEAR(w.profile([](const SurfacePoint& s) { return Vec3(0.05 * s.normal); }), 0.1, 2e-3)
+        << brep;
+  }
 }
 
 // A hole's wall slid 0.3 mm along its own axis lies on the same cylinder: its profile is 0,
 // though the points near the plate's top are carried past the wall's edge (measured to the
 // nearest point of the wall, they would lie 0.3 mm off, a profile of 0.6). Slid 0.3 mm across
-// the axis, the wall's profile is twice that, 0.6.
+// the axis, the wall's profile is twice that, 0.6. On the B-Rep's cylinder and on the mesh's
+// facets alike.
 TEST(Inspection, AWallSlidAlongItselfPastItsEdgeKeepsItsProfile) {
-  const ResampledWall w;
-  ASSERT_GT(std::count_if(w.wall.begin(), w.wall.end(),
-                          [](const SurfacePoint& s) { return s.position.z() > 20 - 0.3; }),
-            10);
-  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0, 0, 0.3); }), 0, 1e-6);
-  EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0.3, 0, 0); }), 0.6, 0.01);
+  for (const bool brep : {true, false}) {
+    const ResampledWall w(brep);
+    ASSERT_GT(std::count_if(w.wall.begin(), w.wall.end(),
+                            [](const SurfacePoint& s) { return s.position.z() > 20 - 0.3; }),
+              10);
+    EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0, 0, 0.3); }), 0, 1e-6) << brep;
+    EXPECT_NEAR(w.profile([](const SurfacePoint&) { return Vec3(0.3, 0, 0); }), 0.6, 0.01) << brep;
+  }
 }
 
 // A view moved by a known registration error moves what it measures by that error: the
@@ -347,6 +363,24 @@ TEST(Inspection, TheAngleBetweenTwoFacesIsAsUncertainAsTheCapabilityModelPredict
   RecordProperty("inspected_u_bias", std::to_string(k.uncertainty) + " " + std::to_string(k.bias));
   EXPECT_NEAR(predicted.budget.registration, 0, 1e-6);
   EXPECT_NEAR(predicted.uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2);
+}
+
+// The bore of Ø20 as designed, not as its mesh's facets cut inside it (ten to a bore of
+// this size at the plate's chordal tolerance): the part's own diameter is the B-Rep's, and
+// the views' points, laid on part of the bore each, fit it without a bias beyond the noise's
+// share of U.
+TEST(Inspection, ABoresDiameterIsTheDesignedCylindersNotItsFacets) {
+  FourViewInspection inspect;
+  inspect.plan.registration->robot_accuracy = 1e-9;
+  InspectionOptions options;
+  options.runs = 20;
+  const Inspection inspected = inspect(options);
+  const InspectedCharacteristic& d = inspected.characteristics[2];
+  ASSERT_TRUE(d.evaluated) << d.not_evaluated;
+  RecordProperty("true_mean_u", std::to_string(d.true_value) + " " + std::to_string(d.mean) + " " +
+                                    std::to_string(d.uncertainty));
+  EXPECT_NEAR(d.true_value, 20, 1e-6);
+  EXPECT_NEAR(d.mean, 20, d.uncertainty / 2);
 }
 
 // The inspection's values do not depend on how many threads simulate the views: each run's

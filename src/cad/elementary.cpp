@@ -6,11 +6,21 @@
 
 #include <BRepAdaptor_Surface.hxx>
 
+#include <cmath>
+#include <limits>
+
 namespace scanplan {
 namespace {
 
 Vec3 point(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 Vec3 direction(const gp_Dir& d) { return {d.X(), d.Y(), d.Z()}; }
+
+// The unit part of `v` across `axis`: any direction across it when `v` runs along it.
+Vec3 across(const Vec3& v, const Vec3& axis) {
+  const Vec3 r = v - v.dot(axis) * axis;
+  if (r.norm() > 1e-12) return r.normalized();
+  return axis.unitOrthogonal();
+}
 
 }  // namespace
 
@@ -54,6 +64,47 @@ std::optional<ElementarySurface> elementarySurface(const Part& part, int id) {
       e.minor_radius = s.Torus().MinorRadius();
       return e;
     default: return std::nullopt;
+  }
+}
+
+std::pair<Vec3, Vec3> nearestOn(const ElementarySurface& s, const Vec3& p) {
+  const Vec3 from = p - s.origin;
+  const double h = from.dot(s.axis);
+  switch (s.type) {
+    case SurfaceType::Cylinder: {
+      const Vec3 out = across(from, s.axis);
+      return {s.origin + h * s.axis + s.radius * out, out};
+    }
+    case SurfaceType::Cone: {
+      // In the plane of the axis and `p`, a generator on each side of the axis, each through
+      // (0, radius) on its side at the semi-angle (and on through the apex): the point of
+      // the nearer nearest (h, r).
+      const Vec3 out = across(from, s.axis);
+      const double r = (from - h * s.axis).norm(), c = std::cos(s.semi_angle),
+                   sn = std::sin(s.semi_angle);
+      std::pair<Vec3, Vec3> best;
+      double least = std::numeric_limits<double>::infinity();
+      for (const double side : {1.0, -1.0}) {
+        const double t = h * c + (side * r - s.radius) * sn;
+        const Vec3 q = s.origin + t * c * s.axis + side * (s.radius + t * sn) * out;
+        if ((p - q).norm() < least) {
+          least = (p - q).norm();
+          best = {q, side * c * out - sn * s.axis};
+        }
+      }
+      return best;
+    }
+    case SurfaceType::Sphere: {
+      const Vec3 out = from.norm() > 1e-12 ? Vec3(from.normalized()) : Vec3::UnitZ();
+      return {s.origin + s.radius * out, out};
+    }
+    case SurfaceType::Torus: {
+      const Vec3 ring = s.origin + s.radius * across(from, s.axis);
+      const Vec3 to = p - ring;
+      const Vec3 out = to.norm() > 1e-12 ? Vec3(to.normalized()) : across(from, s.axis);
+      return {ring + s.minor_radius * out, out};
+    }
+    default: return {p - h * s.axis, s.axis};
   }
 }
 

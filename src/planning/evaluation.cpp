@@ -409,6 +409,12 @@ struct Nominal::Trees {
 
 namespace {
 
+// `p` moved onto the face's exact surface `s`, its normal turned the way of p's.
+SurfacePoint onSurface(const ElementarySurface& s, const SurfacePoint& p) {
+  const auto [q, out] = nearestOn(s, p.position);
+  return {q, out.dot(p.normal) < 0 ? Vec3(-out) : out, p.face};
+}
+
 // `f`: the triangles of the part's mesh on face `id`, indexed in place.
 void fillFacets(const Part& part, int id, Facets& f) {
   const Face& face = part.face(id);
@@ -433,10 +439,16 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     : trees_(std::make_unique<Trees>()) {
   for (const SurfacePoint& p : points) {
     if (p.face < 1 || p.face > static_cast<int>(part.faces.size())) continue;
+    if (faces_.count(p.face) == 0) {
+      faces_[p.face].type = part.faces[p.face - 1].type;
+      const auto surface = elementarySurface(part, p.face);
+      if (surface && surface->type != SurfaceType::Plane) exact_[p.face] = *surface;
+    }
     NominalFace& f = faces_[p.face];
-    f.type = part.faces[p.face - 1].type;
-    f.points.push_back(p.position);
-    f.normals.push_back(p.normal);
+    const auto exact = exact_.find(p.face);
+    const SurfacePoint on = exact == exact_.end() ? p : onSurface(exact->second, p);
+    f.points.push_back(on.position);
+    f.normals.push_back(on.normal);
   }
   for (auto& [id, f] : faces_) {
     Vec3 mean_normal = Vec3::Zero();
@@ -462,24 +474,24 @@ const NominalFace* Nominal::face(int id) const {
   return found == faces_.end() ? nullptr : &found->second;
 }
 
-std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
-  const NominalFace& f = faces_.at(id);
+std::optional<std::pair<Vec3, double>> Nominal::onTriangles(int id, const Vec3& p) const {
+  const auto found = trees_->facets.find(id);
+  if (found == trees_->facets.end()) return std::nullopt;
+  // The nearest point of the triangle whose centre is nearest lies within that centre's
+  // distance; the nearest of all, on a triangle whose centre lies within that and the
+  // reach: the nearest point on those, and the distance along that triangle's normal (the
+  // whole distance but past the face's edge).
+  const Facets& facets = found->second;
   unsigned index = 0;
   double squared = 0;
-  trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
-  std::pair<Vec3, double> result{f.normals[index], f.normals[index].dot(p - f.points[index])};
-  const auto found = trees_->facets.find(id);
-  if (found == trees_->facets.end()) return result;
-  // The face's surface lies within the nearest sample's distance: its triangles that may
-  // reach that near, the nearest point on them, and the distance along that triangle's
-  // normal (the whole distance but past the face's edge).
-  const Facets& facets = found->second;
+  facets.tree->knnSearch(p.data(), 1, &index, &squared);
   const double within = std::sqrt(squared) + facets.reach + 1e-9;
   Neighbours near;
   nanoflann::SearchParams unsorted;
   unsorted.sorted = false;
   facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
   double best = std::numeric_limits<double>::infinity();
+  std::pair<Vec3, double> result{facets.normals[index], 0.0};
   for (const auto& [t, d2] : near) {
     const auto& c = facets.corners[t];
     const Vec3 q = closestPointOnTriangle(p, c[0], c[1], c[2]);
@@ -490,6 +502,33 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
     result = {n, n.dot(p - q)};
   }
   return result;
+}
+
+std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
+  const NominalFace& f = faces_.at(id);
+  if (const auto exact = exact_.find(id); exact != exact_.end()) {
+    // The surface's normal turned the face's way (a bore's inward).
+    const auto [q, out] = nearestOn(exact->second, p);
+    unsigned index = 0;
+    double squared = 0;
+    trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
+    const Vec3 n = out.dot(f.normals[index]) < 0 ? Vec3(-out) : out;
+    return {n, n.dot(p - q)};
+  }
+  if (auto on = onTriangles(id, p)) return *on;
+  unsigned index = 0;
+  double squared = 0;
+  trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
+  return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+}
+
+SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
+  const auto exact = exact_.find(id);
+  if (exact == exact_.end()) return {p, n, id};
+  const auto [normal, off] = onTriangles(id, p).value_or(std::pair{n, 0.0});
+  SurfacePoint on = onSurface(exact->second, {p - off * normal, n, id});
+  on.position += off * on.normal;
+  return on;
 }
 
 namespace {

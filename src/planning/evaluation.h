@@ -6,6 +6,7 @@
 
 #include "planning/registration_error.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/gdt.h>
 #include <scanplan/cad/part.h>
 #include <scanplan/scanner/simulation.h>
@@ -37,21 +38,32 @@ struct NominalFace {
   double rim = 0;               // the farthest its points lie from the centroid, across it
 };
 
-// The part's faces as designed, from points sampled densely on them (part frame).
+// The part's faces as designed, from points sampled densely on them (part frame). Where a
+// face is a cylinder, cone, sphere or torus in the B-Rep, its points are moved onto that
+// surface: a mesh's facets cut inside the curve, by up to its chordal tolerance.
 class Nominal {
  public:
   Nominal(const Part& part, std::span<const SurfacePoint> points);
   ~Nominal();
   const NominalFace* face(int id) const;
-  // The normal of face `id` at its point nearest `p` (on its triangles; without them, its
-  // nearest sample), and the signed distance from `p` to it along that normal: a point
-  // carried past the face's edge is as far from the face as it lies along its normal, as a
-  // surface comparison measures deviations normal to the nominal.
+  // The normal of face `id` at its point nearest `p` (its exact surface; else its triangles;
+  // without them, its nearest sample), and the signed distance from `p` to it along that
+  // normal: a point carried past the face's edge is as far from the face as it lies along
+  // its normal, as a surface comparison measures deviations normal to the nominal.
   std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
+  // A point `p` near face `id`'s triangles (normal `n`), where it lies against the face's
+  // exact surface: as far along that surface's normal as it lies off the triangles (a
+  // simulated scanner's noise). As it is on faces without one.
+  SurfacePoint onDesigned(int id, const Vec3& p, const Vec3& n) const;
 
  private:
   struct Trees;
+  // The normal and signed distance of the point of face `id`'s triangles nearest `p`; none
+  // without triangles.
+  std::optional<std::pair<Vec3, double>> onTriangles(int id, const Vec3& p) const;
+
   std::map<int, NominalFace> faces_;
+  std::map<int, ElementarySurface> exact_;  // the curved faces' surfaces
   std::unique_ptr<Trees> trees_;
 };
 

@@ -145,7 +145,7 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
     if (!s.errors[v].placed) return;
     const View& view = s.plan.views[v];
     const std::size_t k = orientation[v];
-    const Pose to_part = orientationPlacement(s.plan, k).inverse();
+    const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
     const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
                                static_cast<std::uint64_t>(view.id);
     const PointCloud cloud = simulators[k].cloud(view, seed, s.spacing);
@@ -153,10 +153,12 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
       const int face = cloud.faces[i];
       if (!s.faces.count(face)) continue;
-      const Vec3 p =
-          moves[v] * acceptance[v].apply(s.plan.scanner, view, cloud.points[i], cloud.normals[i]);
-      const Vec3 in_part = to_part * p,
-                 normal = to_part.linear() * moves[v].linear() * cloud.normals[i];
+      // The point the camera took on the mesh, on the part as designed instead.
+      const SurfacePoint on = s.nominal.onDesigned(face, to_part * cloud.points[i],
+                                                   to_part.linear() * cloud.normals[i]);
+      const Vec3 at = to_world * on.position, towards = to_world.linear() * on.normal;
+      const Vec3 p = moves[v] * acceptance[v].apply(s.plan.scanner, view, at, towards);
+      const Vec3 in_part = to_part * p, normal = to_part.linear() * moves[v].linear() * towards;
       mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
     }
   });
@@ -235,8 +237,10 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const detail::Nominal nominal(part, designed);
   // The part simulated: the designed surface where the deviations put it.
   FacePoints truth;
-  for (const SurfacePoint& p : designed)
-    truth[p.face].push_back(deviated(options.deviations, nominal, p.face, p.position, p.normal));
+  for (const int id : faces)
+    if (const detail::NominalFace* f = nominal.face(id))
+      for (std::size_t k = 0; k < f->points.size(); ++k)
+        truth[id].push_back(deviated(options.deviations, nominal, id, f->points[k], f->normals[k]));
 
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;

@@ -4,6 +4,7 @@
 #include <scanplan/cad/part.h>
 
 #include <optional>
+#include <utility>
 
 namespace scanplan {
 
@@ -21,5 +22,10 @@ struct ElementarySurface {
 // Face `face`'s surface where it is a plane, cylinder, cone, sphere or torus; none for other
 // surfaces and for mesh parts.
 std::optional<ElementarySurface> elementarySurface(const Part& part, int face);
+
+// The point of `surface` nearest `p` and the surface's unit normal there, pointing away
+// from its axis, centre or (a plane's) along its axis: the cone taken whole, both nappes.
+// A point on the axis (or at the centre) takes an arbitrary direction about it.
+std::pair<Vec3, Vec3> nearestOn(const ElementarySurface& surface, const Vec3& p);
 
 }  // namespace scanplan
