@@ -13,6 +13,7 @@
 #include <scanplan/planning.h>
 #include <scanplan/planning/capability.h>
 
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
@@ -425,6 +426,52 @@ TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
   RecordProperty("registration_u_overlapping", std::to_string(both.budget.registration));
   EXPECT_NEAR(both.covered, 1, 0.02);
   EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
+}
+
+// A 200 x 100 x 10 mm plate with a 3 mm deep slot across its middle 100 mm: the step's
+// height from the slot's floor (one face) to the top (two faces of one plane, one each
+// side), seen straight down by `views` views at one place, which see all of both (field
+// 250, point spacing 2, noise 0.01), the first the reference and the others placed by a
+// robot of accuracy 0.1 mm.
+Capability stepCase(const test::TempDir& dir, int views) {
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 10).Shape();
+  const TopoDS_Shape slot = BRepPrimAPI_MakeBox(gp_Pnt(50, -1, 7), gp_Pnt(150, 101, 11)).Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(plate, slot).Shape(), dir.file("step.brep").c_str());
+  const Part part = importPart(dir.file("step.brep"));
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 250;
+  spec.scanner.point_spacing = 2;
+  spec.scanner.noise_sigma = 0.01;
+  spec.planner.capability.draws = 4000;  // the 95th percentile within about 2 %
+  Characteristic step{1, "linear_distance", true, 3, 2.9, 3.1, {}, {}};
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Plane && f.bounds.size().z() < 1e-6 &&
+        (f.bounds.min.z() > 9.99 || std::abs(f.bounds.min.z() - 7) < 1e-6))
+      step.faces.push_back(f.id);
+  EXPECT_EQ(step.faces.size(), 3u);
+  const Plan plan = robotPlacedViews(spec.scanner, std::vector<double>(views, 100));
+  return capabilities(part, resolveSpec(part, spec), plan, {step}).front();
+}
+
+// The step is two features, each fitted whole, as the inspection fits them: the noise
+// moves each by sigma / sqrt(its points), 2500 on the top's two faces together and 2500 on
+// the floor, and the height by their difference, so its U is 1.96 x 0.01 x sqrt(2 / 2500)
+// = 0.00055 mm (the floor's points 3 mm deeper are 1.5 % noisier). Face by face, the top's
+// two halves would each count with 1250 points. Two views at one place see every patch
+// alike, so the second view's registration error moves the top and the floor alike, and
+// the height keeps: none, where adding the features' offsets along their normals (right
+// for a thickness, whose sides face away from each other) gives the whole offset, 1.96 x
+// 0.1 / 2.7955.
+TEST(Capability, AStepsHeightIsTwoFeaturesApartWhateverTheirFaces) {
+  test::TempDir dir;
+  const Capability one = stepCase(dir, 1), two = stepCase(dir, 2);
+  const double analytic = 1.96 * 0.01 * std::sqrt(2.0 / 2500);
+  RecordProperty("noise_u", std::to_string(one.budget.noise));
+  RecordProperty("registration_u_two_views", std::to_string(two.budget.registration));
+  EXPECT_NEAR(one.points, 5000, 0.03 * 5000);
+  EXPECT_NEAR(one.budget.noise, analytic, 0.1 * analytic);
+  EXPECT_NEAR(one.budget.registration, 0, 1e-12);
+  EXPECT_LT(two.budget.registration, 0.01 * 1.96 * 0.1 / 2.7955);
 }
 
 // A plate's top (flatness 0.2) seen whole by two views: the first placed by a robot of

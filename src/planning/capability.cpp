@@ -9,8 +9,9 @@
 //   displacement over the faces;
 // - profile and position: twice its largest displacement (zones about the nominal);
 // - diameter and radius: the fitted offset (twice for a diameter); a distance between
-//   faces: the faces' own offsets together; an angle between two faces: their fits' turns
-//   apart, each face fitted on its own, in degrees.
+//   features: the features' own offsets together; an angle between two features: their
+//   fits' turns apart, each fitted on its own, in degrees. A feature is the faces of one
+//   plane or cylinder, as the evaluation groups them.
 // U is the error that 95% of the draws stay under.
 
 #include "core/kd_tree.h"
@@ -153,16 +154,16 @@ class RigidFit {
   Eigen::LDLT<Normal6> normal_;
 };
 
-// The two faces of an angle between faces, each fitted apart as a rigid motion that best
-// explains its patches' displacements, as the inspection fits a plane to each face: the
+// The two features of an angle between faces, each fitted apart as a rigid motion that
+// best explains its patches' displacements, as the inspection fits a plane to each: the
 // angle between them changes under displacements `d` of the patches by the two fits' turns
-// apart about the axis across both faces' normals. Empty unless the patches lie on exactly
-// two faces that are not parallel.
+// apart about the axis across both features' normals. Empty unless the patches lie on
+// exactly two features (`feature_of`, per patch) that are not parallel.
 class FacePair {
  public:
-  explicit FacePair(const std::vector<const Patch*>& patches) {
+  FacePair(const std::vector<const Patch*>& patches, const std::vector<int>& feature_of) {
     std::map<int, std::vector<std::size_t>> by_face;
-    for (std::size_t i = 0; i < patches.size(); ++i) by_face[patches[i]->point.face].push_back(i);
+    for (std::size_t i = 0; i < patches.size(); ++i) by_face[feature_of[i]].push_back(i);
     if (by_face.size() != 2) return;
     Vec3 normals[2] = {Vec3::Zero(), Vec3::Zero()};
     std::size_t k = 0;
@@ -193,7 +194,7 @@ class FacePair {
   }
 
  private:
-  std::vector<std::vector<std::size_t>> members_;  // per face: its patches' indices
+  std::vector<std::vector<std::size_t>> members_;  // per feature: its patches' indices
   std::vector<RigidFit> fits_;
   Vec3 axis_ = Vec3::Zero();
 };
@@ -226,24 +227,35 @@ std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
   return sigmas;
 }
 
-// What a characteristic's draws read: its measured patches and their fit, and its datum
-// features' patches (none without datums).
+// Per patch, the index of its face's feature in `feature_of_face` (oneFeature).
+std::vector<int> featuresOf(const std::vector<const Patch*>& patches,
+                            const std::map<int, int>& feature_of_face) {
+  std::vector<int> features;
+  for (const Patch* p : patches) features.push_back(feature_of_face.at(p->point.face));
+  return features;
+}
+
+// What a characteristic's draws read: its measured patches, their features (faces of one
+// plane or cylinder alike) and their fit, and its datum features' patches (none without
+// datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
+  std::vector<int> feature_of;                       // per feature patch
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   Fit fit;
   RigidFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
-  Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
-           const std::vector<double>& datum_shares)
+  Measured(std::vector<const Patch*> f, const std::map<int, int>& feature_of_face,
+           std::vector<const Patch*> d, const std::vector<double>& datum_shares)
       : feature(std::move(f)),
         datum(std::move(d)),
+        feature_of(featuresOf(feature, feature_of_face)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
         datum_motion(datum, datum_shares),
-        faces(feature),
+        faces(feature, feature_of),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
           return p->point.normal.dot(feature.front()->point.normal) > std::cos(radians(1));
         })) {}
@@ -294,17 +306,38 @@ double angleChange(const Measured& m, const std::vector<double>& d, const std::v
   return m.faces.empty() ? degrees(std::atan(range(f) / m.fit.extent)) : m.faces.change(d);
 }
 
-// Per face of the patches, the weighted mean of `d`: a face's offset.
-std::vector<double> faceOffsets(const Measured& m, const std::vector<double>& d) {
-  std::map<int, std::pair<double, double>> faces;  // weighted offset sum, weight
+// Per feature of the patches, the weighted mean of `d` (a feature's offset, as the
+// evaluation fits each feature whole) and of the patches' normals.
+std::vector<std::pair<double, Vec3>> featureOffsets(const Measured& m,
+                                                    const std::vector<double>& d) {
+  struct Sums {
+    double offset = 0, weight = 0;
+    Vec3 normal = Vec3::Zero();
+  };
+  std::map<int, Sums> features;
   for (std::size_t i = 0; i < d.size(); ++i) {
     const double w = m.fit.weights[i];
-    faces[m.feature[i]->point.face].first += w * d[i];
-    faces[m.feature[i]->point.face].second += w;
+    Sums& f = features[m.feature_of[i]];
+    f.offset += w * d[i];
+    f.weight += w;
+    f.normal += w * m.feature[i]->point.normal;
   }
-  std::vector<double> offsets;
-  for (const auto& [face, f] : faces) offsets.push_back(f.first / f.second);
+  std::vector<std::pair<double, Vec3>> offsets;
+  for (const auto& [feature, f] : features)
+    offsets.push_back({f.offset / f.weight, f.normal.normalized()});
   return offsets;
+}
+
+// How far the distance between two features changes when they move by their offsets
+// along their own normals: apart by both where they face away from each other (a
+// thickness), by the difference where they face alike (a step). With other than two
+// features, the offsets added.
+double distanceChange(const std::vector<std::pair<double, Vec3>>& offsets) {
+  if (offsets.size() == 2)
+    return std::abs(offsets[0].first - offsets[1].first * offsets[1].second.dot(offsets[0].second));
+  double sum = 0;
+  for (const auto& [offset, normal] : offsets) sum += offset;
+  return std::abs(sum);
 }
 
 // One draw of the noise's error on the characteristic's value: the fitted geometry's
@@ -320,11 +353,7 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
   switch (effect) {
     case Effect::Diameter: return 2 * std::abs(f.offset);
     case Effect::Radius: return std::abs(f.offset);
-    case Effect::Size: {  // a distance between faces: each face's offset adds
-      double squares = 0;
-      for (double o : faceOffsets(m, d)) squares += o * o;
-      return std::sqrt(squares);
-    }
+    case Effect::Size: return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.at);
     case Effect::Form: return range(f.at);
     case Effect::Profile: return 2 * largestMagnitude(f.at);
@@ -381,11 +410,8 @@ double registrationError(Effect effect, const Measured& m,
       return 2 * largestMagnitude(lookDisplacements(m, moves, relative ? datum_shift : fitted_at));
     case Effect::Diameter: return 2 * std::abs(f.offset);
     case Effect::Radius: return std::abs(f.offset);
-    case Effect::Size: {  // opposite faces moved alike keep their distance
-      double sum = 0;
-      for (double o : faceOffsets(m, d)) sum += o;
-      return std::abs(sum);
-    }
+    case Effect::Size:  // features moved alike keep their distance
+      return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.residual);
   }
   return 0;
@@ -435,6 +461,20 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
   }
   return {percentile95(std::move(noise)), percentile95(std::move(registration)),
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
+}
+
+// Each of `faces` (ids) the index of its feature: faces of one plane or cylinder share one
+// (detail::oneFeature).
+std::map<int, int> featureOfFaces(const Part& part, const std::vector<int>& faces) {
+  std::map<int, int> feature_of;
+  std::vector<int> firsts;  // each feature's first face
+  for (int f : faces) {
+    const auto same = std::find_if(firsts.begin(), firsts.end(),
+                                   [&](int g) { return detail::oneFeature(part, g, f); });
+    feature_of[f] = static_cast<int>(same - firsts.begin());
+    if (same == firsts.end()) firsts.push_back(f);
+  }
+  return feature_of;
 }
 
 // The characteristics' faces and their datums', sampled once (part frame), each sample a
@@ -754,8 +794,9 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    k.budget = budgetOf(c, Measured(measured, datum, datumShares(part.gdt, c, datum)), plan.scanner,
-                        moves, options, spec.spec.planner.seed);
+    const Measured m(measured, featureOfFaces(part, c.faces), datum,
+                     datumShares(part.gdt, c, datum));
+    k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
   judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);

@@ -35,9 +35,11 @@ struct Feature {
   CylinderFit cylinder;
 };
 
+// Faces of one feature lie along one another within kAlong (1 - |cos|) and apart by less
+// than kApart mm, as the mesh gives them (each face's chords its own).
+constexpr double kAlong = 1e-3, kApart = 0.1;
+
 bool sameGeometry(const NominalFace& a, const NominalFace& b) {
-  // Faces of one feature, as the mesh gives them (each face's chords its own).
-  constexpr double kAlong = 1e-3, kApart = 0.1;
   if (a.type != b.type) return false;
   if (a.type == SurfaceType::Plane)
     return std::abs(std::abs(a.normal.dot(b.normal)) - 1) < kAlong &&
@@ -48,6 +50,23 @@ bool sameGeometry(const NominalFace& a, const NominalFace& b) {
            std::abs(a.cylinder.radius - b.cylinder.radius) < kApart;
   return false;
 }
+
+}  // namespace
+
+bool oneFeature(const Part& part, int a, int b) {
+  if (a == b) return true;
+  const auto p = elementarySurface(part, a), q = elementarySurface(part, b);
+  if (!p || !q || p->type != q->type) return false;
+  const bool along = std::abs(std::abs(p->axis.dot(q->axis)) - 1) < kAlong;
+  const Vec3 apart = q->origin - p->origin;
+  if (p->type == SurfaceType::Plane) return along && std::abs(p->axis.dot(apart)) < kApart;
+  if (p->type == SurfaceType::Cylinder)
+    return along && (apart - apart.dot(p->axis) * p->axis).norm() < kApart &&
+           std::abs(p->radius - q->radius) < kApart;
+  return false;
+}
+
+namespace {
 
 // `faces` grouped into features.
 std::vector<Feature> featuresOf(const std::vector<int>& faces, const Nominal& nominal) {
@@ -445,8 +464,7 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
       if (surface && surface->type != SurfaceType::Plane) exact_[p.face] = *surface;
     }
     NominalFace& f = faces_[p.face];
-    const auto exact = exact_.find(p.face);
-    const SurfacePoint on = exact == exact_.end() ? p : onSurface(exact->second, p);
+    const SurfacePoint on = onDesigned(p.face, p.position, p.normal);
     f.points.push_back(on.position);
     f.normals.push_back(on.normal);
   }
@@ -524,11 +542,7 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
 
 SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
   const auto exact = exact_.find(id);
-  if (exact == exact_.end()) return {p, n, id};
-  const auto [normal, off] = onTriangles(id, p).value_or(std::pair{n, 0.0});
-  SurfacePoint on = onSurface(exact->second, {p - off * normal, n, id});
-  on.position += off * on.normal;
-  return on;
+  return exact == exact_.end() ? SurfacePoint{p, n, id} : onSurface(exact->second, {p, n, id});
 }
 
 namespace {

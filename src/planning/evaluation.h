@@ -51,9 +51,9 @@ class Nominal {
   // normal: a point carried past the face's edge is as far from the face as it lies along
   // its normal, as a surface comparison measures deviations normal to the nominal.
   std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
-  // A point `p` near face `id`'s triangles (normal `n`), where it lies against the face's
-  // exact surface: as far along that surface's normal as it lies off the triangles (a
-  // simulated scanner's noise). As it is on faces without one.
+  // A point `p` of face `id`'s triangles (normal `n`) where it lies on the face as designed:
+  // the nearest point of the face's exact surface, with that surface's normal turned as `n`;
+  // as it is on faces without one.
   SurfacePoint onDesigned(int id, const Vec3& p, const Vec3& n) const;
 
  private:
@@ -66,6 +66,11 @@ class Nominal {
   std::map<int, ElementarySurface> exact_;  // the curved faces' surfaces
   std::unique_ptr<Trees> trees_;
 };
+
+// Whether faces `a` and `b` of `part` are of one feature, one plane or one cylinder, by
+// their B-Rep surfaces, as the evaluation groups faces by their designed points; faces
+// of a mesh part each their own.
+bool oneFeature(const Part& part, int a, int b);
 
 // The value of `c` from `points`, or why it cannot be found: its features not measured or
 // not fitted, or a kind the evaluation does not know.

@@ -153,10 +153,12 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
       const int face = cloud.faces[i];
       if (!s.faces.count(face)) continue;
-      // The point the camera took on the mesh, on the part as designed instead.
-      const SurfacePoint on = s.nominal.onDesigned(face, to_part * cloud.points[i],
+      // Where the camera's ray met the mesh, on the part as designed instead; the noise
+      // along the ray kept.
+      const SurfacePoint on = s.nominal.onDesigned(face, to_part * cloud.hits[i],
                                                    to_part.linear() * cloud.normals[i]);
-      const Vec3 at = to_world * on.position, towards = to_world.linear() * on.normal;
+      const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
+                 towards = to_world.linear() * on.normal;
       const Vec3 p = moves[v] * acceptance[v].apply(s.plan.scanner, view, at, towards);
       const Vec3 in_part = to_part * p, normal = to_part.linear() * moves[v].linear() * towards;
       mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));

@@ -360,6 +360,7 @@ struct Simulator::Impl {
         out.normals.push_back(sp.normal);
         out.faces.push_back(sp.face);
         out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
+        out.hits.push_back(sp.position);
       }
     });
   }
@@ -558,6 +559,7 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
     cloud.normals.insert(cloud.normals.end(), row.normals.begin(), row.normals.end());
     cloud.faces.insert(cloud.faces.end(), row.faces.begin(), row.faces.end());
     cloud.incidence.insert(cloud.incidence.end(), row.incidence.begin(), row.incidence.end());
+    cloud.hits.insert(cloud.hits.end(), row.hits.begin(), row.hits.end());
   }
   return cloud;
 }

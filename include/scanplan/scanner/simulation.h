@@ -80,6 +80,8 @@ struct PointCloud {
   std::vector<Vec3> normals;     // unit, outward
   std::vector<int> faces;        // face id per point
   std::vector<float> incidence;  // angle between normal and camera ray, degrees
+  std::vector<Vec3> hits;        // mm, where each point's ray met the mesh, before the noise
+                                 // (a simulated cloud's; empty for one read from a file)
 };
 
 // What a view's camera records on the surface at a point it measures (docs/simulation.md):
