@@ -428,12 +428,6 @@ struct Nominal::Trees {
 
 namespace {
 
-// `p` moved onto the face's exact surface `s`, its normal turned the way of p's.
-SurfacePoint onSurface(const ElementarySurface& s, const SurfacePoint& p) {
-  const auto [q, out] = nearestOn(s, p.position);
-  return {q, out.dot(p.normal) < 0 ? Vec3(-out) : out, p.face};
-}
-
 // `f`: the triangles of the part's mesh on face `id`, indexed in place.
 void fillFacets(const Part& part, int id, Facets& f) {
   const Face& face = part.face(id);
@@ -461,7 +455,9 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     if (faces_.count(p.face) == 0) {
       faces_[p.face].type = part.faces[p.face - 1].type;
       const auto surface = elementarySurface(part, p.face);
-      if (surface && surface->type != SurfaceType::Plane) exact_[p.face] = *surface;
+      if (surface && surface->type != SurfaceType::Plane)
+        exact_[p.face] = {*surface,
+                          nearestOn(*surface, p.position).second.dot(p.normal) < 0 ? -1.0 : 1.0};
     }
     NominalFace& f = faces_[p.face];
     const SurfacePoint on = onDesigned(p.face, p.position, p.normal);
@@ -524,14 +520,9 @@ std::optional<std::pair<Vec3, double>> Nominal::onTriangles(int id, const Vec3& 
 
 std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   const NominalFace& f = faces_.at(id);
-  if (const auto exact = exact_.find(id); exact != exact_.end()) {
-    // The surface's normal turned the face's way (a bore's inward).
-    const auto [q, out] = nearestOn(exact->second, p);
-    unsigned index = 0;
-    double squared = 0;
-    trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
-    const Vec3 n = out.dot(f.normals[index]) < 0 ? Vec3(-out) : out;
-    return {n, n.dot(p - q)};
+  if (exact_.count(id)) {
+    const SurfacePoint on = onDesigned(id, p, Vec3::Zero());
+    return {on.normal, on.normal.dot(p - on.position)};
   }
   if (auto on = onTriangles(id, p)) return *on;
   unsigned index = 0;
@@ -542,7 +533,9 @@ std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
 
 SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
   const auto exact = exact_.find(id);
-  return exact == exact_.end() ? SurfacePoint{p, n, id} : onSurface(exact->second, {p, n, id});
+  if (exact == exact_.end()) return {p, n, id};
+  const auto [q, out] = nearestOn(exact->second.surface, p);
+  return {q, exact->second.side * out, id};
 }
 
 namespace {

@@ -52,8 +52,8 @@ class Nominal {
   // its normal, as a surface comparison measures deviations normal to the nominal.
   std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
   // A point `p` of face `id`'s triangles (normal `n`) where it lies on the face as designed:
-  // the nearest point of the face's exact surface, with that surface's normal turned as `n`;
-  // as it is on faces without one.
+  // the nearest point of the face's exact surface, with its outward normal there; as it is
+  // on faces without one.
   SurfacePoint onDesigned(int id, const Vec3& p, const Vec3& n) const;
 
  private:
@@ -62,8 +62,15 @@ class Nominal {
   // without triangles.
   std::optional<std::pair<Vec3, double>> onTriangles(int id, const Vec3& p) const;
 
+  // A curved face's exact surface, and which way the face's outward normal points from
+  // it: 1 away from its axis or centre (a boss), -1 towards it (a bore).
+  struct Exact {
+    ElementarySurface surface;
+    double side = 1;
+  };
+
   std::map<int, NominalFace> faces_;
-  std::map<int, ElementarySurface> exact_;  // the curved faces' surfaces
+  std::map<int, Exact> exact_;
   std::unique_ptr<Trees> trees_;
 };
 
