@@ -97,6 +97,17 @@ std::vector<SurfacePoint> designedPoints(const Part& part, const ResolvedSpec& s
   return points;
 }
 
+// The part simulated: the designed surface of `faces` where the deviations put it.
+FacePoints simulatedPart(const detail::Nominal& nominal, const std::set<int>& faces,
+                         const std::vector<Deviation>& deviations) {
+  FacePoints truth;
+  for (const int id : faces)
+    if (const detail::NominalFace* f = nominal.face(id))
+      for (std::size_t k = 0; k < f->points.size(); ++k)
+        truth[id].push_back(deviated(deviations, nominal, id, f->points[k], f->normals[k]));
+  return truth;
+}
+
 // The scanner's acceptance errors drawn for one view: applied to a world point with its
 // normal.
 struct AcceptanceErrors {
@@ -155,8 +166,8 @@ RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
       if (!s.faces.count(face)) continue;
       // Where the camera's ray met the mesh, on the part as designed instead; the noise
       // along the ray kept.
-      const SurfacePoint on = s.nominal.onDesigned(face, to_part * cloud.hits[i],
-                                                   to_part.linear() * cloud.normals[i]);
+      const SurfacePoint on =
+          s.nominal.onDesigned(face, to_part * cloud.hits[i], to_part.linear() * cloud.normals[i]);
       const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
                  towards = to_world.linear() * on.normal;
       const Vec3 p = moves[v] * acceptance[v].apply(s.plan.scanner, view, at, towards);
@@ -237,12 +248,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const std::set<int> faces = facesOf(part, list);
   const std::vector<SurfacePoint> designed = designedPoints(part, spec, faces);
   const detail::Nominal nominal(part, designed);
-  // The part simulated: the designed surface where the deviations put it.
-  FacePoints truth;
-  for (const int id : faces)
-    if (const detail::NominalFace* f = nominal.face(id))
-      for (std::size_t k = 0; k < f->points.size(); ++k)
-        truth[id].push_back(deviated(options.deviations, nominal, id, f->points[k], f->normals[k]));
+  const FacePoints truth = simulatedPart(nominal, faces, options.deviations);
 
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;
