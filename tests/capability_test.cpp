@@ -428,6 +428,16 @@ TEST(Capability, TwoOverlappingViewsLeaveTheirOffsetInTheFlatness) {
   EXPECT_NEAR(both.budget.registration, 1.96 * s, 0.1 * 1.96 * s);  // the draws' own spread
 }
 
+// The generic head with a field of 250 mm (a view sees all of a 200 x 100 mm plate) and
+// points 2 mm apart; `draws` Monte Carlo draws.
+Spec wholePlateSpec(int draws) {
+  Spec spec = defaultSpec();
+  spec.scanner.fov_width = spec.scanner.fov_height = 250;
+  spec.scanner.point_spacing = 2;
+  spec.planner.capability.draws = draws;
+  return spec;
+}
+
 // A 200 x 100 x 10 mm plate with a 3 mm deep slot across its middle 100 mm: the step's
 // height from the slot's floor (one face) to the top (two faces of one plane, one each
 // side), seen straight down by `views` views at one place, which see all of both (field
@@ -438,11 +448,8 @@ Capability stepCase(const test::TempDir& dir, int views) {
   const TopoDS_Shape slot = BRepPrimAPI_MakeBox(gp_Pnt(50, -1, 7), gp_Pnt(150, 101, 11)).Shape();
   BRepTools::Write(BRepAlgoAPI_Cut(plate, slot).Shape(), dir.file("step.brep").c_str());
   const Part part = importPart(dir.file("step.brep"));
-  Spec spec = defaultSpec();
-  spec.scanner.fov_width = spec.scanner.fov_height = 250;
-  spec.scanner.point_spacing = 2;
+  Spec spec = wholePlateSpec(4000);  // the 95th percentile within about 2 %
   spec.scanner.noise_sigma = 0.01;
-  spec.planner.capability.draws = 4000;  // the 95th percentile within about 2 %
   Characteristic step{1, "linear_distance", true, 3, 2.9, 3.1, {}, {}};
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Plane && f.bounds.size().z() < 1e-6 &&
@@ -482,11 +489,8 @@ TEST(Capability, AStepsHeightIsTwoFeaturesApartWhateverTheirFaces) {
 Capability chainedLayersCase(const test::TempDir& dir, double robot) {
   BRepTools::Write(BRepPrimAPI_MakeBox(200, 100, 10).Shape(), dir.file("plate.brep").c_str());
   const Part part = importPart(dir.file("plate.brep"));
-  Spec spec = defaultSpec();
-  spec.scanner.fov_width = spec.scanner.fov_height = 250;
-  spec.scanner.point_spacing = 2;
+  Spec spec = wholePlateSpec(2000);  // the 95th percentile within about 2 %
   spec.registration.marker_sigma = 0.02;
-  spec.planner.capability.draws = 2000;  // the 95th percentile within about 2 %
   Plan plan;
   plan.scanner = spec.scanner;
   for (const Vec3& d : {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)})

@@ -365,9 +365,9 @@ TEST(Inspection, TheAngleBetweenTwoFacesIsAsUncertainAsTheCapabilityModelPredict
   EXPECT_NEAR(predicted.uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2);
 }
 
-// The bore of Ø20 as designed, not as its mesh's facets cut inside it (ten to a bore of
-// this size at the plate's chordal tolerance): the part's own diameter is the B-Rep's, and
-// the views' points, laid on part of the bore each, fit it without a bias beyond the noise's
+// The bore of Ø20 as designed, not as its mesh's facets cut inside it (sampled densely,
+// they fit a diameter 0.048 mm short): the part's own diameter is the B-Rep's, and the
+// views' points, laid on part of the bore each, fit it without a bias beyond the noise's
 // share of U.
 TEST(Inspection, ABoresDiameterIsTheDesignedCylindersNotItsFacets) {
   FourViewInspection inspect;

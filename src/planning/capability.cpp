@@ -18,6 +18,7 @@
 #include "planning/evaluation.h"
 #include "planning/registration_error.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/localization.h>
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/evidence.h>
@@ -54,6 +55,7 @@ struct Patch {
   SurfacePoint point;
   double area = 0;
   std::vector<Look> looks;
+  int feature = 0;  // its face's feature: faces of one plane or cylinder share one
   double points() const {
     double n = 0;
     for (const Look& l : looks) n += l.points;
@@ -158,23 +160,23 @@ class RigidFit {
 // best explains its patches' displacements, as the inspection fits a plane to each: the
 // angle between them changes under displacements `d` of the patches by the two fits' turns
 // apart about the axis across both features' normals. Empty unless the patches lie on
-// exactly two features (`feature_of`, per patch) that are not parallel.
+// exactly two features that are not parallel.
 class FacePair {
  public:
-  FacePair(const std::vector<const Patch*>& patches, const std::vector<int>& feature_of) {
-    std::map<int, std::vector<std::size_t>> by_face;
-    for (std::size_t i = 0; i < patches.size(); ++i) by_face[feature_of[i]].push_back(i);
-    if (by_face.size() != 2) return;
+  explicit FacePair(const std::vector<const Patch*>& patches) {
+    std::map<int, std::vector<std::size_t>> by_feature;
+    for (std::size_t i = 0; i < patches.size(); ++i) by_feature[patches[i]->feature].push_back(i);
+    if (by_feature.size() != 2) return;
     Vec3 normals[2] = {Vec3::Zero(), Vec3::Zero()};
     std::size_t k = 0;
-    for (const auto& [face, members] : by_face) {
+    for (const auto& [feature, members] : by_feature) {
       for (std::size_t i : members) normals[k] += patches[i]->point.normal;
       normals[k++].normalize();
     }
     const Vec3 across = normals[0].cross(normals[1]);
     if (across.norm() < std::sin(radians(1))) return;  // parallel faces: no axis to turn about
     axis_ = across.normalized();
-    for (auto& [face, members] : by_face) {
+    for (auto& [feature, members] : by_feature) {
       std::vector<const Patch*> on;
       for (std::size_t i : members) on.push_back(patches[i]);
       fits_.emplace_back(on);
@@ -227,35 +229,25 @@ std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
   return sigmas;
 }
 
-// Per patch, the index of its face's feature in `feature_of_face` (oneFeature).
-std::vector<int> featuresOf(const std::vector<const Patch*>& patches,
-                            const std::map<int, int>& feature_of_face) {
-  std::vector<int> features;
-  for (const Patch* p : patches) features.push_back(feature_of_face.at(p->point.face));
-  return features;
-}
-
 // What a characteristic's draws read: its measured patches, their features (faces of one
 // plane or cylinder alike) and their fit, and its datum features' patches (none without
 // datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
-  std::vector<int> feature_of;                       // per feature patch
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   Fit fit;
   RigidFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
-  Measured(std::vector<const Patch*> f, const std::map<int, int>& feature_of_face,
-           std::vector<const Patch*> d, const std::vector<double>& datum_shares)
+  Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
+           const std::vector<double>& datum_shares)
       : feature(std::move(f)),
         datum(std::move(d)),
-        feature_of(featuresOf(feature, feature_of_face)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
         datum_motion(datum, datum_shares),
-        faces(feature, feature_of),
+        faces(feature),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
           return p->point.normal.dot(feature.front()->point.normal) > std::cos(radians(1));
         })) {}
@@ -317,7 +309,7 @@ std::vector<std::pair<double, Vec3>> featureOffsets(const Measured& m,
   std::map<int, Sums> features;
   for (std::size_t i = 0; i < d.size(); ++i) {
     const double w = m.fit.weights[i];
-    Sums& f = features[m.feature_of[i]];
+    Sums& f = features[m.feature[i]->feature];
     f.offset += w * d[i];
     f.weight += w;
     f.normal += w * m.feature[i]->point.normal;
@@ -463,16 +455,18 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// Each of `faces` (ids) the index of its feature: faces of one plane or cylinder share one
-// (detail::oneFeature).
-std::map<int, int> featureOfFaces(const Part& part, const std::vector<int>& faces) {
+// Each of `faces` (ids) the index of its feature: faces whose B-Rep surfaces are one plane
+// or cylinder share one (detail::oneFeature); a face without such a surface has its own.
+std::map<int, int> featureOfFaces(const Part& part, const std::set<int>& faces) {
   std::map<int, int> feature_of;
-  std::vector<int> firsts;  // each feature's first face
+  std::vector<std::optional<ElementarySurface>> firsts;  // each feature's first face's
   for (int f : faces) {
-    const auto same = std::find_if(firsts.begin(), firsts.end(),
-                                   [&](int g) { return detail::oneFeature(part, g, f); });
+    const std::optional<ElementarySurface> surface = elementarySurface(part, f);
+    const auto same = std::find_if(firsts.begin(), firsts.end(), [&](const auto& first) {
+      return surface && first && detail::oneFeature(*first, *surface);
+    });
     feature_of[f] = static_cast<int>(same - firsts.begin());
-    if (same == firsts.end()) firsts.push_back(f);
+    if (same == firsts.end()) firsts.push_back(surface);
   }
   return feature_of;
 }
@@ -486,10 +480,11 @@ std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>
     if (!c.dimension)
       for (int f : datumFaces(part.gdt, c)) faces.insert(f);
   }
+  const std::map<int, int> feature_of = featureOfFaces(part, faces);
   std::vector<Patch> patches;
   for (const Sample& s :
        sampleSurface(part, {faces.begin(), faces.end()}, Role::Priority, TaskType::Gdt))
-    patches.push_back({{s.position, s.normal, s.face}, s.weight, {}});
+    patches.push_back({{s.position, s.normal, s.face}, s.weight, {}, feature_of.at(s.face)});
   return patches;
 }
 
@@ -794,8 +789,7 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    const Measured m(measured, featureOfFaces(part, c.faces), datum,
-                     datumShares(part.gdt, c, datum));
+    const Measured m(measured, datum, datumShares(part.gdt, c, datum));
     k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }

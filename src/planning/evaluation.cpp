@@ -39,30 +39,27 @@ struct Feature {
 // than kApart mm, as the mesh gives them (each face's chords its own).
 constexpr double kAlong = 1e-3, kApart = 0.1;
 
+// A face as designed as the surface its points were fitted to (planes and cylinders).
+ElementarySurface surfaceOf(const NominalFace& f) {
+  if (f.type == SurfaceType::Cylinder)
+    return {SurfaceType::Cylinder, f.cylinder.point, f.cylinder.axis, f.cylinder.radius};
+  return {f.type, f.centroid, f.normal};
+}
+
 bool sameGeometry(const NominalFace& a, const NominalFace& b) {
-  if (a.type != b.type) return false;
-  if (a.type == SurfaceType::Plane)
-    return std::abs(std::abs(a.normal.dot(b.normal)) - 1) < kAlong &&
-           std::abs(a.normal.dot(b.centroid - a.centroid)) < kApart;
-  if (a.type == SurfaceType::Cylinder)
-    return std::abs(std::abs(a.cylinder.axis.dot(b.cylinder.axis)) - 1) < kAlong &&
-           axisDistance(a.cylinder, b.cylinder.point) < kApart &&
-           std::abs(a.cylinder.radius - b.cylinder.radius) < kApart;
-  return false;
+  return oneFeature(surfaceOf(a), surfaceOf(b));
 }
 
 }  // namespace
 
-bool oneFeature(const Part& part, int a, int b) {
-  if (a == b) return true;
-  const auto p = elementarySurface(part, a), q = elementarySurface(part, b);
-  if (!p || !q || p->type != q->type) return false;
-  const bool along = std::abs(std::abs(p->axis.dot(q->axis)) - 1) < kAlong;
-  const Vec3 apart = q->origin - p->origin;
-  if (p->type == SurfaceType::Plane) return along && std::abs(p->axis.dot(apart)) < kApart;
-  if (p->type == SurfaceType::Cylinder)
-    return along && (apart - apart.dot(p->axis) * p->axis).norm() < kApart &&
-           std::abs(p->radius - q->radius) < kApart;
+bool oneFeature(const ElementarySurface& a, const ElementarySurface& b) {
+  if (a.type != b.type) return false;
+  const bool along = std::abs(std::abs(a.axis.dot(b.axis)) - 1) < kAlong;
+  const Vec3 apart = b.origin - a.origin;
+  if (a.type == SurfaceType::Plane) return along && std::abs(a.axis.dot(apart)) < kApart;
+  if (a.type == SurfaceType::Cylinder)
+    return along && (apart - apart.dot(a.axis) * a.axis).norm() < kApart &&
+           std::abs(a.radius - b.radius) < kApart;
   return false;
 }
 
@@ -520,22 +517,23 @@ std::optional<std::pair<Vec3, double>> Nominal::onTriangles(int id, const Vec3& 
 
 std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
   const NominalFace& f = faces_.at(id);
-  if (exact_.count(id)) {
-    const SurfacePoint on = onDesigned(id, p, Vec3::Zero());
-    return {on.normal, on.normal.dot(p - on.position)};
-  }
-  if (auto on = onTriangles(id, p)) return *on;
+  if (const auto on = onExact(id, p)) return {on->normal, on->normal.dot(p - on->position)};
+  if (const auto on = onTriangles(id, p)) return *on;
   unsigned index = 0;
   double squared = 0;
   trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
   return {f.normals[index], f.normals[index].dot(p - f.points[index])};
 }
 
-SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
+std::optional<SurfacePoint> Nominal::onExact(int id, const Vec3& p) const {
   const auto exact = exact_.find(id);
-  if (exact == exact_.end()) return {p, n, id};
+  if (exact == exact_.end()) return std::nullopt;
   const auto [q, out] = nearestOn(exact->second.surface, p);
-  return {q, exact->second.side * out, id};
+  return SurfacePoint{q, exact->second.side * out, id};
+}
+
+SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
+  return onExact(id, p).value_or(SurfacePoint{p, n, id});
 }
 
 namespace {

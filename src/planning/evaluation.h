@@ -58,6 +58,9 @@ class Nominal {
 
  private:
   struct Trees;
+  // The point of face `id`'s exact surface nearest `p`, with the face's outward normal
+  // there; none for a face without one.
+  std::optional<SurfacePoint> onExact(int id, const Vec3& p) const;
   // The normal and signed distance of the point of face `id`'s triangles nearest `p`; none
   // without triangles.
   std::optional<std::pair<Vec3, double>> onTriangles(int id, const Vec3& p) const;
@@ -74,10 +77,10 @@ class Nominal {
   std::unique_ptr<Trees> trees_;
 };
 
-// Whether faces `a` and `b` of `part` are of one feature, one plane or one cylinder, by
-// their B-Rep surfaces, as the evaluation groups faces by their designed points; faces
-// of a mesh part each their own.
-bool oneFeature(const Part& part, int a, int b);
+// Whether two faces' surfaces are one feature's: one plane or one cylinder, to within the
+// mesh's chords. The evaluation groups faces so by the surfaces fitted to their designed
+// points; the capability model by their B-Rep surfaces.
+bool oneFeature(const ElementarySurface& a, const ElementarySurface& b);
 
 // The value of `c` from `points`, or why it cannot be found: its features not measured or
 // not fitted, or a kind the evaluation does not know.
