@@ -1,6 +1,7 @@
 // Characteristics against the STEP files' own PMI entities, and measurement capability
 // against analytic least-squares results on a plane.
 
+#include "hole_plate.h"
 #include "planning/marker_adjustment.h"
 #include "planning/registration_error.h"
 #include "planning/simulated_registration.h"
@@ -563,6 +564,41 @@ TEST(Capability, AParallelismSpansTheLayersOfItsFaceInTheDatumsFrame) {
   RecordProperty("registration_u", std::to_string(k.budget.registration));
   EXPECT_NEAR(k.covered, 1, 0.02);
   EXPECT_NEAR(k.budget.registration, 1.96 * s * std::sqrt(2.0), 0.1 * 1.96 * s * std::sqrt(2.0));
+}
+
+// The hole plate's bore (Ø20, 20 deep) and its top, datum A, seen by one view tilted 50°
+// into the bore, which a robot of accuracy `robot` mm places; the reference view sees
+// nothing of the plate. The bore's perpendicularity to A.
+Capability tiltedBoreCase(const test::TempDir& dir, double robot) {
+  const test::HolePlate p = test::holePlate(dir);
+  const Characteristic perpendicularity{1, "perpendicularity", false, 0.05, 0, 0.05, {"A"}, p.hole};
+  Spec spec = defaultSpec();
+  spec.planner.capability.draws = 2000;
+  Plan plan = robotPlacedViews(spec.scanner, {2000, 100});
+  const double tilt = radians(50);
+  const Vec3 target(100, 50, 20), towards(std::sin(tilt), 0, std::cos(tilt));
+  const Vec3 z = -towards, x = z.cross(Vec3::UnitZ()).normalized(), y = z.cross(x);
+  plan.views[1].camera_to_world.linear() << x, y, z;
+  plan.views[1].camera_to_world.translation() = target + spec.scanner.standoff * towards;
+  plan.views[1].target = target;
+  plan.registration->robot_accuracy = robot;
+  return capabilities(p.part, resolveSpec(p.part, spec), plan, {perpendicularity}).front();
+}
+
+// The robot's error moves the bore and its datum together, and a motion of the whole turns
+// no axis against its datum: the registration leaves the perpendicularity as it is, U 0
+// (to the fits' conditioning), however far the robot is off. The noise's share does not depend on
+// the robot. (Taken as the bore's wall moved along its normals, the robot's shift across the axis,
+// which the top does not hold, showed as a tilt.)
+TEST(Capability, ARigidMotionOfABoreAndItsDatumLeavesItsPerpendicularity) {
+  test::TempDir dir;
+  const Capability precise = tiltedBoreCase(dir, 0.01), rough = tiltedBoreCase(dir, 1);
+  RecordProperty("noise_u", std::to_string(rough.budget.noise));
+  RecordProperty("registration_u", std::to_string(rough.budget.registration));
+  EXPECT_GT(rough.points, 1000);
+  EXPECT_GT(rough.budget.noise, 0);
+  EXPECT_LT(rough.budget.registration, 1e-4);  // a ten-thousandth of the robot's error
+  EXPECT_NEAR(rough.budget.noise, precise.budget.noise, 1e-12);
 }
 
 // The capability curve of two views, each on one half of a plate's top (flatness 0.2),

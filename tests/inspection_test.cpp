@@ -383,6 +383,33 @@ TEST(Inspection, ABoresDiameterIsTheDesignedCylindersNotItsFacets) {
   EXPECT_NEAR(d.mean, 20, d.uncertainty / 2);
 }
 
+// The bore's axis as the inspection fits it, from the four views' points each on part of
+// the bore, placed by the robot to 0.01 mm: its position to A, B and C and its
+// perpendicularity to A. The capability model's U against the virtual inspection's (200
+// runs, its U uncertain by about 5 %): each is the fitted axis' ends moved across it, not
+// the bore's wall moved along its normals, which would count a shift of the axis as a tilt
+// and miss the shift the views' arcs leave least determined.
+TEST(Inspection, ABoresAxisIsAsUncertainAsTheCapabilityModelPredicts) {
+  FourViewInspection inspect;
+  const HolePlate& p = inspect.p;
+  const Characteristic perpendicularity{4, "perpendicularity", false, 0.05, 0, 0.05, {"A"}, p.hole};
+  inspect.plan.characteristics = {p.characteristics[0], perpendicularity};
+  InspectionOptions options;
+  options.runs = 200;
+  const Inspection inspected = inspect(options);
+  const std::vector<Capability> predicted =
+      capabilities(p.part, inspect.spec, inspect.plan, inspect.plan.characteristics);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const InspectedCharacteristic& k = inspected.characteristics[i];
+    ASSERT_TRUE(k.evaluated) << k.not_evaluated;
+    const std::string id = std::to_string(i + 1);
+    RecordProperty("predicted_u_" + id, std::to_string(predicted[i].uncertainty));
+    RecordProperty("inspected_u_bias_" + id,
+                   std::to_string(k.uncertainty) + " " + std::to_string(k.bias));
+    EXPECT_NEAR(predicted[i].uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2) << id;
+  }
+}
+
 // The inspection's values do not depend on how many threads simulate the views: each run's
 // points are merged in the views' order.
 TEST(Inspection, TheSameValuesOnOneThreadAndOnTwo) {

@@ -71,15 +71,21 @@ struct Patch {
 };
 
 // How the noise shows in a characteristic's value; profile stands for every zone about
-// the nominal (profile, position, symmetry, concentricity); an angle is in degrees.
-enum class Effect { Form, Profile, Size, Diameter, Radius, Angle };
+// the nominal (profile, position, symmetry, concentricity); an angle is in degrees. The
+// orientation and the position of cylinders are their fitted axes' (AxisTilt, AxisPlace).
+enum class Effect { Form, Profile, Size, Diameter, Radius, Angle, AxisTilt, AxisPlace };
 
-Effect effectOf(const Characteristic& c) {
+// `on_cylinders`: the characteristic's features are cylinders.
+Effect effectOf(const Characteristic& c, bool on_cylinders) {
   if (c.dimension)
     return c.kind == "diameter"                    ? Effect::Diameter
            : c.kind == "radius"                    ? Effect::Radius
            : c.kind.find("angular") != c.kind.npos ? Effect::Angle
                                                    : Effect::Size;
+  const bool orientation =
+      c.kind == "perpendicularity" || c.kind == "parallelism" || c.kind == "angularity";
+  if (on_cylinders && orientation) return Effect::AxisTilt;
+  if (on_cylinders && c.kind == "position") return Effect::AxisPlace;
   if (c.kind == "profile_of_surface" || c.kind == "profile_of_line" || c.kind == "position" ||
       c.kind == "concentricity" || c.kind == "symmetry" || c.kind == "coaxiality")
     return Effect::Profile;
@@ -97,13 +103,17 @@ struct Fit {
   std::vector<Row> rows;
   std::vector<double> weights;  // each patch's points
   Eigen::LDLT<Normal> normal;
-  double extent = 0;  // the patches' largest distance apart (their box's diagonal), mm
+  Vec3 centre = Vec3::Zero();  // the turn's, the patches' mean
+  double extent = 0;           // the patches' largest distance apart (their box's diagonal), mm
 };
 
-Fit fitOf(const std::vector<const Patch*>& patches) {
+// `held`: where not zero, the turns about the directions across it stay 0 (a cylinder's
+// axis held to its designed direction).
+Fit fitOf(const std::vector<const Patch*>& patches, const Vec3& held = Vec3::Zero()) {
   Vec3 centre = Vec3::Zero();
   for (const Patch* p : patches) centre += p->point.position / static_cast<double>(patches.size());
   Fit fit;
+  fit.centre = centre;
   Box box;
   for (const Patch* p : patches) box.add(p->point.position);
   fit.extent = std::max(box.diagonal(), 1e-9);
@@ -117,8 +127,84 @@ Fit fitOf(const std::vector<const Patch*>& patches) {
   }
   // Directions the faces leave free (along a plane, about a cylinder's axis) stay at 0.
   normal += 1e-9 * (normal.trace() + 1) * Normal::Identity();
+  if (held.norm() > 0) {
+    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - held * held.transpose();
+    normal.bottomRightCorner<3, 3>() += 1e9 * (normal.trace() + 1) * across;
+  }
   fit.normal.compute(normal);
   return fit;
+}
+
+// A cylinder's axis as the evaluation fits it to the cylinder's own points: the fit of its
+// patches (the axis held to its designed direction where the band measured is short,
+// kShortBand), and the band's ends along the axis.
+struct AxisFit {
+  std::vector<std::size_t> members;                 // its patches, into the characteristic's
+  Vec3 point = Vec3::Zero(), axis = Vec3::UnitZ();  // the designed axis
+  double low = 0, high = 0;                         // the band's ends along it, from `point`
+  Fit fit;
+};
+
+// The characteristic's cylinders' axes, each fitted to its own patches; none unless every
+// patch lies on a cylinder. `surfaces`: each feature's, by Patch::feature.
+std::vector<AxisFit> axesOf(const std::vector<const Patch*>& patches,
+                            const std::vector<std::optional<ElementarySurface>>& surfaces) {
+  std::map<int, std::vector<std::size_t>> by_feature;
+  for (std::size_t i = 0; i < patches.size(); ++i) {
+    const std::optional<ElementarySurface>& s = surfaces[patches[i]->feature];
+    if (!s || s->type != SurfaceType::Cylinder) return {};
+    by_feature[patches[i]->feature].push_back(i);
+  }
+  std::vector<AxisFit> axes;
+  for (auto& [feature, members] : by_feature) {
+    const ElementarySurface& s = *surfaces[feature];
+    AxisFit a;
+    a.members = members;
+    a.point = s.origin;
+    a.axis = s.axis.normalized();
+    a.low = std::numeric_limits<double>::infinity();
+    a.high = -a.low;
+    double pitch = 0;  // each patch stands for a square of its area about its centre
+    std::vector<const Patch*> on;
+    for (std::size_t i : members) {
+      on.push_back(patches[i]);
+      a.low = std::min(a.low, (patches[i]->point.position - a.point).dot(a.axis));
+      a.high = std::max(a.high, (patches[i]->point.position - a.point).dot(a.axis));
+      pitch = std::max(pitch, std::sqrt(patches[i]->area));
+    }
+    a.low -= pitch / 2;
+    a.high += pitch / 2;
+    a.fit = fitOf(on, a.high - a.low < detail::kShortBand * s.radius ? a.axis : Vec3::Zero());
+    axes.push_back(std::move(a));
+  }
+  return axes;
+}
+
+// How a cylinder's axis moves under displacements `d` of the characteristic's patches: its
+// ends, across it.
+std::pair<Vec3, Vec3> endShifts(const AxisFit& a, const std::vector<double>& d) {
+  Row pull = Row::Zero();
+  for (std::size_t k = 0; k < a.members.size(); ++k)
+    pull += a.fit.rows[k] * d[a.members[k]] * a.fit.weights[k];
+  const Row x = a.fit.normal.solve(pull);
+  const Vec3 shift = x.segment<3>(1), turn = x.tail<3>();
+  const auto across = [&](double along) {
+    const Vec3 u = shift + turn.cross(a.point + along * a.axis - a.fit.centre);
+    return Vec3(u - u.dot(a.axis) * a.axis);
+  };
+  return {across(a.low), across(a.high)};
+}
+
+// The change of the cylinders' orientation (`tilt`: an axis' ends apart across it) or
+// position (twice the farther end from where it was) under `d`: of several, the largest,
+// as the evaluation takes a pattern's.
+double axisChange(const std::vector<AxisFit>& axes, const std::vector<double>& d, bool tilt) {
+  double largest = 0;
+  for (const AxisFit& a : axes) {
+    const auto [low, high] = endShifts(a, d);
+    largest = std::max(largest, tilt ? (high - low).norm() : 2 * std::max(low.norm(), high.norm()));
+  }
+  return largest;
 }
 
 // The rigid motion that best explains patches' displacements `d` along their normals
@@ -230,22 +316,25 @@ std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
 }
 
 // What a characteristic's draws read: its measured patches, their features (faces of one
-// plane or cylinder alike) and their fit, and its datum features' patches (none without
-// datums).
+// plane or cylinder alike) and their fit, its cylinders' axes, and its datum features'
+// patches (none without datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   Fit fit;
+  std::vector<AxisFit> axes;
   RigidFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
-           const std::vector<double>& datum_shares)
+           const std::vector<double>& datum_shares,
+           const std::vector<std::optional<ElementarySurface>>& surfaces)
       : feature(std::move(f)),
         datum(std::move(d)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
+        axes(axesOf(feature, surfaces)),
         datum_motion(datum, datum_shares),
         faces(feature),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
@@ -349,6 +438,8 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
     case Effect::Angle: return angleChange(m, d, f.at);
     case Effect::Form: return range(f.at);
     case Effect::Profile: return 2 * largestMagnitude(f.at);
+    case Effect::AxisTilt: return axisChange(m.axes, d, true);
+    case Effect::AxisPlace: return axisChange(m.axes, d, false);
   }
   return 0;
 }
@@ -405,6 +496,8 @@ double registrationError(Effect effect, const Measured& m,
     case Effect::Size:  // features moved alike keep their distance
       return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.residual);
+    case Effect::AxisTilt: return axisChange(m.axes, d, true);  // the fit holds the layers
+    case Effect::AxisPlace: return axisChange(m.axes, d, false);
   }
   return 0;
 }
@@ -420,15 +513,17 @@ double percentile95(std::vector<double> errors) {
 
 // The scanner's acceptance figure that bounds the characteristic's value (a maximum
 // permissible error, mm; 0: the preset states none): the flatness error for the form and
-// orientation of planes, the probing error of form for curved form, of size for sizes, the
-// sphere-spacing error for distances, locations and profiles.
+// orientation of planes and axes, the probing error of form for curved form, of size for
+// sizes, the sphere-spacing error for distances, locations and profiles.
 double acceptanceFigure(const Characteristic& c, Effect effect, const Scanner& s) {
   switch (effect) {
     case Effect::Diameter: return s.probing_size;
     case Effect::Radius: return s.probing_size / 2;
     case Effect::Size: return s.sphere_spacing;
     case Effect::Angle: return 0;
-    case Effect::Profile: return std::max(s.sphere_spacing, s.probing_form);
+    case Effect::Profile:
+    case Effect::AxisPlace: return std::max(s.sphere_spacing, s.probing_form);
+    case Effect::AxisTilt:
     case Effect::Form:
       return c.kind == "circularity" || c.kind == "cylindricity" ||
                      c.kind.find("runout") != c.kind.npos
@@ -444,7 +539,7 @@ double acceptanceFigure(const Characteristic& c, Effect effect, const Scanner& s
 ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& scanner,
                      const detail::TwistDraws& moves, const CapabilityOptions& options,
                      std::uint64_t seed) {
-  const Effect effect = effectOf(c);
+  const Effect effect = effectOf(c, !m.axes.empty());
   std::mt19937_64 random(seed + static_cast<std::uint64_t>(c.id));
   std::vector<double> noise, registration;
   for (int k = 0; k < options.draws; ++k) {
@@ -455,36 +550,41 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// Each of `faces` (ids) the index of its feature: faces whose B-Rep surfaces are one plane
-// or cylinder share one (detail::oneFeature); a face without such a surface has its own.
-std::map<int, int> featureOfFaces(const Part& part, const std::set<int>& faces) {
-  std::map<int, int> feature_of;
-  std::vector<std::optional<ElementarySurface>> firsts;  // each feature's first face's
-  for (int f : faces) {
-    const std::optional<ElementarySurface> surface = elementarySurface(part, f);
-    const auto same = std::find_if(firsts.begin(), firsts.end(), [&](const auto& first) {
-      return surface && first && detail::oneFeature(*first, *surface);
-    });
-    feature_of[f] = static_cast<int>(same - firsts.begin());
-    if (same == firsts.end()) firsts.push_back(surface);
-  }
-  return feature_of;
-}
+// The features of faces: faces whose B-Rep surfaces are one plane or cylinder share one
+// (detail::oneFeature); a face without such a surface has its own.
+struct Features {
+  std::map<int, int> of_face;                              // face id: its feature's index
+  std::vector<std::optional<ElementarySurface>> surfaces;  // each feature's first face's
+};
 
-// The characteristics' faces and their datums', sampled once (part frame), each sample a
-// patch.
-std::vector<Patch> patchesOf(const Part& part, const std::vector<Characteristic>& list) {
+// The features of the characteristics' faces and their datums'.
+Features featuresOf(const Part& part, const std::vector<Characteristic>& list) {
   std::set<int> faces;
   for (const Characteristic& c : list) {
     faces.insert(c.faces.begin(), c.faces.end());
     if (!c.dimension)
       for (int f : datumFaces(part.gdt, c)) faces.insert(f);
   }
-  const std::map<int, int> feature_of = featureOfFaces(part, faces);
+  Features features;
+  for (int f : faces) {
+    const std::optional<ElementarySurface> surface = elementarySurface(part, f);
+    std::vector<std::optional<ElementarySurface>>& firsts = features.surfaces;
+    const auto same = std::find_if(firsts.begin(), firsts.end(), [&](const auto& first) {
+      return surface && first && detail::oneFeature(*first, *surface);
+    });
+    features.of_face[f] = static_cast<int>(same - firsts.begin());
+    if (same == firsts.end()) firsts.push_back(surface);
+  }
+  return features;
+}
+
+// The faces of `features`, sampled once (part frame), each sample a patch.
+std::vector<Patch> patchesOf(const Part& part, const Features& features) {
+  std::vector<int> faces;
+  for (const auto& [face, feature] : features.of_face) faces.push_back(face);
   std::vector<Patch> patches;
-  for (const Sample& s :
-       sampleSurface(part, {faces.begin(), faces.end()}, Role::Priority, TaskType::Gdt))
-    patches.push_back({{s.position, s.normal, s.face}, s.weight, {}, feature_of.at(s.face)});
+  for (const Sample& s : sampleSurface(part, faces, Role::Priority, TaskType::Gdt))
+    patches.push_back({{s.position, s.normal, s.face}, s.weight, {}, features.of_face.at(s.face)});
   return patches;
 }
 
@@ -515,8 +615,7 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
 // they span kLeastArc of the circle about the faces' axis.
 bool cylinderFitted(const Part& part, const Characteristic& c, const std::vector<const Patch*>& all,
                     const std::vector<const Patch*>& measured) {
-  const Effect effect = effectOf(c);
-  if ((effect != Effect::Diameter && effect != Effect::Radius) || all.size() < 5) return false;
+  if (!c.dimension || (c.kind != "diameter" && c.kind != "radius") || all.size() < 5) return false;
   for (int f : c.faces)
     if (f < 1 || f > static_cast<int>(part.faces.size()) ||
         part.faces[f - 1].type != SurfaceType::Cylinder)
@@ -694,7 +793,8 @@ Limit limitOf(const Part& part, const Characteristic& c, const Capability& k, co
   if (k.verdict == Verdict::Capable || k.verdict == Verdict::Untoleranced) return Limit::None;
   if (k.reason == Shortfall::NotLinked) return Limit::NotLinked;
   const double largest = c.width() / (2 * options.capable_ratio);  // U a capable one reaches
-  const double scanner = 2 * acceptanceFigure(c, effectOf(c), plan.scanner) / std::sqrt(3.0);
+  // An axis' tilt and place take the figures of a plane's orientation and of a profile.
+  const double scanner = 2 * acceptanceFigure(c, effectOf(c, false), plan.scanner) / std::sqrt(3.0);
   if (scanner > largest) return Limit::BelowScannerError;
   switch (k.reason) {
     case Shortfall::SetupsNotJoined: return Limit::SetupsNotJoined;
@@ -750,10 +850,11 @@ std::string_view toString(Shortfall reason) {
 namespace {
 
 // What the capability of characteristics is judged from: the looks of the views of the
-// plan at the characteristics' patches, its registration errors and the part's rest
-// orientations, found once for every count of views judged.
+// plan at the characteristics' patches, their features' surfaces, its registration errors
+// and the part's rest orientations, found once for every count of views judged.
 struct Judging {
   std::vector<Patch> patches;
+  std::vector<std::optional<ElementarySurface>> surfaces;  // each feature's, by Patch::feature
   std::vector<detail::ViewError> errors;
   std::vector<RestOrientation> rests;
 };
@@ -789,7 +890,7 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    const Measured m(measured, datum, datumShares(part.gdt, c, datum));
+    const Measured m(measured, datum, datumShares(part.gdt, c, datum), by.surfaces);
     k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
@@ -891,8 +992,9 @@ CapabilityJudgement judgeCapability(const Part& part, const ResolvedSpec& spec, 
                                     const std::vector<Characteristic>& characteristics,
                                     std::size_t points) {
   if (characteristics.empty()) return {};
-  Judging by{patchesOf(part, characteristics), detail::registrationErrors(part, spec, plan),
-             restOrientations(part)};
+  Features features = featuresOf(part, characteristics);
+  Judging by{patchesOf(part, features), std::move(features.surfaces),
+             detail::registrationErrors(part, spec, plan), restOrientations(part)};
   look(part, spec, plan, by.patches);
   CapabilityJudgement result;
   result.capabilities = judged(part, spec, plan, characteristics, by, spec.spec.planner.capability);

@@ -97,11 +97,6 @@ std::vector<Vec3> pointsOn(const std::vector<int>& faces, const FacePoints& poin
   return all;
 }
 
-// A cylinder measured over a band shorter than this share of its radius is fitted as a
-// circle about its designed axis' direction, as inspection software fits a short one: so
-// short a band does not turn the axis.
-constexpr double kShortBand = 0.5;
-
 // The feature's cylinder fitted to its points, if they fix it.
 std::optional<CylinderFit> cylinderOf(const Feature& f, const std::vector<Vec3>& points) {
   if (f.type != SurfaceType::Cylinder || points.size() < kLeastPoints) return std::nullopt;

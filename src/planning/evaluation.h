@@ -25,6 +25,11 @@ namespace scanplan::detail {
 // secondary, tertiary), each datum's points alike.
 constexpr double kDatumPrecedence = 100;
 
+// A cylinder measured over a band shorter than this share of its radius is fitted as a
+// circle about its designed axis' direction, as inspection software fits a short one: so
+// short a band does not turn the axis.
+constexpr double kShortBand = 0.5;
+
 // Points by the face they lie on (part frame).
 using FacePoints = std::map<int, std::vector<Vec3>>;
 
