@@ -1,6 +1,6 @@
 #pragma once
-// A plate with a hole and its GD&T, shared by the tests of the inspection and of the
-// planner's aim.
+// A plate with a hole and its GD&T, and a plate with two bores, shared by the tests of the
+// inspection, of the capability model and of the planner's aim.
 
 #include "support.h"
 
@@ -47,6 +47,37 @@ inline HolePlate holePlate(const test::TempDir& dir, double thickness = 20) {
   Characteristic flatness{2, "flatness", false, 0.1, 0, 0.1, {}, {p.top}};
   Characteristic diameter{3, "diameter", true, 20, 19.9, 20.1, {}, p.hole};
   p.characteristics = {position, flatness, diameter};
+  return p;
+}
+
+// A 700 x 100 x 20 mm plate with two Ø20 through bores 500 mm apart, at (100, 50) and
+// (600, 50): datum A its top, B the first bore; the second bore's position to A and B
+// (0.5).
+struct TwoBorePlate {
+  Part part;
+  int top = 0;
+  std::vector<int> first, second;  // the bores' faces
+  Characteristic position;
+};
+
+inline TwoBorePlate twoBorePlate(const test::TempDir& dir) {
+  TopoDS_Shape plate = BRepPrimAPI_MakeBox(700, 100, 20).Shape();
+  for (const double x : {100.0, 600.0})
+    plate =
+        BRepAlgoAPI_Cut(
+            plate,
+            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape())
+            .Shape();
+  BRepTools::Write(plate, dir.file("two_bores.brep").c_str());
+  TwoBorePlate p;
+  p.part = importPart(dir.file("two_bores.brep"));
+  for (const Face& f : p.part.faces) {
+    if (f.type == SurfaceType::Cylinder)
+      (f.bounds.max.x() < 350 ? p.first : p.second).push_back(f.id);
+    if (f.type == SurfaceType::Plane && f.bounds.min.z() > 19.99) p.top = f.id;
+  }
+  p.part.gdt.datums = {{"A", {p.top}}, {"B", p.first}};
+  p.position = {1, "position", false, 0.5, 0, 0.5, {"A", "B"}, p.second};
   return p;
 }
 

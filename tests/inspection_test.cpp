@@ -93,6 +93,27 @@ TEST(Inspection, AHolesPositionFollowsItsShiftAndTheFrameOfThreeFittedPlanes) {
   EXPECT_NEAR(value(together), 0, 2e-3);
 }
 
+// The two-bore plate: a plane and an axis leave the frame free to turn about the axis.
+// Found 0.05 mm off in y, the first bore moves the frame by 0.05 in y and does not turn
+// it, so the second bore, where it was, lies 0.05 from its axis: a zone of 0.1, wherever
+// the coordinates' origin lies. (Explained by the least twist in the part's coordinates,
+// the same shift turns the frame about the origin by 4e-4 rad and puts the second bore
+// 0.25 off: a zone of 0.5.)
+TEST(Inspection, AFrameFreeToTurnAboutItsDatumAxisIsHeldUnturned) {
+  test::TempDir dir;
+  const test::TwoBorePlate p = test::twoBorePlate(dir);
+  ASSERT_TRUE(p.top && !p.first.empty() && !p.second.empty());
+  std::vector<SurfacePoint> all;
+  detail::FacePoints points = designed(p.part, all);
+  const detail::Nominal nominal(p.part, all);
+  EXPECT_NEAR(valueOf(p.position, p.part, nominal, points), 0, 1e-3);
+  shift(points, p.first, {0, 0.05, 0});
+  const detail::Alignment frame = detail::datumAlignment({"A", "B"}, p.part.gdt, nominal, points);
+  ASSERT_TRUE(frame.motion);
+  EXPECT_NEAR(frame.motion->head<3>().norm(), 0, 1e-7);
+  EXPECT_NEAR(valueOf(p.position, p.part, nominal, points), 2 * 0.05, 2e-3);
+}
+
 // The hole plate, as read or (`brep` false) as its mesh alone, whose hole's wall is its
 // flat facets.
 HolePlate plateAs(const test::TempDir& dir, bool brep) {

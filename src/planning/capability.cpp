@@ -30,6 +30,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -145,38 +146,56 @@ struct AxisFit {
   Fit fit;
 };
 
-// The characteristic's cylinders' axes, each fitted to its own patches; none unless every
-// patch lies on a cylinder. `surfaces`: each feature's, by Patch::feature.
-std::vector<AxisFit> axesOf(const std::vector<const Patch*>& patches,
-                            const std::vector<std::optional<ElementarySurface>>& surfaces) {
-  std::map<int, std::vector<std::size_t>> by_feature;
+// The axis of cylinder `s` fitted to `members` of `patches`.
+AxisFit axisOf(const std::vector<const Patch*>& patches, std::vector<std::size_t> members,
+               const ElementarySurface& s) {
+  AxisFit a;
+  a.members = std::move(members);
+  a.point = s.origin;
+  a.axis = s.axis.normalized();
+  a.low = std::numeric_limits<double>::infinity();
+  a.high = -a.low;
+  double pitch = 0;  // each patch stands for a square of its area about its centre
+  std::vector<const Patch*> on;
+  for (std::size_t i : a.members) {
+    on.push_back(patches[i]);
+    a.low = std::min(a.low, (patches[i]->point.position - a.point).dot(a.axis));
+    a.high = std::max(a.high, (patches[i]->point.position - a.point).dot(a.axis));
+    pitch = std::max(pitch, std::sqrt(patches[i]->area));
+  }
+  a.low -= pitch / 2;
+  a.high += pitch / 2;
+  a.fit = fitOf(on, a.high - a.low < detail::kShortBand * s.radius ? a.axis : Vec3::Zero());
+  return a;
+}
+
+// The patches of each cylinder among `patches`' features, by feature; `others` gets the
+// rest. `surfaces`: each feature's, by Patch::feature.
+std::map<int, std::vector<std::size_t>> onCylinders(
+    const std::vector<const Patch*>& patches,
+    const std::vector<std::optional<ElementarySurface>>& surfaces,
+    std::vector<std::size_t>& others) {
+  std::map<int, std::vector<std::size_t>> cylinders;
   for (std::size_t i = 0; i < patches.size(); ++i) {
     const std::optional<ElementarySurface>& s = surfaces[patches[i]->feature];
-    if (!s || s->type != SurfaceType::Cylinder) return {};
-    by_feature[patches[i]->feature].push_back(i);
+    if (s && s->type == SurfaceType::Cylinder)
+      cylinders[patches[i]->feature].push_back(i);
+    else
+      others.push_back(i);
   }
+  return cylinders;
+}
+
+// The characteristic's cylinders' axes, each fitted to its own patches; none unless every
+// patch lies on a cylinder.
+std::vector<AxisFit> axesOf(const std::vector<const Patch*>& patches,
+                            const std::vector<std::optional<ElementarySurface>>& surfaces) {
+  std::vector<std::size_t> others;
+  std::map<int, std::vector<std::size_t>> cylinders = onCylinders(patches, surfaces, others);
+  if (!others.empty()) return {};
   std::vector<AxisFit> axes;
-  for (auto& [feature, members] : by_feature) {
-    const ElementarySurface& s = *surfaces[feature];
-    AxisFit a;
-    a.members = members;
-    a.point = s.origin;
-    a.axis = s.axis.normalized();
-    a.low = std::numeric_limits<double>::infinity();
-    a.high = -a.low;
-    double pitch = 0;  // each patch stands for a square of its area about its centre
-    std::vector<const Patch*> on;
-    for (std::size_t i : members) {
-      on.push_back(patches[i]);
-      a.low = std::min(a.low, (patches[i]->point.position - a.point).dot(a.axis));
-      a.high = std::max(a.high, (patches[i]->point.position - a.point).dot(a.axis));
-      pitch = std::max(pitch, std::sqrt(patches[i]->area));
-    }
-    a.low -= pitch / 2;
-    a.high += pitch / 2;
-    a.fit = fitOf(on, a.high - a.low < detail::kShortBand * s.radius ? a.axis : Vec3::Zero());
-    axes.push_back(std::move(a));
-  }
+  for (auto& [feature, members] : cylinders)
+    axes.push_back(axisOf(patches, std::move(members), *surfaces[feature]));
   return axes;
 }
 
@@ -207,27 +226,25 @@ double axisChange(const std::vector<AxisFit>& axes, const std::vector<double>& d
   return largest;
 }
 
+using Row6 = Eigen::Matrix<double, 1, 6>;
+using Normal6 = Eigen::Matrix<double, 6, 6>;
+
 // The rigid motion that best explains patches' displacements `d` along their normals
-// (least squares, each point alike), the directions the patches leave free held at 0: a
-// datum's fitted motion, or one face's.
+// (least squares, each point alike), the directions the patches leave free held at 0: one
+// face's fitted motion.
 class RigidFit {
  public:
-  // `shares`: each patch's weight over its points' (none: all alike).
-  explicit RigidFit(const std::vector<const Patch*>& patches,
-                    const std::vector<double>& shares = {}) {
+  explicit RigidFit(const std::vector<const Patch*>& patches) {
     Normal6 normal = Normal6::Zero();
-    for (std::size_t i = 0; i < patches.size(); ++i) {
-      const Patch* p = patches[i];
-      const auto row = detail::alongNormal(p->point.position, p->point.normal);
-      const double w = (shares.empty() ? 1 : shares[i]) * p->points();
+    for (const Patch* p : patches) {
+      const Row6 row = detail::alongNormal(p->point.position, p->point.normal);
       rows_.push_back(row);
-      weights_.push_back(w);
-      normal += row.transpose() * row * w;
+      weights_.push_back(p->points());
+      normal += row.transpose() * row * p->points();
     }
     normal += 1e-9 * (normal.trace() + 1) * Normal6::Identity();
     normal_.compute(normal);
   }
-  bool empty() const { return rows_.empty(); }
   detail::Twist motion(const std::vector<double>& d) const {
     detail::Twist pull = detail::Twist::Zero();
     for (std::size_t j = 0; j < rows_.size(); ++j)
@@ -236,10 +253,72 @@ class RigidFit {
   }
 
  private:
-  using Normal6 = Eigen::Matrix<double, 6, 6>;
-  std::vector<Eigen::Matrix<double, 1, 6>> rows_;
+  std::vector<Row6> rows_;
   std::vector<double> weights_;
   Eigen::LDLT<Normal6> normal_;
+};
+
+// The rows that hold a datum cylinder's axis: each of its two ends across the axis, along
+// two directions, as the evaluation's datum alignment holds it.
+std::array<std::pair<Row6, Vec3>, 4> endRows(const AxisFit& a) {
+  const Vec3 e1 = a.axis.unitOrthogonal(), e2 = a.axis.cross(e1);
+  std::array<std::pair<Row6, Vec3>, 4> rows;
+  std::size_t k = 0;
+  for (const double along : {a.low, a.high})
+    for (const Vec3& e : {e1, e2}) {
+      rows[k++] = {detail::alongNormal(a.point + along * a.axis, e), e};
+    }
+  return rows;
+}
+
+// The datum reference frame's motion under displacements `d` of its features' patches,
+// fitted as the evaluation aligns it (evaluation.h, datumAlignment): a plane by its points
+// along its normal, a cylinder by its fitted axis' ends across it (its radius free, so
+// an arc that leaves the axis loose leaves the frame loose), each datum weighing
+// kDatumPrecedence times the next.
+class DatumFit {
+ public:
+  // `shares`: each patch's weight over its points'; `surfaces`: each feature's.
+  DatumFit(const std::vector<const Patch*>& patches, const std::vector<double>& shares,
+           const std::vector<std::optional<ElementarySurface>>& surfaces) {
+    std::vector<std::size_t> planes;
+    Normal6 normal = Normal6::Zero();
+    for (auto& [feature, members] : onCylinders(patches, surfaces, planes)) {
+      double weight = 0;
+      for (std::size_t i : members) weight += shares[i] * patches[i]->points();
+      axes_.push_back({axisOf(patches, std::move(members), *surfaces[feature]), weight});
+      for (const auto& [row, e] : endRows(axes_.back().first))
+        normal += row.transpose() * row * weight;
+    }
+    for (std::size_t i : planes) {
+      const Row6 row = detail::alongNormal(patches[i]->point.position, patches[i]->point.normal);
+      planes_.push_back({i, row, shares[i] * patches[i]->points()});
+      normal += row.transpose() * row * planes_.back().weight;
+    }
+    inverse_ = detail::heldInverse(normal);
+  }
+  bool empty() const { return planes_.empty() && axes_.empty(); }
+  detail::Twist motion(const std::vector<double>& d) const {
+    detail::Twist pull = detail::Twist::Zero();
+    for (const PlaneRow& p : planes_) pull += p.row.transpose() * d[p.patch] * p.weight;
+    for (const auto& [axis, weight] : axes_) {
+      const auto [low, high] = endShifts(axis, d);
+      const std::array<std::pair<Row6, Vec3>, 4> rows = endRows(axis);
+      for (std::size_t k = 0; k < 4; ++k)
+        pull += rows[k].first.transpose() * rows[k].second.dot(k < 2 ? low : high) * weight;
+    }
+    return inverse_ * pull;
+  }
+
+ private:
+  struct PlaneRow {
+    std::size_t patch;
+    Row6 row;
+    double weight;
+  };
+  std::vector<PlaneRow> planes_;
+  std::vector<std::pair<AxisFit, double>> axes_;  // each datum cylinder's, and its weight
+  Normal6 inverse_;
 };
 
 // The two features of an angle between faces, each fitted apart as a rigid motion that
@@ -323,7 +402,7 @@ struct Measured {
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   Fit fit;
   std::vector<AxisFit> axes;
-  RigidFit datum_motion;
+  DatumFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
@@ -335,7 +414,7 @@ struct Measured {
         datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
         axes(axesOf(feature, surfaces)),
-        datum_motion(datum, datum_shares),
+        datum_motion(datum, datum_shares, surfaces),
         faces(feature),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
           return p->point.normal.dot(feature.front()->point.normal) > std::cos(radians(1));

@@ -588,9 +588,7 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
         return {std::nullopt, why};
     weight /= kDatumPrecedence;
   }
-  Eigen::Matrix<double, 6, 6>& normal = constraints.normal;
-  normal += 1e-14 * (normal.trace() + 1) * Eigen::Matrix<double, 6, 6>::Identity();
-  return {Twist(normal.ldlt().solve(constraints.pull)), {}};
+  return {Twist(heldInverse(constraints.normal) * constraints.pull), {}};
 }
 
 Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,

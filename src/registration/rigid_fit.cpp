@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <vector>
 
 namespace scanplan::detail {
 
@@ -20,6 +21,30 @@ TwistCovariance inverted(const TwistCovariance& information) {
   return (information + 1e-12 * scale * TwistCovariance::Identity())
       .ldlt()
       .solve(TwistCovariance::Identity());
+}
+
+TwistCovariance heldInverse(const TwistCovariance& normal) {
+  const Eigen::SelfAdjointEigenSolver<TwistCovariance> solver(normal);
+  const Eigen::Matrix<double, 6, 1>& values = solver.eigenvalues();
+  Eigen::Matrix<double, 6, 1> inverse = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<Eigen::Index> free;
+  for (Eigen::Index i = 0; i < 6; ++i)
+    if (values[i] > 1e-12 * values.maxCoeff())
+      inverse[i] = 1 / values[i];
+    else
+      free.push_back(i);
+  const TwistCovariance least = solver.eigenvectors() * inverse.asDiagonal() *
+                                solver.eigenvectors().transpose();  // the least-norm solution
+  if (free.empty()) return least;
+  // Moved along the free directions V by z = -pinv(turn of V) (turn of the solution): the
+  // turn left is the least they allow.
+  Eigen::Matrix<double, 6, Eigen::Dynamic> v(6, static_cast<Eigen::Index>(free.size()));
+  for (std::size_t k = 0; k < free.size(); ++k)
+    v.col(static_cast<Eigen::Index>(k)) = solver.eigenvectors().col(free[k]);
+  const Eigen::MatrixXd turn = v.topRows<3>();
+  TwistCovariance hold = TwistCovariance::Identity();
+  hold.leftCols<3>() -= v * turn.completeOrthogonalDecomposition().pseudoInverse();
+  return hold * least;
 }
 
 TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma) {

@@ -20,6 +20,13 @@ Eigen::Matrix<double, 3, 6> motionAt(const Vec3& p);
 // rather than an infinity.
 TwistCovariance inverted(const TwistCovariance& information);
 
+// The matrix that solves a rigid motion's normal equations for their right-hand side:
+// the directions they constrain exactly, however little they weigh; the directions they
+// leave free (eigenvalues under 1e-12 of the largest) held so that the motion turns least
+// (none about a datum axis that leaves a turn free), then slides least (none along a datum
+// plane), whatever the origin of the coordinates.
+TwistCovariance heldInverse(const TwistCovariance& normal);
+
 // Covariance of the rigid fit that maps measured points onto known ones, each measured
 // with independent noise of `sigma` mm per axis (point to point, first order).
 TwistCovariance rigidFitCovariance(std::span<const Vec3> points, double sigma);
