@@ -83,15 +83,23 @@ Effect effectOf(const Characteristic& c, bool on_cylinders) {
            : c.kind == "radius"                    ? Effect::Radius
            : c.kind.find("angular") != c.kind.npos ? Effect::Angle
                                                    : Effect::Size;
-  const bool orientation =
-      c.kind == "perpendicularity" || c.kind == "parallelism" || c.kind == "angularity";
-  if (on_cylinders && orientation) return Effect::AxisTilt;
-  if (on_cylinders && c.kind == "position") return Effect::AxisPlace;
+  if (on_cylinders && detail::orientationKind(c.kind)) return Effect::AxisTilt;
+  if (on_cylinders && (c.kind == "position" || c.kind == "concentricity" || c.kind == "coaxiality"))
+    return Effect::AxisPlace;
   if (c.kind == "profile_of_surface" || c.kind == "profile_of_line" || c.kind == "position" ||
       c.kind == "concentricity" || c.kind == "symmetry" || c.kind == "coaxiality")
     return Effect::Profile;
   return Effect::Form;
 }
+
+// A feature's B-Rep surface (none where its face has no elementary surface) and, for a
+// cylinder, the band its faces span along the axis (from the surface's origin), mm.
+struct FeatureSurface {
+  std::optional<ElementarySurface> surface;
+  double low = 0, high = 0;
+  bool cylinder() const { return surface && surface->type == SurfaceType::Cylinder; }
+};
+using FeatureSurfaces = std::vector<FeatureSurface>;  // by Patch::feature
 
 using Row = Eigen::Matrix<double, 7, 1>;
 using Normal = Eigen::Matrix<double, 7, 7>;
@@ -108,9 +116,19 @@ struct Fit {
   double extent = 0;           // the patches' largest distance apart (their box's diagonal), mm
 };
 
-// `held`: where not zero, the turns about the directions across it stay 0 (a cylinder's
-// axis held to its designed direction).
-Fit fitOf(const std::vector<const Patch*>& patches, const Vec3& held = Vec3::Zero()) {
+// How a cylinder's fit sees its patches: its axis, how far each patch's points spread along
+// it (its square's side, within the band its faces span), and whether the axis is held to
+// its designed direction.
+struct AlongAxis {
+  Vec3 axis;
+  double band = 0;
+  bool held = false;
+};
+
+// `cylinder`: the points of each patch spread along the axis, which turns the axis however
+// few rows of samples a short band holds.
+Fit fitOf(const std::vector<const Patch*>& patches,
+          const std::optional<AlongAxis>& cylinder = std::nullopt) {
   Vec3 centre = Vec3::Zero();
   for (const Patch* p : patches) centre += p->point.position / static_cast<double>(patches.size());
   Fit fit;
@@ -125,11 +143,18 @@ Fit fitOf(const std::vector<const Patch*>& patches, const Vec3& held = Vec3::Zer
     normal += row * row.transpose() * p->points();
     fit.rows.push_back(row);
     fit.weights.push_back(p->points());
+    if (cylinder) {  // a point `along` from the centre turns by (along axis) x normal more
+      const double along = std::min(std::sqrt(p->area), cylinder->band);
+      Row spread = Row::Zero();
+      spread.tail<3>() = cylinder->axis.cross(p->point.normal);
+      normal += spread * spread.transpose() * p->points() * along * along / 12;
+    }
   }
   // Directions the faces leave free (along a plane, about a cylinder's axis) stay at 0.
   normal += 1e-9 * (normal.trace() + 1) * Normal::Identity();
-  if (held.norm() > 0) {
-    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - held * held.transpose();
+  if (cylinder && cylinder->held) {
+    const Vec3& a = cylinder->axis;
+    const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - a * a.transpose();
     normal.bottomRightCorner<3, 3>() += 1e9 * (normal.trace() + 1) * across;
   }
   fit.normal.compute(normal);
@@ -146,13 +171,14 @@ struct AxisFit {
   Fit fit;
 };
 
-// The axis of cylinder `s` fitted to `members` of `patches`.
+// The axis of cylinder `s` fitted to `members` of `patches`; `hold_short` as the
+// evaluation's (detail::kShortBand).
 AxisFit axisOf(const std::vector<const Patch*>& patches, std::vector<std::size_t> members,
-               const ElementarySurface& s) {
+               const FeatureSurface& s, bool hold_short) {
   AxisFit a;
   a.members = std::move(members);
-  a.point = s.origin;
-  a.axis = s.axis.normalized();
+  a.point = s.surface->origin;
+  a.axis = s.surface->axis.normalized();
   a.low = std::numeric_limits<double>::infinity();
   a.high = -a.low;
   double pitch = 0;  // each patch stands for a square of its area about its centre
@@ -163,22 +189,21 @@ AxisFit axisOf(const std::vector<const Patch*>& patches, std::vector<std::size_t
     a.high = std::max(a.high, (patches[i]->point.position - a.point).dot(a.axis));
     pitch = std::max(pitch, std::sqrt(patches[i]->area));
   }
-  a.low -= pitch / 2;
-  a.high += pitch / 2;
-  a.fit = fitOf(on, a.high - a.low < detail::kShortBand * s.radius ? a.axis : Vec3::Zero());
+  a.low = std::max(a.low - pitch / 2, s.low);
+  a.high = std::min(a.high + pitch / 2, s.high);
+  const bool short_band = a.high - a.low < detail::kShortBand * s.surface->radius;
+  a.fit = fitOf(on, AlongAxis{a.axis, s.high - s.low, hold_short && short_band});
   return a;
 }
 
 // The patches of each cylinder among `patches`' features, by feature; `others` gets the
-// rest. `surfaces`: each feature's, by Patch::feature.
-std::map<int, std::vector<std::size_t>> onCylinders(
-    const std::vector<const Patch*>& patches,
-    const std::vector<std::optional<ElementarySurface>>& surfaces,
-    std::vector<std::size_t>& others) {
+// rest.
+std::map<int, std::vector<std::size_t>> onCylinders(const std::vector<const Patch*>& patches,
+                                                    const FeatureSurfaces& surfaces,
+                                                    std::vector<std::size_t>& others) {
   std::map<int, std::vector<std::size_t>> cylinders;
   for (std::size_t i = 0; i < patches.size(); ++i) {
-    const std::optional<ElementarySurface>& s = surfaces[patches[i]->feature];
-    if (s && s->type == SurfaceType::Cylinder)
+    if (surfaces[patches[i]->feature].cylinder())
       cylinders[patches[i]->feature].push_back(i);
     else
       others.push_back(i);
@@ -189,13 +214,13 @@ std::map<int, std::vector<std::size_t>> onCylinders(
 // The characteristic's cylinders' axes, each fitted to its own patches; none unless every
 // patch lies on a cylinder.
 std::vector<AxisFit> axesOf(const std::vector<const Patch*>& patches,
-                            const std::vector<std::optional<ElementarySurface>>& surfaces) {
+                            const FeatureSurfaces& surfaces, bool hold_short) {
   std::vector<std::size_t> others;
   std::map<int, std::vector<std::size_t>> cylinders = onCylinders(patches, surfaces, others);
   if (!others.empty()) return {};
   std::vector<AxisFit> axes;
   for (auto& [feature, members] : cylinders)
-    axes.push_back(axisOf(patches, std::move(members), *surfaces[feature]));
+    axes.push_back(axisOf(patches, std::move(members), surfaces[feature], hold_short));
   return axes;
 }
 
@@ -278,15 +303,15 @@ std::array<std::pair<Row6, Vec3>, 4> endRows(const AxisFit& a) {
 // kDatumPrecedence times the next.
 class DatumFit {
  public:
-  // `shares`: each patch's weight over its points'; `surfaces`: each feature's.
+  // `shares`: each patch's weight over its points'.
   DatumFit(const std::vector<const Patch*>& patches, const std::vector<double>& shares,
-           const std::vector<std::optional<ElementarySurface>>& surfaces) {
+           const FeatureSurfaces& surfaces) {
     std::vector<std::size_t> planes;
     Normal6 normal = Normal6::Zero();
     for (auto& [feature, members] : onCylinders(patches, surfaces, planes)) {
       double weight = 0;
       for (std::size_t i : members) weight += shares[i] * patches[i]->points();
-      axes_.push_back({axisOf(patches, std::move(members), *surfaces[feature]), weight});
+      axes_.push_back({axisOf(patches, std::move(members), surfaces[feature], true), weight});
       for (const auto& [row, e] : endRows(axes_.back().first))
         normal += row.transpose() * row * weight;
     }
@@ -405,15 +430,17 @@ struct Measured {
   DatumFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
+  // `orientation`: the characteristic tolerances an orientation, so its cylinders' axes
+  // turn however short their bands.
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
-           const std::vector<double>& datum_shares,
-           const std::vector<std::optional<ElementarySurface>>& surfaces)
+           const std::vector<double>& datum_shares, const FeatureSurfaces& surfaces,
+           bool orientation)
       : feature(std::move(f)),
         datum(std::move(d)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
         fit(fitOf(feature)),
-        axes(axesOf(feature, surfaces)),
+        axes(axesOf(feature, surfaces, !orientation)),
         datum_motion(datum, datum_shares, surfaces),
         faces(feature),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
@@ -632,9 +659,20 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
 // The features of faces: faces whose B-Rep surfaces are one plane or cylinder share one
 // (detail::oneFeature); a face without such a surface has its own.
 struct Features {
-  std::map<int, int> of_face;                              // face id: its feature's index
-  std::vector<std::optional<ElementarySurface>> surfaces;  // each feature's first face's
+  std::map<int, int> of_face;  // face id: its feature's index
+  FeatureSurfaces surfaces;    // each feature's first face's surface
 };
+
+// Where face `id`'s triangles lie along the axis of `s` (from its origin), added to `f`.
+void extendBand(const Part& part, int id, FeatureSurface& f) {
+  const Face& face = part.face(id);
+  for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t)
+    for (const int v : part.mesh.triangles[static_cast<std::size_t>(t)]) {
+      const double at = (part.mesh.vertices[v] - f.surface->origin).dot(f.surface->axis);
+      f.low = std::min(f.low, at);
+      f.high = std::max(f.high, at);
+    }
+}
 
 // The features of the characteristics' faces and their datums'.
 Features featuresOf(const Part& part, const std::vector<Characteristic>& list) {
@@ -645,14 +683,18 @@ Features featuresOf(const Part& part, const std::vector<Characteristic>& list) {
       for (int f : datumFaces(part.gdt, c)) faces.insert(f);
   }
   Features features;
+  FeatureSurfaces& firsts = features.surfaces;
   for (int f : faces) {
     const std::optional<ElementarySurface> surface = elementarySurface(part, f);
-    std::vector<std::optional<ElementarySurface>>& firsts = features.surfaces;
-    const auto same = std::find_if(firsts.begin(), firsts.end(), [&](const auto& first) {
-      return surface && first && detail::oneFeature(*first, *surface);
+    auto same = std::find_if(firsts.begin(), firsts.end(), [&](const FeatureSurface& first) {
+      return surface && first.surface && detail::oneFeature(*first.surface, *surface);
     });
+    if (same == firsts.end()) {
+      const double inf = std::numeric_limits<double>::infinity();
+      same = firsts.insert(firsts.end(), {surface, inf, -inf});
+    }
     features.of_face[f] = static_cast<int>(same - firsts.begin());
-    if (same == firsts.end()) firsts.push_back(surface);
+    if (same->cylinder()) extendBand(part, f, *same);
   }
   return features;
 }
@@ -933,7 +975,7 @@ namespace {
 // and the part's rest orientations, found once for every count of views judged.
 struct Judging {
   std::vector<Patch> patches;
-  std::vector<std::optional<ElementarySurface>> surfaces;  // each feature's, by Patch::feature
+  FeatureSurfaces surfaces;
   std::vector<detail::ViewError> errors;
   std::vector<RestOrientation> rests;
 };
@@ -969,7 +1011,8 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    const Measured m(measured, datum, datumShares(part.gdt, c, datum), by.surfaces);
+    const Measured m(measured, datum, datumShares(part.gdt, c, datum), by.surfaces,
+                     detail::orientationKind(c.kind));
     k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }

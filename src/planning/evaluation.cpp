@@ -97,8 +97,11 @@ std::vector<Vec3> pointsOn(const std::vector<int>& faces, const FacePoints& poin
   return all;
 }
 
-// The feature's cylinder fitted to its points, if they fix it.
-std::optional<CylinderFit> cylinderOf(const Feature& f, const std::vector<Vec3>& points) {
+// The feature's cylinder fitted to its points, if they fix it. `hold_short`: a band shorter
+// than kShortBand keeps its designed axis' direction (not for an orientation, which is that
+// direction).
+std::optional<CylinderFit> cylinderOf(const Feature& f, const std::vector<Vec3>& points,
+                                      bool hold_short = true) {
   if (f.type != SurfaceType::Cylinder || points.size() < kLeastPoints) return std::nullopt;
   double low = std::numeric_limits<double>::infinity(), high = -low;
   for (const Vec3& p : points) {
@@ -106,7 +109,7 @@ std::optional<CylinderFit> cylinderOf(const Feature& f, const std::vector<Vec3>&
     high = std::max(high, p.dot(f.cylinder.axis));
   }
   const CylinderFit fit =
-      fitCylinder(points, f.cylinder, high - low < kShortBand * f.cylinder.radius);
+      fitCylinder(points, f.cylinder, hold_short && high - low < kShortBand * f.cylinder.radius);
   if (!fit.determined || arcAbout(fit, points) < kLeastArc) return std::nullopt;
   return fit;
 }
@@ -342,8 +345,7 @@ Evaluation locationValue(const Characteristic& c, const Gdt& gdt, const Nominal&
                          const Feature& f, const std::vector<Vec3>& on,
                          const std::optional<CylinderFit>& cylinder) {
   const std::string& kind = c.kind;
-  const bool orientation =
-      kind == "perpendicularity" || kind == "parallelism" || kind == "angularity";
+  const bool orientation = orientationKind(kind);
   if ((orientation || kind == "position") && f.type == SurfaceType::Plane) {
     // The zone of planes at the designed orientation; for a position, about the designed place.
     double low = std::numeric_limits<double>::infinity(), high = -low, largest = 0;
@@ -395,7 +397,7 @@ Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal
     return {largest, {}};
   }
   const Feature& f = features.front();
-  const auto cylinder = cylinderOf(f, on);
+  const auto cylinder = cylinderOf(f, on, !orientationKind(c.kind));
   if (const auto form = formValue(c.kind, f, nominal, on, cylinder)) return *form;
   return locationValue(c, gdt, nominal, f, on, cylinder);
 }
@@ -589,6 +591,10 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
     weight /= kDatumPrecedence;
   }
   return {Twist(heldInverse(constraints.normal) * constraints.pull), {}};
+}
+
+bool orientationKind(const std::string& kind) {
+  return kind == "perpendicularity" || kind == "parallelism" || kind == "angularity";
 }
 
 Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nominal,

@@ -27,8 +27,11 @@ constexpr double kDatumPrecedence = 100;
 
 // A cylinder measured over a band shorter than this share of its radius is fitted as a
 // circle about its designed axis' direction, as inspection software fits a short one: so
-// short a band does not turn the axis.
+// short a band does not turn the axis. Not for an orientation, which is that direction.
 constexpr double kShortBand = 0.5;
+
+// Whether `kind` tolerances an orientation: perpendicularity, parallelism, angularity.
+bool orientationKind(const std::string& kind);
 
 // Points by the face they lie on (part frame).
 using FacePoints = std::map<int, std::vector<Vec3>>;
