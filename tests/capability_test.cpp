@@ -576,6 +576,52 @@ void tiltInto(Plan& plan, std::size_t view, const Vec3& target) {
   plan.views[view].target = target;
 }
 
+// The normal equations of frames their datums leave partly free, each datum row weighing 1
+// (a twist: turn, then shift). `motion` the frame's true motion; the solution of the
+// equations for the rows' displacements under it.
+detail::Twist heldSolution(const std::vector<std::pair<Vec3, Vec3>>& rows,
+                           const detail::Twist& motion) {
+  detail::TwistCovariance normal = detail::TwistCovariance::Zero();
+  detail::Twist pull = detail::Twist::Zero();
+  for (const auto& [at, along] : rows) {
+    const Eigen::Matrix<double, 1, 6> row = detail::alongNormal(at, along);
+    normal += row.transpose() * row;
+    pull += row.transpose() * (row * motion)(0);
+  }
+  return detail::heldInverse(normal) * pull;
+}
+
+// Two short parallel axes 200 mm apart, each held by its two ends 1.9 mm apart across it,
+// leave the frame free to slide along them only: the solution is the true motion with no
+// slide along them, where that free direction, whose turn is rounding's worth, would
+// otherwise turn the frame by the solution's turn over it. A plane at z = 5 off the origin
+// leaves a slide along it and a turn about its normal free: none of either, its lift and
+// tilts found exactly.
+TEST(ErrorBudget, DirectionsTheDatumsLeaveFreeNeitherTurnNorSlide) {
+  detail::Twist motion;
+  motion << 1e-4, -2e-4, 3e-4, 0.01, -0.02, 0.03;
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<std::pair<Vec3, Vec3>> axes;  // along r z
+  for (const double x : {100.0, 300.0})
+    for (const double z : {0.0, 1.9})
+      for (const Vec3& e : {Vec3(Vec3::UnitX()), Vec3(Vec3::UnitY())})
+        axes.push_back({r * Vec3(x, 40, z), r * e});
+  detail::Twist expected = motion;
+  const Vec3 along = r * Vec3::UnitZ();
+  expected.tail<3>() -= along.dot(motion.tail<3>()) * along;
+  EXPECT_LT((heldSolution(axes, motion) - expected).norm(), 1e-9);
+  std::vector<std::pair<Vec3, Vec3>> plane;
+  for (const double x : {100.0, 200.0})
+    for (const double y : {50.0, 150.0}) plane.push_back({Vec3(x, y, 5), Vec3::UnitZ()});
+  const detail::Twist found = heldSolution(plane, motion);
+  EXPECT_NEAR(found[0], motion[0], 1e-12);
+  EXPECT_NEAR(found[1], motion[1], 1e-12);
+  EXPECT_NEAR(found[5], motion[5], 1e-9);
+  EXPECT_NEAR(found[2], 0, 1e-12);
+  EXPECT_NEAR(found[3], 0, 1e-12);
+  EXPECT_NEAR(found[4], 0, 1e-12);
+}
+
 // The hole plate's bore (Ø20, 20 deep) and its top, datum A, seen by one view tilted 50°
 // into the bore, which a robot of accuracy `robot` mm places; the reference view sees
 // nothing of the plate. The bore's perpendicularity to A.

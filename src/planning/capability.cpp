@@ -73,7 +73,8 @@ struct Patch {
 
 // How the noise shows in a characteristic's value; profile stands for every zone about
 // the nominal (profile, position, symmetry, concentricity); an angle is in degrees. The
-// orientation and the position of cylinders are their fitted axes' (AxisTilt, AxisPlace).
+// orientation of cylinders is their fitted axes' turn (AxisTilt), their position,
+// concentricity and coaxiality their fitted axes' place (AxisPlace).
 enum class Effect { Form, Profile, Size, Diameter, Radius, Angle, AxisTilt, AxisPlace };
 
 // `on_cylinders`: the characteristic's features are cylinders.
@@ -162,8 +163,7 @@ Fit fitOf(const std::vector<const Patch*>& patches,
 }
 
 // A cylinder's axis as the evaluation fits it to the cylinder's own points: the fit of its
-// patches (the axis held to its designed direction where the band measured is short,
-// kShortBand), and the band's ends along the axis.
+// patches, and the ends of the band measured along the axis.
 struct AxisFit {
   std::vector<std::size_t> members;                 // its patches, into the characteristic's
   Vec3 point = Vec3::Zero(), axis = Vec3::UnitZ();  // the designed axis
@@ -189,10 +189,15 @@ AxisFit axisOf(const std::vector<const Patch*>& patches, std::vector<std::size_t
     a.high = std::max(a.high, (patches[i]->point.position - a.point).dot(a.axis));
     pitch = std::max(pitch, std::sqrt(patches[i]->area));
   }
-  a.low = std::max(a.low - pitch / 2, s.low);
-  a.high = std::min(a.high + pitch / 2, s.high);
+  a.low -= pitch / 2;
+  a.high += pitch / 2;
+  if (s.high > s.low) {  // within the faces' band (a face without triangles has none)
+    a.low = std::max(a.low, s.low);
+    a.high = std::min(a.high, s.high);
+  }
   const bool short_band = a.high - a.low < detail::kShortBand * s.surface->radius;
-  a.fit = fitOf(on, AlongAxis{a.axis, s.high - s.low, hold_short && short_band});
+  const double band = s.high > s.low ? s.high - s.low : a.high - a.low;
+  a.fit = fitOf(on, AlongAxis{a.axis, band, hold_short && short_band});
   return a;
 }
 
@@ -290,9 +295,8 @@ std::array<std::pair<Row6, Vec3>, 4> endRows(const AxisFit& a) {
   std::array<std::pair<Row6, Vec3>, 4> rows;
   std::size_t k = 0;
   for (const double along : {a.low, a.high})
-    for (const Vec3& e : {e1, e2}) {
+    for (const Vec3& e : {e1, e2})
       rows[k++] = {detail::alongNormal(a.point + along * a.axis, e), e};
-    }
   return rows;
 }
 

@@ -37,13 +37,18 @@ TwistCovariance heldInverse(const TwistCovariance& normal) {
                                 solver.eigenvectors().transpose();  // the least-norm solution
   if (free.empty()) return least;
   // Moved along the free directions V by z = -pinv(turn of V) (turn of the solution): the
-  // turn left is the least they allow.
+  // turn left is the least they allow. A free direction whose turn is under 1e-9 of it
+  // (V's columns are unit twists) is a slide and leaves the turn as it is.
   Eigen::Matrix<double, 6, Eigen::Dynamic> v(6, static_cast<Eigen::Index>(free.size()));
   for (std::size_t k = 0; k < free.size(); ++k)
     v.col(static_cast<Eigen::Index>(k)) = solver.eigenvectors().col(free[k]);
-  const Eigen::MatrixXd turn = v.topRows<3>();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> turn(v.topRows<3>(),
+                                               Eigen::ComputeThinU | Eigen::ComputeThinV);
+  Eigen::VectorXd inverse_turn = Eigen::VectorXd::Zero(turn.singularValues().size());
+  for (Eigen::Index i = 0; i < inverse_turn.size(); ++i)
+    if (turn.singularValues()[i] > 1e-9) inverse_turn[i] = 1 / turn.singularValues()[i];
   TwistCovariance hold = TwistCovariance::Identity();
-  hold.leftCols<3>() -= v * turn.completeOrthogonalDecomposition().pseudoInverse();
+  hold.leftCols<3>() -= v * turn.matrixV() * inverse_turn.asDiagonal() * turn.matrixU().transpose();
   return hold * least;
 }
 
