@@ -50,6 +50,19 @@ inline HolePlate holePlate(const test::TempDir& dir, double thickness = 20) {
   return p;
 }
 
+// A `length` x 100 x 20 mm plate with Ø20 through bores at (x, 50) for each of `xs`.
+inline Part boredPlate(const test::TempDir& dir, double length, const std::vector<double>& xs) {
+  TopoDS_Shape plate = BRepPrimAPI_MakeBox(length, 100, 20).Shape();
+  for (const double x : xs)
+    plate =
+        BRepAlgoAPI_Cut(
+            plate,
+            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape())
+            .Shape();
+  BRepTools::Write(plate, dir.file("bored.brep").c_str());
+  return importPart(dir.file("bored.brep"));
+}
+
 // A 700 x 100 x 20 mm plate with two Ø20 through bores 500 mm apart, at (100, 50) and
 // (600, 50): datum A its top, B the first bore; the second bore's position to A and B
 // (0.5).
@@ -61,16 +74,8 @@ struct TwoBorePlate {
 };
 
 inline TwoBorePlate twoBorePlate(const test::TempDir& dir) {
-  TopoDS_Shape plate = BRepPrimAPI_MakeBox(700, 100, 20).Shape();
-  for (const double x : {100.0, 600.0})
-    plate =
-        BRepAlgoAPI_Cut(
-            plate,
-            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape())
-            .Shape();
-  BRepTools::Write(plate, dir.file("two_bores.brep").c_str());
   TwoBorePlate p;
-  p.part = importPart(dir.file("two_bores.brep"));
+  p.part = boredPlate(dir, 700, {100, 600});
   for (const Face& f : p.part.faces) {
     if (f.type == SurfaceType::Cylinder)
       (f.bounds.max.x() < 350 ? p.first : p.second).push_back(f.id);

@@ -215,15 +215,7 @@ TEST(Inspection, AViewMovedByAKnownRegistrationErrorMovesTheHoleByIt) {
 // one hole moved 0.1 mm and the other 0.04 mm, the pattern's value is the first's, 0.2.
 TEST(Inspection, APatternsPositionIsItsWorstFeatures) {
   test::TempDir dir;
-  TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 20).Shape();
-  for (const double x : {50.0, 150.0})
-    plate =
-        BRepAlgoAPI_Cut(
-            plate,
-            BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, 50, -1), gp_Dir(0, 0, 1)), 10, 22).Shape())
-            .Shape();
-  BRepTools::Write(plate, dir.file("pattern.brep").c_str());
-  Part part = importPart(dir.file("pattern.brep"));
+  Part part = test::boredPlate(dir, 200, {50, 150});
   std::vector<int> left, right;
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Cylinder)
