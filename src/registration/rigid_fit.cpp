@@ -37,8 +37,8 @@ TwistCovariance heldInverse(const TwistCovariance& normal) {
                                 solver.eigenvectors().transpose();  // the least-norm solution
   if (free.empty()) return least;
   // Moved along the free directions V by z = -pinv(turn of V) (turn of the solution): the
-  // turn left is the least they allow. A free direction whose turn is under 1e-9 of it
-  // (V's columns are unit twists) is a slide and leaves the turn as it is.
+  // turn left is the least they allow. V's columns are unit twists; a turn of theirs under
+  // 1e-9 is rounding's worth, and that direction a slide, which leaves the turn as it is.
   Eigen::Matrix<double, 6, Eigen::Dynamic> v(6, static_cast<Eigen::Index>(free.size()));
   for (std::size_t k = 0; k < free.size(); ++k)
     v.col(static_cast<Eigen::Index>(k)) = solver.eigenvectors().col(free[k]);
