@@ -1,11 +1,12 @@
 #pragma once
-// A plate with a hole and its GD&T, and a plate with two bores, shared by the tests of the
-// inspection, of the capability model and of the planner's aim.
+// A plate with a hole and its GD&T, a plate with two bores, and views tilted into a bore,
+// shared by the tests of the inspection, of the capability model and of the planner's aim.
 
 #include "support.h"
 
 #include <scanplan/cad/gdt.h>
 #include <scanplan/cad/import.h>
+#include <scanplan/core/view.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -48,6 +49,21 @@ inline HolePlate holePlate(const test::TempDir& dir, double thickness = 20) {
   Characteristic diameter{3, "diameter", true, 20, 19.9, 20.1, {}, p.hole};
   p.characteristics = {position, flatness, diameter};
   return p;
+}
+
+// A view of id `id` at `standoff` from `target`, looking down at it from 50° off the
+// vertical, from the side at `azimuth` (radians, from +x about z).
+inline View tiltedView(int id, const Vec3& target, double standoff, double azimuth) {
+  const double tilt = radians(50);
+  const Vec3 towards(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                     std::cos(tilt));
+  const Vec3 z = -towards, x = z.cross(Vec3::UnitZ()).normalized(), y = z.cross(x);
+  View view;
+  view.id = id;
+  view.target = target;
+  view.camera_to_world.linear() << x, y, z;
+  view.camera_to_world.translation() = target + standoff * towards;
+  return view;
 }
 
 // A `length` x 100 x 20 mm plate with Ø20 through bores at (x, 50) for each of `xs`.

@@ -286,16 +286,8 @@ Plan fourViews(const HolePlate& p) {
   registration.robot_accuracy = 0.01;
   const Vec3 target(100, 50, p.part.face(p.top).bounds.max.z());
   for (int k = 0; k < 4; ++k) {
-    const double azimuth = k * std::numbers::pi / 2, tilt = radians(50);
-    const Vec3 towards(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
-                       std::cos(tilt));
-    View view;
-    view.id = k + 1;
-    view.target = target;
-    const Vec3 z = -towards, x = z.cross(Vec3::UnitZ()).normalized(), y = z.cross(x);
-    view.camera_to_world.linear() << x, y, z;
-    view.camera_to_world.translation() = target + plan.scanner.standoff * towards;
-    plan.views.push_back(view);
+    plan.views.push_back(
+        test::tiltedView(k + 1, target, plan.scanner.standoff, k * std::numbers::pi / 2));
     ViewRegistration placed;
     placed.method = k == 0 ? RegistrationMethod::Reference : RegistrationMethod::Robot;
     registration.views.push_back(placed);

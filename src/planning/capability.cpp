@@ -85,10 +85,10 @@ Effect effectOf(const Characteristic& c, bool on_cylinders) {
            : c.kind.find("angular") != c.kind.npos ? Effect::Angle
                                                    : Effect::Size;
   if (on_cylinders && detail::orientationKind(c.kind)) return Effect::AxisTilt;
-  if (on_cylinders && (c.kind == "position" || c.kind == "concentricity" || c.kind == "coaxiality"))
-    return Effect::AxisPlace;
-  if (c.kind == "profile_of_surface" || c.kind == "profile_of_line" || c.kind == "position" ||
-      c.kind == "concentricity" || c.kind == "symmetry" || c.kind == "coaxiality")
+  const bool place = c.kind == "position" || c.kind == "concentricity" || c.kind == "coaxiality";
+  if (on_cylinders && place) return Effect::AxisPlace;
+  if (place || c.kind == "profile_of_surface" || c.kind == "profile_of_line" ||
+      c.kind == "symmetry")
     return Effect::Profile;
   return Effect::Form;
 }
@@ -191,12 +191,13 @@ AxisFit axisOf(const std::vector<const Patch*>& patches, std::vector<std::size_t
   }
   a.low -= pitch / 2;
   a.high += pitch / 2;
+  double band = a.high - a.low;
   if (s.high > s.low) {  // within the faces' band (a face without triangles has none)
     a.low = std::max(a.low, s.low);
     a.high = std::min(a.high, s.high);
+    band = s.high - s.low;
   }
   const bool short_band = a.high - a.low < detail::kShortBand * s.surface->radius;
-  const double band = s.high > s.low ? s.high - s.low : a.high - a.low;
   a.fit = fitOf(on, AlongAxis{a.axis, band, hold_short && short_band});
   return a;
 }
@@ -315,9 +316,10 @@ class DatumFit {
     for (auto& [feature, members] : onCylinders(patches, surfaces, planes)) {
       double weight = 0;
       for (std::size_t i : members) weight += shares[i] * patches[i]->points();
-      axes_.push_back({axisOf(patches, std::move(members), surfaces[feature], true), weight});
-      for (const auto& [row, e] : endRows(axes_.back().first))
-        normal += row.transpose() * row * weight;
+      AxisFit axis = axisOf(patches, std::move(members), surfaces[feature], true);
+      const std::array<std::pair<Row6, Vec3>, 4> rows = endRows(axis);
+      for (const auto& [row, e] : rows) normal += row.transpose() * row * weight;
+      axes_.push_back({std::move(axis), rows, weight});
     }
     for (std::size_t i : planes) {
       const Row6 row = detail::alongNormal(patches[i]->point.position, patches[i]->point.normal);
@@ -330,11 +332,10 @@ class DatumFit {
   detail::Twist motion(const std::vector<double>& d) const {
     detail::Twist pull = detail::Twist::Zero();
     for (const PlaneRow& p : planes_) pull += p.row.transpose() * d[p.patch] * p.weight;
-    for (const auto& [axis, weight] : axes_) {
-      const auto [low, high] = endShifts(axis, d);
-      const std::array<std::pair<Row6, Vec3>, 4> rows = endRows(axis);
+    for (const AxisRows& a : axes_) {
+      const auto [low, high] = endShifts(a.axis, d);
       for (std::size_t k = 0; k < 4; ++k)
-        pull += rows[k].first.transpose() * rows[k].second.dot(k < 2 ? low : high) * weight;
+        pull += a.rows[k].first.transpose() * a.rows[k].second.dot(k < 2 ? low : high) * a.weight;
     }
     return inverse_ * pull;
   }
@@ -345,8 +346,13 @@ class DatumFit {
     Row6 row;
     double weight;
   };
+  struct AxisRows {  // a datum cylinder: its axis, the rows that hold it, its weight
+    AxisFit axis;
+    std::array<std::pair<Row6, Vec3>, 4> rows;
+    double weight;
+  };
   std::vector<PlaneRow> planes_;
-  std::vector<std::pair<AxisFit, double>> axes_;  // each datum cylinder's, and its weight
+  std::vector<AxisRows> axes_;
   Normal6 inverse_;
 };
 
