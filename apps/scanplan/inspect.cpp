@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <map>
 
 namespace scanplan::cli {
 namespace {
@@ -28,6 +29,7 @@ struct Options {
   std::string out;
   int runs = 20;
   double spacing = 0;
+  InspectionOptions::IcpLinks icp = InspectionOptions::IcpLinks::Drawn;
 };
 
 // The planned capability of characteristic `id`, if the plan has it.
@@ -44,6 +46,8 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
       inspection.views_left_out > 0
           ? fmt::format(", {} views left out (registered to nothing)", inspection.views_left_out)
           : "");
+  if (inspection.icp_registered > 0)
+    fmt::print("{:<22} {} views registered by ICP in every run\n", "", inspection.icp_registered);
   fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>7}  {:<14} {}\n", "id", "kind",
              "width", "true", "measured", "bias", "U", "ratio", "verdict", "planned U, verdict");
   for (std::size_t i = 0; i < inspection.characteristics.size(); ++i) {
@@ -71,6 +75,7 @@ int run(const Options& options, const GlobalOptions& global) {
   InspectionOptions inspection;
   inspection.runs = options.runs;
   inspection.spacing = options.spacing;
+  inspection.icp = options.icp;
   if (!options.deviations.empty()) inspection.deviations = loadDeviations(options.deviations);
   const std::string out =
       options.out.empty()
@@ -112,6 +117,15 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
       ->add_option("--spacing", options->spacing,
                    "Simulated points' spacing at the standoff, mm (default fov_height / 100)")
       ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--icp", options->icp,
+                   "Views registered by ICP: drawn from the capability model's covariance "
+                   "(default), or registered by ICP on each run's simulated clouds (slower)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, InspectionOptions::IcpLinks>{
+              {"registered", InspectionOptions::IcpLinks::Registered},
+              {"drawn", InspectionOptions::IcpLinks::Drawn}},
+          CLI::ignore_case));
   command->add_option("-o,--output", options->out,
                       "Results (JSON; default inspection.json beside the plan)");
   command->callback([options, &global, &selected] {

@@ -140,6 +140,8 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   inspection.spacing = numberAt(root, "spacing", path, "the inspection");
   if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
     inspection.views_left_out = root["views_left_out"].get<std::size_t>();
+  if (root.contains("icp_registered") && root["icp_registered"].is_number_unsigned())
+    inspection.icp_registered = root["icp_registered"].get<std::size_t>();
   const nlohmann::json& list = root["characteristics"];
   for (std::size_t k = 0; k < list.size(); ++k)
     inspection.characteristics.push_back(
@@ -202,6 +204,7 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
   return {{"runs", inspection.runs},
           {"spacing", inspection.spacing},
           {"views_left_out", inspection.views_left_out},
+          {"icp_registered", inspection.icp_registered},
           {"deviations", deviations},
           {"characteristics", list}};
 }

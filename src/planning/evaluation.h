@@ -54,6 +54,7 @@ class Nominal {
   Nominal(const Part& part, std::span<const SurfacePoint> points);
   ~Nominal();
   const NominalFace* face(int id) const;
+  const std::map<int, NominalFace>& faces() const { return faces_; }
   // The normal of face `id` at its point nearest `p` (its exact surface; else its triangles;
   // without them, its nearest sample), and the signed distance from `p` to it along that
   // normal: a point carried past the face's edge is as far from the face as it lies along

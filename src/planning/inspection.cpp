@@ -10,6 +10,7 @@
 // from the same evaluation on the deviated surface, sampled densely, without error.
 
 #include "planning/evaluation.h"
+#include "planning/simulated_icp.h"
 #include "planning/simulated_registration.h"
 
 #include <scanplan/core/errors.h>
@@ -21,6 +22,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <random>
 #include <set>
 
@@ -140,39 +143,108 @@ struct Setup {
   const detail::Nominal& nominal;
   const std::set<int>& faces;
   const std::vector<detail::ViewError>& errors;
+  const std::vector<Simulator>& simulators;
+  std::vector<std::size_t> orientation;  // per view
   double spacing;
+  // Per view, the view it registers to by ICP in each run (none: its link is drawn).
+  std::vector<std::optional<std::size_t>> icp;
+  const detail::SimulatedIcp* registering = nullptr;
 };
 
-RunPoints simulateRun(const Setup& s, const std::vector<Simulator>& simulators,
-                      const detail::SimulatedRegistration& registration, int run) {
-  const std::vector<std::size_t> orientation = viewOrientations(s.plan);
+// One view's points in a run before its registration moves them (world): on the part as
+// designed, with the scanner's noise and the view's acceptance errors; of every face when
+// it takes part in an ICP link, else of the characteristics' faces.
+struct ViewPoints {
+  std::vector<Vec3> points, normals;
+  std::vector<int> faces;
+};
+
+ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
+                          const AcceptanceErrors& acceptance, int run) {
+  const View& view = s.plan.views[v];
+  const std::size_t k = s.orientation[v];
+  const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
+  const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
+                             static_cast<std::uint64_t>(view.id);
+  const PointCloud cloud = s.simulators[k].cloud(view, seed, s.spacing);
+  ViewPoints mine;
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    const int face = cloud.faces[i];
+    if (!every_face && !s.faces.count(face)) continue;
+    // Where the camera's ray met the mesh, on the part as designed instead; the noise
+    // along the ray kept.
+    const SurfacePoint on =
+        s.nominal.onDesigned(face, to_part * cloud.hits[i], to_part.linear() * cloud.normals[i]);
+    const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
+               towards = to_world.linear() * on.normal;
+    mine.points.push_back(acceptance.apply(s.plan.scanner, view, at, towards));
+    mine.normals.push_back(towards);
+    mine.faces.push_back(face);
+  }
+  return mine;
+}
+
+// The ICP links of one run (world motions; none for views whose link is drawn).
+std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<ViewPoints>& measured,
+                                          const std::vector<AcceptanceErrors>& acceptance,
+                                          int run) {
+  const std::size_t n = s.plan.views.size();
+  std::vector<std::optional<Pose>> links(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    if (!s.icp[v]) return;
+    const std::size_t p = *s.icp[v];
+    const View& fixed = s.plan.views[p];
+    const Simulator& simulator = s.simulators[s.orientation[v]];
+    const Pose to_world = orientationPlacement(s.plan, s.orientation[v]),
+               to_part = to_world.inverse();
+    // The overlap: the points of v's cloud that the view it registers to measures too.
+    std::vector<SurfacePoint> mine;
+    for (std::size_t i = 0; i < measured[v].points.size(); ++i)
+      mine.push_back({measured[v].points[i], measured[v].normals[i], measured[v].faces[i]});
+    const std::vector<Loss> seen = simulator.measure(fixed, mine);
+    std::vector<Vec3> overlap;
+    for (std::size_t i = 0; i < mine.size(); ++i)
+      if (seen[i] == Loss::Measured) overlap.push_back(to_part * mine[i].position);
+    const detail::FixedSurface surface = [&](const Vec3& at, const Vec3& normal) {
+      const Vec3 a = to_world * at, m = to_world.linear() * normal;
+      return detail::SurfaceOffset{m.dot(acceptance[p].apply(simulator.scanner(), fixed, a, m) - a),
+                                   pointQuality(simulator.scanner(), fixed, a, m).along_normal};
+    };
+    const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
+                               static_cast<std::uint64_t>(s.plan.views[v].id);
+    // Too little overlap to run ICP on: the link's covariance is drawn.
+    if (const std::optional<Pose> link = s.registering->link(overlap, surface, seed))
+      links[v] = to_world * *link * to_part;
+  });
+  return links;
+}
+
+RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& registration, int run) {
   std::mt19937_64 random(s.options.seed * 1000003 + static_cast<std::uint64_t>(run));
-  const std::vector<Pose> moves = registration.draw(random);
+  std::mt19937_64 registration_random = random;
+  std::vector<Pose> moves = registration.draw(random);
   std::vector<AcceptanceErrors> acceptance;
   for (std::size_t v = 0; v < s.plan.views.size(); ++v)
     acceptance.push_back(drawAcceptance(s.plan.scanner, random));
+  std::vector<char> in_icp(s.plan.views.size(), 0);
+  for (std::size_t v = 0; v < s.icp.size(); ++v)
+    if (s.icp[v]) in_icp[v] = in_icp[*s.icp[v]] = 1;
+  std::vector<ViewPoints> measured(s.plan.views.size());
+  tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
+    if (s.errors[v].placed) measured[v] = measuredPoints(s, v, in_icp[v], acceptance[v], run);
+  });
+  if (s.registering)
+    moves = registration.draw(registration_random, icpLinks(s, measured, acceptance, run));
   std::vector<FacePoints> by_view(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
-    if (!s.errors[v].placed) return;
-    const View& view = s.plan.views[v];
-    const std::size_t k = orientation[v];
-    const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
-    const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
-                               static_cast<std::uint64_t>(view.id);
-    const PointCloud cloud = simulators[k].cloud(view, seed, s.spacing);
-    FacePoints& mine = by_view[v];
-    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-      const int face = cloud.faces[i];
+    const Pose to_part = orientationPlacement(s.plan, s.orientation[v]).inverse();
+    const ViewPoints& mine = measured[v];
+    for (std::size_t i = 0; i < mine.points.size(); ++i) {
+      const int face = mine.faces[i];
       if (!s.faces.count(face)) continue;
-      // Where the camera's ray met the mesh, on the part as designed instead; the noise
-      // along the ray kept.
-      const SurfacePoint on =
-          s.nominal.onDesigned(face, to_part * cloud.hits[i], to_part.linear() * cloud.normals[i]);
-      const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
-                 towards = to_world.linear() * on.normal;
-      const Vec3 p = moves[v] * acceptance[v].apply(s.plan.scanner, view, at, towards);
-      const Vec3 in_part = to_part * p, normal = to_part.linear() * moves[v].linear() * towards;
-      mine[face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
+      const Vec3 in_part = to_part * (moves[v] * mine.points[i]),
+                 normal = to_part.linear() * moves[v].linear() * mine.normals[i];
+      by_view[v][face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
     }
   });
   // Merged in the views' order, whatever order the threads ran them in.
@@ -213,6 +285,25 @@ bool inOtherFramesOnly(const Characteristic& c, const Part& part, const RunPoint
   return false;
 }
 
+// Per view, the view it registers to by ICP, where the inspection registers that link by
+// ICP in each run: both placed, in one setup.
+std::vector<std::optional<std::size_t>> icpParents(const Plan& plan,
+                                                   const std::vector<detail::ViewError>& errors,
+                                                   const InspectionOptions& options) {
+  std::vector<std::optional<std::size_t>> parents(plan.views.size());
+  if (options.icp != InspectionOptions::IcpLinks::Registered || !plan.registration ||
+      plan.registration->views.size() != plan.views.size())
+    return parents;
+  const std::vector<std::size_t> orientation = viewOrientations(plan);
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    const std::optional<std::size_t>& to = errors[v].parent;
+    if (plan.registration->views[v].method == RegistrationMethod::Icp && errors[v].placed && to &&
+        errors[*to].placed && orientation[*to] == orientation[v])
+      parents[v] = to;
+  }
+  return parents;
+}
+
 // Mean, bias, U and verdict from the runs' values.
 void judge(const Characteristic& c, const CapabilityOptions& capability,
            InspectedCharacteristic& k) {
@@ -246,12 +337,18 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   result.deviations = options.deviations;
   const std::vector<Characteristic>& list = plan.characteristics;
   const std::set<int> faces = facesOf(part, list);
-  const std::vector<SurfacePoint> designed = designedPoints(part, spec, faces);
-  const detail::Nominal nominal(part, designed);
-  const FacePoints truth = simulatedPart(nominal, faces, options.deviations);
-
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;
+  const std::vector<std::optional<std::size_t>> icp = icpParents(plan, errors, options);
+  result.icp_registered = static_cast<std::size_t>(
+      std::count_if(icp.begin(), icp.end(), [](const auto& p) { return p.has_value(); }));
+  // ICP meets every face, as designed.
+  std::set<int> designed_faces = faces;
+  if (result.icp_registered > 0)
+    for (int f = 1; f <= static_cast<int>(part.faces.size()); ++f) designed_faces.insert(f);
+  const detail::Nominal nominal(part, designedPoints(part, spec, designed_faces));
+  const FacePoints truth = simulatedPart(nominal, faces, options.deviations);
+
   const detail::SimulatedRegistration registration(
       plan, errors, markerSigma(registrationOptions(spec.spec), plan.scanner));
   // Each simulated point the mean of the scanner's points around it.
@@ -261,7 +358,11 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
     simulators.emplace_back(part, averaged,
                             simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
-  const Setup setup{part, spec, plan, options, nominal, faces, errors, result.spacing};
+  const detail::SimulatedIcp registering(nominal, registrationOptions(spec.spec), result.spacing);
+  const Setup setup{part,           spec,       plan,
+                    options,        nominal,    faces,
+                    errors,         simulators, viewOrientations(plan),
+                    result.spacing, icp,        result.icp_registered > 0 ? &registering : nullptr};
 
   for (const Characteristic& c : list) {
     InspectedCharacteristic k;
@@ -276,7 +377,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
     report(progress,
            "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
            static_cast<double>(run) / options.runs);
-    const RunPoints points = simulateRun(setup, simulators, registration, run);
+    const RunPoints points = simulateRun(setup, registration, run);
     for (std::size_t i = 0; i < list.size(); ++i) {
       InspectedCharacteristic& k = result.characteristics[i];
       if (!k.evaluated) continue;

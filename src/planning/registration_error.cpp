@@ -142,6 +142,14 @@ Vec3 displacement(const Twist& twist, const Vec3& p) {
   return Vec3(twist.head<3>()).cross(p) + twist.tail<3>();
 }
 
+Pose poseOf(const Twist& twist) {
+  Pose pose = Pose::Identity();
+  const Vec3 w = twist.head<3>();
+  if (w.norm() > 0) pose.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  pose.translation() = twist.tail<3>();
+  return pose;
+}
+
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
   Eigen::Matrix<double, 1, 6> row;
   row << p.cross(n).transpose(), n.transpose();

@@ -25,6 +25,8 @@ using Twist = Eigen::Matrix<double, 6, 1>;
 
 // The motion of `p` under `twist`.
 Vec3 displacement(const Twist& twist, const Vec3& p);
+// The rigid motion of a twist: a turn by w (about the origin), then a shift by t.
+Pose poseOf(const Twist& twist);
 // The row mapping a twist to the displacement of `p` along `n`: n . (w x p + t).
 Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
 

@@ -7,15 +7,6 @@
 namespace scanplan::detail {
 namespace {
 
-// The rigid motion of a small twist: a turn by w, then a shift by t.
-Pose poseOf(const Twist& twist) {
-  Pose pose = Pose::Identity();
-  const Vec3 w = twist.head<3>();
-  if (w.norm() > 0) pose.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
-  pose.translation() = twist.tail<3>();
-  return pose;
-}
-
 // The rigid motion that best maps `from` onto `to` (least squares, point to point).
 Pose rigidFit(const std::vector<Vec3>& from, const std::vector<Vec3>& to) {
   Eigen::Matrix3Xd a(3, from.size()), b(3, to.size());
@@ -146,7 +137,8 @@ void SimulatedRegistration::adjust(const Group& group, const Measured& measured,
   for (std::size_t i = 1; i < group.views.size(); ++i) own[group.views[i]] = pose[i];
 }
 
-std::vector<Pose> SimulatedRegistration::draw(std::mt19937_64& random) const {
+std::vector<Pose> SimulatedRegistration::draw(std::mt19937_64& random,
+                                              const std::vector<std::optional<Pose>>& links) const {
   std::normal_distribution<double> normal;
   const std::size_t n = links_.size();
   Measured measured(n);
@@ -158,7 +150,8 @@ std::vector<Pose> SimulatedRegistration::draw(std::mt19937_64& random) const {
     }
     Twist z;
     for (int i = 0; i < 6; ++i) z[i] = normal(random);
-    if (links_[v].kind == Kind::Drawn) own[v] = poseOf(links_[v].root * z);
+    if (links_[v].kind == Kind::Drawn)
+      own[v] = v < links.size() && links[v] ? *links[v] : poseOf(links_[v].root * z);
     if (links_[v].kind == Kind::Known) {
       std::vector<Vec3> mine, known;
       for (const auto& [m, at] : links_[v].seen) {

@@ -7,9 +7,9 @@
 // rigid fit of their centres onto the known ones; and the placements compose along the
 // chains. The capability model's first-order covariances of those fits
 // (registration_error.h, marker_adjustment.h) are not used, so the inspection checks
-// them. ICP links, the robot and marker links across setups take a draw of the
-// covariance the model gives them: an ICP run per link and per run would take minutes,
-// and the two setups' markers lie in frames of their own.
+// them. ICP links are given by the inspection, registered by ICP in each run, or else take
+// a draw of the covariance the model gives them; the robot and marker links across setups
+// take such a draw (the two setups' markers lie in frames of their own).
 
 #include "planning/registration_error.h"
 
@@ -17,6 +17,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -29,8 +30,11 @@ class SimulatedRegistration {
   SimulatedRegistration(const Plan& plan, const std::vector<ViewError>& errors,
                         double marker_sigma);
   // One run: per view, the rigid motion that carries its points from where they are to
-  // where the registration puts them (world); identity for views placed nowhere.
-  std::vector<Pose> draw(std::mt19937_64& random) const;
+  // where the registration puts them (world); identity for views placed nowhere. Where
+  // `links` gives a view's own link (its motion against the view it registers to, as ICP
+  // found it in the run: simulated_icp.h), that replaces the draw of its covariance.
+  std::vector<Pose> draw(std::mt19937_64& random,
+                         const std::vector<std::optional<Pose>>& links = {}) const;
 
  private:
   enum class Kind { Fixed, Known, Drawn };  // Fixed: the reference, or placed by its group

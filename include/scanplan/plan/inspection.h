@@ -41,6 +41,9 @@ struct Inspection {
   int runs = 0;
   double spacing = 0;              // mm, of the simulated points at the standoff
   std::size_t views_left_out = 0;  // registered to nothing: their points join no frame
+  // Registered by ICP in every run, on its clouds; the other ICP links are drawn from the
+  // capability model's covariance.
+  std::size_t icp_registered = 0;
   std::vector<Deviation> deviations;
   std::vector<InspectedCharacteristic> characteristics;
 };

@@ -23,6 +23,12 @@ struct InspectionOptions {
   double spacing = 0;
   std::uint64_t seed = 1;
   std::vector<Deviation> deviations;
+  // How each run places the views registered by ICP: Drawn, by a draw of the capability
+  // model's covariance of that link; Registered, by ICP of the run's simulated cloud onto
+  // the surface the view it registers to measured (slower; independent of the model's ICP
+  // covariance, and shows ICP's false minima: docs/capability.md, "Virtual inspection").
+  enum class IcpLinks { Drawn, Registered };
+  IcpLinks icp = IcpLinks::Drawn;
 };
 
 // \throw InputError when a deviation names a face the part does not have, or a diameter

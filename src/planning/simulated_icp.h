@@ -1,0 +1,65 @@
+#pragma once
+// The ICP links of a plan registered as the cell registers them, for the virtual
+// inspection (docs/capability.md, "Virtual inspection"). In each run a view registered by
+// ICP starts where the robot puts it, off by the registration's start perturbation, and
+// point-to-plane ICP brings the points of its simulated cloud that the view it registers
+// to measures too onto the surface that view measured in the same run: the part as
+// designed, moved along the normal by that view's noise and acceptance errors. That is the cloud of
+// a scanner whose points lie far closer together than the simulation's, so ICP's own sampling
+// error, which the capability model brings to the scanner's spacing, stays out; every other part of
+// the link's error (the overlap's shape and extent, both views' noise and acceptance errors, the
+// start, the correspondences found anew at every step) is ICP's own, not the model's covariance.
+
+#include "core/kd_tree.h"
+#include "planning/evaluation.h"
+
+#include <scanplan/registration/registration.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace scanplan::detail {
+
+// Where the fixed view's surface lies off the part as designed at a point of it (part
+// frame, with the outward normal): its acceptance errors' shift along the normal, and the
+// standard deviation of its noise there.
+struct SurfaceOffset {
+  double shift = 0, sigma = 0;
+};
+using FixedSurface = std::function<SurfaceOffset(const Vec3& at, const Vec3& normal)>;
+
+class SimulatedIcp {
+ public:
+  // `nominal`, the part as designed over every face ICP may meet; `spacing`, the run
+  // clouds' point spacing, mm.
+  SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options, double spacing);
+  ~SimulatedIcp();
+
+  // The rigid motion (part frame) that carries the points of `moved`, those of the moved
+  // view's cloud the fixed view measures too, from where they lie to where ICP onto the
+  // fixed view's `surface` puts them; `seed` draws the start and the surface's noise.
+  // None for fewer than 100 points.
+  std::optional<Pose> link(const std::vector<Vec3>& moved, const FixedSurface& surface,
+                           std::uint64_t seed) const;
+
+ private:
+  struct Designed;
+  // The twist (about `centre`) of one Gauss-Newton step from `pose`, and the
+  // correspondences it used: those farther than `cutoff` are left out.
+  struct Step {
+    Twist twist = Twist::Zero();
+    std::size_t used = 0;
+  };
+  Step step(const std::vector<Vec3>& moved, const std::vector<double>& noise, const Pose& pose,
+            const Vec3& centre, const FixedSurface& surface, double cutoff) const;
+
+  const Nominal& nominal_;
+  std::unique_ptr<Designed> designed_;
+  RegistrationOptions options_;
+  double spacing_;
+};
+
+}  // namespace scanplan::detail
