@@ -440,11 +440,11 @@ TEST(Inspection, AShortBoresAxisTurnsForItsPerpendicularityAsTheModelPredicts) {
 }
 
 // A 200 x 100 x 20 mm plate with Ø20 bores at (60, 50) and (140, 50): datum A its top, B
-// the first bore; the second bore's position to A and B (0.5). Four views look down at its
-// middle 50° off the vertical, from azimuths 0°, 45°, -45° and 90°; each pair of
-// neighbours sees the top and arcs of both bores' walls in common, which hold every
-// direction of an ICP link, the turn about the vertical weakly. The first fixes the frame;
-// the second and third are registered by ICP to it, the fourth to the second.
+// the first bore; the second bore's position to A and B (0.5). Four views look down at
+// (60, 40) 50° off the vertical, from azimuths 225°, 195°, 255° and 165°: each pair of
+// neighbours sees the top, the sides x = 0 and y = 0 and arcs of the bores in common, which
+// hold every direction of an ICP link. The first fixes the frame; the second and third are
+// registered by ICP to it, the fourth to the second.
 struct IcpPlate {
   explicit IcpPlate() : part(test::boredPlate(dir, 200, {60, 140})) {
     for (const Face& f : part.faces) {
@@ -457,7 +457,7 @@ struct IcpPlate {
     plan.characteristics = {{1, "position", false, 0.5, 0, 0.5, {"A", "B"}, second}};
     Registration registration;
     registration.method = RegistrationMode::Geometry;
-    const double azimuth[] = {0, 45, -45, 90};
+    const double azimuth[] = {225, 195, 255, 165};
     const int to[] = {0, 1, 1, 2};
     for (int k = 0; k < 4; ++k) {
       plan.views.push_back(
@@ -563,30 +563,47 @@ TEST(SimulatedIcp, ItsSpreadIsTheFirstOrderCovarianceOfItsNoise) {
 }
 
 // The views registered by ICP in each run of the inspection, on clouds of a scanner without
-// noise or acceptance errors: where ICP converges, every view lands where it belongs and the
-// second bore's position is the part's own, 0; from some starts the third view's ICP falls
-// into a minimum 1.07 mm off, and the run shows it (measured: 3 of 6 runs, position 0.53).
-// Views registered to nothing by ICP, or never moved from the robot's start, would give
-// every run alike.
-TEST(Inspection, ViewsRegisteredByIcpLandWhereTheyBelongOrShowAFalseMinimum) {
+// noise or acceptance errors, land where they belong: the second bore's position is the
+// part's own, 0, in every run. Views left unregistered, or never moved from the robot's
+// start (3 mm and 2° off), would give 0 or millimetres.
+TEST(Inspection, ViewsRegisteredByIcpWithoutNoiseLandWhereTheyBelong) {
   IcpPlate p;
   p.plan.scanner.noise_sigma = p.plan.scanner.flatness_error = 0;
   p.plan.scanner.sphere_spacing = p.plan.scanner.probing_size = 0;
   InspectionOptions options;
-  options.runs = 6;
+  options.runs = 4;
   options.icp = InspectionOptions::IcpLinks::Registered;
   const Inspection inspected = inspectPlan(p.part, p.spec, p.plan, options);
   EXPECT_EQ(inspected.icp_registered, 3u);
   const InspectedCharacteristic& k = inspected.characteristics.front();
   ASSERT_TRUE(k.evaluated) << k.not_evaluated;
-  std::size_t exact = 0, off = 0;
-  for (double value : k.values) {
-    exact += value < 1e-3;
-    off += value > 0.1;
-  }
-  RecordProperty("exact_off", std::to_string(exact) + " " + std::to_string(off));
-  EXPECT_GE(exact, 3u);
-  EXPECT_EQ(exact + off, k.values.size());
+  for (double value : k.values) EXPECT_LT(value, 1e-4);
+}
+
+// With the scanner's noise and acceptance errors, the views registered by ICP in each run
+// move the second bore as the capability model's covariance of those links predicts (100
+// runs; the inspection's U uncertain by about 7 %). Measured: the model predicts 1.19 times
+// the inspection's U and bias (1.10 with the links drawn from its covariance). With the
+// links' overlaps sampled at the registration's 5.6 mm it predicted 2.2 times: the fourth
+// view's link, held across the vertical only by the bores' arcs, at 3.3 times ICP's own
+// spread.
+TEST(Inspection, ViewsRegisteredByIcpAreAsUncertainAsTheModelPredicts) {
+  const IcpPlate p;
+  InspectionOptions options;
+  options.runs = 100;
+  options.icp = InspectionOptions::IcpLinks::Registered;
+  const Inspection inspected = inspectPlan(p.part, p.spec, p.plan, options);
+  options.icp = InspectionOptions::IcpLinks::Drawn;
+  const Inspection drawn = inspectPlan(p.part, p.spec, p.plan, options);
+  const Capability predicted = capabilities(p.part, p.spec, p.plan, p.plan.characteristics).front();
+  const InspectedCharacteristic& k = inspected.characteristics.front();
+  const InspectedCharacteristic& d = drawn.characteristics.front();
+  ASSERT_TRUE(k.evaluated) << k.not_evaluated;
+  RecordProperty("predicted_u", std::to_string(predicted.uncertainty));
+  RecordProperty("registration_u", std::to_string(predicted.budget.registration));
+  RecordProperty("inspected_u_bias", std::to_string(k.uncertainty) + " " + std::to_string(k.bias));
+  RecordProperty("drawn_u_bias", std::to_string(d.uncertainty) + " " + std::to_string(d.bias));
+  EXPECT_NEAR(predicted.uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2);
 }
 
 // The inspection's values do not depend on how many threads simulate the views: each run's

@@ -482,13 +482,12 @@ const NominalFace* Nominal::face(int id) const {
   return found == faces_.end() ? nullptr : &found->second;
 }
 
-std::optional<std::pair<Vec3, double>> Nominal::onTriangles(int id, const Vec3& p) const {
+std::optional<SurfacePoint> Nominal::onTriangles(int id, const Vec3& p) const {
   const auto found = trees_->facets.find(id);
   if (found == trees_->facets.end()) return std::nullopt;
   // The nearest point of the triangle whose centre is nearest lies within that centre's
   // distance; the nearest of all, on a triangle whose centre lies within that and the
-  // reach: the nearest point on those, and the distance along that triangle's normal (the
-  // whole distance but past the face's edge).
+  // reach: the nearest point on those, with that triangle's normal.
   const Facets& facets = found->second;
   unsigned index = 0;
   double squared = 0;
@@ -499,27 +498,31 @@ std::optional<std::pair<Vec3, double>> Nominal::onTriangles(int id, const Vec3& 
   unsorted.sorted = false;
   facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
   double best = std::numeric_limits<double>::infinity();
-  std::pair<Vec3, double> result{facets.normals[index], 0.0};
+  SurfacePoint result{p, facets.normals[index], id};
   for (const auto& [t, d2] : near) {
     const auto& c = facets.corners[t];
     const Vec3 q = closestPointOnTriangle(p, c[0], c[1], c[2]);
     const double d = (p - q).norm();
     if (d >= best) continue;
     best = d;
-    const Vec3& n = facets.normals[t];
-    result = {n, n.dot(p - q)};
+    result = {q, facets.normals[t], id};
   }
   return result;
 }
 
-std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
-  const NominalFace& f = faces_.at(id);
-  if (const auto on = onExact(id, p)) return {on->normal, on->normal.dot(p - on->position)};
+SurfacePoint Nominal::closest(int id, const Vec3& p) const {
+  if (const auto on = onExact(id, p)) return *on;
   if (const auto on = onTriangles(id, p)) return *on;
+  const NominalFace& f = faces_.at(id);
   unsigned index = 0;
   double squared = 0;
   trees_->trees.at(id)->knnSearch(p.data(), 1, &index, &squared);
-  return {f.normals[index], f.normals[index].dot(p - f.points[index])};
+  return {f.points[index], f.normals[index], id};
+}
+
+std::pair<Vec3, double> Nominal::nearest(int id, const Vec3& p) const {
+  const SurfacePoint on = closest(id, p);
+  return {on.normal, on.normal.dot(p - on.position)};
 }
 
 std::optional<SurfacePoint> Nominal::onExact(int id, const Vec3& p) const {

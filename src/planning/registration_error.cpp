@@ -52,6 +52,14 @@ std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<in
   return chosen;
 }
 
+// An ICP link's overlap is sampled this share of the field's height apart (2.25 mm for the
+// generic head), at most. At the registration's overlap spacing (a fortieth), the arcs of a
+// bore that two views share fall between a few samples: on a plate whose two views share
+// its top, one side and such arcs, the link's covariance in the direction only the arcs
+// hold came out 3.3 times the spread of ICP itself run on the views' clouds (the virtual
+// inspection's, docs/capability.md), and within 18 % at this spacing.
+constexpr double kIcpOverlapSpacing = 1.0 / 100;
+
 // The RMS displacement a verified pair's ICP left on the verification's clouds, as the
 // scanner's own cloud would leave it. Point-to-plane ICP against a sampled surface is
 // off where the surface curves between the fixed cloud's points, by the curvature times
@@ -84,7 +92,7 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
   if (!any) return;
   const RegistrationOptions options = registrationOptions(spec.spec);
   const double spacing =
-      options.point_spacing > 0 ? options.point_spacing : plan.scanner.fov_height / 40;
+      std::min(overlapSpacing(options, plan.scanner), plan.scanner.fov_height * kIcpOverlapSpacing);
   const Simulator simulator(part, plan.scanner,
                             simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
   const std::vector<SurfacePoint> points = simulator.surfacePoints(spacing, options.seed);

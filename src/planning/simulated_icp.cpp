@@ -13,8 +13,9 @@ namespace scanplan::detail {
 namespace {
 
 constexpr std::size_t kLeastPoints = 100;  // fewer overlapping points: not registered
-// A point's correspondence is on the nearest surface of the faces of this many designed
-// points nearest it: the surface a dense fixed cloud's nearest point lies on.
+// A point's correspondence is the nearest point of the faces of this many designed points
+// nearest it, as a dense fixed cloud's nearest point; its residual lies along the normal
+// there (point to plane).
 constexpr std::size_t kCandidates = 6;
 // The coarse stages step on every fourth point until a step moves the cloud by less than
 // kCoarseEnd mm; the last on every point, until a step moves it by less than kConverged mm;
@@ -76,19 +77,19 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<Vec3>& moved,
     std::array<double, kCandidates> squared{};
     const std::size_t found =
         designed_->tree->knnSearch(p.data(), kCandidates, index.data(), squared.data());
-    std::optional<std::pair<Vec3, double>> best;
+    std::optional<SurfacePoint> best;
     for (std::size_t k = 0; k < found; ++k) {
       const int face = designed_->faces[index[k]];
       if (std::find_if(index.begin(), index.begin() + static_cast<std::ptrdiff_t>(k),
                        [&](unsigned j) { return designed_->faces[j] == face; }) !=
           index.begin() + static_cast<std::ptrdiff_t>(k))
         continue;  // that face's surface is done
-      const auto on = nominal_.nearest(face, p);
-      if (!best || std::abs(on.second) < std::abs(best->second)) best = on;
+      const SurfacePoint on = nominal_.closest(face, p);
+      if (!best || (p - on.position).norm() < (p - best->position).norm()) best = on;
     }
-    if (!best || std::abs(best->second) > cutoff) continue;
-    const auto [n, distance] = *best;
-    const Vec3 at = p - distance * n;
+    if (!best || (p - best->position).norm() > cutoff) continue;
+    const Vec3 &at = best->position, &n = best->normal;
+    const double distance = n.dot(p - at);
     const SurfaceOffset offset = surface(at, n);
     const double residual = distance - (offset.shift + offset.sigma * noise[i]);
     const Eigen::Matrix<double, 1, 6> row = alongNormal(p - centre, n);

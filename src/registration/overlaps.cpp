@@ -14,10 +14,6 @@ bool disjoint(const Box& a, const Box& b) {
          (b.max.array() < a.min.array()).any();
 }
 
-double pointSpacing(const Simulator& simulator, const RegistrationOptions& options) {
-  return options.point_spacing > 0 ? options.point_spacing : simulator.scanner().fov_height / 40;
-}
-
 }  // namespace
 
 std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
@@ -36,7 +32,7 @@ Overlaps::Overlaps(const Simulator& simulator, const RegistrationOptions& option
                    const std::vector<Marker>& markers)
     : simulator_(simulator),
       options_(options),
-      spacing_(pointSpacing(simulator, options)),
+      spacing_(overlapSpacing(options, simulator.scanner())),
       points_(simulator.surfacePoints(spacing_, options.seed)),
       marker_list_(markers),
       markers_(markerPoints(markers)) {}
@@ -168,3 +164,11 @@ bool Overlaps::registers(const std::vector<int>& markers) const {
 }
 
 }  // namespace scanplan::detail
+
+namespace scanplan {
+
+double overlapSpacing(const RegistrationOptions& options, const Scanner& scanner) {
+  return options.point_spacing > 0 ? options.point_spacing : scanner.fov_height / 40;
+}
+
+}  // namespace scanplan

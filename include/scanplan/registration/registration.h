@@ -169,6 +169,10 @@ struct IcpCloud {
 };
 IcpCloud icpCloud(const Simulator& simulator, const View& view, const RegistrationOptions& options);
 
+// The spacing of the surface points the overlaps are found on, mm:
+// `options.point_spacing`, else a 40th of the scanner's field height.
+double overlapSpacing(const RegistrationOptions& options, const Scanner& scanner);
+
 // The spacing of the clouds ICP verifies pairs on, mm: `options.cloud_spacing`, else a
 // 150th of the scanner's field height.
 double icpCloudSpacing(const RegistrationOptions& options, const Scanner& scanner);
