@@ -324,6 +324,62 @@ void judge(const Characteristic& c, const CapabilityOptions& capability,
 
 }  // namespace
 
+namespace {
+
+// One simulator per orientation of the plan, each simulated point the mean of the
+// scanner's points around it, `spacing` apart.
+std::vector<Simulator> averagedSimulators(const Part& part, const ResolvedSpec& spec,
+                                          const Plan& plan, double spacing) {
+  Scanner averaged = plan.scanner;
+  averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / spacing);
+  std::vector<Simulator> simulators;
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
+    simulators.emplace_back(part, averaged,
+                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  return simulators;
+}
+
+// Per characteristic, its value on the simulated part, or why it has none.
+std::vector<InspectedCharacteristic> trueValues(const Setup& s, const FacePoints& truth) {
+  std::vector<InspectedCharacteristic> list;
+  for (const Characteristic& c : s.plan.characteristics) {
+    InspectedCharacteristic k;
+    k.characteristic = c.id;
+    const detail::Evaluation value = detail::evaluate(c, s.part.gdt, s.nominal, truth);
+    k.evaluated = value.value.has_value();
+    if (value.value) k.true_value = *value.value;
+    k.not_evaluated = value.why_not;
+    list.push_back(k);
+  }
+  return list;
+}
+
+// Each characteristic still evaluated, from run `run`'s points.
+void evaluateRun(const Setup& s, const RunPoints& points, int run,
+                 std::vector<InspectedCharacteristic>& inspected) {
+  const std::vector<Characteristic>& list = s.plan.characteristics;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    InspectedCharacteristic& k = inspected[i];
+    if (!k.evaluated) continue;
+    const FacePoints& frame = frameFor(list[i], s.part, points);
+    for (int f : list[i].faces)
+      if (const auto found = frame.find(f); found != frame.end())
+        k.points += static_cast<double>(found->second.size()) / s.options.runs;
+    const detail::Evaluation value = detail::evaluate(list[i], s.part.gdt, s.nominal, frame);
+    if (!value.value) {
+      k.evaluated = false;
+      k.not_evaluated = "in run " + std::to_string(run + 1) + ", " + value.why_not +
+                        (inOtherFramesOnly(list[i], s.part, points, frame)
+                             ? " (faces of it are measured only in setups not joined to this one)"
+                             : "");
+      continue;
+    }
+    k.values.push_back(*value.value);
+  }
+}
+
+}  // namespace
+
 Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                        const InspectionOptions& options, const Progress& progress) {
   if (options.runs < 2 || options.runs > 10000)
@@ -335,8 +391,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   result.runs = options.runs;
   result.spacing = options.spacing > 0 ? options.spacing : plan.scanner.fov_height / 100;
   result.deviations = options.deviations;
-  const std::vector<Characteristic>& list = plan.characteristics;
-  const std::set<int> faces = facesOf(part, list);
+  const std::set<int> faces = facesOf(part, plan.characteristics);
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);
   for (const detail::ViewError& e : errors) result.views_left_out += !e.placed;
   const std::vector<std::optional<std::size_t>> icp = icpParents(plan, errors, options);
@@ -347,61 +402,26 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   if (result.icp_registered > 0)
     for (int f = 1; f <= static_cast<int>(part.faces.size()); ++f) designed_faces.insert(f);
   const detail::Nominal nominal(part, designedPoints(part, spec, designed_faces));
-  const FacePoints truth = simulatedPart(nominal, faces, options.deviations);
-
   const detail::SimulatedRegistration registration(
       plan, errors, markerSigma(registrationOptions(spec.spec), plan.scanner));
-  // Each simulated point the mean of the scanner's points around it.
-  Scanner averaged = plan.scanner;
-  averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / result.spacing);
-  std::vector<Simulator> simulators;
-  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
-    simulators.emplace_back(part, averaged,
-                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  const std::vector<Simulator> simulators = averagedSimulators(part, spec, plan, result.spacing);
   const detail::SimulatedIcp registering(nominal, registrationOptions(spec.spec), result.spacing);
   const Setup setup{part,           spec,       plan,
                     options,        nominal,    faces,
                     errors,         simulators, viewOrientations(plan),
                     result.spacing, icp,        result.icp_registered > 0 ? &registering : nullptr};
 
-  for (const Characteristic& c : list) {
-    InspectedCharacteristic k;
-    k.characteristic = c.id;
-    const detail::Evaluation value = detail::evaluate(c, part.gdt, nominal, truth);
-    k.evaluated = value.value.has_value();
-    if (value.value) k.true_value = *value.value;
-    k.not_evaluated = value.why_not;
-    result.characteristics.push_back(k);
-  }
+  result.characteristics = trueValues(setup, simulatedPart(nominal, faces, options.deviations));
   for (int run = 0; run < options.runs; ++run) {
     report(progress,
            "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
            static_cast<double>(run) / options.runs);
-    const RunPoints points = simulateRun(setup, registration, run);
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      InspectedCharacteristic& k = result.characteristics[i];
-      if (!k.evaluated) continue;
-      const FacePoints& frame = frameFor(list[i], part, points);
-      for (int f : list[i].faces)
-        if (const auto found = frame.find(f); found != frame.end())
-          k.points += static_cast<double>(found->second.size()) / options.runs;
-      const detail::Evaluation value = detail::evaluate(list[i], part.gdt, nominal, frame);
-      if (!value.value) {
-        k.evaluated = false;
-        k.not_evaluated = "in run " + std::to_string(run + 1) + ", " + value.why_not +
-                          (inOtherFramesOnly(list[i], part, points, frame)
-                               ? " (faces of it are measured only in setups not joined to "
-                                 "this one)"
-                               : "");
-        continue;
-      }
-      k.values.push_back(*value.value);
-    }
+    evaluateRun(setup, simulateRun(setup, registration, run), run, result.characteristics);
   }
   report(progress, "inspecting", 1);
-  for (std::size_t i = 0; i < list.size(); ++i)
+  for (std::size_t i = 0; i < plan.characteristics.size(); ++i)
     if (result.characteristics[i].evaluated)
-      judge(list[i], spec.spec.planner.capability, result.characteristics[i]);
+      judge(plan.characteristics[i], spec.spec.planner.capability, result.characteristics[i]);
   return result;
 }
 
