@@ -47,7 +47,10 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
           ? fmt::format(", {} views left out (registered to nothing)", inspection.views_left_out)
           : "");
   if (inspection.icp_registered > 0)
-    fmt::print("{:<22} {} views registered by ICP in every run\n", "", inspection.icp_registered);
+    fmt::print(
+        "{:<22} {} views registered by ICP in every run; {} registered again from another "
+        "start, {} still off after three\n",
+        "", inspection.icp_registered, inspection.icp_restarted, inspection.icp_failed);
   fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>7}  {:<14} {}\n", "id", "kind",
              "width", "true", "measured", "bias", "U", "ratio", "verdict", "planned U, verdict");
   for (std::size_t i = 0; i < inspection.characteristics.size(); ++i) {

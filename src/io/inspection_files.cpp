@@ -140,8 +140,10 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   inspection.spacing = numberAt(root, "spacing", path, "the inspection");
   if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
     inspection.views_left_out = root["views_left_out"].get<std::size_t>();
-  if (root.contains("icp_registered") && root["icp_registered"].is_number_unsigned())
-    inspection.icp_registered = root["icp_registered"].get<std::size_t>();
+  for (auto [key, count] : {std::pair{"icp_registered", &inspection.icp_registered},
+                            {"icp_restarted", &inspection.icp_restarted},
+                            {"icp_failed", &inspection.icp_failed}})
+    if (root.contains(key) && root[key].is_number_unsigned()) *count = root[key].get<std::size_t>();
   const nlohmann::json& list = root["characteristics"];
   for (std::size_t k = 0; k < list.size(); ++k)
     inspection.characteristics.push_back(
@@ -205,6 +207,8 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
           {"spacing", inspection.spacing},
           {"views_left_out", inspection.views_left_out},
           {"icp_registered", inspection.icp_registered},
+          {"icp_restarted", inspection.icp_restarted},
+          {"icp_failed", inspection.icp_failed},
           {"deviations", deviations},
           {"characteristics", list}};
 }

@@ -62,6 +62,12 @@ class Nominal {
   std::pair<Vec3, double> nearest(int id, const Vec3& p) const;
   // That point of face `id` nearest `p`, with the normal there.
   SurfacePoint closest(int id, const Vec3& p) const;
+  // The point of face `id`'s exact surface nearest `p`, with the face's outward normal
+  // there; none for a face without one.
+  std::optional<SurfacePoint> onExact(int id, const Vec3& p) const;
+  // The point of face `id`'s triangles nearest `p`, with its triangle's normal: within the
+  // face's bounds, where an exact surface runs on past them; none without triangles.
+  std::optional<SurfacePoint> onTriangles(int id, const Vec3& p) const;
   // A point `p` of face `id`'s triangles (normal `n`) where it lies on the face as designed:
   // the nearest point of the face's exact surface, with its outward normal there; as it is
   // on faces without one.
@@ -69,12 +75,6 @@ class Nominal {
 
  private:
   struct Trees;
-  // The point of face `id`'s exact surface nearest `p`, with the face's outward normal
-  // there; none for a face without one.
-  std::optional<SurfacePoint> onExact(int id, const Vec3& p) const;
-  // The point of face `id`'s triangles nearest `p`, with its triangle's normal; none
-  // without triangles.
-  std::optional<SurfacePoint> onTriangles(int id, const Vec3& p) const;
 
   // A curved face's exact surface, and which way the face's outward normal points from
   // it: 1 away from its axis or centre (a boss), -1 towards it (a bore).

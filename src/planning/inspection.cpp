@@ -21,6 +21,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -146,6 +147,7 @@ struct Setup {
   const std::vector<Simulator>& simulators;
   std::vector<std::size_t> orientation;  // per view
   double spacing;
+  double tolerance;  // registration.tolerance, mm
   // Per view, the view it registers to by ICP in each run (none: its link is drawn).
   std::vector<std::optional<std::size_t>> icp;
   const detail::SimulatedIcp* registering = nullptr;
@@ -184,12 +186,27 @@ ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
   return mine;
 }
 
-// The ICP links of one run (world motions; none for views whose link is drawn).
+// ICP from this many starts at most, as the cell's operator registers again a view that
+// does not fit.
+constexpr std::uint64_t kStarts = 3;
+
+// The RMS displacement `motion` gives `points`.
+double rmsMove(const Pose& motion, const std::vector<SurfacePoint>& points) {
+  double squares = 0;
+  for (const SurfacePoint& p : points) squares += (motion * p.position - p.position).squaredNorm();
+  return std::sqrt(squares / static_cast<double>(std::max<std::size_t>(1, points.size())));
+}
+
+// The ICP links of one run (world motions; none for views whose link is drawn), each
+// registered again from another start while it lands further than the registration's
+// tolerance from where it belongs; the restarts and the links left so counted in
+// `counts`.
 std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<ViewPoints>& measured,
-                                          const std::vector<AcceptanceErrors>& acceptance,
-                                          int run) {
+                                          const std::vector<AcceptanceErrors>& acceptance, int run,
+                                          Inspection& counts) {
   const std::size_t n = s.plan.views.size();
   std::vector<std::optional<Pose>> links(n);
+  std::atomic<std::size_t> restarted = 0, failed = 0;
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
     if (!s.icp[v]) return;
     const std::size_t p = *s.icp[v];
@@ -202,24 +219,36 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
     for (std::size_t i = 0; i < measured[v].points.size(); ++i)
       mine.push_back({measured[v].points[i], measured[v].normals[i], measured[v].faces[i]});
     const std::vector<Loss> seen = simulator.measure(fixed, mine);
-    std::vector<Vec3> overlap;
+    std::vector<SurfacePoint> overlap;
     for (std::size_t i = 0; i < mine.size(); ++i)
-      if (seen[i] == Loss::Measured) overlap.push_back(to_part * mine[i].position);
+      if (seen[i] == Loss::Measured)
+        overlap.push_back(
+            {to_part * mine[i].position, to_part.linear() * mine[i].normal, mine[i].face});
     const detail::FixedSurface surface = [&](const Vec3& at, const Vec3& normal) {
       const Vec3 a = to_world * at, m = to_world.linear() * normal;
       return detail::SurfaceOffset{m.dot(acceptance[p].apply(simulator.scanner(), fixed, a, m) - a),
                                    pointQuality(simulator.scanner(), fixed, a, m).along_normal};
     };
-    const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
-                               static_cast<std::uint64_t>(s.plan.views[v].id);
-    // Too little overlap to run ICP on: the link's covariance is drawn.
-    if (const std::optional<Pose> link = s.registering->link(overlap, surface, seed))
+    for (std::uint64_t start = 0; start < kStarts; ++start) {
+      const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
+                                 static_cast<std::uint64_t>(s.plan.views[v].id) * 7 + start;
+      const std::optional<Pose> link = s.registering->link(overlap, surface, seed);
+      if (!link) break;  // too little overlap to run ICP on: its covariance is drawn
       links[v] = to_world * *link * to_part;
+      fprintf(stderr, "link view %d to %d: rms %g overlap %zu of %zu start %d\n",
+              s.plan.views[v].id, s.plan.views[p].id, rmsMove(*link, overlap), overlap.size(),
+              mine.size(), (int)start);
+      if (rmsMove(*link, overlap) <= s.tolerance) break;
+      ++(start + 1 < kStarts ? restarted : failed);
+    }
   });
+  counts.icp_restarted += restarted;
+  counts.icp_failed += failed;
   return links;
 }
 
-RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& registration, int run) {
+RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& registration, int run,
+                      Inspection& counts) {
   std::mt19937_64 random(s.options.seed * 1000003 + static_cast<std::uint64_t>(run));
   std::mt19937_64 registration_random = random;
   std::vector<Pose> moves = registration.draw(random);
@@ -234,7 +263,7 @@ RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& regis
     if (s.errors[v].placed) measured[v] = measuredPoints(s, v, in_icp[v], acceptance[v], run);
   });
   if (s.registering)
-    moves = registration.draw(registration_random, icpLinks(s, measured, acceptance, run));
+    moves = registration.draw(registration_random, icpLinks(s, measured, acceptance, run, counts));
   std::vector<FacePoints> by_view(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
     const Pose to_part = orientationPlacement(s.plan, s.orientation[v]).inverse();
@@ -405,18 +434,28 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const detail::SimulatedRegistration registration(
       plan, errors, markerSigma(registrationOptions(spec.spec), plan.scanner));
   const std::vector<Simulator> simulators = averagedSimulators(part, spec, plan, result.spacing);
-  const detail::SimulatedIcp registering(nominal, registrationOptions(spec.spec), result.spacing);
-  const Setup setup{part,           spec,       plan,
-                    options,        nominal,    faces,
-                    errors,         simulators, viewOrientations(plan),
-                    result.spacing, icp,        result.icp_registered > 0 ? &registering : nullptr};
+  const detail::SimulatedIcp registering(nominal, registrationOptions(spec.spec), result.spacing,
+                                         part.linear_deflection);
+  const Setup setup{part,
+                    spec,
+                    plan,
+                    options,
+                    nominal,
+                    faces,
+                    errors,
+                    simulators,
+                    viewOrientations(plan),
+                    result.spacing,
+                    registrationOptions(spec.spec).tolerance,
+                    icp,
+                    result.icp_registered > 0 ? &registering : nullptr};
 
   result.characteristics = trueValues(setup, simulatedPart(nominal, faces, options.deviations));
   for (int run = 0; run < options.runs; ++run) {
     report(progress,
            "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
            static_cast<double>(run) / options.runs);
-    evaluateRun(setup, simulateRun(setup, registration, run), run, result.characteristics);
+    evaluateRun(setup, simulateRun(setup, registration, run, result), run, result.characteristics);
   }
   report(progress, "inspecting", 1);
   for (std::size_t i = 0; i < plan.characteristics.size(); ++i)

@@ -54,10 +54,10 @@ std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<in
 
 // An ICP link's overlap is sampled this share of the field's height apart (2.25 mm for the
 // generic head), at most. At the registration's overlap spacing (a fortieth), the arcs of a
-// bore that two views share fall between a few samples: on a plate whose two views share
-// its top, one side and such arcs, the link's covariance in the direction only the arcs
-// hold came out 3.3 times the spread of ICP itself run on the views' clouds (the virtual
-// inspection's, docs/capability.md), and within 18 % at this spacing.
+// bore that two views share fall between a few samples: on a plate whose views share its
+// top, one side and such arcs, a bore's position registered by those links came out at 2.2
+// times the virtual inspection's with ICP run on the views' clouds (docs/capability.md),
+// and at 1.22 times at this spacing.
 constexpr double kIcpOverlapSpacing = 1.0 / 100;
 
 // The RMS displacement a verified pair's ICP left on the verification's clouds, as the

@@ -1,5 +1,6 @@
 #include "planning/simulated_icp.h"
 
+#include "registration/icp.h"
 #include "registration/rigid_fit.h"
 
 #include <Eigen/Geometry>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace scanplan::detail {
@@ -14,13 +16,16 @@ namespace {
 
 constexpr std::size_t kLeastPoints = 100;  // fewer overlapping points: not registered
 // A point's correspondence is the nearest point of the faces of this many designed points
-// nearest it, as a dense fixed cloud's nearest point; its residual lies along the normal
-// there (point to plane).
+// nearest it (and its own), as a dense fixed cloud's nearest point; its residual lies along
+// the normal there (point to plane).
 constexpr std::size_t kCandidates = 6;
 // The coarse stages step on every fourth point until a step moves the cloud by less than
 // kCoarseEnd mm; the last on every point, until a step moves it by less than kConverged mm;
 // each stage at most kMostSteps steps.
 constexpr std::size_t kCoarseStride = 4;
+// A point of a face's exact surface lies on the face where it is within twice the mesh's
+// chordal tolerance, and this, of the face's triangles.
+constexpr double kNominalGap = 0.1;
 constexpr double kCoarseEnd = 0.01;
 constexpr double kConverged = 1e-6;
 constexpr int kMostSteps = 30;
@@ -48,8 +53,9 @@ struct SimulatedIcp::Designed {
 };
 
 SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options,
-                           double spacing)
+                           double spacing, double chordal)
     : nominal_(nominal),
+      bounds_(2 * chordal + kNominalGap),
       designed_(std::make_unique<Designed>()),
       options_(options),
       spacing_(spacing) {
@@ -64,7 +70,7 @@ SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& op
 
 SimulatedIcp::~SimulatedIcp() = default;
 
-SimulatedIcp::Step SimulatedIcp::step(const std::vector<Vec3>& moved,
+SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
                                       const std::vector<double>& noise, const Pose& pose,
                                       const Vec3& centre, const FixedSurface& surface,
                                       double cutoff) const {
@@ -72,29 +78,48 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<Vec3>& moved,
   Twist pull = Twist::Zero();
   Step result;
   for (std::size_t i = 0; i < moved.size(); ++i) {
-    const Vec3 p = pose * moved[i];
+    const Vec3 p = pose * moved[i].position;
     std::array<unsigned, kCandidates> index{};
     std::array<double, kCandidates> squared{};
     const std::size_t found =
         designed_->tree->knnSearch(p.data(), kCandidates, index.data(), squared.data());
+    // The nearest point of the faces of the point's own and those of the designed points
+    // nearest it, on their exact surfaces where they have one, but within the faces'
+    // bounds, where those surfaces run on past the edges. The fixed view's dense cloud has
+    // points on every face it measures, however small; the designed points, 1 mm apart at
+    // random, may miss a sliver.
     std::optional<SurfacePoint> best;
-    for (std::size_t k = 0; k < found; ++k) {
-      const int face = designed_->faces[index[k]];
-      if (std::find_if(index.begin(), index.begin() + static_cast<std::ptrdiff_t>(k),
-                       [&](unsigned j) { return designed_->faces[j] == face; }) !=
-          index.begin() + static_cast<std::ptrdiff_t>(k))
-        continue;  // that face's surface is done
-      const SurfacePoint on = nominal_.closest(face, p);
-      if (!best || (p - on.position).norm() < (p - best->position).norm()) best = on;
-    }
-    if (!best || (p - best->position).norm() > cutoff) continue;
+    std::array<int, kCandidates + 1> seen{};
+    std::size_t seen_count = 0;
+    const auto consider = [&](int candidate) {
+      if (std::find(seen.begin(), seen.begin() + seen_count, candidate) !=
+              seen.begin() + seen_count ||
+          !nominal_.face(candidate))
+        return;
+      seen[seen_count++] = candidate;
+      std::optional<SurfacePoint> on = nominal_.onExact(candidate, p);
+      if (!on)
+        on = nominal_.onTriangles(candidate, p);
+      else if (const auto facet = nominal_.onTriangles(candidate, on->position);
+               facet && (facet->position - on->position).norm() > bounds_)
+        return;
+      if (on && (!best || (p - on->position).norm() < (p - best->position).norm())) best = on;
+    };
+    consider(moved[i].face);
+    for (std::size_t k = 0; k < found; ++k) consider(designed_->faces[index[k]]);
+    if (!best) continue;
     const Vec3 &at = best->position, &n = best->normal;
     const double distance = n.dot(p - at);
+    if (std::abs(distance) > cutoff) continue;
     const SurfaceOffset offset = surface(at, n);
     const double residual = distance - (offset.shift + offset.sigma * noise[i]);
+    const double tukey = kTukey * cutoff;
+    if (std::abs(residual) >= tukey) continue;
+    const double weight =
+        (1 - residual * residual / (tukey * tukey)) * (1 - residual * residual / (tukey * tukey));
     const Eigen::Matrix<double, 1, 6> row = alongNormal(p - centre, n);
-    normal += row.transpose() * row;
-    pull -= row.transpose() * residual;
+    normal += weight * row.transpose() * row;
+    pull -= weight * row.transpose() * residual;
     ++result.used;
   }
   if (result.used < kLeastPoints / kCoarseStride) return result;
@@ -102,14 +127,14 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<Vec3>& moved,
   return result;
 }
 
-std::optional<Pose> SimulatedIcp::link(const std::vector<Vec3>& moved, const FixedSurface& surface,
-                                       std::uint64_t seed) const {
+std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
+                                       const FixedSurface& surface, std::uint64_t seed) const {
   if (moved.size() < kLeastPoints || designed_->points.empty()) return std::nullopt;
   Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : moved) centre += p;
+  for (const SurfacePoint& p : moved) centre += p.position;
   centre /= static_cast<double>(moved.size());
   double radius = 0;
-  for (const Vec3& p : moved) radius = std::max(radius, (p - centre).norm());
+  for (const SurfacePoint& p : moved) radius = std::max(radius, (p.position - centre).norm());
 
   // The start: the robot's placement, off by the registration's perturbation.
   std::mt19937_64 random(seed);
@@ -127,7 +152,7 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<Vec3>& moved, const Fix
   // a spacing and a half, on every point.
   const double largest = options_.perturbation + radians(options_.perturbation_angle) * radius;
   const double fine = 1.5 * spacing_;
-  std::vector<Vec3> coarse;
+  std::vector<SurfacePoint> coarse;
   std::vector<double> coarse_noise;
   for (std::size_t i = 0; i < moved.size(); i += kCoarseStride) {
     coarse.push_back(moved[i]);

@@ -20,12 +20,6 @@ namespace registration = open3d::pipelines::registration;
 
 constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not registered
 
-// Correspondences are weighted by Tukey's biweight, zero past this share of the distance
-// they are sought within. The simulated clouds are far sparser than the scanner's: a point
-// next to an edge is often matched to the face across it, and those pairs, left at full
-// weight, bias the result by more than the tolerance.
-constexpr double kTukey = 0.2;
-
 // The stages before the last, which only bring the moved cloud near, run on every fourth
 // point of it.
 constexpr std::size_t kCoarseStride = 4;
@@ -124,7 +118,7 @@ registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
                                      open3d::geometry::PointCloud& source, double distance,
                                      Eigen::Matrix4d& transformation) {
   const registration::TransformationEstimationPointToPlane estimation(
-      std::make_shared<registration::TukeyLoss>(kTukey * distance));
+      std::make_shared<registration::TukeyLoss>(detail::kTukey * distance));
   registration::RegistrationResult result = match(fixed, source, distance);
   for (int iteration = 0; iteration < 30; ++iteration) {
     const Eigen::Matrix4d update =

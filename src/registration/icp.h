@@ -8,6 +8,12 @@
 
 namespace scanplan::detail {
 
+// Correspondences are weighted by Tukey's biweight, zero past this share of the distance
+// they are sought within. The simulated clouds are far sparser than the scanner's: a point
+// next to an edge is often matched to the face across it, and those pairs, left at full
+// weight, bias the result by more than the tolerance.
+constexpr double kTukey = 0.2;
+
 struct IndexedCloud {
   explicit IndexedCloud(IcpCloud made);
   IndexedCloud(const IndexedCloud&) = delete;  // the tree refers to `cloud`

@@ -44,6 +44,11 @@ struct Inspection {
   // Registered by ICP in every run, on its clouds; the other ICP links are drawn from the
   // capability model's covariance.
   std::size_t icp_registered = 0;
+  // Of those links over all runs: registered again from another start after landing
+  // further from where the view belongs than registration.tolerance, as the cell's operator
+  // registers again a view that does not fit; and still that far after three starts, left
+  // so in their run.
+  std::size_t icp_restarted = 0, icp_failed = 0;
   std::vector<Deviation> deviations;
   std::vector<InspectedCharacteristic> characteristics;
 };
