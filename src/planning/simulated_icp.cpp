@@ -23,12 +23,12 @@ constexpr std::size_t kCandidates = 6;
 // kCoarseEnd mm; the last on every point, until a step moves it by less than kConverged mm;
 // each stage at most kMostSteps steps.
 constexpr std::size_t kCoarseStride = 4;
-// A point of a face's exact surface lies on the face where it is within twice the mesh's
-// chordal tolerance, and this, of the face's triangles.
-constexpr double kNominalGap = 0.1;
 constexpr double kCoarseEnd = 0.01;
 constexpr double kConverged = 1e-6;
 constexpr int kMostSteps = 30;
+// A point of a face's exact surface lies on the face where it is within twice the mesh's
+// chordal tolerance, and this, of the face's triangles.
+constexpr double kNominalGap = 0.1;
 
 // A unit vector in a random direction.
 Vec3 direction(std::mt19937_64& random) {
@@ -70,6 +70,31 @@ SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& op
 
 SimulatedIcp::~SimulatedIcp() = default;
 
+std::optional<SurfacePoint> SimulatedIcp::correspondence(const Vec3& p, int own) const {
+  std::array<unsigned, kCandidates> index{};
+  std::array<double, kCandidates> squared{};
+  const std::size_t found =
+      designed_->tree->knnSearch(p.data(), kCandidates, index.data(), squared.data());
+  std::optional<SurfacePoint> best;
+  std::array<int, kCandidates + 1> seen{};
+  std::size_t seen_count = 0;
+  const auto consider = [&](int candidate) {
+    const auto end = seen.begin() + static_cast<std::ptrdiff_t>(seen_count);
+    if (std::find(seen.begin(), end, candidate) != end || !nominal_.face(candidate)) return;
+    seen[seen_count++] = candidate;
+    std::optional<SurfacePoint> on = nominal_.onExact(candidate, p);
+    if (!on)
+      on = nominal_.onTriangles(candidate, p);
+    else if (const auto facet = nominal_.onTriangles(candidate, on->position);
+             facet && (facet->position - on->position).norm() > bounds_)
+      return;  // where the exact surface runs on past the face's edges
+    if (on && (!best || (p - on->position).norm() < (p - best->position).norm())) best = on;
+  };
+  consider(own);
+  for (std::size_t k = 0; k < found; ++k) consider(designed_->faces[index[k]]);
+  return best;
+}
+
 SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
                                       const std::vector<double>& noise, const Pose& pose,
                                       const Vec3& centre, const FixedSurface& surface,
@@ -79,34 +104,7 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
   Step result;
   for (std::size_t i = 0; i < moved.size(); ++i) {
     const Vec3 p = pose * moved[i].position;
-    std::array<unsigned, kCandidates> index{};
-    std::array<double, kCandidates> squared{};
-    const std::size_t found =
-        designed_->tree->knnSearch(p.data(), kCandidates, index.data(), squared.data());
-    // The nearest point of the faces of the point's own and those of the designed points
-    // nearest it, on their exact surfaces where they have one, but within the faces'
-    // bounds, where those surfaces run on past the edges. The fixed view's dense cloud has
-    // points on every face it measures, however small; the designed points, 1 mm apart at
-    // random, may miss a sliver.
-    std::optional<SurfacePoint> best;
-    std::array<int, kCandidates + 1> seen{};
-    std::size_t seen_count = 0;
-    const auto consider = [&](int candidate) {
-      if (std::find(seen.begin(), seen.begin() + seen_count, candidate) !=
-              seen.begin() + seen_count ||
-          !nominal_.face(candidate))
-        return;
-      seen[seen_count++] = candidate;
-      std::optional<SurfacePoint> on = nominal_.onExact(candidate, p);
-      if (!on)
-        on = nominal_.onTriangles(candidate, p);
-      else if (const auto facet = nominal_.onTriangles(candidate, on->position);
-               facet && (facet->position - on->position).norm() > bounds_)
-        return;
-      if (on && (!best || (p - on->position).norm() < (p - best->position).norm())) best = on;
-    };
-    consider(moved[i].face);
-    for (std::size_t k = 0; k < found; ++k) consider(designed_->faces[index[k]]);
+    const std::optional<SurfacePoint> best = correspondence(p, moved[i].face);
     if (!best) continue;
     const Vec3 &at = best->position, &n = best->normal;
     const double distance = n.dot(p - at);

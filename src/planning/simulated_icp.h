@@ -57,6 +57,13 @@ class SimulatedIcp {
   Step step(const std::vector<SurfacePoint>& moved, const std::vector<double>& noise,
             const Pose& pose, const Vec3& centre, const FixedSurface& surface, double cutoff) const;
 
+  // The point of the faces of the point's own (`own`) and of the designed points nearest
+  // it that lies nearest `p`, on their exact surfaces where they have one, but within the
+  // faces' bounds: a dense fixed cloud's nearest point. That cloud has points on every
+  // face its view measures, however small; the designed points, 1 mm apart at random, may
+  // miss a sliver.
+  std::optional<SurfacePoint> correspondence(const Vec3& p, int own) const;
+
   const Nominal& nominal_;
   double bounds_;  // mm: an exact surface's point this near the face's triangles is on it
   std::unique_ptr<Designed> designed_;
