@@ -514,6 +514,29 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
   EXPECT_NE(missing.out.find("none.yaml"), std::string::npos) << missing.out;
 }
 
+// inspect --icp registered: the bundled example's views registered by ICP are registered
+// by ICP in each run, and the terminal says how many; it prints the table and nothing else
+// (a line per characteristic, the plan, part, inspection and ICP lines, the header, the
+// file written). An --icp it does not know is refused, naming the option.
+TEST(Cli, InspectRegistersTheIcpLinksInEachRunAndSaysSo) {
+  test::TempDir dir;
+  const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
+  const std::string inspect = "inspect " + test::examplePlan() + " " + part + " --spec " +
+                              test::example("specs/ctc01.yaml") + " --runs 2 -q -o " +
+                              dir.file("inspection.json") + " --icp ";
+  const CommandResult r = run(inspect + "registered");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("views registered by ICP in every run"), std::string::npos) << r.out;
+  const nlohmann::json inspection =
+      nlohmann::json::parse(std::ifstream(dir.file("inspection.json")));
+  EXPECT_GT(inspection.at("icp_registered").get<std::size_t>(), 0u);
+  const std::size_t lines = static_cast<std::size_t>(std::count(r.out.begin(), r.out.end(), '\n'));
+  EXPECT_EQ(lines, inspection.at("characteristics").size() + 6) << r.out;
+  const CommandResult bad = run(inspect + "sideways");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.out.find("--icp"), std::string::npos) << bad.out;
+}
+
 // FTC 11 planned on both its faces (rest: all) has two setups that nothing joins: its
 // profile to A | B lies on the bottom face, datum B (the bore) is measured from the top.
 // The inspection says so rather than fitting datums across frames; the flatness of the top

@@ -235,9 +235,6 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
       const std::optional<Pose> link = s.registering->link(overlap, surface, seed);
       if (!link) break;  // too little overlap to run ICP on: its covariance is drawn
       links[v] = to_world * *link * to_part;
-      fprintf(stderr, "link view %d to %d: rms %g overlap %zu of %zu start %d\n",
-              s.plan.views[v].id, s.plan.views[p].id, rmsMove(*link, overlap), overlap.size(),
-              mine.size(), (int)start);
       if (rmsMove(*link, overlap) <= s.tolerance) break;
       ++(start + 1 < kStarts ? restarted : failed);
     }
