@@ -156,10 +156,7 @@ struct Setup {
 // One view's points in a run before its registration moves them (world): on the part as
 // designed, with the scanner's noise and the view's acceptance errors; of every face when
 // it takes part in an ICP link, else of the characteristics' faces.
-struct ViewPoints {
-  std::vector<Vec3> points, normals;
-  std::vector<int> faces;
-};
+using ViewPoints = std::vector<SurfacePoint>;
 
 ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
                           const AcceptanceErrors& acceptance, int run) {
@@ -179,9 +176,7 @@ ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
         s.nominal.onDesigned(face, to_part * cloud.hits[i], to_part.linear() * cloud.normals[i]);
     const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
                towards = to_world.linear() * on.normal;
-    mine.points.push_back(acceptance.apply(s.plan.scanner, view, at, towards));
-    mine.normals.push_back(towards);
-    mine.faces.push_back(face);
+    mine.push_back({acceptance.apply(s.plan.scanner, view, at, towards), towards, face});
   }
   return mine;
 }
@@ -215,9 +210,7 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
     const Pose to_world = orientationPlacement(s.plan, s.orientation[v]),
                to_part = to_world.inverse();
     // The overlap: the points of v's cloud that the view it registers to measures too.
-    std::vector<SurfacePoint> mine;
-    for (std::size_t i = 0; i < measured[v].points.size(); ++i)
-      mine.push_back({measured[v].points[i], measured[v].normals[i], measured[v].faces[i]});
+    const ViewPoints& mine = measured[v];
     const std::vector<Loss> seen = simulator.measure(fixed, mine);
     std::vector<SurfacePoint> overlap;
     for (std::size_t i = 0; i < mine.size(); ++i)
@@ -264,12 +257,11 @@ RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& regis
   std::vector<FacePoints> by_view(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
     const Pose to_part = orientationPlacement(s.plan, s.orientation[v]).inverse();
-    const ViewPoints& mine = measured[v];
-    for (std::size_t i = 0; i < mine.points.size(); ++i) {
-      const int face = mine.faces[i];
+    for (const SurfacePoint& m : measured[v]) {
+      const int face = m.face;
       if (!s.faces.count(face)) continue;
-      const Vec3 in_part = to_part * (moves[v] * mine.points[i]),
-                 normal = to_part.linear() * moves[v].linear() * mine.normals[i];
+      const Vec3 in_part = to_part * (moves[v] * m.position),
+                 normal = to_part.linear() * moves[v].linear() * m.normal;
       by_view[v][face].push_back(deviated(s.options.deviations, s.nominal, face, in_part, normal));
     }
   });
@@ -428,10 +420,11 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   if (result.icp_registered > 0)
     for (int f = 1; f <= static_cast<int>(part.faces.size()); ++f) designed_faces.insert(f);
   const detail::Nominal nominal(part, designedPoints(part, spec, designed_faces));
-  const detail::SimulatedRegistration registration(
-      plan, errors, markerSigma(registrationOptions(spec.spec), plan.scanner));
+  const RegistrationOptions registration_options = registrationOptions(spec.spec);
+  const detail::SimulatedRegistration registration(plan, errors,
+                                                   markerSigma(registration_options, plan.scanner));
   const std::vector<Simulator> simulators = averagedSimulators(part, spec, plan, result.spacing);
-  const detail::SimulatedIcp registering(nominal, registrationOptions(spec.spec), result.spacing,
+  const detail::SimulatedIcp registering(nominal, registration_options, result.spacing,
                                          part.linear_deflection);
   const Setup setup{part,
                     spec,
@@ -443,7 +436,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
                     simulators,
                     viewOrientations(plan),
                     result.spacing,
-                    registrationOptions(spec.spec).tolerance,
+                    registration_options.tolerance,
                     icp,
                     result.icp_registered > 0 ? &registering : nullptr};
 
