@@ -1,9 +1,9 @@
 # Registers the test executable's tests with CTest, run after each link (cmake -P):
 # TEST_EXECUTABLE lists its tests, and CTEST_FILE gets one add_test per suite of quick
-# tests (each process starts in about 0.1 s, most of it the loader binding the libraries,
-# which a suite's tests then share) and one per test of the suites in APART (those that
-# plan or read whole parts, so that they share the cores and none runs long) and of the
-# parameterised suites. Every test gets TIMEOUT and waits for the fixture FIXTURE.
+# tests (each process starts in about 0.14 s, most of it the loader binding the libraries,
+# which a suite's tests then share), and one per test named in APART or of a suite named
+# there or parameterised (those that plan or read whole parts, so that they share the
+# cores and none runs long). Every test gets TIMEOUT and waits for the fixture FIXTURE.
 
 cmake_minimum_required(VERSION 3.25)
 
@@ -15,6 +15,7 @@ endif()
 
 string(REPLACE "," ";" APART "${APART}")
 set(content "")
+set(listed "")
 macro(add_one name filter)
   string(APPEND content
          "add_test([=[${name}]=] \"${TEST_EXECUTABLE}\" [=[--gtest_filter=${filter}]=])\n"
@@ -22,18 +23,43 @@ macro(add_one name filter)
          " FIXTURES_REQUIRED ${FIXTURE})\n")
 endmacro()
 
+# A suite runs as one test but for those of its tests in APART, each alone.
+macro(add_suite)
+  if(DEFINED suite AND NOT suite_apart)
+    set(filter "${suite}.*")
+    if(alone)
+      string(REPLACE ";" ":" alone "${alone}")
+      set(filter "${filter}:-${alone}")
+    endif()
+    add_one("${suite}" "${filter}")
+  endif()
+endmacro()
+
 string(REPLACE "\n" ";" lines "${listing}")
 foreach(line IN LISTS lines)
   if(line MATCHES "^([^ #][^ ]*)\\.")  # a suite
+    add_suite()
     set(suite "${CMAKE_MATCH_1}")
+    list(APPEND listed "${suite}")
+    set(alone "")
     if(suite IN_LIST APART OR suite MATCHES "/")
-      set(apart TRUE)
+      set(suite_apart TRUE)
     else()
-      set(apart FALSE)
-      add_one("${suite}" "${suite}.*")
+      set(suite_apart FALSE)
     endif()
-  elseif(line MATCHES "^  ([^ ]+)" AND apart)  # a test of a suite run test by test
-    add_one("${suite}.${CMAKE_MATCH_1}" "${suite}.${CMAKE_MATCH_1}")
+  elseif(line MATCHES "^  ([^ ]+)")  # a test
+    set(test "${suite}.${CMAKE_MATCH_1}")
+    list(APPEND listed "${test}")
+    if(suite_apart OR test IN_LIST APART)
+      add_one("${test}" "${test}")
+      list(APPEND alone "${test}")
+    endif()
+  endif()
+endforeach()
+add_suite()
+foreach(name IN LISTS APART)  # a name that is no suite or test would go unnoticed
+  if(NOT name IN_LIST listed)
+    message(FATAL_ERROR "discover_tests: ${name} is not a suite or test of ${TEST_EXECUTABLE}")
   endif()
 endforeach()
 file(WRITE "${CTEST_FILE}" "${content}")

@@ -510,6 +510,22 @@ std::optional<SurfacePoint> Nominal::onTriangles(int id, const Vec3& p) const {
   return result;
 }
 
+bool Nominal::withinBounds(int id, const Vec3& p, double distance) const {
+  const auto found = trees_->facets.find(id);
+  if (found == trees_->facets.end()) return true;
+  // A triangle with a point within `distance` has its centre within that and the reach.
+  const Facets& facets = found->second;
+  const double within = distance + facets.reach + 1e-9;
+  Neighbours near;
+  nanoflann::SearchParams unsorted;
+  unsorted.sorted = false;
+  facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
+  return std::any_of(near.begin(), near.end(), [&](const auto& candidate) {
+    const auto& c = facets.corners[candidate.first];
+    return (p - closestPointOnTriangle(p, c[0], c[1], c[2])).norm() <= distance;
+  });
+}
+
 SurfacePoint Nominal::closest(int id, const Vec3& p) const {
   if (const auto on = onExact(id, p)) return *on;
   if (const auto on = onTriangles(id, p)) return *on;

@@ -68,6 +68,9 @@ class Nominal {
   // The point of face `id`'s triangles nearest `p`, with its triangle's normal: within the
   // face's bounds, where an exact surface runs on past them; none without triangles.
   std::optional<SurfacePoint> onTriangles(int id, const Vec3& p) const;
+  // Whether `p` lies within `distance` of face `id`'s triangles, its bounds; true for a face
+  // without triangles, which has none to bound it.
+  bool withinBounds(int id, const Vec3& p, double distance) const;
   // A point `p` of face `id`'s triangles (normal `n`) where it lies on the face as designed:
   // the nearest point of the face's exact surface, with its outward normal there; as it is
   // on faces without one.

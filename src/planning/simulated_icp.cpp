@@ -83,12 +83,12 @@ std::optional<SurfacePoint> SimulatedIcp::correspondence(const Vec3& p, int own)
     if (std::find(seen.begin(), end, candidate) != end || !nominal_.face(candidate)) return;
     seen[seen_count++] = candidate;
     std::optional<SurfacePoint> on = nominal_.onExact(candidate, p);
-    if (!on)
-      on = nominal_.onTriangles(candidate, p);
-    else if (const auto facet = nominal_.onTriangles(candidate, on->position);
-             facet && (facet->position - on->position).norm() > bounds_)
-      return;  // where the exact surface runs on past the face's edges
-    if (on && (!best || (p - on->position).norm() < (p - best->position).norm())) best = on;
+    const bool exact = on.has_value();
+    if (!exact) on = nominal_.onTriangles(candidate, p);
+    if (!on || (best && (p - on->position).norm() >= (p - best->position).norm())) return;
+    // Not where the exact surface runs on past the face's edges.
+    if (exact && !nominal_.withinBounds(candidate, on->position, bounds_)) return;
+    best = on;
   };
   consider(own);
   for (std::size_t k = 0; k < found; ++k) consider(designed_->faces[index[k]]);
