@@ -10,6 +10,8 @@
 #include <numeric>
 #include <optional>
 
+#include <tbb/parallel_for.h>
+
 namespace scanplan::detail {
 
 std::vector<int> measuredBy(const Simulator& simulator, const View& view,
@@ -41,19 +43,26 @@ std::optional<View> clusterPose(const Placement& at, const std::vector<Sample>& 
       plannerVisibility(at.scanner(), settings.vm_step, at.simulator.options().working_plane);
   std::vector<SurfacePoint> targets;
   for (const Sample& s : members) targets.push_back({s.position, s.normal, s.face});
-  std::optional<View> best;
-  std::size_t best_count = 0;
+  std::vector<View> poses;
   for (const Vec3& d :
        clusterDirections(at.simulator, members, mean_normal, normal_only, options, status))
-    for (const View& view : aimedPoses(at.scanner(), mean_point, d, settings.rotations)) {
-      if (!poseIsValid(at.simulator, view, at.cell)) continue;
-      candidates.push_back(view);
-      const std::size_t count = measuredBy(at.simulator, view, targets).size();
-      if (count > best_count) {  // strict: earlier (normal, horizontal) poses win ties
-        best_count = count;
-        best = view;
-      }
+    for (const View& view : aimedPoses(at.scanner(), mean_point, d, settings.rotations))
+      poses.push_back(view);
+  std::vector<std::optional<std::size_t>> counts(poses.size());  // none: not a valid pose
+  tbb::parallel_for(std::size_t{0}, poses.size(), [&](std::size_t k) {
+    if (poseIsValid(at.simulator, poses[k], at.cell))
+      counts[k] = measuredBy(at.simulator, poses[k], targets).size();
+  });
+  std::optional<View> best;
+  std::size_t best_count = 0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (!counts[k]) continue;
+    candidates.push_back(poses[k]);
+    if (*counts[k] > best_count) {  // strict: earlier (normal, horizontal) poses win ties
+      best_count = *counts[k];
+      best = poses[k];
     }
+  }
   return best;
 }
 
@@ -221,17 +230,26 @@ std::vector<Visibility> addViews(const Placement& at, std::vector<PlannedSample>
 void rescueViews(const Placement& at, std::vector<PlannedSample>& samples, MeasuredViews& added) {
   const PlannerSettings& settings = at.settings();
   const VisibilityMap grid(settings.rescue_step);
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    if (!samples[i].measured_by.empty() || at.isDone(i)) continue;
-    std::optional<View> found = firstMeasuring(
+  std::vector<std::size_t> pending;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (samples[i].measured_by.empty() && !at.isDone(i)) pending.push_back(i);
+  // A sample's rescue pose depends on the sample alone: found for all at once, then added
+  // in the samples' order, but for the samples a rescue view added before has measured.
+  std::vector<std::optional<View>> found(pending.size());
+  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t k) {
+    const std::size_t i = pending[k];
+    found[k] = firstMeasuring(
         at, i, densePoses(at.scanner(), at.points[i], grid, settings.rescue_rotations));
-    if (!found && settings.rescue_narrow)
-      found = firstMeasuring(
+    if (!found[k] && settings.rescue_narrow)
+      found[k] = firstMeasuring(
           at, i,
           throughNarrowOpening(at, i, settings.rescue_step / 2, 2 * settings.rescue_rotations));
-    if (!found) continue;
-    found->task = std::string(toString(samples[i].sample.task));
-    addView(*found, measuredBy(at.simulator, *found, at.points), samples, added);
+  });
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    const std::size_t i = pending[k];
+    if (!found[k] || !samples[i].measured_by.empty()) continue;
+    found[k]->task = std::string(toString(samples[i].sample.task));
+    addView(*found[k], measuredBy(at.simulator, *found[k], at.points), samples, added);
   }
 }
 

@@ -102,16 +102,15 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
     for (int i = 0; i < static_cast<int>(samples.size()); ++i) {
       const int from = owner[i];
       if (clusters[from].samples.size() == 1) continue;  // keep every cluster alive
-      // Every other cluster, cheapest first (clusters are far fewer than samples).
+      // Every other cluster cheaper than its own, cheapest first.
+      const double current = cost(i, clusters[from]);
       candidates.clear();
       for (int to = 0; to < static_cast<int>(clusters.size()); ++to)
         if (to != from && !clusters[to].samples.empty())
-          candidates.push_back({cost(i, clusters[to]), to});
+          if (const double c = cost(i, clusters[to]); c < current) candidates.push_back({c, to});
       std::sort(candidates.begin(), candidates.end());
       int best = from;
-      const double current = cost(i, clusters[from]);
       for (const auto& [c, to] : candidates) {
-        if (c >= current) break;
         if (compatible.withAll(i, clusters[to].samples)) {
           best = to;
           break;
