@@ -147,6 +147,10 @@ struct Setup {
   const std::vector<Simulator>& simulators;
   std::vector<std::size_t> orientation;  // per view
   double spacing;
+  // The clouds an ICP link is registered again on: kDenser times denser, with simulators
+  // whose noise is that of the mean of the fewer scanner points each point stands for.
+  const std::vector<Simulator>& dense_simulators;
+  double dense_spacing;
   double tolerance;  // registration.tolerance, mm
   // Per view, the view it registers to by ICP in each run (none: its link is drawn).
   std::vector<std::optional<std::size_t>> icp;
@@ -159,13 +163,14 @@ struct Setup {
 using ViewPoints = std::vector<SurfacePoint>;
 
 ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
-                          const AcceptanceErrors& acceptance, int run) {
+                          const AcceptanceErrors& acceptance, int run, bool dense = false) {
   const View& view = s.plan.views[v];
   const std::size_t k = s.orientation[v];
   const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
   const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
                              static_cast<std::uint64_t>(view.id);
-  const PointCloud cloud = s.simulators[k].cloud(view, seed, s.spacing);
+  const PointCloud cloud = dense ? s.dense_simulators[k].cloud(view, seed, s.dense_spacing)
+                                 : s.simulators[k].cloud(view, seed, s.spacing);
   ViewPoints mine;
   for (std::size_t i = 0; i < cloud.points.size(); ++i) {
     const int face = cloud.faces[i];
@@ -182,14 +187,45 @@ ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
 }
 
 // ICP from this many starts at most, as the cell's operator registers again a view that
-// does not fit.
+// does not fit; the starts after the first on clouds kDenser times denser. At the
+// inspection's spacing a narrow face that alone holds a link may get a point or two, which
+// can take a neighbouring face as their nearest and hold ICP off where they balance
+// (docs/capability.md, "A run").
 constexpr std::uint64_t kStarts = 3;
+constexpr double kDenser = 4;
 
 // The RMS displacement `motion` gives `points`.
 double rmsMove(const Pose& motion, const std::vector<SurfacePoint>& points) {
   double squares = 0;
   for (const SurfacePoint& p : points) squares += (motion * p.position - p.position).squaredNorm();
   return std::sqrt(squares / static_cast<double>(std::max<std::size_t>(1, points.size())));
+}
+
+// What ICP moves for the link of view v to view p: the points of v's cloud `mine` that p
+// measures too (part frame), and the surface p measured, by `simulator`'s scanner.
+struct IcpOverlap {
+  std::vector<SurfacePoint> points;
+  detail::FixedSurface surface;
+};
+IcpOverlap icpOverlap(const Setup& s, std::size_t v, std::size_t p, const ViewPoints& mine,
+                      const Simulator& simulator, const AcceptanceErrors& fixed_errors) {
+  const View& fixed = s.plan.views[p];
+  const Pose to_world = orientationPlacement(s.plan, s.orientation[v]),
+             to_part = to_world.inverse();
+  IcpOverlap overlap;
+  const std::vector<Loss> seen = simulator.measure(fixed, mine);
+  for (std::size_t i = 0; i < mine.size(); ++i)
+    if (seen[i] == Loss::Measured)
+      overlap.points.push_back(
+          {to_part * mine[i].position, to_part.linear() * mine[i].normal, mine[i].face});
+  const Scanner& scanner = simulator.scanner();
+  overlap.surface = [&scanner, &fixed, &fixed_errors, to_world](const Vec3& at,
+                                                                const Vec3& normal) {
+    const Vec3 a = to_world * at, m = to_world.linear() * normal;
+    return detail::SurfaceOffset{m.dot(fixed_errors.apply(scanner, fixed, a, m) - a),
+                                 pointQuality(scanner, fixed, a, m).along_normal};
+  };
+  return overlap;
 }
 
 // The ICP links of one run (world motions; none for views whose link is drawn), each
@@ -204,31 +240,21 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
   std::atomic<std::size_t> restarted = 0, failed = 0;
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
     if (!s.icp[v]) return;
-    const std::size_t p = *s.icp[v];
-    const View& fixed = s.plan.views[p];
-    const Simulator& simulator = s.simulators[s.orientation[v]];
-    const Pose to_world = orientationPlacement(s.plan, s.orientation[v]),
-               to_part = to_world.inverse();
-    // The overlap: the points of v's cloud that the view it registers to measures too.
-    const ViewPoints& mine = measured[v];
-    const std::vector<Loss> seen = simulator.measure(fixed, mine);
-    std::vector<SurfacePoint> overlap;
-    for (std::size_t i = 0; i < mine.size(); ++i)
-      if (seen[i] == Loss::Measured)
-        overlap.push_back(
-            {to_part * mine[i].position, to_part.linear() * mine[i].normal, mine[i].face});
-    const detail::FixedSurface surface = [&](const Vec3& at, const Vec3& normal) {
-      const Vec3 a = to_world * at, m = to_world.linear() * normal;
-      return detail::SurfaceOffset{m.dot(acceptance[p].apply(simulator.scanner(), fixed, a, m) - a),
-                                   pointQuality(simulator.scanner(), fixed, a, m).along_normal};
-    };
+    const std::size_t p = *s.icp[v], k = s.orientation[v];
+    const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
+    IcpOverlap overlap = icpOverlap(s, v, p, measured[v], s.simulators[k], acceptance[p]);
     for (std::uint64_t start = 0; start < kStarts; ++start) {
+      if (start == 1)
+        overlap = icpOverlap(s, v, p, measuredPoints(s, v, true, acceptance[v], run, true),
+                             s.dense_simulators[k], acceptance[p]);
       const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
                                  static_cast<std::uint64_t>(s.plan.views[v].id) * 7 + start;
-      const std::optional<Pose> link = s.registering->link(overlap, surface, seed);
+      const double spacing = start == 0 ? s.spacing : s.dense_spacing;
+      const std::optional<Pose> link =
+          s.registering->link(overlap.points, overlap.surface, spacing, seed);
       if (!link) break;  // too little overlap to run ICP on: its covariance is drawn
       links[v] = to_world * *link * to_part;
-      if (rmsMove(*link, overlap) <= s.tolerance) break;
+      if (rmsMove(*link, overlap.points) <= s.tolerance) break;
       ++(start + 1 < kStarts ? restarted : failed);
     }
   });
@@ -424,8 +450,11 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const detail::SimulatedRegistration registration(plan, errors,
                                                    markerSigma(registration_options, plan.scanner));
   const std::vector<Simulator> simulators = averagedSimulators(part, spec, plan, result.spacing);
-  const detail::SimulatedIcp registering(nominal, registration_options, result.spacing,
-                                         part.linear_deflection);
+  const double dense_spacing = std::max(plan.scanner.point_spacing, result.spacing / kDenser);
+  const std::vector<Simulator> dense_simulators =
+      result.icp_registered > 0 ? averagedSimulators(part, spec, plan, dense_spacing)
+                                : std::vector<Simulator>{};
+  const detail::SimulatedIcp registering(nominal, registration_options, part.linear_deflection);
   const Setup setup{part,
                     spec,
                     plan,
@@ -436,6 +465,8 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
                     simulators,
                     viewOrientations(plan),
                     result.spacing,
+                    dense_simulators,
+                    dense_spacing,
                     registration_options.tolerance,
                     icp,
                     result.icp_registered > 0 ? &registering : nullptr};

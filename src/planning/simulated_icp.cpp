@@ -30,13 +30,6 @@ constexpr int kMostSteps = 30;
 // chordal tolerance, and this, of the face's triangles.
 constexpr double kNominalGap = 0.1;
 
-// A unit vector in a random direction.
-Vec3 direction(std::mt19937_64& random) {
-  std::normal_distribution<double> normal;
-  Vec3 d(normal(random), normal(random), normal(random));
-  return d.normalized();
-}
-
 // The motion of `twist` about `centre`.
 Pose about(const Twist& twist, const Vec3& centre) {
   return Eigen::Translation3d(centre) * poseOf(twist) * Eigen::Translation3d(-centre);
@@ -53,12 +46,11 @@ struct SimulatedIcp::Designed {
 };
 
 SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options,
-                           double spacing, double chordal)
+                           double chordal)
     : nominal_(nominal),
       bounds_(2 * chordal + kNominalGap),
       designed_(std::make_unique<Designed>()),
-      options_(options),
-      spacing_(spacing) {
+      options_(options) {
   for (const auto& [id, face] : nominal.faces()) {
     designed_->points.insert(designed_->points.end(), face.points.begin(), face.points.end());
     designed_->faces.insert(designed_->faces.end(), face.points.size(), id);
@@ -126,7 +118,8 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
 }
 
 std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
-                                       const FixedSurface& surface, std::uint64_t seed) const {
+                                       const FixedSurface& surface, double spacing,
+                                       std::uint64_t seed) const {
   if (moved.size() < kLeastPoints || designed_->points.empty()) return std::nullopt;
   Vec3 centre = Vec3::Zero();
   for (const SurfacePoint& p : moved) centre += p.position;
@@ -136,10 +129,7 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
 
   // The start: the robot's placement, off by the registration's perturbation.
   std::mt19937_64 random(seed);
-  const Vec3 axis = direction(random), shift = direction(random);
-  Pose pose = Pose::Identity();
-  pose.linear() = Eigen::AngleAxisd(radians(options_.perturbation_angle), axis).toRotationMatrix();
-  pose.translation() = centre - pose.linear() * centre + options_.perturbation * shift;
+  Pose pose = perturbation(centre, options_.perturbation, options_.perturbation_angle, random);
   std::normal_distribution<double> unit;
   std::vector<double> noise(moved.size());
   for (double& z : noise) z = unit(random);
@@ -149,7 +139,7 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
   // twice the fine distance), on every fourth point; then within twice the fine distance,
   // a spacing and a half, on every point.
   const double largest = options_.perturbation + radians(options_.perturbation_angle) * radius;
-  const double fine = 1.5 * spacing_;
+  const double fine = 1.5 * spacing;
   std::vector<SurfacePoint> coarse;
   std::vector<double> coarse_noise;
   for (std::size_t i = 0; i < moved.size(); i += kCoarseStride) {

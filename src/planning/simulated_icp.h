@@ -33,18 +33,17 @@ using FixedSurface = std::function<SurfaceOffset(const Vec3& at, const Vec3& nor
 
 class SimulatedIcp {
  public:
-  // `nominal`, the part as designed over every face ICP may meet; `spacing`, the run
-  // clouds' point spacing, mm; `chordal`, the chordal tolerance of the part's mesh, mm.
-  SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options, double spacing,
-               double chordal);
+  // `nominal`, the part as designed over every face ICP may meet; `chordal`, the chordal
+  // tolerance of the part's mesh, mm.
+  SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options, double chordal);
   ~SimulatedIcp();
 
   // The rigid motion (part frame) that carries the points of `moved` (with their faces),
   // those of the moved view's cloud the fixed view measures too, from where they lie to where ICP
-  // onto the fixed view's `surface` puts them; `seed` draws the start and the surface's noise. None
-  // for fewer than 100 points.
+  // onto the fixed view's `surface` puts them; `spacing`, the moved cloud's point spacing, mm;
+  // `seed` draws the start and the surface's noise. None for fewer than 100 points.
   std::optional<Pose> link(const std::vector<SurfacePoint>& moved, const FixedSurface& surface,
-                           std::uint64_t seed) const;
+                           double spacing, std::uint64_t seed) const;
 
  private:
   struct Designed;
@@ -68,7 +67,6 @@ class SimulatedIcp {
   double bounds_;  // mm: an exact surface's point this near the face's triangles is on it
   std::unique_ptr<Designed> designed_;
   RegistrationOptions options_;
-  double spacing_;
 };
 
 }  // namespace scanplan::detail

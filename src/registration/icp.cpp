@@ -24,23 +24,6 @@ constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not register
 // point of it.
 constexpr std::size_t kCoarseStride = 4;
 
-// A rigid motion of `distance` mm in a random direction and `angle` degrees about a random
-// axis through `centre`.
-Eigen::Matrix4d perturbation(const Vec3& centre, double distance, double angle,
-                             std::uint64_t seed) {
-  std::mt19937_64 random(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  auto direction = [&] {
-    Vec3 d(normal(random), normal(random), normal(random));
-    return Vec3(d.normalized());
-  };
-  Pose motion = Pose::Identity();
-  const Vec3 axis = direction(), shift = direction();
-  motion.linear() = Eigen::AngleAxisd(radians(angle), axis).toRotationMatrix();
-  motion.translation() = centre - motion.linear() * centre + distance * shift;
-  return motion.matrix();
-}
-
 // The `points` within `margin` of the box around `to`.
 std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>& to,
                        double margin) {
@@ -138,6 +121,19 @@ registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
 
 namespace detail {
 
+Pose perturbation(const Vec3& centre, double distance, double angle, std::mt19937_64& random) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto direction = [&] {
+    Vec3 d(normal(random), normal(random), normal(random));
+    return Vec3(d.normalized());
+  };
+  Pose motion = Pose::Identity();
+  const Vec3 axis = direction(), shift = direction();
+  motion.linear() = Eigen::AngleAxisd(radians(angle), axis).toRotationMatrix();
+  motion.translation() = centre - motion.linear() * centre + distance * shift;
+  return motion;
+}
+
 IndexedCloud::IndexedCloud(IcpCloud made)
     : cloud(std::move(made)), tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
   tree.buildIndex();
@@ -194,10 +190,10 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   // distance, plus the perturbation, of the fixed cloud's box.
   source.points_ = near(moved.points, fixed.points, 3 * largest);
   if (source.points_.size() < kLeastPoints) return check;
+  std::mt19937_64 random(options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
+                         static_cast<std::uint64_t>(moved.id));
   const Eigen::Matrix4d start =
-      perturbation(centre, options.perturbation, options.perturbation_angle,
-                   options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
-                       static_cast<std::uint64_t>(moved.id));
+      perturbation(centre, options.perturbation, options.perturbation_angle, random).matrix();
   source.Transform(start);
 
   // Point-to-plane against the fixed cloud's surface normals, which a scanner's dense

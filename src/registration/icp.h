@@ -6,6 +6,8 @@
 
 #include <scanplan/registration/registration.h>
 
+#include <random>
+
 namespace scanplan::detail {
 
 // Correspondences are weighted by Tukey's biweight, zero past this share of the distance
@@ -13,6 +15,10 @@ namespace scanplan::detail {
 // next to an edge is often matched to the face across it, and those pairs, left at full
 // weight, bias the result by more than the tolerance.
 constexpr double kTukey = 0.2;
+
+// Where the robot puts a view before ICP: a rigid motion of `distance` mm in a random
+// direction and `angle` degrees about a random axis through `centre`, drawn from `random`.
+Pose perturbation(const Vec3& centre, double distance, double angle, std::mt19937_64& random);
 
 struct IndexedCloud {
   explicit IndexedCloud(IcpCloud made);
