@@ -561,18 +561,25 @@ TEST(SimulatedIcp, ItsSpreadIsTheFirstOrderCovarianceOfItsNoise) {
   }
 }
 
+// The plate's views inspected `runs` times with their ICP links registered, on clouds
+// `spacing` apart (0: the default), by a scanner without noise or acceptance errors.
+Inspection inspectedWithoutNoise(IcpPlate& p, int runs, double spacing = 0) {
+  p.plan.scanner.noise_sigma = p.plan.scanner.flatness_error = 0;
+  p.plan.scanner.sphere_spacing = p.plan.scanner.probing_size = 0;
+  InspectionOptions options;
+  options.runs = runs;
+  options.spacing = spacing;
+  options.icp = InspectionOptions::IcpLinks::Registered;
+  return inspectPlan(p.part, p.spec, p.plan, options);
+}
+
 // The views registered by ICP in each run of the inspection, on clouds of a scanner without
 // noise or acceptance errors, land where they belong: the second bore's position is the
 // part's own, 0, in every run. Views left unregistered, or never moved from the robot's
 // start (3 mm and 2° off), would give 0 or millimetres.
 TEST(Inspection, ViewsRegisteredByIcpWithoutNoiseLandWhereTheyBelong) {
   IcpPlate p;
-  p.plan.scanner.noise_sigma = p.plan.scanner.flatness_error = 0;
-  p.plan.scanner.sphere_spacing = p.plan.scanner.probing_size = 0;
-  InspectionOptions options;
-  options.runs = 4;
-  options.icp = InspectionOptions::IcpLinks::Registered;
-  const Inspection inspected = inspectPlan(p.part, p.spec, p.plan, options);
+  const Inspection inspected = inspectedWithoutNoise(p, 4);
   EXPECT_EQ(inspected.icp_registered, 3u);
   const InspectedCharacteristic& k = inspected.characteristics.front();
   ASSERT_TRUE(k.evaluated) << k.not_evaluated;
@@ -586,14 +593,8 @@ TEST(Inspection, ViewsRegisteredByIcpWithoutNoiseLandWhereTheyBelong) {
 // times denser, every run's top is flat to 1e-4 mm.
 TEST(Inspection, ALinkOffOnTheRunsSparseCloudIsRegisteredAgainOnADenserOne) {
   IcpPlate p;
-  p.plan.scanner.noise_sigma = p.plan.scanner.flatness_error = 0;
-  p.plan.scanner.sphere_spacing = p.plan.scanner.probing_size = 0;
   p.plan.characteristics = {{1, "flatness", false, 0.1, 0, 0.1, {}, {p.top}}};
-  InspectionOptions options;
-  options.runs = 6;
-  options.spacing = 10;
-  options.icp = InspectionOptions::IcpLinks::Registered;
-  const Inspection inspected = inspectPlan(p.part, p.spec, p.plan, options);
+  const Inspection inspected = inspectedWithoutNoise(p, 6, 10);
   EXPECT_GT(inspected.icp_restarted, 0u);
   const InspectedCharacteristic& k = inspected.characteristics.front();
   ASSERT_TRUE(k.evaluated) << k.not_evaluated;
