@@ -219,11 +219,12 @@ IcpOverlap icpOverlap(const Setup& s, std::size_t v, std::size_t p, const ViewPo
       overlap.points.push_back(
           {to_part * mine[i].position, to_part.linear() * mine[i].normal, mine[i].face});
   const Scanner& scanner = simulator.scanner();
-  overlap.surface = [&scanner, &fixed, &fixed_errors, to_world](const Vec3& at,
-                                                                const Vec3& normal) {
+  const View& moved = s.plan.views[v];
+  overlap.surface = [&scanner, &fixed, &moved, &fixed_errors, to_world](const Vec3& at,
+                                                                        const Vec3& normal) {
     const Vec3 a = to_world * at, m = to_world.linear() * normal;
     return detail::SurfaceOffset{m.dot(fixed_errors.apply(scanner, fixed, a, m) - a),
-                                 pointQuality(scanner, fixed, a, m).along_normal};
+                                 detail::fixedNoise(scanner, fixed, moved, a, m)};
   };
   return overlap;
 }

@@ -3,6 +3,8 @@
 #include "registration/icp.h"
 #include "registration/rigid_fit.h"
 
+#include <scanplan/scanner/simulation.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -44,6 +46,13 @@ struct SimulatedIcp::Designed {
   PointCloudAdaptor adaptor{points};
   std::unique_ptr<PointTree> tree;
 };
+
+double fixedNoise(const Scanner& scanner, const View& fixed, const View& moved, const Vec3& at,
+                  const Vec3& normal) {
+  const PointQuality there = pointQuality(scanner, fixed, at, normal);
+  return there.along_normal *
+         std::sqrt(pointQuality(scanner, moved, at, normal).density / there.density);
+}
 
 SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options,
                            double chordal)
