@@ -42,7 +42,8 @@ def test_the_bundled_example_s_gdt_plans_as_the_command_line_does(tmp_path):
     """The bundled part and spec without its global task (GD&T from the file, markers,
     registration), planned by the scanplan CLI and from Python: the same plan.json."""
     spec_file = tmp_path / "spec.yaml"
-    bundled = open(os.path.join(EXAMPLES, "specs", "ctc01.yaml")).read()
+    with open(os.path.join(EXAMPLES, "specs", "ctc01.yaml")) as f:
+        bundled = f.read()
     assert "  - {type: global}\n" in bundled
     spec_file.write_text(bundled.replace("  - {type: global}\n", ""))
     part_file = os.path.join(EXAMPLES, "parts", "nist_ctc_01_asme1_ap242-e1.stp")
