@@ -440,6 +440,23 @@ void fillFacets(const Part& part, int id, Facets& f) {
   f.tree->buildIndex();
 }
 
+// The triangles of `f` that may have a point within `distance` of `p`: those whose centre
+// lies within that and the reach.
+Neighbours trianglesNear(const Facets& f, const Vec3& p, double distance) {
+  const double within = distance + f.reach + 1e-9;
+  Neighbours near;
+  nanoflann::SearchParams unsorted;
+  unsorted.sorted = false;
+  f.tree->radiusSearch(p.data(), within * within, near, unsorted);
+  return near;
+}
+
+// The point of triangle `t` of `f` nearest `p`.
+Vec3 pointOnTriangle(const Facets& f, unsigned t, const Vec3& p) {
+  const auto& c = f.corners[t];
+  return closestPointOnTriangle(p, c[0], c[1], c[2]);
+}
+
 }  // namespace
 
 Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
@@ -492,16 +509,10 @@ std::optional<SurfacePoint> Nominal::onTriangles(int id, const Vec3& p) const {
   unsigned index = 0;
   double squared = 0;
   facets.tree->knnSearch(p.data(), 1, &index, &squared);
-  const double within = std::sqrt(squared) + facets.reach + 1e-9;
-  Neighbours near;
-  nanoflann::SearchParams unsorted;
-  unsorted.sorted = false;
-  facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
   double best = std::numeric_limits<double>::infinity();
   SurfacePoint result{p, facets.normals[index], id};
-  for (const auto& [t, d2] : near) {
-    const auto& c = facets.corners[t];
-    const Vec3 q = closestPointOnTriangle(p, c[0], c[1], c[2]);
+  for (const auto& [t, d2] : trianglesNear(facets, p, std::sqrt(squared))) {
+    const Vec3 q = pointOnTriangle(facets, t, p);
     const double d = (p - q).norm();
     if (d >= best) continue;
     best = d;
@@ -513,16 +524,9 @@ std::optional<SurfacePoint> Nominal::onTriangles(int id, const Vec3& p) const {
 bool Nominal::withinBounds(int id, const Vec3& p, double distance) const {
   const auto found = trees_->facets.find(id);
   if (found == trees_->facets.end()) return true;
-  // A triangle with a point within `distance` has its centre within that and the reach.
-  const Facets& facets = found->second;
-  const double within = distance + facets.reach + 1e-9;
-  Neighbours near;
-  nanoflann::SearchParams unsorted;
-  unsorted.sorted = false;
-  facets.tree->radiusSearch(p.data(), within * within, near, unsorted);
+  const Neighbours near = trianglesNear(found->second, p, distance);
   return std::any_of(near.begin(), near.end(), [&](const auto& candidate) {
-    const auto& c = facets.corners[candidate.first];
-    return (p - closestPointOnTriangle(p, c[0], c[1], c[2])).norm() <= distance;
+    return (p - pointOnTriangle(found->second, candidate.first, p)).norm() <= distance;
   });
 }
 

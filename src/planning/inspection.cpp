@@ -136,6 +136,24 @@ AcceptanceErrors drawAcceptance(const Scanner& s, std::mt19937_64& random) {
 // One run's points: per frame, by face (part frame).
 using RunPoints = std::map<std::size_t, FacePoints>;
 
+// The clouds the views are simulated as: one simulator per orientation of the plan, each
+// simulated point the mean of the scanner's points around it, `spacing` apart, its noise
+// so much less.
+struct Clouds {
+  std::vector<Simulator> simulators;
+  double spacing = 0;
+};
+Clouds averagedClouds(const Part& part, const ResolvedSpec& spec, const Plan& plan,
+                      double spacing) {
+  Scanner averaged = plan.scanner;
+  averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / spacing);
+  Clouds clouds{{}, spacing};
+  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
+    clouds.simulators.emplace_back(part, averaged,
+                                   simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  return clouds;
+}
+
 struct Setup {
   const Part& part;
   const ResolvedSpec& spec;
@@ -144,14 +162,12 @@ struct Setup {
   const detail::Nominal& nominal;
   const std::set<int>& faces;
   const std::vector<detail::ViewError>& errors;
-  const std::vector<Simulator>& simulators;
+  const Clouds& clouds;
+  // The clouds an ICP link is registered again on, kDenser times denser (none without ICP
+  // links registered).
+  const Clouds& dense;
   std::vector<std::size_t> orientation;  // per view
-  double spacing;
-  // The clouds an ICP link is registered again on: kDenser times denser, with simulators
-  // whose noise is that of the mean of the fewer scanner points each point stands for.
-  const std::vector<Simulator>& dense_simulators;
-  double dense_spacing;
-  double tolerance;  // registration.tolerance, mm
+  double tolerance;                      // registration.tolerance, mm
   // Per view, the view it registers to by ICP in each run (none: its link is drawn).
   std::vector<std::optional<std::size_t>> icp;
   const detail::SimulatedIcp* registering = nullptr;
@@ -162,15 +178,14 @@ struct Setup {
 // it takes part in an ICP link, else of the characteristics' faces.
 using ViewPoints = std::vector<SurfacePoint>;
 
-ViewPoints measuredPoints(const Setup& s, std::size_t v, bool every_face,
-                          const AcceptanceErrors& acceptance, int run, bool dense = false) {
+ViewPoints measuredPoints(const Setup& s, const Clouds& clouds, std::size_t v, bool every_face,
+                          const AcceptanceErrors& acceptance, int run) {
   const View& view = s.plan.views[v];
   const std::size_t k = s.orientation[v];
   const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
   const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
                              static_cast<std::uint64_t>(view.id);
-  const PointCloud cloud = dense ? s.dense_simulators[k].cloud(view, seed, s.dense_spacing)
-                                 : s.simulators[k].cloud(view, seed, s.spacing);
+  const PointCloud cloud = clouds.simulators[k].cloud(view, seed, clouds.spacing);
   ViewPoints mine;
   for (std::size_t i = 0; i < cloud.points.size(); ++i) {
     const int face = cloud.faces[i];
@@ -201,18 +216,21 @@ double rmsMove(const Pose& motion, const std::vector<SurfacePoint>& points) {
   return std::sqrt(squares / static_cast<double>(std::max<std::size_t>(1, points.size())));
 }
 
-// What ICP moves for the link of view v to view p: the points of v's cloud `mine` that p
-// measures too (part frame), and the surface p measured, by `simulator`'s scanner.
+// What ICP moves for the link of view v to view p: the points of v's cloud `mine`, one of
+// `clouds`, that p measures too (part frame, `spacing` apart), and the surface p measured.
 struct IcpOverlap {
   std::vector<SurfacePoint> points;
+  double spacing = 0;
   detail::FixedSurface surface;
 };
 IcpOverlap icpOverlap(const Setup& s, std::size_t v, std::size_t p, const ViewPoints& mine,
-                      const Simulator& simulator, const AcceptanceErrors& fixed_errors) {
+                      const Clouds& clouds, const AcceptanceErrors& fixed_errors) {
   const View& fixed = s.plan.views[p];
+  const Simulator& simulator = clouds.simulators[s.orientation[v]];
   const Pose to_world = orientationPlacement(s.plan, s.orientation[v]),
              to_part = to_world.inverse();
   IcpOverlap overlap;
+  overlap.spacing = clouds.spacing;
   const std::vector<Loss> seen = simulator.measure(fixed, mine);
   for (std::size_t i = 0; i < mine.size(); ++i)
     if (seen[i] == Loss::Measured)
@@ -243,16 +261,15 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
     if (!s.icp[v]) return;
     const std::size_t p = *s.icp[v], k = s.orientation[v];
     const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
-    IcpOverlap overlap = icpOverlap(s, v, p, measured[v], s.simulators[k], acceptance[p]);
+    IcpOverlap overlap = icpOverlap(s, v, p, measured[v], s.clouds, acceptance[p]);
     for (std::uint64_t start = 0; start < kStarts; ++start) {
       if (start == 1)
-        overlap = icpOverlap(s, v, p, measuredPoints(s, v, true, acceptance[v], run, true),
-                             s.dense_simulators[k], acceptance[p]);
+        overlap = icpOverlap(s, v, p, measuredPoints(s, s.dense, v, true, acceptance[v], run),
+                             s.dense, acceptance[p]);
       const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
                                  static_cast<std::uint64_t>(s.plan.views[v].id) * 7 + start;
-      const double spacing = start == 0 ? s.spacing : s.dense_spacing;
       const std::optional<Pose> link =
-          s.registering->link(overlap.points, overlap.surface, spacing, seed);
+          s.registering->link(overlap.points, overlap.surface, overlap.spacing, seed);
       if (!link) break;  // too little overlap to run ICP on: its covariance is drawn
       links[v] = to_world * *link * to_part;
       if (rmsMove(*link, overlap.points) <= s.tolerance) break;
@@ -277,7 +294,8 @@ RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& regis
     if (s.icp[v]) in_icp[v] = in_icp[*s.icp[v]] = 1;
   std::vector<ViewPoints> measured(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
-    if (s.errors[v].placed) measured[v] = measuredPoints(s, v, in_icp[v], acceptance[v], run);
+    if (s.errors[v].placed)
+      measured[v] = measuredPoints(s, s.clouds, v, in_icp[v], acceptance[v], run);
   });
   if (s.registering)
     moves = registration.draw(registration_random, icpLinks(s, measured, acceptance, run, counts));
@@ -367,23 +385,6 @@ void judge(const Characteristic& c, const CapabilityOptions& capability,
                                                      : Verdict::NotCapable;
 }
 
-}  // namespace
-
-namespace {
-
-// One simulator per orientation of the plan, each simulated point the mean of the
-// scanner's points around it, `spacing` apart.
-std::vector<Simulator> averagedSimulators(const Part& part, const ResolvedSpec& spec,
-                                          const Plan& plan, double spacing) {
-  Scanner averaged = plan.scanner;
-  averaged.noise_sigma *= std::min(1.0, plan.scanner.point_spacing / spacing);
-  std::vector<Simulator> simulators;
-  for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
-    simulators.emplace_back(part, averaged,
-                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
-  return simulators;
-}
-
 // Per characteristic, its value on the simulated part, or why it has none.
 std::vector<InspectedCharacteristic> trueValues(const Setup& s, const FacePoints& truth) {
   std::vector<InspectedCharacteristic> list;
@@ -450,11 +451,12 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   const RegistrationOptions registration_options = registrationOptions(spec.spec);
   const detail::SimulatedRegistration registration(plan, errors,
                                                    markerSigma(registration_options, plan.scanner));
-  const std::vector<Simulator> simulators = averagedSimulators(part, spec, plan, result.spacing);
-  const double dense_spacing = std::max(plan.scanner.point_spacing, result.spacing / kDenser);
-  const std::vector<Simulator> dense_simulators =
-      result.icp_registered > 0 ? averagedSimulators(part, spec, plan, dense_spacing)
-                                : std::vector<Simulator>{};
+  const Clouds clouds = averagedClouds(part, spec, plan, result.spacing);
+  const Clouds dense =
+      result.icp_registered > 0
+          ? averagedClouds(part, spec, plan,
+                           std::max(plan.scanner.point_spacing, result.spacing / kDenser))
+          : Clouds{};
   const detail::SimulatedIcp registering(nominal, registration_options, part.linear_deflection);
   const Setup setup{part,
                     spec,
@@ -463,11 +465,9 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
                     nominal,
                     faces,
                     errors,
-                    simulators,
+                    clouds,
+                    dense,
                     viewOrientations(plan),
-                    result.spacing,
-                    dense_simulators,
-                    dense_spacing,
                     registration_options.tolerance,
                     icp,
                     result.icp_registered > 0 ? &registering : nullptr};

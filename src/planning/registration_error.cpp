@@ -57,7 +57,7 @@ std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<in
 // bore that two views share fall between a few samples: on a plate whose views share its
 // top, one side and such arcs, a bore's position registered by those links came out at 2.2
 // times the virtual inspection's with ICP run on the views' clouds (docs/capability.md),
-// and at 1.22 times at this spacing.
+// and at 1.18 times at this spacing.
 constexpr double kIcpOverlapSpacing = 1.0 / 100;
 
 // The RMS displacement a verified pair's ICP left on the verification's clouds, as the

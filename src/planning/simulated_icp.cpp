@@ -16,15 +16,13 @@
 namespace scanplan::detail {
 namespace {
 
-constexpr std::size_t kLeastPoints = 100;  // fewer overlapping points: not registered
 // A point's correspondence is the nearest point of the faces of this many designed points
 // nearest it (and its own), as a dense fixed cloud's nearest point; its residual lies along
 // the normal there (point to plane).
 constexpr std::size_t kCandidates = 6;
-// The coarse stages step on every fourth point until a step moves the cloud by less than
-// kCoarseEnd mm; the last on every point, until a step moves it by less than kConverged mm;
-// each stage at most kMostSteps steps.
-constexpr std::size_t kCoarseStride = 4;
+// The coarse stages step on every kIcpCoarseStride-th point until a step moves the cloud by
+// less than kCoarseEnd mm; the last on every point, until a step moves it by less than
+// kConverged mm; each stage at most kMostSteps steps.
 constexpr double kCoarseEnd = 0.01;
 constexpr double kConverged = 1e-6;
 constexpr int kMostSteps = 30;
@@ -121,7 +119,7 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
     pull -= weight * row.transpose() * residual;
     ++result.used;
   }
-  if (result.used < kLeastPoints / kCoarseStride) return result;
+  if (result.used < kIcpLeastPoints / kIcpCoarseStride) return result;
   result.twist = heldInverse(normal) * pull;
   return result;
 }
@@ -129,7 +127,7 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
 std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
                                        const FixedSurface& surface, double spacing,
                                        std::uint64_t seed) const {
-  if (moved.size() < kLeastPoints || designed_->points.empty()) return std::nullopt;
+  if (moved.size() < kIcpLeastPoints || designed_->points.empty()) return std::nullopt;
   Vec3 centre = Vec3::Zero();
   for (const SurfacePoint& p : moved) centre += p.position;
   centre /= static_cast<double>(moved.size());
@@ -151,12 +149,14 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
   const double fine = 1.5 * spacing;
   std::vector<SurfacePoint> coarse;
   std::vector<double> coarse_noise;
-  for (std::size_t i = 0; i < moved.size(); i += kCoarseStride) {
+  for (std::size_t i = 0; i < moved.size(); i += kIcpCoarseStride) {
     coarse.push_back(moved[i]);
     coarse_noise.push_back(noise[i]);
   }
-  for (const double cutoff : {2 * largest, std::max(largest, 2 * fine), 2 * fine}) {
-    const bool last = cutoff == 2 * fine;
+  const std::array<double, 3> cutoffs{2 * largest, std::max(largest, 2 * fine), 2 * fine};
+  for (std::size_t stage = 0; stage < cutoffs.size(); ++stage) {
+    const double cutoff = cutoffs[stage];
+    const bool last = stage + 1 == cutoffs.size();
     for (int k = 0; k < kMostSteps; ++k) {
       const Vec3 now = pose * centre;  // the twists are about the cloud's centre
       const Step s = last ? step(moved, noise, pose, now, surface, cutoff)

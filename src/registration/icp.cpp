@@ -18,12 +18,6 @@ namespace {
 
 namespace registration = open3d::pipelines::registration;
 
-constexpr std::size_t kLeastPoints = 100;  // a cloud with fewer is not registered
-
-// The stages before the last, which only bring the moved cloud near, run on every fourth
-// point of it.
-constexpr std::size_t kCoarseStride = 4;
-
 // The `points` within `margin` of the box around `to`.
 std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>& to,
                        double margin) {
@@ -175,7 +169,9 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   const double spacing = icpCloudSpacing(options, simulator.scanner());
   IcpCheck check;
   check.points = moved.points.size();
-  if (fixed.points.size() < kLeastPoints || moved.points.size() < kLeastPoints) return check;
+  if (fixed.points.size() < detail::kIcpLeastPoints ||
+      moved.points.size() < detail::kIcpLeastPoints)
+    return check;
 
   open3d::geometry::PointCloud target, source;
   target.points_ = fixed.points;
@@ -189,7 +185,7 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   // Only points that can find a correspondence take part: those within the widest search
   // distance, plus the perturbation, of the fixed cloud's box.
   source.points_ = near(moved.points, fixed.points, 3 * largest);
-  if (source.points_.size() < kLeastPoints) return check;
+  if (source.points_.size() < detail::kIcpLeastPoints) return check;
   std::mt19937_64 random(options.seed * 7919 + static_cast<std::uint64_t>(fixed.id) * 131 +
                          static_cast<std::uint64_t>(moved.id));
   const Eigen::Matrix4d start =
@@ -204,7 +200,7 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   Eigen::Matrix4d estimate = Eigen::Matrix4d::Identity();
   registration::RegistrationResult result;
   open3d::geometry::PointCloud coarse;
-  for (std::size_t i = 0; i < source.points_.size(); i += kCoarseStride)
+  for (std::size_t i = 0; i < source.points_.size(); i += detail::kIcpCoarseStride)
     coarse.points_.push_back(source.points_[i]);
   for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine})
     icp(indexed, target, coarse, distance, estimate);

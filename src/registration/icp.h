@@ -6,6 +6,7 @@
 
 #include <scanplan/registration/registration.h>
 
+#include <cstddef>
 #include <random>
 
 namespace scanplan::detail {
@@ -15,6 +16,11 @@ namespace scanplan::detail {
 // next to an edge is often matched to the face across it, and those pairs, left at full
 // weight, bias the result by more than the tolerance.
 constexpr double kTukey = 0.2;
+// A cloud with fewer points than this is not registered.
+constexpr std::size_t kIcpLeastPoints = 100;
+// The stages before the last, which only bring the moved cloud near, run on every this
+// many-th point of it.
+constexpr std::size_t kIcpCoarseStride = 4;
 
 // Where the robot puts a view before ICP: a rigid motion of `distance` mm in a random
 // direction and `angle` degrees about a random axis through `centre`, drawn from `random`.
