@@ -17,6 +17,7 @@
 #include <BRep_Builder.hxx>
 #include <GeomAPI_ProjectPointOnSurf.hxx>
 #include <GeomConvert.hxx>
+#include <GeomLProp_SLProps.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_ConicalSurface.hxx>
 #include <Geom_CylindricalSurface.hxx>
@@ -86,18 +87,36 @@ void expectBoxWithHole(const Part& part) {
   EXPECT_LT(mesh_volume, kVolume + 2 * M_PI * kR * kC * part.linear_deflection);
 }
 
-// The point of a cylinder, cone (both nappes), sphere and torus nearest points scattered about them
-// lies as far as OCCT's projection onto the same surface finds, on the surface (OCCT's distance
-// from it 0), and off it along its normal there.
-TEST(ElementarySurface, TheNearestPointIsOcctsProjection) {
+// A cylinder, a cone, a sphere and a torus, each as ours and as OCCT's, about one axis.
+struct SurfaceCase {
+  ElementarySurface ours;
+  Handle(Geom_Surface) occt;
+  double v_from, v_to;  // the surface's v range searched (u goes round)
+};
+const Vec3 kCaseOrigin(10, -5, 3);
+
+// OCCT's surface of `c` over the range its tests search.
+Handle(Geom_Surface) trimmed(const SurfaceCase& c) {
+  return new Geom_RectangularTrimmedSurface(c.occt, 0, 2 * M_PI, c.v_from, c.v_to);
+}
+
+// Points scattered about each case's surface (40 mm about its origin, `seed`), each with
+// its case.
+std::vector<std::pair<const SurfaceCase*, Vec3>> scatteredAbout(
+    const std::vector<SurfaceCase>& cases, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> within(-40, 40);
+  std::vector<std::pair<const SurfaceCase*, Vec3>> points;
+  for (const SurfaceCase& c : cases)
+    for (int k = 0; k < 50; ++k)
+      points.push_back({&c, kCaseOrigin + Vec3(within(random), within(random), within(random))});
+  return points;
+}
+
+std::vector<SurfaceCase> surfaceCases() {
   const gp_Ax3 frame(gp_Pnt(10, -5, 3), gp_Dir(1, 2, 2));
-  const Vec3 origin(10, -5, 3), axis = Vec3(1, 2, 2).normalized();
-  struct Case {
-    ElementarySurface ours;
-    Handle(Geom_Surface) occt;
-    double v_from, v_to;  // the surface's v range searched (u goes round)
-  };
-  const std::vector<Case> cases = {
+  const Vec3 origin = kCaseOrigin, axis = Vec3(1, 2, 2).normalized();
+  return {
       {{SurfaceType::Cylinder, origin, axis, 12},
        new Geom_CylindricalSurface(frame, 12),
        -100,
@@ -115,23 +134,48 @@ TEST(ElementarySurface, TheNearestPointIsOcctsProjection) {
        0,
        2 * M_PI},
   };
-  std::mt19937_64 random(5);
-  std::uniform_real_distribution<double> within(-40, 40);
-  for (const Case& c : cases)
-    for (int k = 0; k < 50; ++k) {
-      const Vec3 p = origin + Vec3(within(random), within(random), within(random));
-      const auto [q, normal] = nearestOn(c.ours, p);
-      const Handle(Geom_Surface) trimmed =
-          new Geom_RectangularTrimmedSurface(c.occt, 0, 2 * M_PI, c.v_from, c.v_to);
-      GeomAPI_ProjectPointOnSurf projected(gp_Pnt(p.x(), p.y(), p.z()), trimmed);
-      ASSERT_GT(projected.NbPoints(), 0) << int(c.ours.type) << " " << k;
-      EXPECT_NEAR((p - q).norm(), projected.LowerDistance(), 1e-6) << int(c.ours.type) << " " << k;
-      GeomAPI_ProjectPointOnSurf back(gp_Pnt(q.x(), q.y(), q.z()), trimmed);
-      ASSERT_GT(back.NbPoints(), 0);
-      EXPECT_NEAR(back.LowerDistance(), 0, 1e-6);
-      EXPECT_NEAR((p - q).cross(normal).norm(), 0, 1e-6);
-      EXPECT_NEAR(normal.norm(), 1, 1e-12);
-    }
+}
+
+// The point of a cylinder, cone (both nappes), sphere and torus nearest points scattered about them
+// lies as far as OCCT's projection onto the same surface finds, on the surface (OCCT's distance
+// from it 0), and off it along its normal there.
+TEST(ElementarySurface, TheNearestPointIsOcctsProjection) {
+  const std::vector<SurfaceCase> cases = surfaceCases();
+  for (const auto& [c, p] : scatteredAbout(cases, 5)) {
+    const auto [q, normal] = nearestOn(c->ours, p);
+    GeomAPI_ProjectPointOnSurf projected(gp_Pnt(p.x(), p.y(), p.z()), trimmed(*c));
+    ASSERT_GT(projected.NbPoints(), 0) << int(c->ours.type) << " " << p.transpose();
+    EXPECT_NEAR((p - q).norm(), projected.LowerDistance(), 1e-6) << int(c->ours.type);
+    GeomAPI_ProjectPointOnSurf back(gp_Pnt(q.x(), q.y(), q.z()), trimmed(*c));
+    ASSERT_GT(back.NbPoints(), 0);
+    EXPECT_NEAR(back.LowerDistance(), 0, 1e-6);
+    EXPECT_NEAR((p - q).cross(normal).norm(), 0, 1e-6);
+    EXPECT_NEAR(normal.norm(), 1, 1e-12);
+  }
+}
+
+// At the point of each surface nearest points scattered about it, the sum of its principal
+// curvatures is twice OCCT's mean curvature there, signed for our normal: positive where the
+// surface bends away from it. OCCT's mean curvature is negative where the surface bends away
+// from its own normal (a sphere with its normal outward).
+TEST(ElementarySurface, ItsCurvatureSumIsTwiceOcctsMeanCurvature) {
+  const std::vector<SurfaceCase> cases = surfaceCases();
+  for (const auto& [c, p] : scatteredAbout(cases, 6)) {
+    const auto [q, normal] = nearestOn(c->ours, p);
+    const Handle(Geom_Surface) surface = trimmed(*c);
+    GeomAPI_ProjectPointOnSurf on(gp_Pnt(q.x(), q.y(), q.z()), surface);
+    ASSERT_GT(on.NbPoints(), 0);
+    double u = 0, v = 0;
+    on.LowerDistanceParameters(u, v);
+    GeomLProp_SLProps props(surface, u, v, 2, 1e-9);
+    if (!props.IsCurvatureDefined()) continue;  // a cone's apex
+    const gp_Dir n = props.Normal();
+    const double same_way = Vec3(n.X(), n.Y(), n.Z()).dot(normal) > 0 ? 1 : -1;
+    EXPECT_NEAR(curvatureSum(c->ours, p), -2 * props.MeanCurvature() * same_way, 1e-9)
+        << int(c->ours.type) << " " << p.transpose();
+  }
+  const ElementarySurface plane{SurfaceType::Plane, kCaseOrigin, Vec3::UnitZ()};
+  EXPECT_EQ(curvatureSum(plane, Vec3(1, 2, 3)), 0);
 }
 
 TEST(GeneratedPart, BoxWithHoleFromBrep) {

@@ -108,4 +108,23 @@ std::pair<Vec3, Vec3> nearestOn(const ElementarySurface& s, const Vec3& p) {
   }
 }
 
+double curvatureSum(const ElementarySurface& s, const Vec3& p) {
+  switch (s.type) {
+    case SurfaceType::Sphere: return 2 / s.radius;
+    case SurfaceType::Cylinder:
+    case SurfaceType::Cone:
+    case SurfaceType::Torus: {
+      // About the axis, a surface of revolution bends by the normal's share across the
+      // axis over the distance from it; along its meridian only a torus bends.
+      const auto [q, normal] = nearestOn(s, p);
+      const Vec3 from = q - s.origin;
+      const Vec3 radial = from - from.dot(s.axis) * s.axis;
+      const double distance = radial.norm();
+      const double about = distance > 1e-9 ? normal.dot(radial) / (distance * distance) : 0;
+      return about + (s.type == SurfaceType::Torus ? 1 / s.minor_radius : 0);
+    }
+    default: return 0;
+  }
+}
+
 }  // namespace scanplan

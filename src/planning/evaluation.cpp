@@ -552,6 +552,11 @@ std::optional<SurfacePoint> Nominal::onExact(int id, const Vec3& p) const {
   return SurfacePoint{q, exact->second.side * out, id};
 }
 
+double Nominal::curvature(int id, const Vec3& p) const {
+  const auto exact = exact_.find(id);
+  return exact == exact_.end() ? 0 : exact->second.side * curvatureSum(exact->second.surface, p);
+}
+
 SurfacePoint Nominal::onDesigned(int id, const Vec3& p, const Vec3& n) const {
   return onExact(id, p).value_or(SurfacePoint{p, n, id});
 }

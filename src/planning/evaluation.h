@@ -65,6 +65,10 @@ class Nominal {
   // The point of face `id`'s exact surface nearest `p`, with the face's outward normal
   // there; none for a face without one.
   std::optional<SurfacePoint> onExact(int id, const Vec3& p) const;
+  // The sum of face `id`'s principal curvatures at its point nearest `p` (1/mm): positive
+  // where the face bends away from its outward normal (a boss), negative where towards it
+  // (a bore); 0 for a face without an exact surface.
+  double curvature(int id, const Vec3& p) const;
   // The point of face `id`'s triangles nearest `p`, with its triangle's normal: within the
   // face's bounds, where an exact surface runs on past them; none without triangles.
   std::optional<SurfacePoint> onTriangles(int id, const Vec3& p) const;

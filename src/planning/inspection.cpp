@@ -242,7 +242,8 @@ IcpOverlap icpOverlap(const Setup& s, std::size_t v, std::size_t p, const ViewPo
                                                                         const Vec3& normal) {
     const Vec3 a = to_world * at, m = to_world.linear() * normal;
     return detail::SurfaceOffset{m.dot(fixed_errors.apply(scanner, fixed, a, m) - a),
-                                 detail::fixedNoise(scanner, fixed, moved, a, m)};
+                                 detail::fixedNoise(scanner, fixed, moved, a, m),
+                                 1 / pointQuality(scanner, fixed, a, m).density};
   };
   return overlap;
 }

@@ -5,8 +5,8 @@
 // - markers shared with the view it registers to: the same fit, both views' centres noisy,
 //   then each group of views joined by markers adjusted together (marker_adjustment.h);
 // - ICP: point-to-plane ICP on the overlap, each overlap point standing for the points the
-//   views lay there with both views' noise, plus the residual its verification left,
-//   brought to the scanner's own point spacing (residualAtScannerSpacing);
+//   views lay there with both views' noise, and moved by where the tangent planes at the
+//   fixed view's points stand off the overlap's curved faces (samplingBias);
 // - the robot: its pose accuracy, taken as the radius holding 95% of a view's position
 //   errors (isotropic, no turn);
 // and along a chain the errors of the links add: views registered through the same link
@@ -17,6 +17,7 @@
 #include "planning/marker_adjustment.h"
 #include "registration/overlaps.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/planning/planner.h>
 #include <scanplan/registration/registration.h>
 #include <scanplan/scanner/simulation.h>
@@ -60,22 +61,56 @@ std::vector<Vec3> positionsOf(const std::vector<Vec3>& all, const std::vector<in
 // and at 1.18 times at this spacing.
 constexpr double kIcpOverlapSpacing = 1.0 / 100;
 
-// The RMS displacement a verified pair's ICP left on the verification's clouds, as the
-// scanner's own cloud would leave it. Point-to-plane ICP against a sampled surface is
-// off where the surface curves between the fixed cloud's points, by the curvature times
-// the spacing squared: on CTC 02's links the residual falls 3.7 times from 1.5 to 0.75 mm
-// and 2.1 times from 0.75 to 0.5 mm (docs/capability.md, "Error budget"). So it is scaled
-// by the square of the scanner's point spacing over the clouds'.
-double residualAtScannerSpacing(double residual, const RegistrationOptions& options,
-                                const Scanner& scanner) {
-  const double ratio = scanner.point_spacing / icpCloudSpacing(options, scanner);
-  return residual * std::min(1.0, ratio * ratio);
+// A view's own link: the error of its registration to the view `parent` (none: to its
+// setup's frame), and whether it is placed at all.
+struct Link {
+  TwistCovariance own = TwistCovariance::Zero();
+  Twist bias = Twist::Zero();  // ViewError::bias
+  std::optional<std::size_t> parent;
+  bool placed = true;
+  std::shared_ptr<const Eigen::MatrixXd> adjusted;  // ViewError::adjusted
+  std::size_t slot = 0;
+};
+
+// The sum of a face's principal curvatures at a point, signed for the face's outward normal
+// there (part frame): 0 on a face without an elementary surface. Each face's surface is
+// found once.
+class Curvatures {
+ public:
+  explicit Curvatures(const Part& part) : part_(part) {}
+  double at(int face, const Vec3& p, const Vec3& normal) {
+    auto [found, added] = surfaces_.try_emplace(face);
+    if (added) found->second = elementarySurface(part_, face);
+    if (!found->second) return 0;
+    const double sum = curvatureSum(*found->second, p);
+    return nearestOn(*found->second, p).second.dot(normal) >= 0 ? sum : -sum;
+  }
+
+ private:
+  const Part& part_;
+  std::map<int, std::optional<ElementarySurface>> surfaces_;
+};
+
+// The motion point-to-plane ICP settles at where the fixed view's tangent planes stand off
+// its overlap (`shifts`, along the normals): least squares on the overlap's rows, each
+// sample weighing as the moved view's points there (`weights`), the directions the overlap
+// leaves free held as ICP's steps hold them.
+Twist samplingBias(std::span<const Vec3> points, std::span<const Vec3> normals,
+                   std::span<const double> weights, std::span<const double> shifts) {
+  TwistCovariance information = TwistCovariance::Zero();
+  Twist pull = Twist::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto row = alongNormal(points[i], normals[i]);
+    information += weights[i] * row.transpose() * row;
+    pull += weights[i] * shifts[i] * row.transpose();
+  }
+  return heldInverse(information) * pull;
 }
 
 // The ICP covariance of every view of orientation `k` registered by ICP, against the view
 // it registers to: the overlap sampled as the registration samples it.
 void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std::size_t k,
-               const std::vector<std::size_t>& orientation, std::vector<TwistCovariance>& own) {
+               const std::vector<std::size_t>& orientation, std::vector<Link>& links) {
   const Registration& registration = *plan.registration;
   std::map<int, std::size_t> index;  // view id: its place in the plan
   std::vector<View> views;
@@ -93,8 +128,9 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
   const RegistrationOptions options = registrationOptions(spec.spec);
   const double spacing =
       std::min(overlapSpacing(options, plan.scanner), plan.scanner.fov_height * kIcpOverlapSpacing);
-  const Simulator simulator(part, plan.scanner,
-                            simulationOptionsFor(spec, part, orientationPlacement(plan, k)));
+  const Pose placement = orientationPlacement(plan, k), to_part = placement.inverse();
+  const Simulator simulator(part, plan.scanner, simulationOptionsFor(spec, part, placement));
+  Curvatures curvatures(part);
   const std::vector<SurfacePoint> points = simulator.surfacePoints(spacing, options.seed);
   const std::vector<std::vector<int>> measured = measuredPoints(simulator, views, points);
   std::map<std::size_t, std::size_t> local;  // plan index: index into views
@@ -107,28 +143,27 @@ void icpErrors(const Part& part, const ResolvedSpec& spec, const Plan& plan, std
     if (to == local.end()) continue;
     const std::vector<int> both = shared(measured[i], measured[to->second]);
     std::vector<Vec3> p, n;
-    std::vector<double> variances;
+    std::vector<double> variances, weights, shifts;
     for (int s : both) {
-      const PointQuality a =
-          pointQuality(plan.scanner, views[i], points[s].position, points[s].normal);
-      const PointQuality b =
-          pointQuality(plan.scanner, views[to->second], points[s].position, points[s].normal);
+      const SurfacePoint& at = points[s];
+      const PointQuality a = pointQuality(plan.scanner, views[i], at.position, at.normal);
+      const PointQuality b = pointQuality(plan.scanner, views[to->second], at.position, at.normal);
       const double count = std::max(std::min(a.density, b.density) * spacing * spacing, 1.0);
-      p.push_back(points[s].position);
-      n.push_back(points[s].normal);
+      p.push_back(at.position);
+      n.push_back(at.normal);
       variances.push_back((a.along_normal * a.along_normal + b.along_normal * b.along_normal) /
                           count);
+      weights.push_back(a.density);
+      const double curvature =
+          curvatures.at(at.face, to_part * at.position, to_part.linear() * at.normal);
+      shifts.push_back(samplingShift(curvature, 1 / b.density));
     }
     if (p.size() < 6) {  // too little overlap to say: the view is left out
-      own[v] = TwistCovariance::Identity() * kUnknown;
+      links[v].own = TwistCovariance::Identity() * kUnknown;
       continue;
     }
-    own[v] = icpCovariance(p, n, variances);
-    if (const PairCheck* pair = registration.pair(plan.views[v].id, r.to);
-        pair && pair->icp && std::isfinite(pair->icp->error)) {
-      const double left = residualAtScannerSpacing(pair->icp->error, options, plan.scanner);
-      own[v].bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * left * left / 3;
-    }
+    links[v].own = icpCovariance(p, n, variances);
+    links[v].bias = samplingBias(p, n, weights, shifts);
   }
 }
 
@@ -164,6 +199,8 @@ Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n) {
   return row;
 }
 
+double samplingShift(double curvature, double area) { return curvature * area / 24; }
+
 TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3> normals,
                               std::span<const double> variances) {
   TwistCovariance information = TwistCovariance::Zero();
@@ -175,16 +212,6 @@ TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3
 }
 
 namespace {
-
-// A view's own link: the error of its registration to the view `parent` (none: to its
-// setup's frame), and whether it is placed at all.
-struct Link {
-  TwistCovariance own = TwistCovariance::Zero();
-  std::optional<std::size_t> parent;
-  bool placed = true;
-  std::shared_ptr<const Eigen::MatrixXd> adjusted;  // ViewError::adjusted
-  std::size_t slot = 0;
-};
 
 // The link of view `v` by the markers it registers by (the ICP links' errors are found
 // beforehand, into `link.own`).
@@ -228,6 +255,7 @@ void markLink(const Plan& plan, std::size_t v, std::size_t orientation,
 void chain(const std::vector<Link>& links, std::vector<ViewError>& errors) {
   for (std::size_t v = 0; v < links.size(); ++v) {
     errors[v].covariance = errors[v].link = links[v].own;
+    errors[v].bias = links[v].bias;
     errors[v].parent = links[v].parent;
     errors[v].placed = links[v].placed;
     errors[v].adjusted = links[v].adjusted;
@@ -277,16 +305,12 @@ std::vector<ViewError> registrationErrors(const Part& part, const ResolvedSpec& 
   if (!plan.registration || plan.registration->views.size() != n) return errors;
   const RegistrationOptions options = registrationOptions(spec.spec);
   const double sigma = markerSigma(options, plan.scanner);
-  std::vector<TwistCovariance> icp(n, TwistCovariance::Zero());
+  std::vector<Link> links(n);
   for (std::size_t k = 0; k < std::max<std::size_t>(1, plan.orientations.size()); ++k)
-    icpErrors(part, spec, plan, k, orientation, icp);
+    icpErrors(part, spec, plan, k, orientation, links);
   std::map<int, std::size_t> index;
   for (std::size_t v = 0; v < n; ++v) index[plan.views[v].id] = v;
-  std::vector<Link> links(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    links[v].own = icp[v];
-    markLink(plan, v, orientation[v], index, sigma, links[v]);
-  }
+  for (std::size_t v = 0; v < n; ++v) markLink(plan, v, orientation[v], index, sigma, links[v]);
   adjust(plan, sigma, links);
   chain(links, errors);
   return errors;
@@ -321,6 +345,7 @@ TwistDraws::TwistDraws(const std::vector<ViewError>& errors)
     : chains_(chainsOf(errors)), group_of_(errors.size(), -1) {
   for (std::size_t v = 0; v < errors.size(); ++v) {
     roots_.push_back(squareRoot(errors[v].link));
+    biases_.push_back(errors[v].bias);
     slots_.push_back(errors[v].slot);
     if (!errors[v].adjusted) continue;
     const auto same = std::find_if(groups_.begin(), groups_.end(),
@@ -340,7 +365,7 @@ std::vector<Twist> TwistDraws::draw(std::mt19937_64& random) const {
     if (g < 0) {
       Twist z;
       for (int i = 0; i < 6; ++i) z[i] = normal(random);
-      own[v] = roots_[v] * z;
+      own[v] = biases_[v] + roots_[v] * z;
     } else if (!drawn[static_cast<std::size_t>(g)]) {  // the whole group at its first view
       drawn[static_cast<std::size_t>(g)] = 1;
       const auto& [factor, views] = groups_[static_cast<std::size_t>(g)];

@@ -36,12 +36,22 @@ Eigen::Matrix<double, 1, 6> alongNormal(const Vec3& p, const Vec3& n);
 TwistCovariance icpCovariance(std::span<const Vec3> points, std::span<const Vec3> normals,
                               std::span<const double> variances);
 
+// How far along the outward normal, on average, the tangent planes at a fixed cloud's points
+// lie off a surface whose principal curvatures sum to `curvature` (1/mm), the cloud `area`
+// mm² per point. Point to plane, a moved point meets its nearest fixed point a step d away,
+// whose plane stands off the surface there by the curvature along d times d²/2; over the
+// square cell of that area around the fixed point, curvature × area / 24.
+double samplingShift(double curvature, double area);
+
 // A view's registration error: the covariance of its motion in the frame of its setup,
 // through the chain of views it registers by (its own link's and its parent's added);
 // `placed` false when it registers to nothing (its points join no frame).
 struct ViewError {
   TwistCovariance covariance = TwistCovariance::Zero();
   TwistCovariance link = TwistCovariance::Zero();  // its own registration's
+  // Its own registration's systematic motion: an ICP link's, where the fixed view's tangent
+  // planes at its points stand off the overlap's curved faces (samplingShift).
+  Twist bias = Twist::Zero();
   std::optional<std::size_t> parent;  // the view it registers to (none: its setup's frame)
   bool placed = true;
   std::size_t frame = 0;  // its setup's frame (PlannedOrientation::frame)
@@ -84,6 +94,7 @@ class TwistDraws {
 
  private:
   std::vector<TwistCovariance> roots_;  // per view, its link's covariance's square root
+  std::vector<Twist> biases_;           // per view, its link's systematic motion
   Chains chains_;
   // The groups adjusted together, each drawn at once: its factor and its views.
   std::vector<std::pair<std::shared_ptr<const Eigen::MatrixXd>, std::vector<std::size_t>>> groups_;

@@ -109,7 +109,9 @@ SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
     const double distance = n.dot(p - at);
     if (std::abs(distance) > cutoff) continue;
     const SurfaceOffset offset = surface(at, n);
-    const double residual = distance - (offset.shift + offset.sigma * noise[i]);
+    const double shift =
+        offset.shift + samplingShift(nominal_.curvature(best->face, at), offset.area);
+    const double residual = distance - (shift + offset.sigma * noise[i]);
     const double tukey = kTukey * cutoff;
     if (std::abs(residual) >= tukey) continue;
     const double weight =

@@ -4,11 +4,11 @@
 // ICP starts where the robot puts it, off by the registration's start perturbation, and
 // point-to-plane ICP brings the points of its simulated cloud that the view it registers
 // to measures too onto the surface that view measured in the same run: the part as
-// designed, moved along the normal by that view's noise and acceptance errors. That is the cloud of
-// a scanner whose points lie far closer together than the simulation's, so ICP's own sampling
-// error, which the capability model brings to the scanner's spacing, stays out; every other part of
-// the link's error (the overlap's shape and extent, both views' noise and acceptance errors, the
-// start, the correspondences found anew at every step) is ICP's own, not the model's covariance.
+// designed, moved along the normal by that view's noise and acceptance errors, and by where the
+// tangent planes at that view's points, at the scanner's own spacing, stand off a curved
+// surface (samplingShift). Every part of the link's error (the overlap's shape and extent,
+// both views' noise and acceptance errors, the fixed cloud's sampling, the start, the
+// correspondences found anew at every step) is ICP's own, not the model's covariance.
 
 #include "core/kd_tree.h"
 #include "planning/evaluation.h"
@@ -24,10 +24,11 @@
 namespace scanplan::detail {
 
 // Where the fixed view's surface lies off the part as designed at a point of it (part
-// frame, with the outward normal): its acceptance errors' shift along the normal, and the
-// standard deviation of its noise there.
+// frame, with the outward normal): its acceptance errors' shift along the normal, the
+// standard deviation of its noise there, and the surface each of its points stands for
+// (mm²; 0: the surface itself, unsampled).
 struct SurfaceOffset {
-  double shift = 0, sigma = 0;
+  double shift = 0, sigma = 0, area = 0;
 };
 using FixedSurface = std::function<SurfaceOffset(const Vec3& at, const Vec3& normal)>;
 

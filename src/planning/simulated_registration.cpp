@@ -55,6 +55,7 @@ SimulatedRegistration::SimulatedRegistration(const Plan& plan, const std::vector
                r.method == RegistrationMethod::Markers) {  // markers: a link across setups
       link.kind = Kind::Drawn;
       link.root = squareRoot(errors[v].link);
+      link.bias = errors[v].bias;
     }
   }
   for (Group& group : groups_) indexMarkers(group);
@@ -151,7 +152,8 @@ std::vector<Pose> SimulatedRegistration::draw(std::mt19937_64& random,
     Twist z;
     for (int i = 0; i < 6; ++i) z[i] = normal(random);
     if (links_[v].kind == Kind::Drawn)
-      own[v] = v < links.size() && links[v] ? *links[v] : poseOf(links_[v].root * z);
+      own[v] =
+          v < links.size() && links[v] ? *links[v] : poseOf(links_[v].bias + links_[v].root * z);
     if (links_[v].kind == Kind::Known) {
       std::vector<Vec3> mine, known;
       for (const auto& [m, at] : links_[v].seen) {

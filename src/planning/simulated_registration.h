@@ -42,6 +42,7 @@ class SimulatedRegistration {
     Kind kind = Kind::Fixed;
     std::map<int, Vec3> seen;                        // marker: where the view sees its centre
     TwistCovariance root = TwistCovariance::Zero();  // Drawn: L with L L^T its covariance
+    Twist bias = Twist::Zero();  // Drawn: its systematic motion (ViewError::bias)
   };
   // A group adjusted together: its views, the root (held fixed) first, and per view the
   // markers it sees that another view of the group sees too: (index into the group's

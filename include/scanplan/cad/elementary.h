@@ -28,4 +28,9 @@ std::optional<ElementarySurface> elementarySurface(const Part& part, int face);
 // A point on the axis (or at the centre) takes an arbitrary direction about it.
 std::pair<Vec3, Vec3> nearestOn(const ElementarySurface& surface, const Vec3& p);
 
+// The sum of `surface`'s principal curvatures (1/mm) at its point nearest `p`: positive
+// where the surface bends away from the normal nearestOn gives there (a cylinder 1/radius,
+// a sphere 2/radius), 0 for a plane and near a cone's apex.
+double curvatureSum(const ElementarySurface& surface, const Vec3& p);
+
 }  // namespace scanplan
