@@ -601,7 +601,9 @@ TEST(SimulatedIcp, AFixedCloudsTangentPlanesStandOffACurvedSurfaceByItsSamplingS
 // The plate's top and the halves of its bores (radius 10) away from y = 100, registered
 // without noise onto fixed clouds of 2.4 mm² per point: the bores' tangent planes stand
 // 0.01 mm off the bores, which pulls the view across them; ICP lands where least squares on
-// the point-to-plane rows J puts it, (JᵀJ)⁻¹ Jᵀ s with s those 0.01 mm, to within 3 %.
+// the point-to-plane rows J puts it, (JᵀJ)⁻¹ Jᵀ s with s those 0.01 mm, to within 3 %. The
+// moved points stand for squares 0.2 mm across, so that their curvature is their face's
+// (the designed points lie 1 mm apart) and not, near the bores' rims, the top's too.
 TEST(SimulatedIcp, ItRegistersOntoTheTangentPlanesOfTheFixedCloudsPoints) {
   const IcpPlate p;
   const IcpClouds c(p);
@@ -622,7 +624,7 @@ TEST(SimulatedIcp, ItRegistersOntoTheTangentPlanesOfTheFixedCloudsPoints) {
   const detail::FixedSurface sampled = [](const Vec3&, const Vec3&) {
     return detail::SurfaceOffset{0, 0, kArea};
   };
-  const Pose link = icp.link(moved, sampled, 2, 1).value();
+  const Pose link = icp.link(moved, sampled, 0.2, 1).value();
   for (const Vec3& probe : {Vec3(100, 50, 20), Vec3(60, 50, 10), Vec3(140, 50, 10)}) {
     const Vec3 want = detail::motionAt(probe) * expected, got = link * probe - probe;
     EXPECT_GT(want.norm(), 0.005) << probe.transpose();

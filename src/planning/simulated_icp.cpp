@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 
 namespace scanplan::detail {
@@ -37,10 +38,11 @@ Pose about(const Twist& twist, const Vec3& centre) {
 
 }  // namespace
 
-// Every designed point with its face, in one tree.
+// Every designed point with its face and its face's curvature there, in one tree.
 struct SimulatedIcp::Designed {
   std::vector<Vec3> points;
   std::vector<int> faces;
+  std::vector<double> curvatures;
   PointCloudAdaptor adaptor{points};
   std::unique_ptr<PointTree> tree;
 };
@@ -61,6 +63,7 @@ SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& op
   for (const auto& [id, face] : nominal.faces()) {
     designed_->points.insert(designed_->points.end(), face.points.begin(), face.points.end());
     designed_->faces.insert(designed_->faces.end(), face.points.size(), id);
+    for (const Vec3& p : face.points) designed_->curvatures.push_back(nominal.curvature(id, p));
   }
   designed_->tree = std::make_unique<PointTree>(3, designed_->adaptor,
                                                 nanoflann::KDTreeSingleIndexAdaptorParams(16));
@@ -94,24 +97,32 @@ std::optional<SurfacePoint> SimulatedIcp::correspondence(const Vec3& p, int own)
   return best;
 }
 
-SimulatedIcp::Step SimulatedIcp::step(const std::vector<SurfacePoint>& moved,
-                                      const std::vector<double>& noise, const Pose& pose,
+double SimulatedIcp::footprintCurvature(const Vec3& p, int own, double spacing) const {
+  const double radius = spacing / std::sqrt(std::numbers::pi);
+  Neighbours near;
+  designed_->tree->radiusSearch(p.data(), radius * radius, near, nanoflann::SearchParams());
+  if (near.empty()) return nominal_.curvature(own, p);
+  double sum = 0;
+  for (const auto& [k, squared] : near) sum += designed_->curvatures[k];
+  return sum / static_cast<double>(near.size());
+}
+
+SimulatedIcp::Step SimulatedIcp::step(const std::vector<Moved>& moved, const Pose& pose,
                                       const Vec3& centre, const FixedSurface& surface,
                                       double cutoff) const {
   TwistCovariance normal = TwistCovariance::Zero();
   Twist pull = Twist::Zero();
   Step result;
-  for (std::size_t i = 0; i < moved.size(); ++i) {
-    const Vec3 p = pose * moved[i].position;
-    const std::optional<SurfacePoint> best = correspondence(p, moved[i].face);
+  for (const Moved& m : moved) {
+    const Vec3 p = pose * m.at.position;
+    const std::optional<SurfacePoint> best = correspondence(p, m.at.face);
     if (!best) continue;
     const Vec3 &at = best->position, &n = best->normal;
     const double distance = n.dot(p - at);
     if (std::abs(distance) > cutoff) continue;
     const SurfaceOffset offset = surface(at, n);
-    const double shift =
-        offset.shift + samplingShift(nominal_.curvature(best->face, at), offset.area);
-    const double residual = distance - (shift + offset.sigma * noise[i]);
+    const double shift = offset.shift + samplingShift(m.curvature, offset.area);
+    const double residual = distance - (shift + offset.sigma * m.noise);
     const double tukey = kTukey * cutoff;
     if (std::abs(residual) >= tukey) continue;
     const double weight =
@@ -140,8 +151,9 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
   std::mt19937_64 random(seed);
   Pose pose = perturbation(centre, options_.perturbation, options_.perturbation_angle, random);
   std::normal_distribution<double> unit;
-  std::vector<double> noise(moved.size());
-  for (double& z : noise) z = unit(random);
+  std::vector<Moved> points;
+  for (const SurfacePoint& p : moved)
+    points.push_back({p, unit(random), footprintCurvature(p.position, p.face, spacing)});
 
   // Coarse to fine, as the registration's ICP (registration/icp.cpp): correspondences
   // within twice the start's largest displacement, then within that displacement (at least
@@ -149,20 +161,15 @@ std::optional<Pose> SimulatedIcp::link(const std::vector<SurfacePoint>& moved,
   // a spacing and a half, on every point.
   const double largest = options_.perturbation + radians(options_.perturbation_angle) * radius;
   const double fine = 1.5 * spacing;
-  std::vector<SurfacePoint> coarse;
-  std::vector<double> coarse_noise;
-  for (std::size_t i = 0; i < moved.size(); i += kIcpCoarseStride) {
-    coarse.push_back(moved[i]);
-    coarse_noise.push_back(noise[i]);
-  }
+  std::vector<Moved> coarse;
+  for (std::size_t i = 0; i < points.size(); i += kIcpCoarseStride) coarse.push_back(points[i]);
   const std::array<double, 3> cutoffs{2 * largest, std::max(largest, 2 * fine), 2 * fine};
   for (std::size_t stage = 0; stage < cutoffs.size(); ++stage) {
     const double cutoff = cutoffs[stage];
     const bool last = stage + 1 == cutoffs.size();
     for (int k = 0; k < kMostSteps; ++k) {
       const Vec3 now = pose * centre;  // the twists are about the cloud's centre
-      const Step s = last ? step(moved, noise, pose, now, surface, cutoff)
-                          : step(coarse, coarse_noise, pose, now, surface, cutoff);
+      const Step s = step(last ? points : coarse, pose, now, surface, cutoff);
       if (s.used == 0 || s.twist.isZero()) break;
       pose = about(s.twist, now) * pose;
       const double moved_by = s.twist.tail<3>().norm() + s.twist.head<3>().norm() * radius;

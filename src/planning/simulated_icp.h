@@ -6,9 +6,11 @@
 // to measures too onto the surface that view measured in the same run: the part as
 // designed, moved along the normal by that view's noise and acceptance errors, and by where the
 // tangent planes at that view's points, at the scanner's own spacing, stand off a curved
-// surface (samplingShift). Every part of the link's error (the overlap's shape and extent,
-// both views' noise and acceptance errors, the fixed cloud's sampling, the start, the
-// correspondences found anew at every step) is ICP's own, not the model's covariance.
+// surface (samplingShift), the curvature averaged over the surface each simulated point
+// stands for, as its noise is that of the scanner's points there. Every part of the link's error
+// (the overlap's shape and extent, both views' noise and acceptance errors, the fixed cloud's
+// sampling, the start, the correspondences found anew at every step) is ICP's own, not the model's
+// covariance.
 
 #include "core/kd_tree.h"
 #include "planning/evaluation.h"
@@ -56,14 +58,25 @@ class SimulatedIcp {
 
  private:
   struct Designed;
+  // A moved point where it belongs, its face, its draw of the fixed surface's noise (in
+  // standard deviations) and the curvature the fixed cloud's points bend by around it.
+  struct Moved {
+    SurfacePoint at;
+    double noise = 0, curvature = 0;
+  };
   // The twist (about `centre`) of one Gauss-Newton step from `pose`, and the
   // correspondences it used: those farther than `cutoff` are left out.
   struct Step {
     Twist twist = Twist::Zero();
     std::size_t used = 0;
   };
-  Step step(const std::vector<SurfacePoint>& moved, const std::vector<double>& noise,
-            const Pose& pose, const Vec3& centre, const FixedSurface& surface, double cutoff) const;
+  Step step(const std::vector<Moved>& moved, const Pose& pose, const Vec3& centre,
+            const FixedSurface& surface, double cutoff) const;
+
+  // The sum of principal curvatures (signed for the outward normal) averaged over the
+  // designed points within the square of side `spacing` a point at `p` stands for (a disc
+  // of that area); the curvature of face `own` at `p` where none lies there.
+  double footprintCurvature(const Vec3& p, int own, double spacing) const;
 
   // The point of the faces of the point's own (`own`) and of the designed points nearest
   // it that lies nearest `p`, on their exact surfaces where they have one, but within the
