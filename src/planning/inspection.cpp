@@ -241,9 +241,9 @@ IcpOverlap icpOverlap(const Setup& s, std::size_t v, std::size_t p, const ViewPo
   overlap.surface = [&scanner, &fixed, &moved, &fixed_errors, to_world](const Vec3& at,
                                                                         const Vec3& normal) {
     const Vec3 a = to_world * at, m = to_world.linear() * normal;
-    return detail::SurfaceOffset{m.dot(fixed_errors.apply(scanner, fixed, a, m) - a),
-                                 detail::fixedNoise(scanner, fixed, moved, a, m),
-                                 1 / pointQuality(scanner, fixed, a, m).density};
+    detail::SurfaceOffset offset = detail::fixedPoints(scanner, fixed, moved, a, m);
+    offset.shift = m.dot(fixed_errors.apply(scanner, fixed, a, m) - a);
+    return offset;
   };
   return overlap;
 }

@@ -73,22 +73,27 @@ struct Link {
 };
 
 // The sum of a face's principal curvatures at a point, signed for the face's outward normal
-// there (part frame): 0 on a face without an elementary surface. Each face's surface is
+// (part frame): 0 on a face without an elementary surface. Each face's surface, and which
+// way its outward normal points from it (as `normal` at the face's first point met), is
 // found once.
 class Curvatures {
  public:
   explicit Curvatures(const Part& part) : part_(part) {}
   double at(int face, const Vec3& p, const Vec3& normal) {
-    auto [found, added] = surfaces_.try_emplace(face);
-    if (added) found->second = elementarySurface(part_, face);
-    if (!found->second) return 0;
-    const double sum = curvatureSum(*found->second, p);
-    return nearestOn(*found->second, p).second.dot(normal) >= 0 ? sum : -sum;
+    auto [found, added] = faces_.try_emplace(face);
+    Face& f = found->second;
+    if (added && (f.surface = elementarySurface(part_, face)))
+      f.side = nearestOn(*f.surface, p).second.dot(normal) >= 0 ? 1 : -1;
+    return f.surface ? f.side * curvatureSum(*f.surface, p) : 0;
   }
 
  private:
+  struct Face {
+    std::optional<ElementarySurface> surface;
+    double side = 1;
+  };
   const Part& part_;
-  std::map<int, std::optional<ElementarySurface>> surfaces_;
+  std::map<int, Face> faces_;
 };
 
 // The motion point-to-plane ICP settles at where the fixed view's tangent planes stand off

@@ -47,11 +47,13 @@ struct SimulatedIcp::Designed {
   std::unique_ptr<PointTree> tree;
 };
 
-double fixedNoise(const Scanner& scanner, const View& fixed, const View& moved, const Vec3& at,
-                  const Vec3& normal) {
+SurfaceOffset fixedPoints(const Scanner& scanner, const View& fixed, const View& moved,
+                          const Vec3& at, const Vec3& normal) {
   const PointQuality there = pointQuality(scanner, fixed, at, normal);
-  return there.along_normal *
-         std::sqrt(pointQuality(scanner, moved, at, normal).density / there.density);
+  return {0,
+          there.along_normal *
+              std::sqrt(pointQuality(scanner, moved, at, normal).density / there.density),
+          1 / there.density};
 }
 
 SimulatedIcp::SimulatedIcp(const Nominal& nominal, const RegistrationOptions& options,

@@ -34,13 +34,14 @@ struct SurfaceOffset {
 };
 using FixedSurface = std::function<SurfaceOffset(const Vec3& at, const Vec3& normal)>;
 
-// The standard deviation along `normal` at `at` of the surface view `fixed` measured, as a
-// point of view `moved` meets it: the mean of the fixed view's points within that point's
-// share of the surface, so one fixed point's noise times √(moved density / fixed density).
-// Where the fixed view is the sparser, neighbouring moved points meet the same fixed points
-// and their noise.
-double fixedNoise(const Scanner& scanner, const View& fixed, const View& moved, const Vec3& at,
-                  const Vec3& normal);
+// The points view `fixed` measured at `at`, as a point of view `moved` meets them (no
+// shift): `sigma`, the standard deviation along `normal` of the mean of the fixed view's
+// points within that point's share of the surface, so one fixed point's noise times
+// √(moved density / fixed density) (where the fixed view is the sparser, neighbouring
+// moved points meet the same fixed points and their noise); `area`, the surface each fixed
+// point stands for.
+SurfaceOffset fixedPoints(const Scanner& scanner, const View& fixed, const View& moved,
+                          const Vec3& at, const Vec3& normal);
 
 class SimulatedIcp {
  public:
