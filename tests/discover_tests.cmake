@@ -2,8 +2,10 @@
 # TEST_EXECUTABLE lists its tests, and CTEST_FILE gets one add_test per suite of quick
 # tests (each process starts in about 0.14 s, most of it the loader binding the libraries,
 # which a suite's tests then share), and one per test named in APART or of a suite named
-# there or parameterised (those that plan or read whole parts, so that they share the
-# cores and none runs long). Every test gets TIMEOUT and waits for the fixture FIXTURE.
+# there (those that plan or read whole parts, so that they share the cores and none runs
+# long). The tests of parameterised suites run as one test per parameter (`Nist/nist_ctc_02`
+# runs every `Nist/*` test of NIST CTC 02), so that they share what they read of it. Every
+# test gets TIMEOUT and waits for the fixture FIXTURE.
 
 cmake_minimum_required(VERSION 3.25)
 
@@ -16,6 +18,7 @@ endif()
 string(REPLACE "," ";" APART "${APART}")
 set(content "")
 set(listed "")
+set(groups "")  # of parameterised tests, one per instance and parameter
 macro(add_one name filter)
   string(APPEND content
          "add_test([=[${name}]=] \"${TEST_EXECUTABLE}\" [=[--gtest_filter=${filter}]=])\n"
@@ -42,7 +45,12 @@ foreach(line IN LISTS lines)
     set(suite "${CMAKE_MATCH_1}")
     list(APPEND listed "${suite}")
     set(alone "")
-    if(suite IN_LIST APART OR suite MATCHES "/")
+    set(parameterised FALSE)
+    if(suite MATCHES "^([^/]+)/")
+      set(parameterised TRUE)
+      set(instance "${CMAKE_MATCH_1}")
+    endif()
+    if(suite IN_LIST APART OR parameterised)
       set(suite_apart TRUE)
     else()
       set(suite_apart FALSE)
@@ -50,7 +58,13 @@ foreach(line IN LISTS lines)
   elseif(line MATCHES "^  ([^ ]+)")  # a test
     set(test "${suite}.${CMAKE_MATCH_1}")
     list(APPEND listed "${test}")
-    if(suite_apart OR test IN_LIST APART)
+    if(parameterised)
+      string(REGEX REPLACE ".*/" "" parameter "${test}")
+      if(NOT "${instance}/${parameter}" IN_LIST groups)
+        list(APPEND groups "${instance}/${parameter}")
+        add_one("${instance}/${parameter}" "${instance}/*/${parameter}")
+      endif()
+    elseif(suite_apart OR test IN_LIST APART)
       add_one("${test}" "${test}")
       list(APPEND alone "${test}")
     endif()

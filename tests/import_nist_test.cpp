@@ -117,7 +117,7 @@ TEST_P(NistImport, MatchesXdeAndMeshIsClosedAndOutward) {
   const NistCase& c = GetParam();
   std::string path = pathOf(c);
   SHARED_FILE_OR_SKIP(path);
-  Part part = importPart(path);
+  const Part& part = test::importedOnce(path);
 
   ASSERT_EQ(part.faces.size(), static_cast<std::size_t>(c.faces));
   std::map<std::string, int> surfaces;
@@ -151,7 +151,7 @@ TEST_P(NistImport, ToleranceFacesAreValidIds) {
   const NistCase& c = GetParam();
   std::string path = pathOf(c);
   SHARED_FILE_OR_SKIP(path);
-  Part part = importPart(path);
+  const Part& part = test::importedOnce(path);
   std::size_t attached = 0;
   for (const GeometricTolerance& t : part.gdt.tolerances) {
     EXPECT_NE(t.type, "unknown");
@@ -175,7 +175,7 @@ INSTANTIATE_TEST_SUITE_P(Nist, NistImport, testing::ValuesIn(kNistCases),
 // datum A is 0.01 in on one face, and datum A is that face.
 TEST(NistGdt, Ftc06FlatnessOfDatumA) {
   SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_06_asme1_ap242-e1.stp");
-  Part part = importPart(path);
+  const Part& part = test::importedOnce(path);
   const GeometricTolerance& flatness = part.gdt.tolerances.front();
   EXPECT_EQ(flatness.type, "flatness");
   EXPECT_NEAR(flatness.value, 0.254, 1e-9);  // 0.01 in
@@ -213,7 +213,7 @@ TEST(NistGdt, Ftc08CommonDatumsReadAsOneReference) {
 // between faces 22 and 107 (datum B) is the part's width along x.
 TEST(NistGdt, Ftc06DimensionsAreInMillimetres) {
   SHARED_DATA_OR_SKIP(path, "nist/nist_ftc_06_asme1_ap242-e1.stp");
-  Part part = importPart(path);
+  const Part& part = test::importedOnce(path);
   auto width =
       std::find_if(part.gdt.dimensions.begin(), part.gdt.dimensions.end(), [](const Dimension& d) {
         return d.faces == std::vector<int>{22, 107};
@@ -230,7 +230,7 @@ TEST(NistGdt, Ftc06DimensionsAreInMillimetres) {
 // #57 FLATNESS_TOLERANCE magnitude #82 = 0.2 mm; #25, #30 position magnitudes #95,
 // #96 = 0.75 mm (unit #4361, SI millimetre).
 TEST(NistGdt, Ctc01ToleranceMagnitudes) {
-  Part part = importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
+  const Part& part = test::importedOnce(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
   ASSERT_EQ(part.gdt.tolerances.size(), 6u);
   std::map<std::string, std::vector<double>> values;
   for (const GeometricTolerance& t : part.gdt.tolerances) values[t.type].push_back(t.value);
@@ -244,7 +244,7 @@ TEST(NistGdt, Ctc01ToleranceMagnitudes) {
 // halves of a Ø35 bore, the two bores apart, and each carries one of the file's Ø35
 // diameters (whose faces OCCT links by GEOMETRIC_ITEM_SPECIFIC_USAGE, another path).
 TEST(NistGdt, Ctc01DatumsBAndCAreTwoBoresOfTheFilesDiameters) {
-  const Part part = importPart(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
+  const Part& part = test::importedOnce(test::example("parts/nist_ctc_01_asme1_ap242-e1.stp"));
   std::set<int> seen;
   for (const std::string letter : {"B", "C"}) {
     SCOPED_TRACE(letter);

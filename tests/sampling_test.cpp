@@ -107,7 +107,7 @@ TEST_P(NistSampling, SamplesLieOnTheFacesWithOutwardNormals) {
           ? test::testData(name)
           : std::string(SCANPLAN_SHARED_DATA) + "/nist/" + name;
   SHARED_FILE_OR_SKIP(path);
-  Part part = importPart(path);
+  const Part& part = test::importedOnce(path);
   std::vector<Sample> samples = sampleSurface(part, allFaces(part), Role::Priority, TaskType::Gdt);
   std::set<int> sampled;
   for (const Sample& s : samples) sampled.insert(s.face);

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <map>
 #include <string>
 
 namespace scanplan::test {
@@ -35,6 +36,15 @@ inline std::string examplePlan(const std::string& name = "plan.json") {
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
   }
   return folder + "/" + name;
+}
+
+// The part at `path` as importPart reads it, imported once per test process: the tests
+// that only read a part (each parameter of the NIST suites runs in one process) share it.
+inline const Part& importedOnce(const std::string& path) {
+  static std::map<std::string, Part> parts;
+  auto it = parts.find(path);
+  if (it == parts.end()) it = parts.emplace(path, importPart(path)).first;
+  return it->second;
 }
 
 // True when the shared data must be there (SCANPLAN_REQUIRE_SHARED_DATA set, as

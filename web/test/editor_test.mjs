@@ -28,6 +28,10 @@ if (!['new', 'given'].includes(mode) || !scanplan || !part || !out) {
   process.exit(2);
 }
 const failures = [];
+// Until the page has drawn what the last action changed: the viewer redraws in its next
+// animation frame, so two frames on it has.
+const nextFrames = (page) => page.evaluate(() => new Promise((done) =>
+  requestAnimationFrame(() => requestAnimationFrame(done))));
 const check = (ok, what) => {
   console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
   if (!ok) failures.push(what);
@@ -42,7 +46,7 @@ async function open(page, file) {
   page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:') && !r.url().startsWith('blob:')) errors.push(`request ${r.url()}`); });
   await page.goto(pathToFileURL(file).href);
   await page.waitForSelector('body[data-ready="1"]', { state: 'attached', timeout: 60000 });
-  await page.waitForTimeout(300);
+  await nextFrames(page);
   return errors;
 }
 async function saveDownload(page, button, path) {
@@ -59,7 +63,7 @@ async function clickFace(page, id, modifiers = []) {
   await page.mouse.down();
   await page.mouse.up();
   for (const m of modifiers) await page.keyboard.up(m);
-  await page.waitForTimeout(50);
+  await nextFrames(page);
   return true;
 }
 // On an editor open on a spec: an empty task is flagged and blocks the download; a face
@@ -127,7 +131,7 @@ async function newSpec() {
 
   // Shift-drag a box around the whole part: every face falls inside it.
   await page.click('#frame');
-  await page.waitForTimeout(200);
+  await nextFrames(page);
   const frame = await page.evaluate(() => { const r = document.querySelector('#viewport canvas').getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; });
   await page.click('#clear-selection');
   await page.keyboard.down('Shift');
@@ -169,7 +173,7 @@ async function newSpec() {
   if (screenshot) {  // the whole part with its tasks and points, nothing selected
     await page.click('#clear-selection');
     await page.click('#frame');
-    await page.waitForTimeout(300);
+    await nextFrames(page);
     await page.screenshot({ path: screenshot });
   }
 

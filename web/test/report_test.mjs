@@ -22,6 +22,10 @@ const browser = await chromium.launch({
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
 });
 const failures = [];
+// Until the page has drawn what the last action changed: the viewer redraws in its next
+// animation frame, so two frames on it has.
+const nextFrames = (page) => page.evaluate(() => new Promise((done) =>
+  requestAnimationFrame(() => requestAnimationFrame(done))));
 const check = (ok, what) => {
   console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
   if (!ok) failures.push(what);
@@ -43,7 +47,7 @@ try {
     failed,
   ]);
   if (error) throw new Error(`the page failed before it was ready: ${error}`);
-  await page.waitForTimeout(500);
+  await nextFrames(page);
 
   check(errors.length === 0, `no console errors${errors.length ? `: ${errors.join(' | ')}` : ''}`);
   check(requests.length === 0, `no network requests${requests.length ? `: ${requests.join(' ')}` : ''}`);
@@ -160,10 +164,10 @@ try {
   }
   // Colouring the faces by the reason they are not measured.
   await page.selectOption('#colour-by', 'reason');
-  await page.waitForTimeout(200);
+  await nextFrames(page);
   check(errors.length === 0, `colouring by reason runs${errors.length ? `: ${errors.join(' | ')}` : ''}`);
   await page.selectOption('#colour-by', 'density');
-  await page.waitForTimeout(200);
+  await nextFrames(page);
   check(errors.length === 0, `colouring by point density runs${errors.length ? `: ${errors.join(' | ')}` : ''}`);
   await page.selectOption('#colour-by', 'coverage');
   // Each measured face's density is positive and below what every view at the near end of
@@ -195,7 +199,7 @@ try {
   check(sequence.length === 0 || new RegExp(`1 in the sequence \\(id ${sequence[0]} in plan\\.json\\)`).test(picked),
         'the first row is the sequence\'s first view, its details giving its number and its id');
   await page.mouse.move(1, 1);  // off the list: no view hovered
-  await page.waitForTimeout(100);
+  await nextFrames(page);
   const labelled = Number(await page.evaluate(() => document.body.dataset.labelsShown));
   check(labelled === (plan.views.length > 40 ? 1 : plan.views.length),
         `${labelled} views labelled: every view up to 40 of them, else the one picked`);
@@ -203,7 +207,7 @@ try {
   // density ramp aside, which its legend samples).
   for (const mode of ['coverage', 'reason', 'density']) {
     await page.selectOption('#colour-by', mode);
-    await page.waitForTimeout(100);
+    await nextFrames(page);
     const shown = await page.evaluate(() => {
       const groups = [...document.querySelectorAll('#legend [data-mode]')].filter((g) => getComputedStyle(g).display !== 'none');
       const swatches = groups.flatMap((g) => [...g.querySelectorAll('.sw')].map((s) =>
@@ -245,9 +249,9 @@ try {
 
   // The print layout: A4 pages with the scene's picture and the tables.
   await page.click('#toggles button');  // frame the part again
-  await page.waitForTimeout(300);
+  await nextFrames(page);
   await page.emulateMedia({ media: 'print' });
-  await page.waitForTimeout(300);
+  await nextFrames(page);
   const printed = await page.evaluate(() => ({
     aside: getComputedStyle(document.querySelector('aside')).display,
     canvas: document.querySelector('#viewport canvas').getBoundingClientRect().height,
