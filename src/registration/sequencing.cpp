@@ -201,6 +201,90 @@ std::vector<int> twoOpt(const Eigen::MatrixXd& cost, const std::vector<std::vect
   return order;
 }
 
+namespace {
+
+// Where a run of nodes can go: after the node order[after], reversed or not, and how much
+// that shortens the path.
+struct RunMove {
+  std::size_t after;
+  bool reversed;
+  double gain;
+};
+
+// The moves of the run order[first, first + size) that shorten the path, the most first.
+std::vector<RunMove> runMoves(const Eigen::MatrixXd& cost, const std::vector<int>& order,
+                              std::size_t first, std::size_t size) {
+  const std::size_t n = order.size(), end = first + size;
+  const int head = order[first], tail = order[end - 1], before = order[first - 1];
+  double removed = cost(before, head), reversal = 0;  // reversal: the run's own change
+  if (end < n) removed += cost(tail, order[end]) - cost(before, order[end]);
+  for (std::size_t k = first + 1; k < end; ++k)
+    reversal += cost(order[k], order[k - 1]) - cost(order[k - 1], order[k]);
+  std::vector<RunMove> moves;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j + 1 >= first && j < end) continue;  // where it is, or inside it
+    const int a = order[j];
+    const bool last = j + 1 == n;
+    const double kept = last ? 0 : cost(a, order[j + 1]);
+    const double straight = cost(a, head) + (last ? 0 : cost(tail, order[j + 1])) - kept;
+    const double turned = cost(a, tail) + (last ? 0 : cost(head, order[j + 1])) - kept + reversal;
+    if (removed - straight > 1e-9) moves.push_back({j, false, removed - straight});
+    if (removed - turned > 1e-9) moves.push_back({j, true, removed - turned});
+  }
+  std::sort(moves.begin(), moves.end(),
+            [](const RunMove& x, const RunMove& y) { return x.gain > y.gain; });
+  return moves;
+}
+
+// `order` with the run order[first, first + size) moved as `move` says.
+std::vector<int> moved(const std::vector<int>& order, std::size_t first, std::size_t size,
+                       const RunMove& move) {
+  std::vector<int> run(order.begin() + static_cast<std::ptrdiff_t>(first),
+                       order.begin() + static_cast<std::ptrdiff_t>(first + size));
+  if (move.reversed) std::reverse(run.begin(), run.end());
+  std::vector<int> result;
+  result.reserve(order.size());
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    if (j >= first && j < first + size) continue;
+    result.push_back(order[j]);
+    if (j == move.after) result.insert(result.end(), run.begin(), run.end());
+  }
+  return result;
+}
+
+}  // namespace
+
+std::vector<int> orOpt(const Eigen::MatrixXd& cost, const std::vector<std::vector<char>>& linked,
+                       std::vector<int> order) {
+  std::size_t broken = linked.empty() ? 0 : violations(linked, order);
+  for (bool improved = true; improved;) {
+    improved = false;
+    for (std::size_t size = 1; size <= 3; ++size)
+      for (std::size_t first = 1; first + size <= order.size(); ++first)
+        for (const RunMove& move : runMoves(cost, order, first, size)) {
+          std::vector<int> candidate = moved(order, first, size, move);
+          const std::size_t now = linked.empty() ? 0 : violations(linked, candidate);
+          if (now > broken) continue;  // the move breaks the registration rule
+          order = std::move(candidate);
+          broken = now;
+          improved = true;
+          break;
+        }
+  }
+  return order;
+}
+
+std::vector<int> improvedOrder(const Eigen::MatrixXd& cost,
+                               const std::vector<std::vector<char>>& linked,
+                               std::vector<int> order) {
+  for (double length = pathLength(cost, order);;) {
+    order = orOpt(cost, linked, twoOpt(cost, linked, std::move(order)));
+    const double now = pathLength(cost, order);
+    if (now > length - 1e-9) return order;
+    length = now;
+  }
+}
+
 Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
                        const Registration& registration, const SequenceOptions& options) {
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views, options));
@@ -218,9 +302,9 @@ Sequence sequenceViews(const Eigen::MatrixXd& order_cost, const Eigen::MatrixXd&
   const std::vector<std::vector<char>> linked = registrationLinks(views, registration);
 
   const std::vector<int> nearest = nearestNeighbourOrder(order_cost, linked, start);
-  std::vector<int> best = twoOpt(order_cost, linked, nearest);
+  std::vector<int> best = improvedOrder(order_cost, linked, nearest);
   const std::vector<int> plain =
-      twoOpt(order_cost, linked, nearestNeighbourOrder(order_cost, {}, start));
+      improvedOrder(order_cost, linked, nearestNeighbourOrder(order_cost, {}, start));
   if (violations(linked, plain) <= violations(linked, best) &&
       pathLength(order_cost, plain) < pathLength(order_cost, best))
     best = plain;

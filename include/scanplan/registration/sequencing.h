@@ -58,6 +58,17 @@ std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
 std::vector<int> twoOpt(const Eigen::MatrixXd& cost, const std::vector<std::vector<char>>& linked,
                         std::vector<int> order);
 
+// `order` improved by or-opt moves: a run of one to three consecutive nodes taken out and
+// put back, either way round, where that shortens the path most (the start stays), leaving
+// no node before every node it is linked to when it was not so already.
+std::vector<int> orOpt(const Eigen::MatrixXd& cost, const std::vector<std::vector<char>>& linked,
+                       std::vector<int> order);
+
+// `order` improved by 2-opt and or-opt in turn, until neither shortens it.
+std::vector<int> improvedOrder(const Eigen::MatrixXd& cost,
+                               const std::vector<std::vector<char>>& linked,
+                               std::vector<int> order);
+
 struct Sequence {
   std::vector<int> views;               // ids, in visiting order, from the reference view
   double length = 0;                    // motion cost along them, mm
@@ -65,8 +76,8 @@ struct Sequence {
 };
 
 // The sequence of all views from the reference view, each registered view after one it
-// registers to (linked): nearest neighbour under that rule, then 2-opt; or the plain
-// nearest-neighbour order improved by 2-opt, when it breaks the rule no more and is
+// registers to (linked): nearest neighbour under that rule, then improvedOrder; or the
+// plain nearest-neighbour order improved so, when it breaks the rule no more and is
 // shorter. Views that register to nothing come where the path passes them best.
 Sequence sequenceViews(const Simulator& simulator, std::span<const View> views,
                        const Registration& registration, const SequenceOptions& options = {});
