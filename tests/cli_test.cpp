@@ -437,6 +437,57 @@ TEST(Cli, VerifyFailsUnregisteredViewsUnlessThePlanSaysOtherwise) {
   EXPECT_EQ(verify.code, 0) << verify.out;
 }
 
+// Views registered by ICP before every view they register to in `plan`'s sequence (the
+// pairs' own flags: shared markers or a passed ICP).
+std::size_t icpViewsAheadOfTheirLinks(const Plan& plan) {
+  std::map<int, std::size_t> place;
+  for (std::size_t k = 0; k < plan.sequence->views.size(); ++k) place[plan.sequence->views[k]] = k;
+  std::size_t ahead = 0;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    if (plan.registration->views[v].method != RegistrationMethod::Icp) continue;
+    const int id = plan.views[v].id;
+    bool follows = false;
+    for (const PairCheck& pair : plan.registration->pairs)
+      if ((pair.a == id || pair.b == id) && (pair.markers || (pair.icp && pair.icp->passed)))
+        follows = follows || place[pair.a == id ? pair.b : pair.a] < place[id];
+    ahead += !follows;
+  }
+  return ahead;
+}
+
+// CTC 03's GD&T registered by its geometry (9 views by ICP), its scans aligned as they are
+// taken and once all are taken: the same views; aligned once all are taken, views registered
+// by ICP come before every view they register to where that shortens the motion, plan.json
+// says so, and verify walks the sequence by it.
+TEST(Cli, ScansAlignedOnceAllAreTakenComeInAShorterOrder) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ctc_03_asme1_ap242-e2.stp");
+  auto planned = [&](const std::string& aligned) {
+    const std::string spec = dir.file(aligned + ".yaml"), out = dir.file(aligned);
+    test::writeText(spec,
+                    "gdt: from-file\ntasks:\n  - {type: gdt}\nregistration: {aligned_as_taken: " +
+                        aligned + "}\n");
+    const CommandResult r =
+        run("plan " + part + " --spec " + spec + " -o " + out + " --no-report -q");
+    EXPECT_EQ(r.code, 0) << r.out;
+    return readPlan(out + "/plan.json");
+  };
+  const Plan taken = planned("true"), after = planned("false");
+  ASSERT_EQ(taken.views.size(), after.views.size());
+  for (std::size_t v = 0; v < taken.views.size(); ++v)
+    EXPECT_TRUE(taken.views[v].camera_to_world.isApprox(after.views[v].camera_to_world)) << v;
+  ASSERT_TRUE(taken.registration && after.registration && taken.cycle && after.cycle);
+  EXPECT_TRUE(taken.registration->aligned_as_taken);
+  EXPECT_FALSE(after.registration->aligned_as_taken);
+  EXPECT_EQ(icpViewsAheadOfTheirLinks(taken), 0u);
+  EXPECT_GT(icpViewsAheadOfTheirLinks(after), 0u);
+  EXPECT_LT(after.cycle->motion, taken.cycle->motion);
+  const CommandResult verify = run("verify " + dir.file("false") + "/plan.json " + part + " -q");
+  EXPECT_NE(verify.out.find("each after one it registers to (those registered by ICP in any order"),
+            std::string::npos)
+      << verify.out;
+}
+
 // Views of FTC 11's GD&T faces that its geometry cannot register: the plan proposes markers
 // as a CSV that `markers:` reads, and with --place-markers plans again with them.
 TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {

@@ -777,6 +777,52 @@ TEST(SequencingTest, EachNodeComesAfterOneItIsLinkedTo) {
   EXPECT_EQ(order, (std::vector<int>{0, 3, 1, 2}));
 }
 
+// Four views on a line at 0, 100, 200 and 300 mm (ids 1 to 4), the motion between them
+// their distance, registered as a chain from view 1: 4 to 1, 2 to 4, 3 to 2, each pair by
+// `method` (ICP verified, or shared markers).
+struct ViewChain {
+  std::vector<View> views;
+  Registration registration;
+  Eigen::MatrixXd cost = planarCosts({{0, 0, 0}, {100, 0, 0}, {200, 0, 0}, {300, 0, 0}});
+  explicit ViewChain(RegistrationMethod method) {
+    for (int id = 1; id <= 4; ++id) {
+      View view;
+      view.id = id;
+      views.push_back(view);
+    }
+    registration.reference = 1;
+    registration.verified = true;
+    registration.views.resize(4);
+    registration.views[0].method = RegistrationMethod::Reference;
+    for (auto [from, to] : {std::pair{4, 1}, {2, 4}, {3, 2}}) {
+      PairCheck pair;
+      pair.a = std::min(from, to);
+      pair.b = std::max(from, to);
+      pair.stable = true;
+      pair.markers = method == RegistrationMethod::Markers;
+      pair.icp = IcpCheck{};
+      pair.icp->passed = true;
+      registration.pairs.push_back(pair);
+      registration.views[from - 1].method = method;
+      registration.views[from - 1].to = to;
+    }
+  }
+  std::vector<int> sequence() const { return sequenceViews(cost, cost, views, registration).views; }
+};
+
+TEST(SequencingTest, ScansAlignedOnceAllAreTakenComeInAnyOrder) {
+  // Aligned as taken, each view follows one it registers to: 1, 4, 2, 3 (600 mm). Aligned
+  // once all are taken, the views registered by ICP come in the shortest order: 1, 2, 3, 4
+  // (300 mm). Views registered by markers keep the rule either way.
+  ViewChain icp(RegistrationMethod::Icp), markers(RegistrationMethod::Markers);
+  EXPECT_EQ(icp.sequence(), (std::vector<int>{1, 4, 2, 3}));
+  EXPECT_EQ(markers.sequence(), (std::vector<int>{1, 4, 2, 3}));
+  icp.registration.aligned_as_taken = false;
+  markers.registration.aligned_as_taken = false;
+  EXPECT_EQ(icp.sequence(), (std::vector<int>{1, 2, 3, 4}));
+  EXPECT_EQ(markers.sequence(), (std::vector<int>{1, 4, 2, 3}));
+}
+
 TEST(SequencingTest, ShortestPathsGoAroundWhatBlocksTheDirectMove) {
   // A direct move 0-2 that costs more than going through 1.
   Eigen::MatrixXd direct(3, 3);

@@ -54,7 +54,11 @@ int run(const Options& options, const GlobalOptions& global) {
   else
     fmt::print("{:<22} {}\n", "sequence check",
                check.sequence_missing + check.sequence_breaks == 0
-                   ? std::string("every view once, each after one it registers to")
+                   ? std::string("every view once, each after one it registers to") +
+                         (plan.registration && !plan.registration->aligned_as_taken
+                              ? " (those registered by ICP in any order: aligned once all are "
+                                "taken)"
+                              : "")
                    : fmt::format("{} views missing or repeated, {} not after one they register to",
                                  check.sequence_missing, check.sequence_breaks));
   const bool measures = std::any_of(check.plan.samples.begin(), check.plan.samples.end(),

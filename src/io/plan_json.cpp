@@ -299,6 +299,7 @@ void addRegistration(const Plan& plan, json& result) {
   for (const PairCheck& p : registration.pairs) pairs.push_back(pairJson(p));
   result["registration"] = {{"method", toString(registration.method)},
                             {"required", registration.required},
+                            {"aligned_as_taken", registration.aligned_as_taken},
                             {"reference", registration.reference},
                             {"markers", markersJson(plan.markers)},
                             {"pairs", pairs},
@@ -716,6 +717,7 @@ struct PlanReader {
       result.method = enumFrom(field<std::string>(section, "method", path, "registration"),
                                kRegistrationModes, path, "registration");
     result.required = section.value("required", true);
+    result.aligned_as_taken = fieldOr(section, "aligned_as_taken", true, path, "registration");
     result.robot_accuracy = section.value("robot_accuracy", 0.0);
     result.verified =
         section.value("verified", std::any_of(result.pairs.begin(), result.pairs.end(),
@@ -1094,8 +1096,8 @@ void checkSectionKeys(const json& root, const std::string& path) {
       {"model", "seconds", "views", "acquisition", "motion", "table", "other", "by_views"}, path,
       "summary cycle");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
-                            {"method", "required", "reference", "markers", "pairs", "verified",
-                             "robot_accuracy", "proposed_markers"},
+                            {"method", "required", "aligned_as_taken", "reference", "markers",
+                             "pairs", "verified", "robot_accuracy", "proposed_markers"},
                             path, "registration");
   // motion_step: written by earlier versions, no longer read.
   detail::refuseUnknownKeys(

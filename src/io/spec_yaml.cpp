@@ -570,8 +570,8 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
                                      const std::string& path) {
   checkKeys(node,
             {"method", "robot_accuracy", "required", "min_markers", "marker_spread", "marker_sigma",
-             "min_overlap", "max_condition", "point_spacing", "verify", "cloud_spacing",
-             "perturbation", "tolerance", "bridging", "max_bridging_views"},
+             "min_overlap", "max_condition", "point_spacing", "verify", "aligned_as_taken",
+             "cloud_spacing", "perturbation", "tolerance", "bridging", "max_bridging_views"},
             reader, "registration");
   RegistrationOptions r;
   if (const YAML::Node method = node["method"]) {
@@ -593,6 +593,7 @@ RegistrationOptions readRegistration(const YAML::Node& node, const SpecReader& r
   reader.read(node, "registration", "max_condition", r.max_condition);
   reader.read(node, "registration", "point_spacing", r.point_spacing);
   reader.read(node, "registration", "verify", r.verify);
+  reader.read(node, "registration", "aligned_as_taken", r.aligned_as_taken);
   reader.read(node, "registration", "cloud_spacing", r.cloud_spacing);
   reader.read(node, "registration", "tolerance", r.tolerance);
   reader.read(node, "registration", "bridging", r.bridging);

@@ -32,6 +32,7 @@ RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) 
   RegistrationOptions registration = registrationOptions(spec);
   registration.bridging = false;
   registration.required = planned.required;
+  registration.aligned_as_taken = planned.aligned_as_taken;
   if (registration.method == RegistrationMode::Default) {
     registration.method = planned.method;
     if (registration.method == RegistrationMode::Robot)

@@ -504,6 +504,7 @@ Registration finishRegistration(RegistrationGraph& graph, std::size_t first_brid
   registration.markers = markers.size();
   registration.method = method;
   registration.required = options.required;
+  registration.aligned_as_taken = options.aligned_as_taken;
   if (method == RegistrationMode::Robot) registration.robot_accuracy = options.robot_accuracy;
   if (robotRegistersAll(options)) registerByRobot(registration);
   return registration;
@@ -540,6 +541,7 @@ void appendRegistration(Registration& into, Registration from, int id_offset) {
   if (first) {
     into.method = from.method;
     into.required = from.required;
+    into.aligned_as_taken = from.aligned_as_taken;
     into.robot_accuracy = from.robot_accuracy;
   }
   shift(from.reference);

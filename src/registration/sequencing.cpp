@@ -94,11 +94,14 @@ std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
       links[a->second][b->second] = links[b->second][a->second] = 1;
   }
   // A view the robot registers is in the cell's frame, one registered by reference points in
-  // theirs: any order suits it.
-  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v)
-    if (registration.views[v].method == RegistrationMethod::Robot ||
-        registration.views[v].method == RegistrationMethod::ReferencePoints)
+  // theirs: any order suits it. A view ICP aligns once all scans are taken may follow any.
+  for (std::size_t v = 0; v < views.size() && v < registration.views.size(); ++v) {
+    const RegistrationMethod method = registration.views[v].method;
+    if (method == RegistrationMethod::Robot || method == RegistrationMethod::ReferencePoints)
       for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = links[w][v] = v != w;
+    if (method == RegistrationMethod::Icp && !registration.aligned_as_taken)
+      for (std::size_t w = 0; w < views.size(); ++w) links[v][w] = v != w;
+  }
   return links;
 }
 
@@ -155,9 +158,9 @@ std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
   std::vector<int> order{start};
   std::vector<char> visited(static_cast<std::size_t>(n), 0), reachable(visited);
   visited[start] = 1;
-  auto reach = [&](int u) {
+  auto reach = [&](int u) {  // the nodes that may follow u
     for (int v = 0; v < n; ++v)
-      if (!linked.empty() && linked[u][v]) reachable[v] = 1;
+      if (!linked.empty() && linked[v][u]) reachable[v] = 1;
   };
   reach(start);
   while (static_cast<int>(order.size()) < n) {

@@ -110,6 +110,11 @@ struct RegistrationOptions {
   // `perturbation_angle` degrees; the pair fails when the points of the moved view end up,
   // in RMS, more than `tolerance` mm from where they belong.
   bool verify = true;
+  // The scanner's software aligns each scan by ICP as it is taken, to the scans taken
+  // before it: a view registered by ICP must follow one it registers to. False: the scans
+  // are aligned once all are taken (from the robot's poses, refined by ICP), and views
+  // registered by ICP may come in any order.
+  bool aligned_as_taken = true;
   double cloud_spacing = 0;  // mm; 0: fov_height / 150 (about 1.5 mm for 225 mm)
   double perturbation = 3;
   double perturbation_angle = 2;
@@ -225,6 +230,7 @@ struct ViewRegistration {
 struct Registration {
   RegistrationMode method = RegistrationMode::Default;  // as used: never Default once planned
   bool required = true;                                 // RegistrationOptions::required
+  bool aligned_as_taken = true;                         // RegistrationOptions::aligned_as_taken
   double robot_accuracy = 0;                            // mm, with the Robot method
   std::vector<ViewRegistration> views;                  // per view, in the order of the views
   std::vector<PairCheck> pairs;                         // pairs that overlap or share markers

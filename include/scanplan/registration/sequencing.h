@@ -35,8 +35,10 @@ Eigen::MatrixXd directCosts(const Simulator& simulator, std::span<const View> fr
 // All-pairs shortest paths (Dijkstra from every view) over the complete graph of `direct`.
 Eigen::MatrixXd shortestPaths(const Eigen::MatrixXd& direct);
 
-// links[i][j] != 0 when views i and j register to each other (Registration::linked), or
-// when either is registered by the robot (in the cell's frame, it may come anywhere).
+// links[i][j] != 0 when view i may follow view j: they register to each other
+// (Registration::linked), or either is registered by the robot or by reference points (in
+// the cell's or the markers' frame, it may come anywhere), or i is registered by ICP and
+// the scans are aligned once all are taken (Registration::aligned_as_taken false).
 std::vector<std::vector<char>> registrationLinks(std::span<const View> views,
                                                  const Registration& registration);
 
@@ -49,7 +51,7 @@ std::vector<double> insertionPathLengths(const Eigen::MatrixXd& cost);
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order);
 
 // Nearest-neighbour order of all nodes from `start`, each node taken, when one can be, among
-// those linked to a node already visited (linked[i][j] != 0).
+// those that may follow a node already visited (linked[i][j] != 0: i may follow j).
 std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
                                        const std::vector<std::vector<char>>& linked, int start);
 
