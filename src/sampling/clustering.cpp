@@ -52,23 +52,21 @@ void updateMeans(const std::vector<Sample>& samples, Cluster& cluster) {
   cluster.mean_normal = normal.norm() > 1e-12 ? Vec3(normal.normalized()) : Vec3::UnitZ();
 }
 
-}  // namespace
-
-std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
-                                    const ClusteringOptions& options) {
-  std::vector<Cluster> clusters;
-  if (samples.empty()) return clusters;
-  const Compatibility compatible(samples, options);
+// Greedy growth from seeds in a seeded random order: each seed takes the unowned samples
+// within max_distance, nearest first, that are compatible with all its members. `owner`
+// gets each sample's cluster.
+std::vector<Cluster> grownClusters(const std::vector<Sample>& samples,
+                                   const Compatibility& compatible,
+                                   const ClusteringOptions& options, std::vector<int>& owner) {
   detail::PositionCloud<Sample> cloud{samples};
   detail::PositionTree<Sample> tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-
-  // Greedy growth from seeds in a seeded random order.
   std::vector<int> order(samples.size());
   std::iota(order.begin(), order.end(), 0);
   std::mt19937_64 random(options.seed);
   std::shuffle(order.begin(), order.end(), random);
-  std::vector<int> owner(samples.size(), -1);
+  owner.assign(samples.size(), -1);
+  std::vector<Cluster> clusters;
   detail::Neighbours near;
   nanoflann::SearchParams sorted;
   sorted.sorted = true;
@@ -88,9 +86,14 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
     updateMeans(samples, cluster);
     clusters.push_back(std::move(cluster));
   }
+  return clusters;
+}
 
-  // k-means refinement: each sample goes to the nearest centroid (position, normal) whose
-  // cluster it is compatible with; a move never breaks a condition.
+// k-means refinement: each sample goes to the nearest centroid (position, normal) whose
+// cluster it is compatible with; a move never breaks a condition, nor empties a cluster.
+void refineClusters(const std::vector<Sample>& samples, const Compatibility& compatible,
+                    const ClusteringOptions& options, std::vector<Cluster>& clusters,
+                    std::vector<int>& owner) {
   const double w = options.normal_weight * options.max_distance;
   auto cost = [&](int i, const Cluster& c) {
     return (samples[i].position - c.mean_position).squaredNorm() +
@@ -109,23 +112,30 @@ std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
         if (to != from && !clusters[to].samples.empty())
           if (const double c = cost(i, clusters[to]); c < current) candidates.push_back({c, to});
       std::sort(candidates.begin(), candidates.end());
-      int best = from;
-      for (const auto& [c, to] : candidates) {
-        if (compatible.withAll(i, clusters[to].samples)) {
-          best = to;
-          break;
-        }
-      }
-      if (best == from) continue;
+      const auto best = std::find_if(candidates.begin(), candidates.end(), [&](const auto& c) {
+        return compatible.withAll(i, clusters[c.second].samples);
+      });
+      if (best == candidates.end()) continue;
       auto& members = clusters[from].samples;
       members.erase(std::find(members.begin(), members.end(), i));
-      clusters[best].samples.push_back(i);
-      owner[i] = best;
+      clusters[best->second].samples.push_back(i);
+      owner[i] = best->second;
       moved = true;
     }
     for (Cluster& c : clusters) updateMeans(samples, c);
     if (!moved) break;
   }
+}
+
+}  // namespace
+
+std::vector<Cluster> clusterSamples(std::vector<Sample>& samples,
+                                    const ClusteringOptions& options) {
+  if (samples.empty()) return {};
+  const Compatibility compatible(samples, options);
+  std::vector<int> owner;
+  std::vector<Cluster> clusters = grownClusters(samples, compatible, options, owner);
+  refineClusters(samples, compatible, options, clusters, owner);
   for (Cluster& c : clusters) std::sort(c.samples.begin(), c.samples.end());
   for (std::size_t c = 0; c < clusters.size(); ++c)
     for (int i : clusters[c].samples) samples[i].cluster = static_cast<int>(c);
