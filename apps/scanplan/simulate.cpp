@@ -34,6 +34,58 @@ struct Options {
   std::uint64_t seed = 1;
 };
 
+// What the simulator acquires from `view`: its measured area, faces and losses, and, with
+// a cloud folder, its simulated cloud written there as view_ID.ply.
+json simulatedView(const Simulator& simulator, const View& view, const Options& options) {
+  Acquisition acquisition = simulator.acquire(view);
+  json faces = json::array();
+  for (std::size_t f = 0; f < acquisition.face_area.size(); ++f)
+    if (acquisition.face_area[f] > 0)
+      faces.push_back({{"id", f + 1}, {"area", acquisition.face_area[f]}});
+  json losses = json::object();
+  for (int k = 1; k < kLossKinds; ++k)
+    losses[std::string(toString(static_cast<Loss>(k)))] = acquisition.counts[k];
+  json entry = {{"id", view.id},
+                {"measured_area", acquisition.measured_area},
+                {"measured_facets", acquisition.counts[0]},
+                {"facets", acquisition.facets.size()},
+                {"faces", faces},
+                {"losses", losses},
+                {"rays", acquisition.rays}};
+  if (!options.cloud_dir.empty()) {
+    PointCloud cloud = simulator.cloud(view, options.seed);
+    std::string file =
+        (std::filesystem::path(options.cloud_dir) / fmt::format("view_{}.ply", view.id)).string();
+    writePly(cloud, file);
+    entry["cloud"] = file;
+    entry["points"] = cloud.points.size();
+  }
+  return entry;
+}
+
+// The simulated views as text: per view its measured area and faces, its facets by loss,
+// its cloud.
+void printViews(const json& out, const Part& part, const Scanner& scanner) {
+  fmt::print("part     {} ({} facets)\nscanner  {}\n", part.file, part.mesh.triangles.size(),
+             scanner.name);
+  for (const json& entry : out["views"]) {
+    std::vector<int> ids;
+    for (const json& face : entry["faces"]) ids.push_back(face["id"].get<int>());
+    fmt::print("view {}: {:.1f} mm² measured on {} faces{}\n", entry["id"].get<int>(),
+               entry["measured_area"].get<double>(), ids.size(),
+               ids.empty() ? "" : fmt::format(" ({})", fmt::join(ids, ", ")));
+    std::string counts =
+        fmt::format("  facets: {} measured", entry["measured_facets"].get<std::size_t>());
+    for (const auto& [reason, count] : entry["losses"].items())
+      if (count.get<std::size_t>() > 0)
+        counts += fmt::format(", {} {}", count.get<std::size_t>(), reason);
+    fmt::print("{}\n", counts);
+    if (entry.contains("cloud"))
+      fmt::print("  cloud: {} points -> {}\n", entry["points"].get<std::size_t>(),
+                 entry["cloud"].get<std::string>());
+  }
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
@@ -56,58 +108,16 @@ int run(const Options& options, const GlobalOptions& global) {
 
   json out = {{"part", part.file}, {"scanner", spec.scanner.name}, {"views", json::array()}};
   for (std::size_t v = 0; v < views.views.size(); ++v) {
-    const View& view = views.views[v];
     report(progress, fmt::format("simulating view {} of {}", v + 1, views.views.size()),
            static_cast<double>(v) / static_cast<double>(views.views.size()));
-    Acquisition acquisition = simulator.acquire(view);
-    json faces = json::array();
-    for (std::size_t f = 0; f < acquisition.face_area.size(); ++f)
-      if (acquisition.face_area[f] > 0)
-        faces.push_back({{"id", f + 1}, {"area", acquisition.face_area[f]}});
-    json losses = json::object();
-    for (int k = 1; k < kLossKinds; ++k)
-      losses[std::string(toString(static_cast<Loss>(k)))] = acquisition.counts[k];
-    json entry = {{"id", view.id},
-                  {"measured_area", acquisition.measured_area},
-                  {"measured_facets", acquisition.counts[0]},
-                  {"facets", acquisition.facets.size()},
-                  {"faces", faces},
-                  {"losses", losses},
-                  {"rays", acquisition.rays}};
-    if (!options.cloud_dir.empty()) {
-      PointCloud cloud = simulator.cloud(view, options.seed);
-      std::string file =
-          (std::filesystem::path(options.cloud_dir) / fmt::format("view_{}.ply", view.id)).string();
-      writePly(cloud, file);
-      entry["cloud"] = file;
-      entry["points"] = cloud.points.size();
-    }
-    out["views"].push_back(entry);
+    out["views"].push_back(simulatedView(simulator, views.views[v], options));
   }
   clearProgress();
 
-  if (options.json) {
+  if (options.json)
     std::cout << out.dump(2) << '\n';
-    return 0;
-  }
-  fmt::print("part     {} ({} facets)\nscanner  {}\n", part.file, part.mesh.triangles.size(),
-             spec.scanner.name);
-  for (const json& entry : out["views"]) {
-    std::vector<int> ids;
-    for (const json& face : entry["faces"]) ids.push_back(face["id"].get<int>());
-    fmt::print("view {}: {:.1f} mm² measured on {} faces{}\n", entry["id"].get<int>(),
-               entry["measured_area"].get<double>(), ids.size(),
-               ids.empty() ? "" : fmt::format(" ({})", fmt::join(ids, ", ")));
-    std::string counts =
-        fmt::format("  facets: {} measured", entry["measured_facets"].get<std::size_t>());
-    for (const auto& [reason, count] : entry["losses"].items())
-      if (count.get<std::size_t>() > 0)
-        counts += fmt::format(", {} {}", count.get<std::size_t>(), reason);
-    fmt::print("{}\n", counts);
-    if (entry.contains("cloud"))
-      fmt::print("  cloud: {} points -> {}\n", entry["points"].get<std::size_t>(),
-                 entry["cloud"].get<std::string>());
-  }
+  else
+    printViews(out, part, spec.scanner);
   return 0;
 }
 
