@@ -550,6 +550,52 @@ std::vector<std::size_t> blockedPoses(const std::vector<RobotMove>& uncleared,
   return result;
 }
 
+// `candidates` with the dense poses aimed at anchor samples and the caller's own.
+std::vector<View> withDensePoses(const detail::Placement& at, std::vector<View> candidates,
+                                 const PlanningOptions& options, const Progress& progress) {
+  const std::vector<View> dense = detail::densePool(at, progress);
+  candidates.insert(candidates.end(), dense.begin(), dense.end());
+  candidates.insert(candidates.end(), options.candidates.begin(), options.candidates.end());
+  return candidates;
+}
+
+// Per pose of `pool`, whether it registers by the `registering` markers by itself, with the
+// poses shifted towards them added to the pool; the selection prices poses by it under
+// reference points only (empty otherwise).
+std::vector<char> framedPoses(const detail::Placement& at, detail::MeasuredViews& pool,
+                              const std::optional<std::vector<Marker>>& registering,
+                              const Progress& progress) {
+  if (!registering) return {};
+  std::vector<char> framed = detail::addMarkerShifts(at, pool, *registering, progress);
+  if (registrationOptions(at.spec.spec).method != RegistrationMode::ReferencePoints) return {};
+  return detail::addFramedPoses(at, pool, *registering, std::move(framed), progress);
+}
+
+// The plan's views chosen from `pool` (selectAndMove); in a cell, chosen again without the
+// poses behind moves the robot could not clear, up to kClearingRounds more times.
+void selectInRounds(const detail::Placement& at, detail::MeasuredViews& pool, const Choice& choice,
+                    Plan& plan, StageClock& clock, const Progress& progress) {
+  // The plan before its views, to choose them again from: in a cell only.
+  const std::optional<Plan> unselected = at.cell.cell ? std::optional<Plan>(plan) : std::nullopt;
+  for (int round = 0;; ++round) {
+    const std::vector<std::size_t> selected =
+        selectAndMove(at, pool, choice, plan, clock, progress);
+    if (!unselected || round == kClearingRounds) break;
+    const std::vector<std::size_t> blocked =
+        blockedPoses(plan.cell_motion->uncleared, selected, choice.pinned);
+    if (blocked.empty()) break;
+    // Those poses taken out of the pool, the views are chosen again.
+    for (std::size_t v : blocked) pool.samples[v].clear();
+    report(progress,
+           "selecting again without " + std::to_string(blocked.size()) +
+               (blocked.size() == 1 ? " pose" : " poses") + " the robot cannot move clear to",
+           0);
+    std::vector<StageTime> times = std::move(plan.times);
+    plan = *unselected;
+    plan.times = std::move(times);
+  }
+}
+
 // Plans the views for `sampled` (part frame) with the part placed by `part_to_world`;
 // samples marked in `done` (measured in another placement) are not aimed at and count as
 // covered in the selection.
@@ -586,39 +632,13 @@ Plan planPlacement(const Part& part, const ResolvedSpec& spec, const std::vector
   report(progress, "aiming at the samples left", 0);
   detail::rescueViews(at, plan.samples, added);
   clock.lap("rescue");
-  const std::vector<View> dense = detail::densePool(at, progress);
-  candidates.insert(candidates.end(), dense.begin(), dense.end());
-  candidates.insert(candidates.end(), options.candidates.begin(), options.candidates.end());
-  detail::MeasuredViews pool = detail::candidatePool(at, std::move(added), candidates, progress);
+  detail::MeasuredViews pool = detail::candidatePool(
+      at, std::move(added), withDensePoses(at, std::move(candidates), options, progress), progress);
   const auto registering = registeringMarkers(at, options.registration);
-  std::vector<char> framed;  // per pose: registers by the markers by itself
-  if (registering) framed = detail::addMarkerShifts(at, pool, *registering, progress);
-  if (registering && registrationOptions(at.spec.spec).method == RegistrationMode::ReferencePoints)
-    framed = detail::addFramedPoses(at, pool, *registering, std::move(framed), progress);
-  else
-    framed.clear();  // the selection prices poses by it under reference points only
+  const std::vector<char> framed = framedPoses(at, pool, registering, progress);
   clock.lap("candidate pool");
-
-  // The plan before its views, to choose them again from: in a cell only.
-  const std::optional<Plan> unselected = cell ? std::optional<Plan>(plan) : std::nullopt;
-  for (int round = 0;; ++round) {
-    const std::vector<std::size_t> selected =
-        selectAndMove(at, pool, {pinned, options.registration, registering, framed, visibility},
-                      plan, clock, progress);
-    if (!unselected || round == kClearingRounds) break;
-    const std::vector<std::size_t> blocked =
-        blockedPoses(plan.cell_motion->uncleared, selected, pinned);
-    if (blocked.empty()) break;
-    // Those poses taken out of the pool, the views are chosen again.
-    for (std::size_t v : blocked) pool.samples[v].clear();
-    report(progress,
-           "selecting again without " + std::to_string(blocked.size()) +
-               (blocked.size() == 1 ? " pose" : " poses") + " the robot cannot move clear to",
-           0);
-    std::vector<StageTime> times = std::move(plan.times);
-    plan = *unselected;
-    plan.times = std::move(times);
-  }
+  selectInRounds(at, pool, {pinned, options.registration, registering, framed, visibility}, plan,
+                 clock, progress);
   plan.seconds = clock.total();
   return plan;
 }
