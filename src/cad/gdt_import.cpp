@@ -180,76 +180,98 @@ std::string datumName(const TDF_Label& label) {
   return object->GetName()->String().ToCString();
 }
 
-Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
-            const std::string& path) {
-  Gdt gdt;
-  Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());
-  if (tool.IsNull()) return gdt;
+namespace {
 
-  TDF_LabelSequence labels, dimensions;
-  tool->GetGeomToleranceLabels(labels);
-  tool->GetDimensionLabels(dimensions);
-  // The file is scanned again only when there is something to complete.
-  const StepPmiMeasures measures =
-      labels.IsEmpty() && dimensions.IsEmpty() ? StepPmiMeasures{} : scanStepPmiMeasures(path);
-  for (const TDF_Label& label : labels) {
-    GeometricTolerance tolerance;
-    Handle(XCAFDoc_GeomTolerance) attribute;
-    if (label.FindAttribute(XCAFDoc_GeomTolerance::GetID(), attribute)) {
-      Handle(XCAFDimTolObjects_GeomToleranceObject) object = attribute->GetObject();
-      if (!object.IsNull()) {
-        tolerance.type = toleranceType(object->GetType());
-        tolerance.value = object->GetValue();
-        Handle(TCollection_HAsciiString) name = object->GetSemanticName();
-        if (tolerance.value == 0 && !name.IsNull()) {
-          auto found = measures.tolerance_magnitudes.find(name->ToCString());
-          if (found != measures.tolerance_magnitudes.end()) tolerance.value = found->second;
-        }
+// The geometric tolerance at `label`: its type, its value (from the file's own measure
+// where XDE gives none), its datums and faces.
+GeometricTolerance toleranceAt(const Handle(XCAFDoc_DimTolTool) & tool, const TDF_Label& label,
+                               const XdeFaceLookup& lookup, const StepPmiMeasures& measures) {
+  GeometricTolerance tolerance;
+  Handle(XCAFDoc_GeomTolerance) attribute;
+  if (label.FindAttribute(XCAFDoc_GeomTolerance::GetID(), attribute)) {
+    Handle(XCAFDimTolObjects_GeomToleranceObject) object = attribute->GetObject();
+    if (!object.IsNull()) {
+      tolerance.type = toleranceType(object->GetType());
+      tolerance.value = object->GetValue();
+      Handle(TCollection_HAsciiString) name = object->GetSemanticName();
+      if (tolerance.value == 0 && !name.IsNull()) {
+        auto found = measures.tolerance_magnitudes.find(name->ToCString());
+        if (found != measures.tolerance_magnitudes.end()) tolerance.value = found->second;
       }
     }
-    TDF_LabelSequence datums;
-    tool->GetDatumWithObjectOfTolerLabels(label, datums);
-    tolerance.datums = datumReferences(datums);
-    tolerance.faces = attachedFaces(tool, label, lookup);
-    gdt.tolerances.push_back(std::move(tolerance));
   }
+  TDF_LabelSequence datums;
+  tool->GetDatumWithObjectOfTolerLabels(label, datums);
+  tolerance.datums = datumReferences(datums);
+  tolerance.faces = attachedFaces(tool, label, lookup);
+  return tolerance;
+}
 
-  for (const TDF_Label& label : dimensions) {
-    Dimension dimension;
-    Handle(XCAFDoc_Dimension) attribute;
-    if (label.FindAttribute(XCAFDoc_Dimension::GetID(), attribute)) {
-      Handle(XCAFDimTolObjects_DimensionObject) object = attribute->GetObject();
-      if (!object.IsNull()) {
-        dimension.type = dimensionType(object->GetType());
-        if (!object->GetValues().IsNull()) dimension.value = object->GetValue();
-        if (!isAngular(dimension.type)) dimension.value *= measures.nominal_value_scale;
-        if (object->IsDimWithPlusMinusTolerance()) {
-          dimension.lower = std::abs(object->GetLowerTolValue());
-          dimension.upper = std::abs(object->GetUpperTolValue());
-        }
+// The dimension at `label`: its type, its nominal value in mm (degrees for angles), its
+// limits and faces.
+Dimension dimensionAt(const Handle(XCAFDoc_DimTolTool) & tool, const TDF_Label& label,
+                      const XdeFaceLookup& lookup, const StepPmiMeasures& measures) {
+  Dimension dimension;
+  Handle(XCAFDoc_Dimension) attribute;
+  if (label.FindAttribute(XCAFDoc_Dimension::GetID(), attribute)) {
+    Handle(XCAFDimTolObjects_DimensionObject) object = attribute->GetObject();
+    if (!object.IsNull()) {
+      dimension.type = dimensionType(object->GetType());
+      if (!object->GetValues().IsNull()) dimension.value = object->GetValue();
+      if (!isAngular(dimension.type)) dimension.value *= measures.nominal_value_scale;
+      if (object->IsDimWithPlusMinusTolerance()) {
+        dimension.lower = std::abs(object->GetLowerTolValue());
+        dimension.upper = std::abs(object->GetUpperTolValue());
       }
     }
-    dimension.faces = attachedFaces(tool, label, lookup);
-    gdt.dimensions.push_back(std::move(dimension));
   }
+  dimension.faces = attachedFaces(tool, label, lookup);
+  return dimension;
+}
 
-  labels.Clear();
-  tool->GetDatumLabels(labels);
-  gdt.datum_labels = static_cast<std::size_t>(labels.Length());
+// The datums of the document by name, each with the faces of all its labels (or of its
+// target points), sorted by name; `labels` gets how many datum labels there are.
+std::vector<Datum> datumsOf(const Handle(XCAFDoc_DimTolTool) & tool, const XdeFaceLookup& lookup,
+                            std::size_t& labels) {
+  TDF_LabelSequence sequence;
+  tool->GetDatumLabels(sequence);
+  labels = static_cast<std::size_t>(sequence.Length());
+  std::vector<Datum> datums;
   TargetFaces targetFaces(*lookup.model);
-  for (const TDF_Label& label : labels) {
+  for (const TDF_Label& label : sequence) {
     std::string name = datumName(label);
-    auto same = std::find_if(gdt.datums.begin(), gdt.datums.end(),
-                             [&](const Datum& d) { return d.name == name; });
-    if (same == gdt.datums.end()) same = gdt.datums.insert(gdt.datums.end(), Datum{name, {}});
+    auto same =
+        std::find_if(datums.begin(), datums.end(), [&](const Datum& d) { return d.name == name; });
+    if (same == datums.end()) same = datums.insert(datums.end(), Datum{name, {}});
     std::vector<int> faces = attachedFaces(tool, label, lookup);
     if (faces.empty()) faces = targetFaces(label);
     same->faces.insert(same->faces.end(), faces.begin(), faces.end());
     std::sort(same->faces.begin(), same->faces.end());
     same->faces.erase(std::unique(same->faces.begin(), same->faces.end()), same->faces.end());
   }
-  std::sort(gdt.datums.begin(), gdt.datums.end(),
+  std::sort(datums.begin(), datums.end(),
             [](const Datum& a, const Datum& b) { return a.name < b.name; });
+  return datums;
+}
+
+}  // namespace
+
+Gdt readGdt(const Handle(TDocStd_Document) & doc, const XdeFaceLookup& lookup,
+            const std::string& path) {
+  Gdt gdt;
+  Handle(XCAFDoc_DimTolTool) tool = XCAFDoc_DocumentTool::DimTolTool(doc->Main());
+  if (tool.IsNull()) return gdt;
+  TDF_LabelSequence tolerances, dimensions;
+  tool->GetGeomToleranceLabels(tolerances);
+  tool->GetDimensionLabels(dimensions);
+  // The file is scanned again only when there is something to complete.
+  const StepPmiMeasures measures =
+      tolerances.IsEmpty() && dimensions.IsEmpty() ? StepPmiMeasures{} : scanStepPmiMeasures(path);
+  for (const TDF_Label& label : tolerances)
+    gdt.tolerances.push_back(toleranceAt(tool, label, lookup, measures));
+  for (const TDF_Label& label : dimensions)
+    gdt.dimensions.push_back(dimensionAt(tool, label, lookup, measures));
+  gdt.datums = datumsOf(tool, lookup, gdt.datum_labels);
   return gdt;
 }
 
