@@ -349,17 +349,9 @@ void fillHoles(std::vector<double>& z, int nx, int ny) {
   }
 }
 
-}  // namespace
-
-InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& faces, double spacing,
-                                    double grid_spacing, double tolerance) {
-  if (faces.empty()) throw InputError(part.file, "an interpolated patch needs faces");
-  if (!(spacing > 0) || !(grid_spacing > 0) || !(tolerance > 0))
-    throw InputError(part.file, "patch spacing and tolerance must be positive");
-  InterpolatedPatch patch;
-  patch.faces = faces;
-  patch.tolerance = tolerance;
-  const TriangleMesh mesh = part.meshOf(faces);
+// The patch's frame (z the faces' area-weighted mean normal, x along the world's x where it
+// can) and its extent in x and y; the height above the mesh's highest point, returned.
+double placePatch(const Part& part, const TriangleMesh& mesh, InterpolatedPatch& patch) {
   Vec3 sum = Vec3::Zero();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) sum += mesh.area(t) * mesh.normal(t);
   if (sum.norm() < 1e-9 * std::max(1.0, part.area()))
@@ -378,7 +370,67 @@ InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& fa
   patch.y0 = box.min.y();
   patch.x1 = box.max.x();
   patch.y1 = box.max.y();
-  const double top = box.max.z() + 1;
+  return box.max.z() + 1;
+}
+
+// OCCT's approximation z(x, y) within `tolerance` of the heights on the patch's nx x ny
+// grid, its holes filled first.
+std::shared_ptr<detail::PatchSurface> fittedSurface(const Part& part,
+                                                    const InterpolatedPatch& patch,
+                                                    std::vector<double> heights, double tolerance) {
+  const int nx = patch.nx, ny = patch.ny;
+  fillHoles(heights, nx, ny);
+  TColStd_Array2OfReal values(1, nx, 1, ny);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) values(i + 1, j + 1) = heights[i + nx * j];
+  auto surface = std::make_shared<detail::PatchSurface>();
+  try {
+    GeomAPI_PointsToBSplineSurface fit;
+    fit.Init(values, patch.x0, (patch.x1 - patch.x0) / (nx - 1), patch.y0,
+             (patch.y1 - patch.y0) / (ny - 1), 3, 8, GeomAbs_C2, tolerance);
+    if (!fit.IsDone()) throw LibraryError(part.file, "OCCT could not fit the interpolated patch");
+    surface->surface = fit.Surface();
+  } catch (const Standard_Failure& failure) {
+    throw LibraryError(part.file, std::string("OCCT failed fitting the interpolated patch: ") +
+                                      failure.GetMessageString());
+  }
+  return surface;
+}
+
+// The sweep grid: the patch's surface evaluated `grid_spacing` apart, inside where a face
+// lies under the node.
+SurfaceGrid sweepGrid(const InterpolatedPatch& patch, const Handle(Geom_Surface) & surface,
+                      const RayCaster& caster, double grid_spacing, double top) {
+  SurfaceGrid grid;
+  grid.nu = nodesFor(patch.x1 - patch.x0, grid_spacing, kMaxGrid);
+  grid.nv = nodesFor(patch.y1 - patch.y0, grid_spacing, kMaxGrid);
+  for (int j = 0; j < grid.nv; ++j)
+    for (int i = 0; i < grid.nu; ++i) {
+      gp_Pnt p;
+      gp_Vec du, dv;
+      surface->D1(patch.x0 + (patch.x1 - patch.x0) * i / (grid.nu - 1),
+                  patch.y0 + (patch.y1 - patch.y0) * j / (grid.nv - 1), p, du, dv);
+      const gp_Vec n = du.Crossed(dv);
+      grid.points.push_back(patch.frame * Vec3(p.X(), p.Y(), p.Z()));
+      grid.normals.push_back(patch.frame.linear() * Vec3(n.X(), n.Y(), n.Z()).normalized());
+    }
+  const auto hits = castDown(caster, patch, grid.nu, grid.nv, top).hits;
+  for (const auto& hit : hits) grid.inside.push_back(hit.has_value());
+  return grid;
+}
+
+}  // namespace
+
+InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& faces, double spacing,
+                                    double grid_spacing, double tolerance) {
+  if (faces.empty()) throw InputError(part.file, "an interpolated patch needs faces");
+  if (!(spacing > 0) || !(grid_spacing > 0) || !(tolerance > 0))
+    throw InputError(part.file, "patch spacing and tolerance must be positive");
+  InterpolatedPatch patch;
+  patch.faces = faces;
+  patch.tolerance = tolerance;
+  const TriangleMesh mesh = part.meshOf(faces);
+  const double top = placePatch(part, mesh, patch);
 
   // Fitted heights: exact face heights on a regular grid, holes filled, then OCCT's
   // approximation z(x, y) within the tolerance.
@@ -387,22 +439,9 @@ InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& fa
   const int nx = patch.nx, ny = patch.ny;
   const double dx = (patch.x1 - patch.x0) / (nx - 1), dy = (patch.y1 - patch.y0) / (ny - 1);
   const RayCaster caster(mesh);
-  std::vector<double> heights = faceHeights(part, caster, patch, top);
-  const std::vector<double> exact = heights;
-  fillHoles(heights, nx, ny);
-  TColStd_Array2OfReal values(1, nx, 1, ny);
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) values(i + 1, j + 1) = heights[i + nx * j];
-  auto surface = std::make_shared<detail::PatchSurface>();
-  try {
-    GeomAPI_PointsToBSplineSurface fit;
-    fit.Init(values, patch.x0, dx, patch.y0, dy, 3, 8, GeomAbs_C2, tolerance);
-    if (!fit.IsDone()) throw LibraryError(part.file, "OCCT could not fit the interpolated patch");
-    surface->surface = fit.Surface();
-  } catch (const Standard_Failure& failure) {
-    throw LibraryError(part.file, std::string("OCCT failed fitting the interpolated patch: ") +
-                                      failure.GetMessageString());
-  }
+  const std::vector<double> exact = faceHeights(part, caster, patch, top);
+  const std::shared_ptr<detail::PatchSurface> surface =
+      fittedSurface(part, patch, exact, tolerance);
   patch.surface = surface;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
@@ -410,23 +449,7 @@ InterpolatedPatch interpolatedPatch(const Part& part, const std::vector<int>& fa
         patch.max_deviation = std::max(
             patch.max_deviation,
             std::abs(patch.height(patch.x0 + i * dx, patch.y0 + j * dy) - exact[i + nx * j]));
-
-  // The sweep grid: the patch evaluated, inside where a face lies under the node.
-  SurfaceGrid& grid = patch.grid;
-  grid.nu = nodesFor(patch.x1 - patch.x0, grid_spacing, kMaxGrid);
-  grid.nv = nodesFor(patch.y1 - patch.y0, grid_spacing, kMaxGrid);
-  for (int j = 0; j < grid.nv; ++j)
-    for (int i = 0; i < grid.nu; ++i) {
-      gp_Pnt p;
-      gp_Vec du, dv;
-      surface->surface->D1(patch.x0 + (patch.x1 - patch.x0) * i / (grid.nu - 1),
-                           patch.y0 + (patch.y1 - patch.y0) * j / (grid.nv - 1), p, du, dv);
-      const gp_Vec n = du.Crossed(dv);
-      grid.points.push_back(patch.frame * Vec3(p.X(), p.Y(), p.Z()));
-      grid.normals.push_back(patch.frame.linear() * Vec3(n.X(), n.Y(), n.Z()).normalized());
-    }
-  const auto hits = castDown(caster, patch, grid.nu, grid.nv, top).hits;
-  for (const auto& hit : hits) grid.inside.push_back(hit.has_value());
+  patch.grid = sweepGrid(patch, surface->surface, caster, grid_spacing, top);
   return patch;
 }
 
