@@ -476,7 +476,8 @@ TEST(Cli, ScansAlignedOnceAllAreTakenComeInAShorterOrder) {
   ASSERT_EQ(taken.views.size(), after.views.size());
   for (std::size_t v = 0; v < taken.views.size(); ++v)
     EXPECT_TRUE(taken.views[v].camera_to_world.isApprox(after.views[v].camera_to_world)) << v;
-  ASSERT_TRUE(taken.registration && after.registration && taken.cycle && after.cycle);
+  ASSERT_TRUE(taken.registration && after.registration && taken.cycle && after.cycle &&
+              taken.sequence && after.sequence);
   EXPECT_TRUE(taken.registration->aligned_as_taken);
   EXPECT_FALSE(after.registration->aligned_as_taken);
   EXPECT_EQ(icpViewsAheadOfTheirLinks(taken), 0u);
