@@ -16,7 +16,7 @@
 // the page is edited (editSettings).
 // Exits 0 when every check passes, 1 otherwise, printing each check.
 
-import { chromium } from 'playwright-core';
+import { launchChromium, nextFrames } from './browser.mjs';
 import { execFileSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
@@ -28,10 +28,6 @@ if (!['new', 'given'].includes(mode) || !scanplan || !part || !out) {
   process.exit(2);
 }
 const failures = [];
-// Until the page has drawn what the last action changed: the viewer redraws in its next
-// animation frame, so two frames on it has.
-const nextFrames = (page) => page.evaluate(() => new Promise((done) =>
-  requestAnimationFrame(() => requestAnimationFrame(done))));
 const check = (ok, what) => {
   console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
   if (!ok) failures.push(what);
@@ -104,10 +100,7 @@ async function editSettings(page, data) {
 }
 const dataOf = (page) => page.evaluate(() => JSON.parse(document.getElementById('scanplan-data').textContent));
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-});
+const browser = await launchChromium();
 async function newSpec() {
   const editor = join(out, 'spec-editor.html');
   run('spec', part, '-o', editor);

@@ -6,7 +6,7 @@
 //
 // Exits 0 when every check passes, 1 otherwise, printing each check.
 
-import { chromium } from 'playwright-core';
+import { launchChromium, nextFrames } from './browser.mjs';
 import { existsSync, readFileSync } from 'node:fs';
 import { pathToFileURL } from 'node:url';
 
@@ -17,15 +17,8 @@ if (!report || !planFile) {
 }
 const expectedViews = JSON.parse(readFileSync(planFile, 'utf8')).views.length;
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-});
+const browser = await launchChromium();
 const failures = [];
-// Until the page has drawn what the last action changed: the viewer redraws in its next
-// animation frame, so two frames on it has.
-const nextFrames = (page) => page.evaluate(() => new Promise((done) =>
-  requestAnimationFrame(() => requestAnimationFrame(done))));
 const check = (ok, what) => {
   console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
   if (!ok) failures.push(what);
