@@ -53,40 +53,68 @@ View above(const Scanner& scanner, double x, double y) {
   return aimedPoses(scanner, Vec3(x, y, 10), Vec3::UnitZ(), 1).front();
 }
 
-TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
-  const Part part = studdedPlate();
-  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
-  const Simulator simulator(part, spec.spec.scanner);
-  const Scanner& scanner = simulator.scanner();
-  ASSERT_EQ(scanner.fov_width, 300);
-
-  // Samples on the plate between the pyramids: cluster A about x = 150, cluster B about
-  // x = 550, one of each within the connector's reach; one sample only A reaches, one only
-  // a view of A shifted along y (A2) reaches. Markers that A and A2 both see, C none.
+// Samples on the studded plate's top between the pyramids (whose bases span x and y of
+// 10 to 40 mm, every 50 mm), none measured yet.
+std::vector<PlannedSample> plateSamples(const std::vector<Vec3>& positions) {
   std::vector<PlannedSample> samples;
-  for (const Vec3& p :
-       {Vec3(50, 150, 10), Vec3(100, 150, 10), Vec3(150, 150, 10), Vec3(250, 150, 10),
-        Vec3(150, 280, 10), Vec3(450, 150, 10), Vec3(550, 150, 10), Vec3(600, 150, 10),
-        Vec3(650, 150, 10), Vec3(150, 50, 10)}) {
+  for (const Vec3& p : positions) {
     PlannedSample s;
     s.sample.position = p;
     s.sample.normal = Vec3::UnitZ();
     s.sample.face = 1;
     samples.push_back(s);
   }
+  return samples;
+}
+
+std::vector<SurfacePoint> pointsOf(const std::vector<PlannedSample>& samples) {
   std::vector<SurfacePoint> points;
   for (const PlannedSample& s : samples) points.push_back({s.sample.position, Vec3::UnitZ(), 1});
-  std::vector<Marker> markers;
-  for (const Vec3& p :
-       {Vec3(50, 100, 10), Vec3(100, 200, 10), Vec3(150, 100, 10), Vec3(50, 200, 10)})
-    markers.push_back({p, Vec3::UnitZ()});
+  return points;
+}
 
-  // A, A2, B, and the connector C between A and B, which measures nothing the others miss.
+// Samples on the plate between the pyramids: cluster A about x = 150, cluster B about
+// x = 550, one of each within the connector's reach; one sample only A reaches, one only
+// a view of A shifted along y (A2) reaches. Markers that A and A2 both see, C none. The
+// pool: A, A2, B, and the connector C between A and B, which measures nothing the others
+// miss.
+struct TwoClusters {
+  TwoClusters()
+      : part(studdedPlate()),
+        spec(resolveSpec(part, defaultSpec())),
+        simulator(part, spec.spec.scanner),
+        samples(plateSamples({Vec3(50, 150, 10), Vec3(100, 150, 10), Vec3(150, 150, 10),
+                              Vec3(250, 150, 10), Vec3(150, 280, 10), Vec3(450, 150, 10),
+                              Vec3(550, 150, 10), Vec3(600, 150, 10), Vec3(650, 150, 10),
+                              Vec3(150, 50, 10)})),
+        at{part, spec, simulator, CellCheck{}, pointsOf(samples), {}} {
+    for (const Vec3& p :
+         {Vec3(50, 100, 10), Vec3(100, 200, 10), Vec3(150, 100, 10), Vec3(50, 200, 10)})
+      markers.push_back({p, Vec3::UnitZ()});
+    const Scanner& scanner = simulator.scanner();
+    const std::vector<View> views = {above(scanner, 150, 150), above(scanner, 150, 180),
+                                     above(scanner, 550, 150), above(scanner, 350, 150)};
+    const auto measured = measuredPoints(simulator, views, at.points);
+    for (std::size_t v = 0; v < views.size(); ++v) pool.add(views[v], measured[v]);
+  }
+
+  const Part part;
+  const ResolvedSpec spec;
+  const Simulator simulator;
+  const std::vector<PlannedSample> samples;
+  const detail::Placement at;
+  std::vector<Marker> markers;
   detail::MeasuredViews pool;
-  const std::vector<View> views = {above(scanner, 150, 150), above(scanner, 150, 180),
-                                   above(scanner, 550, 150), above(scanner, 350, 150)};
-  const auto measured = measuredPoints(simulator, views, points);
-  for (std::size_t v = 0; v < views.size(); ++v) pool.add(views[v], measured[v]);
+};
+
+TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
+  const TwoClusters c;
+  const Simulator& simulator = c.simulator;
+  const detail::Placement& at = c.at;
+  const detail::MeasuredViews& pool = c.pool;
+  const std::vector<PlannedSample>& samples = c.samples;
+  const std::vector<Marker>& markers = c.markers;
+  ASSERT_EQ(simulator.scanner().fov_width, 300);
   ASSERT_EQ(pool.samples[0], (std::vector<int>{0, 1, 2, 3, 9}));
   ASSERT_EQ(pool.samples[1], (std::vector<int>{0, 1, 2, 3, 4}));
   ASSERT_EQ(pool.samples[2], (std::vector<int>{5, 6, 7, 8}));
@@ -94,7 +122,6 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
 
   // A first, A2 registering to it by the markers, then B on its own: no pose with
   // anything new registers to A or A2. C joins B to them.
-  const detail::Placement at{part, spec, simulator, CellCheck{}, points, {}};
   std::vector<std::size_t> cover =
       detail::connectedCover(at, pool, 0, samples, everySample(at, pool, samples), markers, {});
   std::sort(cover.begin(), cover.end());
@@ -104,7 +131,7 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
   std::vector<View> chosen;
   for (std::size_t v : cover) chosen.push_back(pool.views[v]);
   for (std::size_t k = 0; k < chosen.size(); ++k) chosen[k].id = static_cast<int>(k + 1);
-  RegistrationOptions options = registrationOptions(spec.spec);
+  RegistrationOptions options = registrationOptions(c.spec.spec);
   options.bridging = false;
   const Registration registration =
       registerWithBridging(simulator, chosen, markers, options, {}, {});
@@ -117,6 +144,28 @@ TEST(ConnectedCover, JoinsTwoGroupsThroughAConnectorAndStopsWhereATargetIsMet) {
   six.needs.need[six.needs.group[0]] = 6;
   EXPECT_EQ(detail::connectedCover(at, pool, 0, samples, six, markers, {}),
             (std::vector<std::size_t>{0, 1}));
+}
+
+// A sample the aim does not ask for gains a pose nothing (planner.aim characteristics asks
+// only for the faces its characteristics are judged on): asked for B's four samples and for
+// sample 3, the cover is B, which measures the four, and C, which registers to B by markers
+// both see and measures 3; not A, which measures 3 and four samples more, none of them asked
+// for, nor A2.
+TEST(ConnectedCover, SamplesNothingAsksForGainNothing) {
+  TwoClusters c;
+  for (const Vec3& p : {Vec3(450, 100, 10), Vec3(450, 200, 10), Vec3(500, 150, 10)})
+    c.markers.push_back({p, Vec3::UnitZ()});
+  detail::SelectionAim asked = everySample(c.at, c.pool, c.samples);
+  ASSERT_GT(asked.needs.need.size(), 1u);
+  for (std::size_t i = 0; i < c.samples.size(); ++i)
+    asked.needs.group[i] = i == 3 ? 1 : (i >= 5 && i <= 8 ? 0 : -1);
+  std::fill(asked.needs.need.begin(), asked.needs.need.end(), 0.0);
+  asked.needs.need[0] = 4;
+  asked.needs.need[1] = 1;
+  std::vector<std::size_t> cover =
+      detail::connectedCover(c.at, c.pool, 0, c.samples, asked, c.markers, {});
+  std::sort(cover.begin(), cover.end());
+  EXPECT_EQ(cover, (std::vector<std::size_t>{2, 3}));
 }
 
 // The chain case: a 1000 mm studded plate, samples on the four sides of five rows of pyramids
@@ -232,26 +281,6 @@ TEST(ConnectedCover, AddsNoChainWhoseLinksFailIcp) {
   const ChainPlate plate(1e-6);
   EXPECT_EQ(plate.cover(), (std::vector<std::size_t>{0, 1, 5}))
       << ::testing::PrintToString(plate.cover());
-}
-
-// Samples on the studded plate's top between the pyramids (whose bases span x and y of
-// 10 to 40 mm, every 50 mm), none measured yet.
-std::vector<PlannedSample> plateSamples(const std::vector<Vec3>& positions) {
-  std::vector<PlannedSample> samples;
-  for (const Vec3& p : positions) {
-    PlannedSample s;
-    s.sample.position = p;
-    s.sample.normal = Vec3::UnitZ();
-    s.sample.face = 1;
-    samples.push_back(s);
-  }
-  return samples;
-}
-
-std::vector<SurfacePoint> pointsOf(const std::vector<PlannedSample>& samples) {
-  std::vector<SurfacePoint> points;
-  for (const PlannedSample& s : samples) points.push_back({s.sample.position, Vec3::UnitZ(), 1});
-  return points;
 }
 
 // The rescue pass over three samples of the studded plate, with the planner's settings

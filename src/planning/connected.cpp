@@ -121,6 +121,9 @@ class CoverContext {
       for (int i : pool.samples[v]) by_sample[i].push_back(static_cast<int>(v));
     for (std::size_t i = 0; i < samples.size(); ++i)
       coverable += !by_sample[i].empty() && !at.isDone(i);
+    by_group.resize(aim.needs.need.size());
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      if (const int g = aim.needs.group[i]; g >= 0) by_group[g].push_back(static_cast<int>(i));
     if (overlaps.markers() > 0) markers_seen = overlaps.markersSeen(pool.views);
     by_marker.resize(overlaps.markers());
     for (std::size_t v = 0; v < markers_seen.size(); ++v)
@@ -195,6 +198,7 @@ class CoverContext {
   std::vector<std::vector<int>> by_sample;     // the poses measuring each sample
   std::vector<std::vector<int>> markers_seen;  // per pose, when there are markers
   std::vector<std::vector<int>> by_marker;     // the poses measuring each marker
+  std::vector<std::vector<int>> by_group;      // the samples of each group of the aim
   std::vector<char> constrained;               // per pose: something may register to it
   std::size_t coverable = 0;                   // samples some pose measures, not done before
 
@@ -299,14 +303,14 @@ class ConnectedCover {
  private:
   void reset(std::size_t pinned) {
     pinned_ = pinned;
+    unmet_ = context_.aim.needs.need;
+    covered_.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i) covered_[i] = at_.isDone(i);
     gain_.assign(pool_.size(), {0, 0});
     for (std::size_t v = 0; v < pool_.size(); ++v)
       for (int i : pool_.samples[v])
-        if (!at_.isDone(i)) ++part(gain_[v], i);
-    covered_.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) covered_[i] = at_.isDone(i);
+        if (gains(i)) ++part(gain_[v], i);
     newly_covered_ = 0;
-    unmet_ = context_.aim.needs.need;
     used_.assign(pool_.size(), 0);
     partners_.assign(pool_.size(), {});
     chosen_.clear();
@@ -541,6 +545,14 @@ class ConnectedCover {
 
   static double total(const Gain& gain) { return gain.first + gain.second; }
 
+  // Whether measuring sample `i` gains the aim anything: it is not covered yet, and its
+  // group still needs samples. A sample nothing asks for gains nothing, nor does one whose
+  // group has its need; with every sample asked for, each gains until it is covered.
+  bool gains(int i) const {
+    const int g = context_.aim.needs.group[i];
+    return !covered_[i] && g >= 0 && unmet_[g] > 0;
+  }
+
   // Whether every group of the aim has its need.
   bool met() const {
     return std::all_of(unmet_.begin(), unmet_.end(), [](double u) { return u <= 0; });
@@ -625,10 +637,17 @@ class ConnectedCover {
     parent_.push_back(partner);
     for (int i : pool_.samples[c]) {
       if (covered_[i]) continue;
+      const bool gained = gains(i);
       covered_[i] = 1;
       ++newly_covered_;
-      if (const int g = context_.aim.needs.group[i]; g >= 0) --unmet_[g];
+      if (!gained) continue;
       for (int v : by_sample_[i]) --part(gain_[v], i);
+      const int g = context_.aim.needs.group[i];
+      if (--unmet_[g] > 0) continue;
+      // The group has its need: its samples left gain nothing any more.
+      for (int j : context_.by_group[static_cast<std::size_t>(g)])
+        if (!covered_[j])
+          for (int v : by_sample_[j]) --part(gain_[v], j);
     }
     context_.covered(run_, newly_covered_);
     // The poses that may register to it: by markers, or by samples, whose ICP constraint is
@@ -679,7 +698,7 @@ class ConnectedCover {
   const std::vector<std::vector<int>>& by_marker_;
   std::vector<char> constrained_;  // per pose: something may still register to it
   std::vector<int> shared_;        // per pose: what it shares, while sharing() counts
-  std::vector<Gain> gain_;         // per pose: samples it measures not yet covered
+  std::vector<Gain> gain_;         // per pose: samples it measures that gain the aim (gains)
   std::vector<char> covered_, used_;
   std::size_t newly_covered_ = 0;               // samples covered not done before
   std::vector<double> unmet_;                   // per group of the aim: need left
