@@ -153,6 +153,37 @@ TEST(Aim, CharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
                  std::to_string(chosen.size()) + " and " + std::to_string(*fewest));
 }
 
+// Markers every 20 mm on the working plane around the plate, where every pose of the small
+// pool sees enough of them to register.
+std::vector<Marker> markersAroundThePlate() {
+  std::vector<Marker> markers;
+  for (double x = -60; x <= 260; x += 20)
+    for (double y = -60; y <= 160; y += 20)
+      if (x < -5 || x > 205 || y < -5 || y > 105) markers.push_back({Vec3(x, y, 0)});
+  return markers;
+}
+
+// With registration, as plans are made by default, the selection is the registration-aware
+// cover: with markers that every pose sees, it too takes the fewest views of the pool with
+// which every characteristic is capable, as the brute force finds.
+TEST(Aim, RegisteredCharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
+  test::TempDir dir;
+  const test::HolePlate p = plateWithGdt(dir);
+  const ResolvedSpec spec = resolveSpec(p.part, plateSpec(p));
+  const PlatePlanning planning(p, spec);
+  const detail::MeasuredViews& pool = planning.pool;
+  ASSERT_EQ(pool.size(), 10u);
+  const detail::SelectionAim aim{detail::coverageNeed(planning.at, pool, 0, planning.samples),
+                                 std::vector<double>(pool.size(), 1.0)};
+  const std::vector<std::size_t> chosen = detail::connectedCover(
+      planning.at, pool, 0, planning.samples, aim, markersAroundThePlate(), {});
+  const std::optional<std::size_t> fewest = fewestCapable(p, spec, pool);
+  ASSERT_TRUE(fewest.has_value());
+  ASSERT_FALSE(chosen.empty());  // the views register to one another
+  EXPECT_TRUE(allCapable(p, spec, pool, chosen));
+  EXPECT_EQ(chosen.size(), *fewest);
+}
+
 }  // namespace
 }  // namespace scanplan
 
