@@ -132,19 +132,46 @@ struct PlatePlanning {
   const detail::MeasuredViews pool;
 };
 
+// The plate with its GD&T planned under planner.aim characteristics, the small pool, and
+// the fewest views of it under which every characteristic is capable, by brute force:
+// made once for the suite.
+class Aim : public ::testing::Test {
+ protected:
+  struct Shared {
+    Shared()
+        : plate(plateWithGdt(dir)),
+          spec(resolveSpec(plate.part, plateSpec(plate))),
+          planning(plate, spec),
+          fewest(fewestCapable(plate, spec, planning.pool)) {}
+    test::TempDir dir;
+    const test::HolePlate plate;
+    const ResolvedSpec spec;
+    const PlatePlanning planning;
+    const std::optional<std::size_t> fewest;
+  };
+  static void SetUpTestSuite() { shared_ = new Shared(); }
+  static void TearDownTestSuite() {
+    delete shared_;
+    shared_ = nullptr;
+  }
+
+  const test::HolePlate& p = shared_->plate;
+  const ResolvedSpec& spec = shared_->spec;
+  const PlatePlanning& planning = shared_->planning;
+  const detail::MeasuredViews& pool = planning.pool;
+  const std::optional<std::size_t>& fewest = shared_->fewest;
+
+ private:
+  static inline Shared* shared_ = nullptr;
+};
+
 // Under planner.aim characteristics the selection takes the fewest views of the pool with
 // which the capability model judges the hole's position and the top's flatness capable:
 // the minimum a brute force over every subset of the pool finds.
-TEST(Aim, CharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
-  test::TempDir dir;
-  const test::HolePlate p = plateWithGdt(dir);
-  const ResolvedSpec spec = resolveSpec(p.part, plateSpec(p));
-  const PlatePlanning planning(p, spec);
-  const detail::MeasuredViews& pool = planning.pool;
+TEST_F(Aim, CharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
   ASSERT_EQ(pool.size(), 10u);
   const std::vector<std::size_t> chosen =
       detail::selectViews(planning.at, pool, 0, planning.samples, std::nullopt, {}, {}).views;
-  const std::optional<std::size_t> fewest = fewestCapable(p, spec, pool);
   ASSERT_TRUE(fewest.has_value());
   EXPECT_TRUE(allCapable(p, spec, pool, chosen));
   EXPECT_EQ(chosen.size(), *fewest);
@@ -166,38 +193,23 @@ std::vector<Marker> markersAroundThePlate() {
 // With registration, as plans are made by default, the selection is the registration-aware
 // cover: with markers that every pose sees, it too takes the fewest views of the pool with
 // which every characteristic is capable, as the brute force finds.
-TEST(Aim, RegisteredCharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
-  test::TempDir dir;
-  const test::HolePlate p = plateWithGdt(dir);
-  const ResolvedSpec spec = resolveSpec(p.part, plateSpec(p));
-  const PlatePlanning planning(p, spec);
-  const detail::MeasuredViews& pool = planning.pool;
+TEST_F(Aim, RegisteredCharacteristicsTakeTheFewestViewsThatMakeEveryCharacteristicCapable) {
   ASSERT_EQ(pool.size(), 10u);
   const detail::SelectionAim aim{detail::coverageNeed(planning.at, pool, 0, planning.samples),
                                  std::vector<double>(pool.size(), 1.0)};
   const std::vector<std::size_t> chosen = detail::connectedCover(
       planning.at, pool, 0, planning.samples, aim, markersAroundThePlate(), {});
-  const std::optional<std::size_t> fewest = fewestCapable(p, spec, pool);
   ASSERT_TRUE(fewest.has_value());
   ASSERT_FALSE(chosen.empty());  // the views register to one another
   EXPECT_TRUE(allCapable(p, spec, pool, chosen));
   EXPECT_EQ(chosen.size(), *fewest);
 }
 
-}  // namespace
-}  // namespace scanplan
-
-namespace scanplan {
-namespace {
-
 // What the selection asks under planner.aim characteristics, counted by hand over the
 // samples the pool measures: nine in ten of each hole face's and of the top's (the
 // position's and the flatness's faces), half of each datum side's, and none of the far
 // side's, which no characteristic needs.
-TEST(Aim, EachCharacteristicsFaceNeedsNineTenthsOfItsSamplesAndEachDatumSideHalf) {
-  test::TempDir dir;
-  const test::HolePlate p = plateWithGdt(dir);
-  const PlatePlanning planning(p, resolveSpec(p.part, plateSpec(p)));
+TEST_F(Aim, EachCharacteristicsFaceNeedsNineTenthsOfItsSamplesAndEachDatumSideHalf) {
   std::map<int, int> coverable;  // per face, the samples some pose of the pool measures
   std::set<int> measured;
   for (const std::vector<int>& samples : planning.pool.samples)
