@@ -347,32 +347,40 @@ TEST(Inspection, DeclaredDeviationsAreFoundWithinTheirUncertainty) {
   }
 }
 
-// The angle between the plate's top and its side x = 0 (90 degrees), seen by the view
-// from -x and the views beside it, all in one frame without error: the capability model's
-// U from the points' noise against the virtual inspection's, which fits a plane to each
-// face's simulated points in each of 200 runs (its U uncertain by about 5 %). At 90
-// degrees the measured angle folds back below 90, so the inspection's spread shows as U
-// and bias together, compared with the model's U.
-TEST(Inspection, TheAngleBetweenTwoFacesIsAsUncertainAsTheCapabilityModelPredicts) {
+// The angle between the plate's top and its side x = 0 (90 degrees), the top's flatness
+// and the top's profile (without datums: about the plane fitted to it), seen by the four
+// views all in one frame without error: the capability model's U from the
+// points' noise against the virtual inspection's, which fits a plane to each face's
+// simulated points in each of 200 runs (its U uncertain by about 5 %). At 90 degrees the
+// measured angle folds back below 90, so the inspection's spread shows as U and bias
+// together, compared with the model's U. The flatness and the profile are zones read from
+// the points: their own noise widens them.
+TEST(Inspection, AnAngleAndZonesOfThePointsAreAsUncertainAsTheCapabilityModelPredicts) {
   FourViewInspection inspect;
   const HolePlate& p = inspect.p;
   const Characteristic angle{4,    "angular_location",
                              true, 90,
                              89.5, 90.5,
                              {},   {std::min(p.top, p.side_x), std::max(p.top, p.side_x)}};
-  inspect.plan.characteristics = {angle};
+  const Characteristic profile{5, "profile_of_surface", false, 0.1, 0, 0.1, {}, {p.top}};
+  inspect.plan.characteristics = {angle, p.characteristics[1], profile};
   inspect.plan.registration->robot_accuracy = 1e-9;
   InspectionOptions options;
   options.runs = 200;
   const Inspection inspected = inspect(options);
-  ASSERT_EQ(inspected.characteristics.size(), 1u);
-  const InspectedCharacteristic& k = inspected.characteristics.front();
-  ASSERT_TRUE(k.evaluated) << k.not_evaluated;
-  const Capability predicted = capabilities(p.part, inspect.spec, inspect.plan, {angle}).front();
-  RecordProperty("predicted_u", std::to_string(predicted.uncertainty));
-  RecordProperty("inspected_u_bias", std::to_string(k.uncertainty) + " " + std::to_string(k.bias));
-  EXPECT_NEAR(predicted.budget.registration, 0, 1e-6);
-  EXPECT_NEAR(predicted.uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2);
+  ASSERT_EQ(inspected.characteristics.size(), 3u);
+  const std::vector<Capability> predicted =
+      capabilities(p.part, inspect.spec, inspect.plan, inspect.plan.characteristics);
+  for (std::size_t i = 0; i < predicted.size(); ++i) {
+    const InspectedCharacteristic& k = inspected.characteristics[i];
+    ASSERT_TRUE(k.evaluated) << k.not_evaluated;
+    const std::string id = std::to_string(i + 1);
+    RecordProperty("predicted_u_" + id, std::to_string(predicted[i].uncertainty));
+    RecordProperty("inspected_u_bias_" + id,
+                   std::to_string(k.uncertainty) + " " + std::to_string(k.bias));
+    EXPECT_NEAR(predicted[i].budget.registration, 0, 1e-6) << id;
+    EXPECT_NEAR(predicted[i].uncertainty / (k.uncertainty + std::abs(k.bias)), 1, 0.2) << id;
+  }
 }
 
 // The bore of Ø20 as designed, not as its mesh's facets cut inside it (sampled densely,

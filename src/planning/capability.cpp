@@ -6,8 +6,10 @@
 // normals, a shift and a small turn), and the noise's effect on the fitted geometry is
 // drawn by Monte Carlo:
 // - form, orientation and runout: the peak-to-valley of the fitted geometry's
-//   displacement over the faces;
-// - profile and position: twice its largest displacement (zones about the nominal);
+//   displacement over the faces, with the highest and lowest noise of the points read
+//   there (evaluationSpacing);
+// - profile and position: twice its largest displacement, so widened (zones about the
+//   nominal);
 // - diameter and radius: the fitted offset (twice for a diameter); a distance between
 //   features: the features' own offsets together; an angle between two features: their
 //   fits' turns apart, each fitted on its own, in degrees. A feature is the faces of one
@@ -34,6 +36,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -429,12 +432,31 @@ std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
   return sigmas;
 }
 
+// The points a zone is read from on a patch (evaluationSpacing): how many, and the noise
+// along the normal left on each, the mean of the scanner's points it stands for.
+struct ZonePoints {
+  double count = 0, sigma = 0;
+};
+std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches,
+                                     const Scanner& scanner) {
+  const double share = std::min(1.0, scanner.point_spacing / evaluationSpacing(scanner));
+  std::vector<ZonePoints> zone;
+  for (const Patch* p : patches) {
+    double variance = 0;
+    for (const Look& l : p->looks) variance += l.points * l.sigma * l.sigma;
+    const double points = p->points();
+    zone.push_back({share * share * points, points > 0 ? share * std::sqrt(variance / points) : 0});
+  }
+  return zone;
+}
+
 // What a characteristic's draws read: its measured patches, their features (faces of one
 // plane or cylinder alike) and their fit, its cylinders' axes, and its datum features'
 // patches (none without datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
+  std::vector<ZonePoints> feature_zone;
   Fit fit;
   std::vector<AxisFit> axes;
   DatumFit datum_motion;
@@ -444,11 +466,12 @@ struct Measured {
   // turn however short their bands.
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
            const std::vector<double>& datum_shares, const FeatureSurfaces& surfaces,
-           bool orientation)
+           bool orientation, const Scanner& scanner)
       : feature(std::move(f)),
         datum(std::move(d)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
+        feature_zone(zonePointsOf(feature, scanner)),
         fit(fitOf(feature)),
         axes(axesOf(feature, surfaces, !orientation)),
         datum_motion(datum, datum_shares, surfaces),
@@ -537,10 +560,75 @@ double distanceChange(const std::vector<std::pair<double, Vec3>>& offsets) {
   return std::abs(sum);
 }
 
+// The standard normal quantile of p in (0, 1): Acklam's rational approximation, refined
+// by one step of Halley's method.
+double normalQuantile(double p) {
+  constexpr std::array<double, 6> a{-3.969683028665376e+01, 2.209460984245205e+02,
+                                    -2.759285104469687e+02, 1.383577518672690e+02,
+                                    -3.066479806614716e+01, 2.506628277459239e+00};
+  constexpr std::array<double, 5> b{-5.447609879822406e+01, 1.615858368580409e+02,
+                                    -1.556989798598866e+02, 6.680131188771972e+01,
+                                    -1.328068155288572e+01};
+  constexpr std::array<double, 6> c{-7.784894002430293e-03, -3.223964580411365e-01,
+                                    -2.400758277161838e+00, -2.549732539343734e+00,
+                                    4.374664141464968e+00,  2.938163982698783e+00};
+  constexpr std::array<double, 4> d{7.784695709041462e-03, 3.224671290700398e-01,
+                                    2.445134137142996e+00, 3.754408661907416e+00};
+  constexpr double low = 0.02425;
+  const auto tail = [&](double q) {  // the quantile of a lower tail q
+    const double r = std::sqrt(-2 * std::log(q));
+    return (((((c[0] * r + c[1]) * r + c[2]) * r + c[3]) * r + c[4]) * r + c[5]) /
+           ((((d[0] * r + d[1]) * r + d[2]) * r + d[3]) * r + 1);
+  };
+  double x;
+  if (p < low) {
+    x = tail(p);
+  } else if (p > 1 - low) {
+    x = -tail(1 - p);
+  } else {
+    const double q = p - 0.5, r = q * q;
+    x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+        (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+  }
+  const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - p;
+  const double u = e * std::sqrt(2 * std::numbers::pi) * std::exp(x * x / 2);
+  return x - u / (1 + x * u / 2);
+}
+
+// The largest of `count` draws of the standard normal: the quantile of u^(1 / count), its
+// upper tail 1 - u^(1 / count) taken without cancellation.
+double largestOf(double count, std::mt19937_64& random) {
+  std::uniform_real_distribution<double> uniform(std::numeric_limits<double>::min(), 1.0);
+  return -normalQuantile(-std::expm1(std::log(uniform(random)) / count));
+}
+
+// The band a zone read from the points spans: at each patch the fitted geometry's
+// displacement `at` with the highest and with the lowest noise of one draw of its points
+// (a patch that holds less than one point holds one as often as its count says).
+std::vector<double> withPointNoise(const std::vector<double>& at,
+                                   const std::vector<ZonePoints>& zone, std::mt19937_64& random) {
+  std::uniform_real_distribution<double> uniform;
+  std::normal_distribution<double> normal;
+  std::vector<double> band;
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const ZonePoints& z = zone[i];
+    if (z.count < 1 && uniform(random) >= z.count) continue;
+    if (z.count < 2) {  // one point: its noise is both extremes
+      band.push_back(at[i] + z.sigma * normal(random));
+      continue;
+    }
+    band.push_back(at[i] + z.sigma * largestOf(z.count, random));
+    band.push_back(at[i] - z.sigma * largestOf(z.count, random));
+  }
+  return band.empty() ? at : band;
+}
+
 // One draw of the noise's error on the characteristic's value: the fitted geometry's
 // displacement from the true one (relative to its datums' fit), as the characteristic
-// measures it.
-double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
+// measures it; a zone (form, profile) read from the points spans their own noise too, drawn
+// from `extremes`.
+double noiseError(Effect effect, const Measured& m, std::mt19937_64& random,
+                  std::mt19937_64& extremes) {
   std::normal_distribution<double> normal;
   std::vector<double> d, datum_d;
   for (double sigma : m.feature_sigmas) d.push_back(sigma * normal(random));
@@ -552,8 +640,9 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random) {
     case Effect::Radius: return std::abs(f.offset);
     case Effect::Size: return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.at);
-    case Effect::Form: return range(f.at);
-    case Effect::Profile: return 2 * largestMagnitude(f.at);
+    case Effect::Form: return range(withPointNoise(f.at, m.feature_zone, extremes));
+    case Effect::Profile:
+      return 2 * largestMagnitude(withPointNoise(f.at, m.feature_zone, extremes));
     case Effect::AxisTilt: return axisChange(m.axes, d, true);
     case Effect::AxisPlace: return axisChange(m.axes, d, false);
   }
@@ -657,9 +746,10 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
                      std::uint64_t seed) {
   const Effect effect = effectOf(c, !m.axes.empty());
   std::mt19937_64 random(seed + static_cast<std::uint64_t>(c.id));
+  std::mt19937_64 extremes(~(seed + static_cast<std::uint64_t>(c.id)));
   std::vector<double> noise, registration;
   for (int k = 0; k < options.draws; ++k) {
-    noise.push_back(noiseError(effect, m, random));
+    noise.push_back(noiseError(effect, m, random, extremes));
     registration.push_back(registrationError(effect, m, moves.draw(random)));
   }
   return {percentile95(std::move(noise)), percentile95(std::move(registration)),
@@ -1022,7 +1112,7 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
     const Measured m(measured, datum, datumShares(part.gdt, c, datum), by.surfaces,
-                     detail::orientationKind(c.kind));
+                     detail::orientationKind(c.kind), plan.scanner);
     k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
@@ -1114,6 +1204,8 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
 }
 
 }  // namespace
+
+double evaluationSpacing(const Scanner& scanner) { return scanner.fov_height / 100; }
 
 std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                      const std::vector<Characteristic>& characteristics) {

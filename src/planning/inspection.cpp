@@ -14,6 +14,7 @@
 #include "planning/simulated_registration.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/planning/capability.h>
 #include <scanplan/planning/inspection.h>
 #include <scanplan/planning/planner.h>
 #include <scanplan/scanner/simulation.h>
@@ -436,7 +437,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   checkDeviations(part, options.deviations);
   Inspection result;
   result.runs = options.runs;
-  result.spacing = options.spacing > 0 ? options.spacing : plan.scanner.fov_height / 100;
+  result.spacing = options.spacing > 0 ? options.spacing : evaluationSpacing(plan.scanner);
   result.deviations = options.deviations;
   const std::set<int> faces = facesOf(part, plan.characteristics);
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);

@@ -19,6 +19,12 @@ namespace scanplan {
 constexpr double kCoveredEnough = 0.9;
 constexpr double kDatumsCoveredEnough = 0.5;
 
+// The spacing at the standoff of the points a characteristic is read from, mm: each the
+// mean of the scanner's points around it, as an inspection's software filters a scan. The
+// noise left on them widens a zone read from points (docs/capability.md, "Error budget"),
+// and the virtual inspection lays its points so far apart unless told otherwise.
+double evaluationSpacing(const Scanner& scanner);
+
 // The capability of each of `characteristics` under the views of `plan` (each in its own
 // orientation's placement), with the simulation, the capability options
 // (planner.capable_ratio) and the seed `spec` sets.
