@@ -134,13 +134,15 @@ struct PlaneCase {
 };
 
 // The 100 x 100 mm top of a 10 mm plate with a flatness of 0.05, seen straight on at the
-// standoff by a scanner of noise 0.01 mm and the given point spacing.
-PlaneCase planeCase(const test::TempDir& dir, double spacing) {
+// standoff by a scanner of noise 0.01 mm and the given point spacing, read from points
+// `evaluation` mm apart (planner.evaluation_spacing; 0: the default).
+PlaneCase planeCase(const test::TempDir& dir, double spacing, double evaluation = 0) {
   BRepTools::Write(BRepPrimAPI_MakeBox(100, 100, 10).Shape(), dir.file("plate.brep").c_str());
   const Part part = importPart(dir.file("plate.brep"));
   Spec spec = defaultSpec();
   spec.scanner.noise_sigma = 0.01;
   spec.scanner.point_spacing = spacing;
+  spec.planner.capability.evaluation_spacing = evaluation;
   Plan plan;
   plan.scanner = spec.scanner;
   plan.views = {downAt(1, spec.scanner, 50, 50)};
@@ -176,6 +178,17 @@ TEST(Capability, APlanesFlatnessIsTheRangeOfItsPointsNoise) {
   EXPECT_NEAR(full.capability.ratio, 0.05 / (2 * full.u), 1e-12);
   EXPECT_EQ(full.capability.verdict, Verdict::NotCapable);
   EXPECT_EQ(full.capability.reason, Shortfall::TooNoisy);
+}
+
+// Read from points 8 mm apart (planner.evaluation_spacing), each the mean of four of the
+// scanner's points 4 mm apart: 156 points of half the noise, whose range is U.
+TEST(Capability, PointsReadFartherApartAverageTheNoiseOfAZone) {
+  test::TempDir dir;
+  const double sigma = 0.01 / 2, analytic = sigma * rangeOfNormals95(625.0 / 4);
+  const PlaneCase averaged = planeCase(dir, 4, 8);
+  RecordProperty("u_156_points", std::to_string(averaged.u));
+  RecordProperty("u_156_points_analytic", std::to_string(analytic));
+  EXPECT_NEAR(averaged.u, analytic, 0.05 * analytic);
 }
 
 // Four markers at (+-a, +-a, 0), centres measured with sigma per axis: the rigid fit's

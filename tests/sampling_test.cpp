@@ -504,6 +504,8 @@ TEST(SpecSampling, SpecErrors) {
   EXPECT_TRUE(has(reason("gdt: from-file\n"), "carries no GD&T"));
   EXPECT_TRUE(has(reason("planner: {tilt: [60, 30]}\n"), "planner.tilt"));
   EXPECT_TRUE(has(reason("planner: {sweep_overlap: 0.95}\n"), "planner.sweep_overlap"));
+  EXPECT_TRUE(
+      has(reason("planner: {evaluation_spacing: -1}\n"), "planner.evaluation_spacing must be"));
   EXPECT_TRUE(has(reason("part: {rest: 0}\n"), "face ids start at 1"));
   EXPECT_TRUE(has(reason("part: {rest: sideways}\n"), "expected auto, all, a face id"));
   test::writeText(dir.file("far.csv"), "10,10,80\n");

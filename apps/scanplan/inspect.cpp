@@ -117,8 +117,10 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
   command->add_option("--runs", options->runs, "Monte Carlo runs (default 20)")
       ->check(CLI::Range(2, 10000));
   command
-      ->add_option("--spacing", options->spacing,
-                   "Simulated points' spacing at the standoff, mm (default fov_height / 100)")
+      ->add_option(
+          "--spacing", options->spacing,
+          "Simulated points' spacing at the standoff, mm (default planner.evaluation_spacing, "
+          "or fov_height / 100)")
       ->check(CLI::PositiveNumber);
   command
       ->add_option("--icp", options->icp,

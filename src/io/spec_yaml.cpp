@@ -383,11 +383,12 @@ void readChoice(const YAML::Node& node, const std::string& key,
 }
 
 PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
-  checkKeys(node,
-            {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue",
-             "anchors", "pool_rotations", "selection_nodes", "selection_seconds", "most_views",
-             "capable_ratio", "lift_capability", "coverage", "objective", "aim"},
-            reader, "planner");
+  checkKeys(
+      node,
+      {"seed", "vm_step", "tilt", "max_failures", "sweep_overlap", "rotations", "rescue", "anchors",
+       "pool_rotations", "selection_nodes", "selection_seconds", "most_views", "capable_ratio",
+       "evaluation_spacing", "lift_capability", "coverage", "objective", "aim"},
+      reader, "planner");
   PlannerSettings p;
   reader.read(node, "planner", "seed", p.seed);
   reader.read(node, "planner", "vm_step", p.vm_step);
@@ -400,6 +401,7 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   reader.read(node, "planner", "selection_seconds", p.selection_seconds);
   reader.read(node, "planner", "most_views", p.most_views);
   reader.read(node, "planner", "capable_ratio", p.capability.capable_ratio);
+  reader.read(node, "planner", "evaluation_spacing", p.capability.evaluation_spacing);
   reader.read(node, "planner", "lift_capability", p.lift_capability);
   if (const YAML::Node tilt = node["tilt"]) {
     if (!tilt.IsSequence() || tilt.size() != 2)
@@ -436,6 +438,8 @@ PlannerSettings readPlanner(const YAML::Node& node, const SpecReader& reader) {
   if (p.most_views < 1) reader.fail("planner.most_views must be at least 1");
   if (!(p.capability.capable_ratio >= 1 && p.capability.capable_ratio <= 100))
     reader.fail("planner.capable_ratio must be within [1, 100]");
+  if (!(p.capability.evaluation_spacing >= 0 && p.capability.evaluation_spacing <= 100))
+    reader.fail("planner.evaluation_spacing must be within [0, 100] mm");
   if (!(p.rescue_step >= 1 && p.rescue_step <= 45))
     reader.fail("planner.rescue.step must be within [1, 45] degrees");
   return p;

@@ -433,13 +433,12 @@ std::vector<double> sigmasOf(const std::vector<const Patch*>& patches) {
 }
 
 // The points a zone is read from on a patch (evaluationSpacing): how many, and the noise
-// along the normal left on each, the mean of the scanner's points it stands for.
+// along the normal left on each, the mean of the scanner's points it stands for; `share`
+// the scanner's point spacing over the evaluation's (at most 1).
 struct ZonePoints {
   double count = 0, sigma = 0;
 };
-std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches,
-                                     const Scanner& scanner) {
-  const double share = std::min(1.0, scanner.point_spacing / evaluationSpacing(scanner));
+std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches, double share) {
   std::vector<ZonePoints> zone;
   for (const Patch* p : patches) {
     double variance = 0;
@@ -466,12 +465,12 @@ struct Measured {
   // turn however short their bands.
   Measured(std::vector<const Patch*> f, std::vector<const Patch*> d,
            const std::vector<double>& datum_shares, const FeatureSurfaces& surfaces,
-           bool orientation, const Scanner& scanner)
+           bool orientation, double zone_share)
       : feature(std::move(f)),
         datum(std::move(d)),
         feature_sigmas(sigmasOf(feature)),
         datum_sigmas(sigmasOf(datum)),
-        feature_zone(zonePointsOf(feature, scanner)),
+        feature_zone(zonePointsOf(feature, zone_share)),
         fit(fitOf(feature)),
         axes(axesOf(feature, surfaces, !orientation)),
         datum_motion(datum, datum_shares, surfaces),
@@ -1111,8 +1110,10 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
   k.density = covered > 0 ? k.points / covered : 0;
   k.largest_gap = largestGap(mine);
   if (!measured.empty()) {
-    const Measured m(measured, datum, datumShares(part.gdt, c, datum), by.surfaces,
-                     detail::orientationKind(c.kind), plan.scanner);
+    const Measured m(
+        measured, datum, datumShares(part.gdt, c, datum), by.surfaces,
+        detail::orientationKind(c.kind),
+        std::min(1.0, plan.scanner.point_spacing / evaluationSpacing(plan.scanner, options)));
     k.budget = budgetOf(c, m, plan.scanner, moves, options, spec.spec.planner.seed);
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
@@ -1205,7 +1206,10 @@ std::vector<CapableCount> capableByViews(const Part& part, const ResolvedSpec& s
 
 }  // namespace
 
-double evaluationSpacing(const Scanner& scanner) { return scanner.fov_height / 100; }
+double evaluationSpacing(const Scanner& scanner, const CapabilityOptions& options) {
+  return options.evaluation_spacing > 0 ? std::min(options.evaluation_spacing, scanner.fov_height)
+                                        : scanner.fov_height / 100;
+}
 
 std::vector<Capability> capabilities(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                                      const std::vector<Characteristic>& characteristics) {

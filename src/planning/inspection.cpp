@@ -437,7 +437,9 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
   checkDeviations(part, options.deviations);
   Inspection result;
   result.runs = options.runs;
-  result.spacing = options.spacing > 0 ? options.spacing : evaluationSpacing(plan.scanner);
+  result.spacing = options.spacing > 0
+                       ? options.spacing
+                       : evaluationSpacing(plan.scanner, spec.spec.planner.capability);
   result.deviations = options.deviations;
   const std::set<int> faces = facesOf(part, plan.characteristics);
   const std::vector<detail::ViewError> errors = detail::registrationErrors(part, spec, plan);

@@ -23,7 +23,8 @@ constexpr double kDatumsCoveredEnough = 0.5;
 // mean of the scanner's points around it, as an inspection's software filters a scan. The
 // noise left on them widens a zone read from points (docs/capability.md, "Error budget"),
 // and the virtual inspection lays its points so far apart unless told otherwise.
-double evaluationSpacing(const Scanner& scanner);
+// `planner.evaluation_spacing`, or a hundredth of the field's height; at most the field's.
+double evaluationSpacing(const Scanner& scanner, const CapabilityOptions& options);
 
 // The capability of each of `characteristics` under the views of `plan` (each in its own
 // orientation's placement), with the simulation, the capability options

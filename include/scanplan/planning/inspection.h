@@ -19,8 +19,8 @@ namespace scanplan {
 struct InspectionOptions {
   int runs = 20;
   // The simulated points' spacing at the standoff, mm; each stands for the mean of the
-  // scanner's points around it, its noise so much less. 0: evaluationSpacing() (a
-  // hundredth of the field's height).
+  // scanner's points around it, its noise so much less. 0: evaluationSpacing()
+  // (`planner.evaluation_spacing`, or a hundredth of the field's height).
   double spacing = 0;
   std::uint64_t seed = 1;
   std::vector<Deviation> deviations;

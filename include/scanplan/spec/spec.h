@@ -49,6 +49,10 @@ struct CapabilityOptions {
                               // for gauges)
   double marginal_ratio = 1;  // marginal from this one on
   int draws = 200;            // Monte Carlo draws of the noise
+  // The spacing at the standoff of the points a characteristic is read from, mm, each the
+  // mean of the scanner's points around it (evaluationSpacing; 0: a hundredth of the
+  // field's height).
+  double evaluation_spacing = 0;
 };
 
 // planner.coverage (docs/planning.md, "Coverage targets"): the share of the coverable
