@@ -441,10 +441,10 @@ struct ZonePoints {
 std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches, double share) {
   std::vector<ZonePoints> zone;
   for (const Patch* p : patches) {
-    double variance = 0;
-    for (const Look& l : p->looks) variance += l.points * l.sigma * l.sigma;
+    // Each point's noise before the mean: the root mean square of the looks'.
     const double points = p->points();
-    zone.push_back({share * share * points, points > 0 ? share * std::sqrt(variance / points) : 0});
+    zone.push_back(
+        {share * share * points, points > 0 ? share * p->meanSigma() * std::sqrt(points) : 0});
   }
   return zone;
 }
