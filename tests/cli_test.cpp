@@ -509,8 +509,9 @@ TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
 }
 
 // inspect: every characteristic of the plan in inspection.json beside it, a value per run
-// or the reason it has none; a deviations file at fault is refused with its name and the
-// entry, nothing written.
+// and the precision of its U + |bias|, or the reason it has none; a deviations file at
+// fault, or a precision out of range, is refused with its name and the entry, nothing
+// written.
 TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
@@ -529,6 +530,7 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
     if (c["evaluated"]) {
       ++evaluated;
       EXPECT_EQ(c["values"].size(), 3u) << c.dump();
+      EXPECT_GE(c["precision"].get<double>(), 0) << c.dump();
     } else {
       EXPECT_FALSE(c["not_evaluated"].get<std::string>().empty()) << c.dump();
     }
@@ -555,6 +557,12 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
     EXPECT_NE(bad.out.find(says), std::string::npos) << bad.out;
     EXPECT_FALSE(std::filesystem::exists(dir.file("bad.json")));
   };
+  // A precision that is no share of U + |bias|.
+  r = run("inspect " + dir.file("out/plan.json") + " " + part + " --precision 1.5 -q -o " +
+          dir.file("bad.json"));
+  EXPECT_EQ(r.code, 1) << r.out;  // a usage error
+  EXPECT_NE(r.out.find("--precision: Value 1.5 not in range"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("bad.json")));
   refused("deviations:\n  - {faces: [1], twist: 0.1}\n", "deviation 1: unknown key 'twist'");
   refused("deviations:\n  - {faces: [100000], offset: 0.1}\n", "has no face 100000");
   refused("deviations:\n  - {faces: [1], offset: 0.1, bow: 0.2}\n", "exactly one of");
@@ -568,8 +576,8 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
 
 // inspect --icp registered: the bundled example's views registered by ICP are registered
 // by ICP in each run, and the terminal says how many; it prints the table and nothing else
-// (a line per characteristic, the plan, part, inspection and ICP lines, the header, the
-// file written). An --icp it does not know is refused, naming the option.
+// (a line per characteristic, the plan, part, inspection and ICP lines, the header, what
+// its ± means, the file written). An --icp it does not know is refused, naming the option.
 TEST(Cli, InspectRegistersTheIcpLinksInEachRunAndSaysSo) {
   test::TempDir dir;
   const std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");
@@ -583,7 +591,7 @@ TEST(Cli, InspectRegistersTheIcpLinksInEachRunAndSaysSo) {
       nlohmann::json::parse(std::ifstream(dir.file("inspection.json")));
   EXPECT_GT(inspection.at("icp_registered").get<std::size_t>(), 0u);
   const std::size_t lines = static_cast<std::size_t>(std::count(r.out.begin(), r.out.end(), '\n'));
-  EXPECT_EQ(lines, inspection.at("characteristics").size() + 6) << r.out;
+  EXPECT_EQ(lines, inspection.at("characteristics").size() + 7) << r.out;
   const CommandResult bad = run(inspect + "sideways");
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("--icp"), std::string::npos) << bad.out;

@@ -21,6 +21,9 @@
 namespace scanplan::cli {
 namespace {
 
+// The most runs of an inspection run until precise, unless --runs says.
+constexpr int kMostRuns = 1000;
+
 struct Options {
   std::string plan;
   std::string part;
@@ -28,6 +31,8 @@ struct Options {
   std::string deviations;
   std::string out;
   int runs = 20;
+  bool runs_given = false;
+  double precision = 0;
   double spacing = 0;
   InspectionOptions::IcpLinks icp = InspectionOptions::IcpLinks::Drawn;
 };
@@ -41,7 +46,11 @@ const Capability* planned(const Plan& plan, int id) {
 
 void printInspection(const Inspection& inspection, const Plan& plan) {
   fmt::print(
-      "{:<22} {} runs, points {:.2f} mm apart{}\n", "inspection", inspection.runs,
+      "{:<22} {} runs{}, points {:.2f} mm apart{}\n", "inspection", inspection.runs,
+      inspection.precision_asked > 0
+          ? fmt::format(" (until each U + |bias| is known within {:.3g} %)",
+                        100 * inspection.precision_asked)
+          : "",
       inspection.spacing,
       inspection.views_left_out > 0
           ? fmt::format(", {} views left out (registered to nothing)", inspection.views_left_out)
@@ -51,8 +60,9 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
         "{:<22} {} views registered by ICP in every run; {} registered again from another "
         "start, {} still off after three\n",
         "", inspection.icp_registered, inspection.icp_restarted, inspection.icp_failed);
-  fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>7}  {:<14} {}\n", "id", "kind",
-             "width", "true", "measured", "bias", "U", "ratio", "verdict", "planned U, verdict");
+  fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>9} {:>7}  {:<14} {}\n", "id",
+             "kind", "width", "true", "measured", "bias", "U", "±", "ratio", "verdict",
+             "planned U, verdict");
   for (std::size_t i = 0; i < inspection.characteristics.size(); ++i) {
     const InspectedCharacteristic& k = inspection.characteristics[i];
     const Characteristic& c = plan.characteristics[i];
@@ -65,10 +75,12 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
       continue;
     }
     fmt::print(
-        "  {:>3} {:<22} {:>8.3f} {:>10.4f} {:>10.4f} {:>9.4f} {:>8.4f} {:>7.2f}  {:<14} {}\n", c.id,
-        c.kind, c.width(), k.true_value, k.mean, k.bias, k.uncertainty, k.ratio,
+        "  {:>3} {:<22} {:>8.3f} {:>10.4f} {:>10.4f} {:>9.4f} {:>8.4f} {:>9.4f} {:>7.2f}  {:<14} "
+        "{}\n",
+        c.id, c.kind, c.width(), k.true_value, k.mean, k.bias, k.uncertainty, k.precision, k.ratio,
         toString(k.verdict), plan_side);
   }
+  fmt::print("{:<22} ±: how far U + |bias| may lie, at 95 %, from what endless runs give\n", "");
 }
 
 int run(const Options& options, const GlobalOptions& global) {
@@ -76,7 +88,8 @@ int run(const Options& options, const GlobalOptions& global) {
   const Plan plan = readPlan(options.plan);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   InspectionOptions inspection;
-  inspection.runs = options.runs;
+  inspection.runs = options.precision > 0 && !options.runs_given ? kMostRuns : options.runs;
+  inspection.precision = options.precision;
   inspection.spacing = options.spacing;
   inspection.icp = options.icp;
   if (!options.deviations.empty()) inspection.deviations = loadDeviations(options.deviations);
@@ -114,8 +127,20 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
                    "Deviations of the simulated part (YAML: faces offset, bowed, moved, a "
                    "diameter changed)")
       ->check(kNamedFile);
-  command->add_option("--runs", options->runs, "Monte Carlo runs (default 20)")
-      ->check(CLI::Range(2, 10000));
+  CLI::Option* runs =
+      command
+          ->add_option("--runs", options->runs,
+                       fmt::format("Monte Carlo runs (default 20; with --precision, the most, "
+                                   "default {})",
+                                   kMostRuns))
+          ->check(CLI::Range(2, 10000));
+  command
+      ->add_option("--precision", options->precision,
+                   fmt::format("Run until each characteristic's U + |bias| is known within this "
+                               "share of itself at 95 % (bootstrap of the runs; checked every {} "
+                               "runs from {} on)",
+                               kPrecisionBatch, kLeastRuns))
+      ->check(CLI::Range(0.001, 0.999));
   command
       ->add_option(
           "--spacing", options->spacing,
@@ -133,7 +158,8 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
           CLI::ignore_case));
   command->add_option("-o,--output", options->out,
                       "Results (JSON; default inspection.json beside the plan)");
-  command->callback([options, &global, &selected] {
+  command->callback([options, runs, &global, &selected] {
+    options->runs_given = runs->count() > 0;
     selected = [options, &global] { return run(*options, global); };
   });
 }

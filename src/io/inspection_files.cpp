@@ -109,6 +109,8 @@ InspectedCharacteristic inspectedFrom(const nlohmann::json& entry, const Plan& p
   k.bias = numberAt(entry, "bias", path, where);
   k.uncertainty = numberAt(entry, "uncertainty", path, where);
   k.ratio = numberAt(entry, "ratio", path, where);
+  // Written since the inspection states its precision.
+  if (entry.contains("precision")) k.precision = numberAt(entry, "precision", path, where);
   k.points = numberAt(entry, "points", path, where);
   const std::string verdict = entry.value("verdict", std::string());
   bool known = false;
@@ -138,6 +140,8 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   inspection.runs = root["runs"].get<int>();
   if (inspection.runs < 2) throw InputError(path, "'runs' must be at least 2");
   inspection.spacing = numberAt(root, "spacing", path, "the inspection");
+  if (root.contains("precision_asked"))
+    inspection.precision_asked = numberAt(root, "precision_asked", path, "the inspection");
   if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
     inspection.views_left_out = root["views_left_out"].get<std::size_t>();
   for (auto [key, count] : {std::pair{"icp_registered", &inspection.icp_registered},
@@ -197,6 +201,7 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
                     {"bias", k.bias},
                     {"uncertainty", k.uncertainty},
                     {"ratio", k.ratio},
+                    {"precision", k.precision},
                     {"verdict", toString(k.verdict)},
                     {"points", k.points},
                     {"values", k.values}});
@@ -204,6 +209,7 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
     list.push_back(entry);
   }
   return {{"runs", inspection.runs},
+          {"precision_asked", inspection.precision_asked},
           {"spacing", inspection.spacing},
           {"views_left_out", inspection.views_left_out},
           {"icp_registered", inspection.icp_registered},

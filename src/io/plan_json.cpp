@@ -129,6 +129,7 @@ json capabilityJson(const Capability& k) {
           {"views", k.views},
           {"inspected_uncertainty", optional(k.inspected_uncertainty)},
           {"inspected_bias", optional(k.inspected_bias)},
+          {"inspected_precision", optional(k.inspected_precision)},
           {"rest_orientation", k.rest ? json(*k.rest + 1) : json(nullptr)}};
 }
 
@@ -893,6 +894,7 @@ struct PlanReader {
     };
     c.inspected_uncertainty = number("inspected_uncertainty");
     c.inspected_bias = number("inspected_bias");
+    c.inspected_precision = number("inspected_precision");
     return c;
   }
 

@@ -28,6 +28,7 @@
 #include <optional>
 #include <random>
 #include <set>
+#include <tuple>
 
 namespace scanplan {
 namespace {
@@ -369,22 +370,45 @@ std::vector<std::optional<std::size_t>> icpParents(const Plan& plan,
   return parents;
 }
 
-// Mean, bias, U and verdict from the runs' values.
-void judge(const Characteristic& c, const CapabilityOptions& capability,
-           InspectedCharacteristic& k) {
-  const double n = static_cast<double>(k.values.size());
+// The mean of `values` and U, twice their standard deviation (k = 2).
+std::pair<double, double> meanAndU(std::span<const double> values) {
+  const double n = static_cast<double>(values.size());
+  if (n < 1) return {0, 0};
   double mean = 0, squares = 0;
-  for (double x : k.values) mean += x / n;
-  for (double x : k.values) squares += (x - mean) * (x - mean);
-  k.mean = mean;
-  k.bias = mean - k.true_value;
-  k.uncertainty = n > 1 ? 2 * std::sqrt(squares / (n - 1)) : 0;
+  for (double x : values) mean += x / n;
+  for (double x : values) squares += (x - mean) * (x - mean);
+  return {mean, n > 1 ? 2 * std::sqrt(squares / (n - 1)) : 0};
+}
+
+// Mean, bias, U, their precision and verdict from the runs' values; `seed` the
+// resamples' (spreadPrecision).
+void judge(const Characteristic& c, const CapabilityOptions& capability, std::uint64_t seed,
+           InspectedCharacteristic& k) {
+  std::tie(k.mean, k.uncertainty) = meanAndU(k.values);
+  k.bias = k.mean - k.true_value;
   const double spread = k.uncertainty + std::abs(k.bias);
+  k.precision = spreadPrecision(k.values, k.true_value, seed);
   k.ratio = c.width() > 0 && spread > 0 ? c.width() / (2 * spread) : 0;
   k.verdict = !(c.width() > 0)                       ? Verdict::Untoleranced
               : k.ratio >= capability.capable_ratio  ? Verdict::Capable
               : k.ratio >= capability.marginal_ratio ? Verdict::Marginal
                                                      : Verdict::NotCapable;
+}
+
+// The resamples' seed of characteristic `id` (judge).
+std::uint64_t resampleSeed(const InspectionOptions& options, int id) {
+  return options.seed * 2654435761u + static_cast<std::uint64_t>(id);
+}
+
+// Whether every characteristic still evaluated has its U + |bias| within `share` of
+// itself at 95 % after the runs so far.
+bool precise(const std::vector<InspectedCharacteristic>& inspected,
+             const InspectionOptions& options) {
+  return std::all_of(inspected.begin(), inspected.end(), [&](const InspectedCharacteristic& k) {
+    return !k.evaluated ||
+           spreadPrecision(k.values, k.true_value, resampleSeed(options, k.characteristic)) <=
+               options.precision * spreadOf(k.values, k.true_value);
+  });
 }
 
 // Per characteristic, its value on the simulated part, or why it has none.
@@ -412,7 +436,7 @@ void evaluateRun(const Setup& s, const RunPoints& points, int run,
     const FacePoints& frame = frameFor(list[i], s.part, points);
     for (int f : list[i].faces)
       if (const auto found = frame.find(f); found != frame.end())
-        k.points += static_cast<double>(found->second.size()) / s.options.runs;
+        k.points += static_cast<double>(found->second.size());  // per run at the end
     const detail::Evaluation value = detail::evaluate(list[i], s.part.gdt, s.nominal, frame);
     if (!value.value) {
       k.evaluated = false;
@@ -426,12 +450,41 @@ void evaluateRun(const Setup& s, const RunPoints& points, int run,
   }
 }
 
+// The runs of the inspection, all of `options.runs` or, with a precision, until it is
+// reached; then each characteristic judged.
+void runAll(const Setup& s, const detail::SimulatedRegistration& registration,
+            const Progress& progress, Inspection& result) {
+  const InspectionOptions& options = s.options;
+  result.precision_asked = options.precision;
+  const std::string most = (options.precision > 0 ? " of at most " : " of ");
+  for (int run = 0; run < options.runs; ++run) {
+    report(progress,
+           "inspecting: run " + std::to_string(run + 1) + most + std::to_string(options.runs),
+           static_cast<double>(run) / options.runs);
+    evaluateRun(s, simulateRun(s, registration, run, result), run, result.characteristics);
+    result.runs = run + 1;
+    if (options.precision > 0 && result.runs >= kLeastRuns && result.runs % kPrecisionBatch == 0 &&
+        precise(result.characteristics, options))
+      break;
+  }
+  report(progress, "inspecting", 1);
+  for (std::size_t i = 0; i < s.plan.characteristics.size(); ++i) {
+    InspectedCharacteristic& k = result.characteristics[i];
+    k.points /= result.runs;
+    if (k.evaluated)
+      judge(s.plan.characteristics[i], s.spec.spec.planner.capability,
+            resampleSeed(options, k.characteristic), k);
+  }
+}
+
 }  // namespace
 
 Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& plan,
                        const InspectionOptions& options, const Progress& progress) {
   if (options.runs < 2 || options.runs > 10000)
     throw InputError(plan.part_file, "inspection runs must be within [2, 10000]");
+  if (!(options.precision >= 0 && options.precision < 1))
+    throw InputError(plan.part_file, "inspection precision must be within [0, 1)");
   if (!(options.spacing >= 0) || options.spacing > plan.scanner.fov_height)
     throw InputError(plan.part_file, "inspection spacing must be within [0, fov_height]");
   checkDeviations(part, options.deviations);
@@ -477,17 +530,29 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
                     result.icp_registered > 0 ? &registering : nullptr};
 
   result.characteristics = trueValues(setup, simulatedPart(nominal, faces, options.deviations));
-  for (int run = 0; run < options.runs; ++run) {
-    report(progress,
-           "inspecting: run " + std::to_string(run + 1) + " of " + std::to_string(options.runs),
-           static_cast<double>(run) / options.runs);
-    evaluateRun(setup, simulateRun(setup, registration, run, result), run, result.characteristics);
-  }
-  report(progress, "inspecting", 1);
-  for (std::size_t i = 0; i < plan.characteristics.size(); ++i)
-    if (result.characteristics[i].evaluated)
-      judge(plan.characteristics[i], spec.spec.planner.capability, result.characteristics[i]);
+  runAll(setup, registration, progress, result);
   return result;
+}
+
+double spreadOf(std::span<const double> values, double true_value) {
+  const auto [mean, u] = meanAndU(values);
+  return u + std::abs(mean - true_value);
+}
+
+double spreadPrecision(std::span<const double> values, double true_value, std::uint64_t seed) {
+  if (values.size() < 2) return 0;
+  std::mt19937_64 random(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, values.size() - 1);
+  std::vector<double> resample(values.size());
+  double sum = 0, squares = 0;
+  for (int b = 0; b < kResamples; ++b) {
+    for (double& x : resample) x = values[pick(random)];
+    const double spread = spreadOf(resample, true_value);
+    sum += spread;
+    squares += spread * spread;
+  }
+  const double mean = sum / kResamples;
+  return 2 * std::sqrt(std::max(0.0, squares / kResamples - mean * mean));
 }
 
 }  // namespace scanplan

@@ -778,6 +778,7 @@ void checkByInspection(const Part& part, const ResolvedSpec& spec, Plan& plan,
       if (k.characteristic == i.characteristic && i.evaluated) {
         k.inspected_uncertainty = i.uncertainty;
         k.inspected_bias = i.bias;
+        k.inspected_precision = i.precision;
       }
 }
 

@@ -491,7 +491,8 @@ function selectCharacteristic(index) {
       ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (k = 2)', `${fmt(k.uncertainty, 4)} mm`],
       ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)], ['beyond the views', limitText(k)]);
     if (k.inspected_uncertainty !== null && k.inspected_uncertainty !== undefined)
-      rows.push(['inspected U (k = 2), planned', `${fmt(k.inspected_uncertainty, 4)} mm, bias ${fmt(k.inspected_bias, 4)}`]);
+      rows.push(['inspected U (k = 2), planned', `${fmt(k.inspected_uncertainty, 4)} mm, bias ${fmt(k.inspected_bias, 4)}` +
+        (typeof k.inspected_precision === 'number' ? `, U + |bias| ± ${fmt(k.inspected_precision, 4)} at 95 %` : '')]);
     if (k.budget) {
       rows.push(['U from the noise', `${fmt(k.budget.noise, 4)} mm`],
         ['U from the registration', `${fmt(k.budget.registration, 4)} mm`],
@@ -502,11 +503,17 @@ function selectCharacteristic(index) {
   if (m && m.evaluated) {
     rows.push(['inspected: value of the part', fmt(m.true_value, 4)], ['inspected: measured', fmt(m.mean, 4)],
       ['inspected: bias', fmt(m.bias, 4)], ['inspected: U (k = 2)', `${fmt(m.uncertainty, 4)} mm`],
+      ['inspected: U + |bias| known within', precisionText(m)],
       ['inspected: ratio', fmt(m.ratio, 2)], ['inspected: verdict', inspectedText(m)]);
   } else if (m) {
     rows.push(['inspected', inspectedText(m)]);
   }
   $('selection').replaceChildren(table([{ title: '' }, { title: '' }], rows));
+}
+// How precisely the inspection's runs know U + |bias| (inspection.json's precision).
+function precisionText(m) {
+  const runs = (data.inspection || {}).runs;
+  return typeof m.precision === 'number' ? `± ${fmt(m.precision, 4)} mm at 95 % (${runs} runs)` : '–';
 }
 function limits(c) {
   return c.dimension ? `${fmt(c.value, 3)} (${fmt(c.limits[0], 3)} to ${fmt(c.limits[1], 3)})` : fmt(c.value, 3);
@@ -543,7 +550,7 @@ if (characteristics.length === 0) {
   if (planned && inspected.size === 0) columns.push({ title: 'inspected U mm', num: true });
   if (inspected.size > 0) {
     columns.push({ title: 'inspected bias', num: true }, { title: 'inspected U mm', num: true },
-      { title: 'inspected verdict' });
+      { title: 'U + |bias| ± mm', num: true }, { title: 'inspected verdict' });
   }
   $('characteristics').append(el('div', { class: 'scroll' }, table(columns,
     characteristics.map((c) => {
@@ -555,8 +562,9 @@ if (characteristics.length === 0) {
         row.push(k && typeof k.inspected_uncertainty === 'number' ? fmt(k.inspected_uncertainty, 4) : '–');
       if (inspected.size > 0) {
         const m = inspected.get(c.id);
-        row.push(m && m.evaluated ? fmt(m.bias, 4) : '–', m && m.evaluated ? fmt(m.uncertainty, 4) : '–',
-          inspectedText(m));
+        const known = m && m.evaluated;
+        row.push(known ? fmt(m.bias, 4) : '–', known ? fmt(m.uncertainty, 4) : '–',
+          known && typeof m.precision === 'number' ? fmt(m.precision, 4) : '–', inspectedText(m));
       }
       return row;
     }), selectCharacteristic)));

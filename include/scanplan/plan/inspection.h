@@ -32,13 +32,16 @@ struct InspectedCharacteristic {
   double bias = 0;            // mean - true value
   double uncertainty = 0;     // U: twice the runs' standard deviation (k = 2)
   double ratio = 0;           // width / (2 (U + |bias|)); 0 without a width
+  // U + |bias| is known within ± this at 95 % from the runs' number (spreadPrecision)
+  double precision = 0;
   Verdict verdict = Verdict::NotCapable;
   double points = 0;           // on its faces, per run on average
   std::vector<double> values;  // per run
 };
 
 struct Inspection {
-  int runs = 0;
+  int runs = 0;                    // taken
+  double precision_asked = 0;      // InspectionOptions::precision; 0: a fixed number of runs
   double spacing = 0;              // mm, of the simulated points at the standoff
   std::size_t views_left_out = 0;  // registered to nothing: their points join no frame
   // Registered by ICP in every run, on its clouds; the other ICP links are drawn from the

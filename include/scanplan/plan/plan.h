@@ -155,8 +155,9 @@ struct Capability {
   Limit limit = Limit::None;
   std::vector<int> views;  // ids of the views that measure its faces in its frame
   // The virtual inspection's U and bias of its value (docs/capability.md, "Virtual
-  // inspection"), under planner.aim characteristics.
-  std::optional<double> inspected_uncertainty, inspected_bias;
+  // inspection"), under planner.aim characteristics, and how precisely its runs know
+  // U + |bias| (± at 95 %, InspectedCharacteristic::precision).
+  std::optional<double> inspected_uncertainty, inspected_bias, inspected_precision;
   // Where its faces lie unmeasured on the working plane: the index (into
   // restOrientations(part)) of the rest orientation that turns most of them up.
   std::optional<std::size_t> rest;

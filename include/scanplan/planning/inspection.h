@@ -12,12 +12,13 @@
 #include <scanplan/spec/spec.h>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace scanplan {
 
 struct InspectionOptions {
-  int runs = 20;
+  int runs = 20;  // with `precision`, the most runs
   // The simulated points' spacing at the standoff, mm; each stands for the mean of the
   // scanner's points around it, its noise so much less. 0: evaluationSpacing()
   // (`planner.evaluation_spacing`, or a hundredth of the field's height).
@@ -30,7 +31,25 @@ struct InspectionOptions {
   // covariance, and shows ICP's false minima: docs/capability.md, "Virtual inspection").
   enum class IcpLinks { Drawn, Registered };
   IcpLinks icp = IcpLinks::Drawn;
+  // 0: `runs` runs. Else runs until every characteristic evaluated has its U + |bias| known
+  // within this share of itself at 95 % (spreadPrecision), checked every kPrecisionBatch
+  // runs from kLeastRuns on, at most `runs`.
+  double precision = 0;
 };
+
+// Runs between the checks of InspectionOptions::precision, and the fewest it checks.
+inline constexpr int kPrecisionBatch = 10;
+inline constexpr int kLeastRuns = 20;
+
+// U + |bias| of `values`, measured on a part of value `true_value`: twice their standard
+// deviation (k = 2) and their mean's distance from it.
+double spreadOf(std::span<const double> values, double true_value);
+
+// The half-width of the 95 % interval the runs' finite number leaves on spreadOf (the
+// numerical tolerance of a Monte Carlo result, GUM Supplement 1, 7.9): twice its standard
+// deviation over kResamples bootstrap resamples of `values`, drawn from `seed`.
+inline constexpr int kResamples = 400;
+double spreadPrecision(std::span<const double> values, double true_value, std::uint64_t seed);
 
 // \throw InputError when a deviation names a face the part does not have, or a diameter
 // change a face that is not a cylinder; or the options are out of range.
