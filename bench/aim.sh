@@ -4,9 +4,10 @@
 # time, characteristics capable of those with a tolerance, the limits of those left short,
 # and the planning time. With --inspected, then a row per characteristic of the plan aimed
 # at characteristics: its predicted U beside the virtual inspection's U and bias, from the
-# plan's own inspection (20 runs), or from `scanplan inspect` with RUNS runs when given (the
-# inspected U of 20 runs is itself uncertain by about 16 %), its points SPACING mm apart at
-# the standoff when given (`scanplan inspect --spacing`; default a hundredth of the field).
+# plan's own inspection (20 runs), or from `scanplan inspect` with RUNS runs when given, its
+# points SPACING mm apart at the standoff when given (`scanplan inspect --spacing`; default a
+# hundredth of the field). The inspected U + |bias| is itself uncertain, by about 16 % over
+# 20 runs: the ratio's interval at 95 % comes from the inspection's stated precision.
 #   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected [RUNS [SPACING]]]
 set -euo pipefail
 exe=$1 part=$2 spec=${3:--} inspected=${4:-} runs=${5:-} spacing=${6:-}
@@ -34,8 +35,8 @@ PY
 done
 [ "$inspected" = "--inspected" ] || exit 0
 echo
-echo "| id | kind | width | predicted U | inspected U | inspected bias | predicted / (|bias| + U) |"
-echo "|---|---|---|---|---|---|---|"
+echo "| id | kind | width | predicted U | inspected U | inspected bias | ± at 95 % | predicted / (|bias| + U) |"
+echo "|---|---|---|---|---|---|---|---|"
 inspection=-
 if [ -n "$runs" ]; then
   args=(inspect "$out/characteristics/plan.json" "$part" --runs "$runs" -q
@@ -48,19 +49,23 @@ fi
 python3 - "$out/characteristics/plan.json" "$inspection" <<'PY'
 import json, sys
 plan = json.load(open(sys.argv[1]))
-# (U, bias) per characteristic: the plan's own inspection's, or the given inspection's.
-inspected = {c["id"]: (c["uncertainty"], c["bias"])
+# (U, bias, precision of U + |bias|) per characteristic: the plan's own inspection's, or
+# the given inspection's.
+inspected = {c["id"]: (c["uncertainty"], c["bias"], c.get("precision", 0))
              for c in (json.load(open(sys.argv[2]))["characteristics"] if sys.argv[2] != "-" else [])
              if c.get("evaluated")}
 for c in plan.get("characteristics", []):
     k = c.get("capability") or {}
     if sys.argv[2] == "-" and k.get("inspected_uncertainty") is not None:
-        inspected[c["id"]] = (k["inspected_uncertainty"], k["inspected_bias"])
+        inspected[c["id"]] = (k["inspected_uncertainty"], k["inspected_bias"],
+                              k.get("inspected_precision") or 0)
     if k.get("verdict") == "untoleranced" or c["id"] not in inspected:
         continue
-    u, bias = inspected[c["id"]]
+    u, bias, precision = inspected[c["id"]]
     width = c["limits"][1] - c["limits"][0]
     seen = abs(bias) + u
+    ratio = (lambda x: f"{k['uncertainty'] / x:.2f}" if x > 0 else "-")
     print(f"| {c['id']} | {c['kind']} | {width:g} | {k['uncertainty']:.4f} | "
-          f"{u:.4f} | {bias:.4f} | {k['uncertainty'] / seen if seen > 0 else float('nan'):.2f} |")
+          f"{u:.4f} | {bias:.4f} | {precision:.4f} | {ratio(seen)} "
+          f"({ratio(seen + precision)} to {ratio(seen - precision)}) |")
 PY

@@ -138,6 +138,15 @@ AcceptanceErrors drawAcceptance(const Scanner& s, std::mt19937_64& random) {
 // One run's points: per frame, by face (part frame).
 using RunPoints = std::map<std::size_t, FacePoints>;
 
+// A view's cloud as every run of the inspection simulates it before drawing its noise
+// (viewRays).
+struct ViewRays {
+  CloudRays rays;                      // its noise's source; its cloud left empty
+  std::vector<SurfacePoint> designed;  // the points kept, world
+  std::vector<Vec3> hits;              // where their rays met the mesh, world
+  std::vector<std::size_t> kept;       // each one's index in the cloud
+};
+
 // The clouds the views are simulated as: one simulator per orientation of the plan, each
 // simulated point the mean of the scanner's points around it, `spacing` apart, its noise
 // so much less.
@@ -173,6 +182,9 @@ struct Setup {
   // Per view, the view it registers to by ICP in each run (none: its link is drawn).
   std::vector<std::optional<std::size_t>> icp;
   const detail::SimulatedIcp* registering = nullptr;
+  // Per view placed, its rays at the clouds' spacing, simulated once for every run
+  // (allViewRays).
+  std::vector<ViewRays> rays = {};
 };
 
 // One view's points in a run before its registration moves them (world): on the part as
@@ -180,25 +192,43 @@ struct Setup {
 // it takes part in an ICP link, else of the characteristics' faces.
 using ViewPoints = std::vector<SurfacePoint>;
 
-ViewPoints measuredPoints(const Setup& s, const Clouds& clouds, std::size_t v, bool every_face,
-                          const AcceptanceErrors& acceptance, int run) {
-  const View& view = s.plan.views[v];
+// Where view v's camera rays meet the part in every run, at `clouds`' spacing (world): the
+// points kept (of every face, or of the characteristics'), each on the part as designed
+// instead of the mesh; and what each run's noise is drawn from.
+ViewRays viewRays(const Setup& s, const Clouds& clouds, std::size_t v, bool every_face) {
   const std::size_t k = s.orientation[v];
   const Pose to_world = orientationPlacement(s.plan, k), to_part = to_world.inverse();
-  const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
-                             static_cast<std::uint64_t>(view.id);
-  const PointCloud cloud = clouds.simulators[k].cloud(view, seed, clouds.spacing);
-  ViewPoints mine;
+  ViewRays made{clouds.simulators[k].rays(s.plan.views[v], clouds.spacing), {}, {}, {}};
+  const PointCloud& cloud = made.rays.cloud;
   for (std::size_t i = 0; i < cloud.points.size(); ++i) {
     const int face = cloud.faces[i];
     if (!every_face && !s.faces.count(face)) continue;
-    // Where the camera's ray met the mesh, on the part as designed instead; the noise
-    // along the ray kept.
     const SurfacePoint on =
         s.nominal.onDesigned(face, to_part * cloud.hits[i], to_part.linear() * cloud.normals[i]);
-    const Vec3 at = to_world * on.position + (cloud.points[i] - cloud.hits[i]),
-               towards = to_world.linear() * on.normal;
-    mine.push_back({acceptance.apply(s.plan.scanner, view, at, towards), towards, face});
+    made.designed.push_back({to_world * on.position, to_world.linear() * on.normal, face});
+    made.hits.push_back(cloud.hits[i]);
+    made.kept.push_back(i);
+  }
+  made.rays.cloud = {};  // what runs need is kept apart
+  return made;
+}
+
+// View v's points in run `run`: its designed points with the noise along each ray, and
+// the view's acceptance errors.
+ViewPoints measuredPoints(const Setup& s, const ViewRays& rays, std::size_t v,
+                          const AcceptanceErrors& acceptance, int run) {
+  const View& view = s.plan.views[v];
+  const std::uint64_t seed = s.options.seed * 7919 + static_cast<std::uint64_t>(run) * 104729 +
+                             static_cast<std::uint64_t>(view.id);
+  const std::vector<Vec3> noise = noiseOf(rays.rays, seed);
+  ViewPoints mine;
+  mine.reserve(rays.designed.size());
+  for (std::size_t j = 0; j < rays.designed.size(); ++j) {
+    // The noise as the cloud carries it: the noisy point less its ray's hit.
+    const Vec3& hit = rays.hits[j];
+    const SurfacePoint& on = rays.designed[j];
+    const Vec3 at = on.position + ((hit + noise[rays.kept[j]]) - hit);
+    mine.push_back({acceptance.apply(s.plan.scanner, view, at, on.normal), on.normal, on.face});
   }
   return mine;
 }
@@ -267,8 +297,9 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
     IcpOverlap overlap = icpOverlap(s, v, p, measured[v], s.clouds, acceptance[p]);
     for (std::uint64_t start = 0; start < kStarts; ++start) {
       if (start == 1)
-        overlap = icpOverlap(s, v, p, measuredPoints(s, s.dense, v, true, acceptance[v], run),
-                             s.dense, acceptance[p]);
+        overlap = icpOverlap(
+            s, v, p, measuredPoints(s, viewRays(s, s.dense, v, true), v, acceptance[v], run),
+            s.dense, acceptance[p]);
       const std::uint64_t seed = s.options.seed * 6151 + static_cast<std::uint64_t>(run) * 65537 +
                                  static_cast<std::uint64_t>(s.plan.views[v].id) * 7 + start;
       const std::optional<Pose> link =
@@ -284,6 +315,19 @@ std::vector<std::optional<Pose>> icpLinks(const Setup& s, const std::vector<View
   return links;
 }
 
+// Every placed view's rays at the clouds' spacing (viewRays): of every face for the views
+// in an ICP link, whose overlap ICP registers, else of the characteristics' faces.
+std::vector<ViewRays> allViewRays(const Setup& s) {
+  std::vector<char> in_icp(s.plan.views.size(), 0);
+  for (std::size_t v = 0; v < s.icp.size(); ++v)
+    if (s.icp[v]) in_icp[v] = in_icp[*s.icp[v]] = 1;
+  std::vector<ViewRays> rays(s.plan.views.size());
+  tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
+    if (s.errors[v].placed) rays[v] = viewRays(s, s.clouds, v, in_icp[v]);
+  });
+  return rays;
+}
+
 RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& registration, int run,
                       Inspection& counts) {
   std::mt19937_64 random(s.options.seed * 1000003 + static_cast<std::uint64_t>(run));
@@ -292,13 +336,9 @@ RunPoints simulateRun(const Setup& s, const detail::SimulatedRegistration& regis
   std::vector<AcceptanceErrors> acceptance;
   for (std::size_t v = 0; v < s.plan.views.size(); ++v)
     acceptance.push_back(drawAcceptance(s.plan.scanner, random));
-  std::vector<char> in_icp(s.plan.views.size(), 0);
-  for (std::size_t v = 0; v < s.icp.size(); ++v)
-    if (s.icp[v]) in_icp[v] = in_icp[*s.icp[v]] = 1;
   std::vector<ViewPoints> measured(s.plan.views.size());
   tbb::parallel_for(std::size_t{0}, s.plan.views.size(), [&](std::size_t v) {
-    if (s.errors[v].placed)
-      measured[v] = measuredPoints(s, s.clouds, v, in_icp[v], acceptance[v], run);
+    if (s.errors[v].placed) measured[v] = measuredPoints(s, s.rays[v], v, acceptance[v], run);
   });
   if (s.registering)
     moves = registration.draw(registration_random, icpLinks(s, measured, acceptance, run, counts));
@@ -515,20 +555,21 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
                            std::max(plan.scanner.point_spacing, result.spacing / kDenser))
           : Clouds{};
   const detail::SimulatedIcp registering(nominal, registration_options, part.linear_deflection);
-  const Setup setup{part,
-                    spec,
-                    plan,
-                    options,
-                    nominal,
-                    faces,
-                    errors,
-                    clouds,
-                    dense,
-                    viewOrientations(plan),
-                    registration_options.tolerance,
-                    icp,
-                    result.icp_registered > 0 ? &registering : nullptr};
+  Setup setup{part,
+              spec,
+              plan,
+              options,
+              nominal,
+              faces,
+              errors,
+              clouds,
+              dense,
+              viewOrientations(plan),
+              registration_options.tolerance,
+              icp,
+              result.icp_registered > 0 ? &registering : nullptr};
 
+  setup.rays = allViewRays(setup);
   result.characteristics = trueValues(setup, simulatedPart(nominal, faces, options.deviations));
   runAll(setup, registration, progress, result);
   return result;

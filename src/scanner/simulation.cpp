@@ -165,13 +165,18 @@ std::vector<Eye> eyes(const View& view, const Scanner& s) {
   return result;
 }
 
-// The pixel grid of a simulated cloud and its random streams.
+// The pixel grid of a simulated cloud.
 struct CloudGrid {
   double spacing;
   int columns, rows;
-  std::uint64_t seed;
   int view_id;
 };
+
+// Row `row` (over every camera's grid) of view `view_id`'s cloud: its random stream
+// without the seed.
+std::uint64_t rowStream(int view_id, std::uint64_t row) {
+  return static_cast<std::uint64_t>(view_id) * 1000003ULL + row;
+}
 
 }  // namespace
 
@@ -310,10 +315,10 @@ struct Simulator::Impl {
   }
 
   // Rows [first, last) of camera e's pixel grid into rows[r]: the hits on the part that
-  // camera e measures and no earlier camera does, lit by the projector, each moved by the
-  // noise along its ray.
+  // camera e measures and no earlier camera does, lit by the projector, each with its ray
+  // and its noise's standard deviation.
   void cloudBlock(const ViewGeometry& geometry, const std::vector<Eye>& all, std::size_t e,
-                  const CloudGrid& grid, int first, int last, PointCloud* rows) const {
+                  const CloudGrid& grid, int first, int last, CloudRays* rows) const {
     const Eye& eye = all[e];
     std::vector<Ray> rays;
     rays.reserve(static_cast<std::size_t>(last - first) * grid.columns);
@@ -342,11 +347,8 @@ struct Simulator::Impl {
     for (std::size_t k = 0; k < surface.size(); ++k) drop[k] |= blocked[k];
 
     tbb::parallel_for(first, last, [&](int r) {
-      const std::uint64_t row = static_cast<std::uint64_t>(r) + e * grid.rows;
-      std::mt19937_64 random(grid.seed * 0x9E3779B97F4A7C15ULL +
-                             static_cast<std::uint64_t>(grid.view_id) * 1000003ULL + row);
-      std::normal_distribution<double> normal(0.0, 1.0);
-      PointCloud& out = rows[r];
+      CloudRays& out = rows[r];
+      out.row_streams = {rowStream(grid.view_id, static_cast<std::uint64_t>(r) + e * grid.rows)};
       const std::size_t begin = static_cast<std::size_t>(r - first) * grid.columns;
       auto k = std::lower_bound(kept.begin(), kept.end(), begin) - kept.begin();
       for (; k < static_cast<std::ptrdiff_t>(kept.size()) && kept[k] < begin + grid.columns; ++k) {
@@ -355,13 +357,15 @@ struct Simulator::Impl {
         const Vec3 ray_direction = rays[kept[k]].direction;
         const double cos_incidence = std::clamp(-ray_direction.dot(sp.normal), 1e-3, 1.0);
         const double depth = (sp.position - eye.centre).dot(eye.rotation.col(2)) / eye.distance;
-        const double sigma = scanner.noise_sigma * depth * depth / cos_incidence;
-        out.points.push_back(sp.position + sigma * normal(random) * ray_direction);
-        out.normals.push_back(sp.normal);
-        out.faces.push_back(sp.face);
-        out.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
-        out.hits.push_back(sp.position);
+        out.sigma.push_back(scanner.noise_sigma * depth * depth / cos_incidence);
+        out.along.push_back(ray_direction);
+        out.cloud.points.push_back(sp.position);
+        out.cloud.normals.push_back(sp.normal);
+        out.cloud.faces.push_back(sp.face);
+        out.cloud.incidence.push_back(static_cast<float>(degrees(std::acos(cos_incidence))));
+        out.cloud.hits.push_back(sp.position);
       }
+      out.row_ends = {out.sigma.size()};
     });
   }
 
@@ -538,30 +542,56 @@ std::vector<Acquisition> Simulator::acquire(std::span<const View> views) const {
 }
 
 PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing) const {
+  CloudRays made = rays(view, spacing);
+  const std::vector<Vec3> noise = noiseOf(made, seed);
+  for (std::size_t i = 0; i < noise.size(); ++i) made.cloud.points[i] += noise[i];
+  return std::move(made.cloud);
+}
+
+CloudRays Simulator::rays(const View& view, double spacing) const {
   const Impl& d = *impl_;
   const Scanner& s = d.scanner;
   const ViewGeometry geometry(view, s);
   if (!(spacing > 0)) spacing = s.point_spacing;
   const CloudGrid grid{spacing, static_cast<int>(std::floor(s.fov_width / spacing)),
-                       static_cast<int>(std::floor(s.fov_height / spacing)), seed, view.id};
+                       static_cast<int>(std::floor(s.fov_height / spacing)), view.id};
   const std::vector<Eye> all = eyes(view, s);
   // Rows are simulated in blocks to bound memory; each row has its own random stream so
   // that the cloud does not depend on thread scheduling.
-  std::vector<PointCloud> rows(all.size() * static_cast<std::size_t>(grid.rows));
+  std::vector<CloudRays> rows(all.size() * static_cast<std::size_t>(grid.rows));
   constexpr int kBlock = 32;
   for (std::size_t e = 0; e < all.size(); ++e)
     for (int first = 0; first < grid.rows; first += kBlock)
       d.cloudBlock(geometry, all, e, grid, first, std::min(grid.rows, first + kBlock),
                    rows.data() + e * grid.rows);
-  PointCloud cloud;
-  for (const PointCloud& row : rows) {
-    cloud.points.insert(cloud.points.end(), row.points.begin(), row.points.end());
-    cloud.normals.insert(cloud.normals.end(), row.normals.begin(), row.normals.end());
-    cloud.faces.insert(cloud.faces.end(), row.faces.begin(), row.faces.end());
-    cloud.incidence.insert(cloud.incidence.end(), row.incidence.begin(), row.incidence.end());
-    cloud.hits.insert(cloud.hits.end(), row.hits.begin(), row.hits.end());
+  CloudRays made;
+  PointCloud& cloud = made.cloud;
+  const auto append = [](auto& to, const auto& from) {
+    to.insert(to.end(), from.begin(), from.end());
+  };
+  for (const CloudRays& row : rows) {
+    append(cloud.points, row.cloud.points);
+    append(cloud.normals, row.cloud.normals);
+    append(cloud.faces, row.cloud.faces);
+    append(cloud.incidence, row.cloud.incidence);
+    append(cloud.hits, row.cloud.hits);
+    append(made.along, row.along);
+    append(made.sigma, row.sigma);
+    made.row_streams.push_back(row.row_streams.front());
+    made.row_ends.push_back(made.sigma.size());
   }
-  return cloud;
+  return made;
+}
+
+std::vector<Vec3> noiseOf(const CloudRays& rays, std::uint64_t seed) {
+  std::vector<Vec3> noise(rays.sigma.size());
+  tbb::parallel_for(std::size_t{0}, rays.row_streams.size(), [&](std::size_t r) {
+    std::mt19937_64 random(seed * 0x9E3779B97F4A7C15ULL + rays.row_streams[r]);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (std::size_t i = r == 0 ? 0 : rays.row_ends[r - 1]; i < rays.row_ends[r]; ++i)
+      noise[i] = rays.sigma[i] * normal(random) * rays.along[i];
+  });
+  return noise;
 }
 
 // The points in cells a fortieth of the diagonal of their box across.

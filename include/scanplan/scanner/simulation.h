@@ -84,6 +84,22 @@ struct PointCloud {
                                  // (a simulated cloud's; empty for one read from a file)
 };
 
+// A simulated cloud before its noise (Simulator::rays): each point where its pixel's ray
+// meets the part, the ray's direction and the noise's standard deviation there; the
+// points lie in rows of the pixel grids, each row drawing its noise from a random stream
+// of its own, point after point.
+struct CloudRays {
+  PointCloud cloud;                        // points and hits alike, without noise
+  std::vector<Vec3> along;                 // unit, the camera ray's direction
+  std::vector<double> sigma;               // mm
+  std::vector<std::uint64_t> row_streams;  // per row, its stream (with the seed)
+  std::vector<std::size_t> row_ends;       // per row, one past its last point
+};
+
+// The noise of each point of `rays` drawn from `seed`, along its ray: sigma times a
+// standard normal of its row's stream.
+std::vector<Vec3> noiseOf(const CloudRays& rays, std::uint64_t seed);
+
 // What a view's camera records on the surface at a point it measures (docs/simulation.md):
 // the depth noise of its points (along the camera's ray), its part along the surface normal,
 // and their density, points per mm², from the pixel grid (point_spacing at the standoff) at
@@ -123,6 +139,9 @@ class Simulator {
   // camera ray, Gaussian with sigma = noise_sigma * (z / standoff)^2 / cos(incidence)
   // (docs/simulation.md), seeded by `seed`. A `spacing` > 0 replaces the scanner's.
   PointCloud cloud(const View& view, std::uint64_t seed = 1, double spacing = 0) const;
+  // The same cloud before its noise (its points its hits), with what the noise is drawn
+  // from: cloud(view, seed, spacing) is rays(view, spacing) plus noiseOf(them, seed).
+  CloudRays rays(const View& view, double spacing = 0) const;
 
   const Scanner& scanner() const;
   const SimulationOptions& options() const;
