@@ -7,7 +7,9 @@
 # plan's own inspection (20 runs), or from `scanplan inspect` with RUNS runs when given, its
 # points SPACING mm apart at the standoff when given (`scanplan inspect --spacing`; default a
 # hundredth of the field). The inspected U + |bias| is itself uncertain, by about 16 % over
-# 20 runs: the ratio's interval at 95 % comes from the inspection's stated precision.
+# 20 runs: the ratio's interval at 95 % comes from the inspection's stated precision. With
+# RUNS, the last column is the predicted U over the error 95 % of the runs stay under
+# (|measured - true|), which is how the capability model defines its U.
 #   bench/aim.sh SCANPLAN PART [SPEC|-] [--inspected [RUNS [SPACING]]]
 set -euo pipefail
 exe=$1 part=$2 spec=${3:--} inspected=${4:-} runs=${5:-} spacing=${6:-}
@@ -35,8 +37,8 @@ PY
 done
 [ "$inspected" = "--inspected" ] || exit 0
 echo
-echo "| id | kind | width | predicted U | inspected U | inspected bias | ± at 95 % | predicted / (|bias| + U) |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| id | kind | width | predicted U | inspected U | inspected bias | ± at 95 % | predicted / (|bias| + U) | predicted / 95 % of the errors |"
+echo "|---|---|---|---|---|---|---|---|---|"
 inspection=-
 if [ -n "$runs" ]; then
   args=(inspect "$out/characteristics/plan.json" "$part" --runs "$runs" -q
@@ -49,23 +51,27 @@ fi
 python3 - "$out/characteristics/plan.json" "$inspection" <<'PY'
 import json, sys
 plan = json.load(open(sys.argv[1]))
-# (U, bias, precision of U + |bias|) per characteristic: the plan's own inspection's, or
-# the given inspection's.
-inspected = {c["id"]: (c["uncertainty"], c["bias"], c.get("precision", 0))
+# (U, bias, precision of U + |bias|, the error 95 % of the runs stay under) per
+# characteristic: the plan's own inspection's (without its runs' values), or the given
+# inspection's.
+def error95(c):
+    errors = sorted(abs(v - c["true_value"]) for v in c["values"])
+    return errors[min(len(errors) - 1, int(0.95 * len(errors)))]
+inspected = {c["id"]: (c["uncertainty"], c["bias"], c.get("precision", 0), error95(c))
              for c in (json.load(open(sys.argv[2]))["characteristics"] if sys.argv[2] != "-" else [])
              if c.get("evaluated")}
 for c in plan.get("characteristics", []):
     k = c.get("capability") or {}
     if sys.argv[2] == "-" and k.get("inspected_uncertainty") is not None:
         inspected[c["id"]] = (k["inspected_uncertainty"], k["inspected_bias"],
-                              k.get("inspected_precision") or 0)
+                              k.get("inspected_precision") or 0, 0)
     if k.get("verdict") == "untoleranced" or c["id"] not in inspected:
         continue
-    u, bias, precision = inspected[c["id"]]
+    u, bias, precision, q95 = inspected[c["id"]]
     width = c["limits"][1] - c["limits"][0]
     seen = abs(bias) + u
     ratio = (lambda x: f"{k['uncertainty'] / x:.2f}" if x > 0 else "-")
     print(f"| {c['id']} | {c['kind']} | {width:g} | {k['uncertainty']:.4f} | "
           f"{u:.4f} | {bias:.4f} | {precision:.4f} | {ratio(seen)} "
-          f"({ratio(seen + precision)} to {ratio(seen - precision)}) |")
+          f"({ratio(seen + precision)} to {ratio(seen - precision)}) | {ratio(q95)} |")
 PY

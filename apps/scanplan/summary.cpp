@@ -110,8 +110,9 @@ void printCharacteristics(const Plan& plan) {
         k.budget.registration, k.budget.scanner, k.ratio, toString(k.verdict), toString(k.reason),
         k.limit == Limit::None ? "" : fmt::format("; beyond the views: {}", toString(k.limit)),
         k.inspected_uncertainty
-            ? fmt::format("; inspected U {:.4f}, bias {:.4f} (± {:.4f})", *k.inspected_uncertainty,
-                          k.inspected_bias.value_or(0), k.inspected_precision.value_or(0))
+            ? fmt::format("; inspected U {:.4f}, bias {:.4f} (U + |bias| ± {:.4f})",
+                          *k.inspected_uncertainty, k.inspected_bias.value_or(0),
+                          k.inspected_precision.value_or(0))
             : "",
         k.rest ? fmt::format("; rest orientation {} reaches it (part: {{rest: all}})", *k.rest + 1)
                : "");
