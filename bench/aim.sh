@@ -52,12 +52,9 @@ python3 - "$out/characteristics/plan.json" "$inspection" <<'PY'
 import json, sys
 plan = json.load(open(sys.argv[1]))
 # (U, bias, precision of U + |bias|, the error 95 % of the runs stay under) per
-# characteristic: the plan's own inspection's (without its runs' values), or the given
+# characteristic: the plan's own inspection's (without the last), or the given
 # inspection's.
-def error95(c):
-    errors = sorted(abs(v - c["true_value"]) for v in c["values"])
-    return errors[min(len(errors) - 1, int(0.95 * len(errors)))]
-inspected = {c["id"]: (c["uncertainty"], c["bias"], c.get("precision", 0), error95(c))
+inspected = {c["id"]: (c["uncertainty"], c["bias"], c["precision"], c["error_95"])
              for c in (json.load(open(sys.argv[2]))["characteristics"] if sys.argv[2] != "-" else [])
              if c.get("evaluated")}
 for c in plan.get("characteristics", []):

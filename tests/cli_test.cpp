@@ -531,6 +531,7 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
       ++evaluated;
       EXPECT_EQ(c["values"].size(), 3u) << c.dump();
       EXPECT_GE(c["precision"].get<double>(), 0) << c.dump();
+      EXPECT_GE(c["error_95"].get<double>(), 0) << c.dump();
     } else {
       EXPECT_FALSE(c["not_evaluated"].get<std::string>().empty()) << c.dump();
     }

@@ -60,8 +60,8 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
         "{:<22} {} views registered by ICP in every run; {} registered again from another "
         "start, {} still off after three\n",
         "", inspection.icp_registered, inspection.icp_restarted, inspection.icp_failed);
-  fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>9} {:>7}  {:<14} {}\n", "id",
-             "kind", "width", "true", "measured", "bias", "U", "±", "ratio", "verdict",
+  fmt::print("  {:>3} {:<22} {:>8} {:>10} {:>10} {:>9} {:>8} {:>9} {:>9} {:>7}  {:<14} {}\n", "id",
+             "kind", "width", "true", "measured", "bias", "U", "±", "error 95", "ratio", "verdict",
              "planned U, verdict");
   for (std::size_t i = 0; i < inspection.characteristics.size(); ++i) {
     const InspectedCharacteristic& k = inspection.characteristics[i];
@@ -75,12 +75,15 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
       continue;
     }
     fmt::print(
-        "  {:>3} {:<22} {:>8.3f} {:>10.4f} {:>10.4f} {:>9.4f} {:>8.4f} {:>9.4f} {:>7.2f}  {:<14} "
-        "{}\n",
-        c.id, c.kind, c.width(), k.true_value, k.mean, k.bias, k.uncertainty, k.precision, k.ratio,
-        toString(k.verdict), plan_side);
+        "  {:>3} {:<22} {:>8.3f} {:>10.4f} {:>10.4f} {:>9.4f} {:>8.4f} {:>9.4f} {:>9.4f} {:>7.2f}  "
+        "{:<14} {}\n",
+        c.id, c.kind, c.width(), k.true_value, k.mean, k.bias, k.uncertainty, k.precision,
+        k.error_95, k.ratio, toString(k.verdict), plan_side);
   }
-  fmt::print("{:<22} ±: how far U + |bias| may lie, at 95 %, from what endless runs give\n", "");
+  fmt::print(
+      "{:<22} ±: how far U + |bias| may lie, at 95 %, from what endless runs give; error 95: "
+      "what 95 % of the runs' errors stay under, as the planned U\n",
+      "");
 }
 
 int run(const Options& options, const GlobalOptions& global) {

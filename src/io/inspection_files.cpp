@@ -111,6 +111,7 @@ InspectedCharacteristic inspectedFrom(const nlohmann::json& entry, const Plan& p
   k.ratio = numberAt(entry, "ratio", path, where);
   // Written since the inspection states its precision.
   if (entry.contains("precision")) k.precision = numberAt(entry, "precision", path, where);
+  if (entry.contains("error_95")) k.error_95 = numberAt(entry, "error_95", path, where);
   k.points = numberAt(entry, "points", path, where);
   const std::string verdict = entry.value("verdict", std::string());
   bool known = false;
@@ -202,6 +203,7 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
                     {"uncertainty", k.uncertainty},
                     {"ratio", k.ratio},
                     {"precision", k.precision},
+                    {"error_95", k.error_95},
                     {"verdict", toString(k.verdict)},
                     {"points", k.points},
                     {"values", k.values}});

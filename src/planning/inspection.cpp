@@ -420,6 +420,18 @@ std::pair<double, double> meanAndU(std::span<const double> values) {
   return {mean, n > 1 ? 2 * std::sqrt(squares / (n - 1)) : 0};
 }
 
+// The error that 95 % of `values` stay under, from `true_value`: the smallest that at least
+// 95 % of them do.
+double error95(const std::vector<double>& values, double true_value) {
+  if (values.empty()) return 0;
+  std::vector<double> errors;
+  for (double x : values) errors.push_back(std::abs(x - true_value));
+  const auto at = errors.begin() + static_cast<std::ptrdiff_t>(
+                                       std::ceil(0.95 * static_cast<double>(errors.size())) - 1);
+  std::nth_element(errors.begin(), at, errors.end());
+  return *at;
+}
+
 // Mean, bias, U, their precision and verdict from the runs' values; `seed` the
 // resamples' (spreadPrecision).
 void judge(const Characteristic& c, const CapabilityOptions& capability, std::uint64_t seed,
@@ -428,6 +440,7 @@ void judge(const Characteristic& c, const CapabilityOptions& capability, std::ui
   k.bias = k.mean - k.true_value;
   const double spread = k.uncertainty + std::abs(k.bias);
   k.precision = spreadPrecision(k.values, k.true_value, seed);
+  k.error_95 = error95(k.values, k.true_value);
   k.ratio = c.width() > 0 && spread > 0 ? c.width() / (2 * spread) : 0;
   k.verdict = !(c.width() > 0)                       ? Verdict::Untoleranced
               : k.ratio >= capability.capable_ratio  ? Verdict::Capable

@@ -504,6 +504,8 @@ function selectCharacteristic(index) {
     rows.push(['inspected: value of the part', fmt(m.true_value, 4)], ['inspected: measured', fmt(m.mean, 4)],
       ['inspected: bias', fmt(m.bias, 4)], ['inspected: U (k = 2)', `${fmt(m.uncertainty, 4)} mm`],
       ['inspected: U + |bias| known within', precisionText(m)],
+      ['inspected: error 95 % of the runs stay under (as U above)',
+        typeof m.error_95 === 'number' ? `${fmt(m.error_95, 4)} mm` : '–'],
       ['inspected: ratio', fmt(m.ratio, 2)], ['inspected: verdict', inspectedText(m)]);
   } else if (m) {
     rows.push(['inspected', inspectedText(m)]);

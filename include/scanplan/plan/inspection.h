@@ -34,6 +34,9 @@ struct InspectedCharacteristic {
   double ratio = 0;           // width / (2 (U + |bias|)); 0 without a width
   // U + |bias| is known within ± this at 95 % from the runs' number (spreadPrecision)
   double precision = 0;
+  // The error |measured - true| that 95 % of the runs stay under (the smallest that at
+  // least 95 % do): how the capability model defines its U, which it is compared with
+  double error_95 = 0;
   Verdict verdict = Verdict::NotCapable;
   double points = 0;           // on its faces, per run on average
   std::vector<double> values;  // per run
