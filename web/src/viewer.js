@@ -488,7 +488,7 @@ function selectCharacteristic(index) {
     ['faces', c.faces.join(', ')], ['views serving it', measuring.map(viewName).join(', ') || 'none']];
   if (c.capability) {
     rows.push(['covered', pct(k.covered, 1)], ['points', `${fmt(k.points, 0)} (${fmt(k.density, 2)} per mm²)`],
-      ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (k = 2)', `${fmt(k.uncertainty, 4)} mm`],
+      ['largest gap', k.largest_gap === null ? '–' : `${fmt(k.largest_gap, 2)} mm`], ['U (95 % of the errors under it)', `${fmt(k.uncertainty, 4)} mm`],
       ['ratio', fmt(k.ratio, 2)], ['verdict', verdictText(k)], ['beyond the views', limitText(k)]);
     if (k.inspected_uncertainty !== null && k.inspected_uncertainty !== undefined)
       rows.push(['inspected U (k = 2), planned', `${fmt(k.inspected_uncertainty, 4)} mm, bias ${fmt(k.inspected_bias, 4)}` +
@@ -504,7 +504,7 @@ function selectCharacteristic(index) {
     rows.push(['inspected: value of the part', fmt(m.true_value, 4)], ['inspected: measured', fmt(m.mean, 4)],
       ['inspected: bias', fmt(m.bias, 4)], ['inspected: U (k = 2)', `${fmt(m.uncertainty, 4)} mm`],
       ['inspected: U + |bias| known within', precisionText(m)],
-      ['inspected: error 95 % of the runs stay under (as U above)',
+      ['inspected: error 95 % of the runs stay under (as the planned U)',
         typeof m.error_95 === 'number' ? `${fmt(m.error_95, 4)} mm` : '–'],
       ['inspected: ratio', fmt(m.ratio, 2)], ['inspected: verdict', inspectedText(m)]);
   } else if (m) {
