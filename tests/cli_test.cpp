@@ -558,6 +558,23 @@ TEST(Cli, InspectWritesEveryCharacteristicAndRefusesBadDeviations) {
     EXPECT_NE(bad.out.find(says), std::string::npos) << bad.out;
     EXPECT_FALSE(std::filesystem::exists(dir.file("bad.json")));
   };
+  // A precision the runs allowed cannot reach: they stop at --runs, and name the
+  // characteristics whose U + |bias| they know less well than asked.
+  r = run("inspect " + dir.file("out/plan.json") + " " + part +
+          " --precision 0.01 --runs 20 -q -o " + dir.file("short.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("20 runs (until each U + |bias| is known within 1 %; the runs ran out "
+                       "first for "),
+            std::string::npos)
+      << r.out;
+  const nlohmann::json short_of = nlohmann::json::parse(std::ifstream(dir.file("short.json")));
+  std::vector<int> imprecise;
+  for (const nlohmann::json& c : short_of["characteristics"])
+    if (c["evaluated"] && c["precision"].get<double>() > 0.01 * (c["uncertainty"].get<double>() +
+                                                                 std::abs(c["bias"].get<double>())))
+      imprecise.push_back(c["id"].get<int>());
+  EXPECT_FALSE(imprecise.empty());
+  EXPECT_EQ(short_of["imprecise"].get<std::vector<int>>(), imprecise);
   // A precision that is no share of U + |bias|.
   r = run("inspect " + dir.file("out/plan.json") + " " + part + " --precision 1.5 -q -o " +
           dir.file("bad.json"));

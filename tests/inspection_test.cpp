@@ -422,6 +422,7 @@ TEST(Inspection, RunUntilPreciseItsUAndBiasAreWithinTheirStatedPrecisionOfManyMo
   EXPECT_GE(until.runs, kLeastRuns);
   EXPECT_LT(until.runs, 200);
   EXPECT_EQ(until.runs % kPrecisionBatch, 0);
+  EXPECT_TRUE(until.imprecise.empty());
   ASSERT_EQ(until.characteristics.size(), reference.characteristics.size());
   for (std::size_t i = 0; i < until.characteristics.size(); ++i) {
     const InspectedCharacteristic &k = until.characteristics[i], &r = reference.characteristics[i];

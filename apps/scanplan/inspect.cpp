@@ -14,6 +14,7 @@
 #include <scanplan/spec/spec.h>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 #include <map>
@@ -44,14 +45,20 @@ const Capability* planned(const Plan& plan, int id) {
   return nullptr;
 }
 
+// What the runs were asked for, and for which characteristics they ran out first.
+std::string runsAskedFor(const Inspection& inspection) {
+  if (!(inspection.precision_asked > 0)) return "";
+  return fmt::format(
+      " (until each U + |bias| is known within {:.3g} %{})", 100 * inspection.precision_asked,
+      inspection.imprecise.empty()
+          ? ""
+          : fmt::format("; the runs ran out first for {}", fmt::join(inspection.imprecise, ", ")));
+}
+
 void printInspection(const Inspection& inspection, const Plan& plan) {
   fmt::print(
       "{:<22} {} runs{}, points {:.2f} mm apart{}\n", "inspection", inspection.runs,
-      inspection.precision_asked > 0
-          ? fmt::format(" (until each U + |bias| is known within {:.3g} %)",
-                        100 * inspection.precision_asked)
-          : "",
-      inspection.spacing,
+      runsAskedFor(inspection), inspection.spacing,
       inspection.views_left_out > 0
           ? fmt::format(", {} views left out (registered to nothing)", inspection.views_left_out)
           : "");

@@ -143,6 +143,9 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   inspection.spacing = numberAt(root, "spacing", path, "the inspection");
   if (root.contains("precision_asked"))
     inspection.precision_asked = numberAt(root, "precision_asked", path, "the inspection");
+  if (const nlohmann::json& ids = root.value("imprecise", nlohmann::json()); ids.is_array())
+    for (const nlohmann::json& id : ids)
+      if (id.is_number_integer()) inspection.imprecise.push_back(id.get<int>());
   if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
     inspection.views_left_out = root["views_left_out"].get<std::size_t>();
   for (auto [key, count] : {std::pair{"icp_registered", &inspection.icp_registered},
@@ -212,6 +215,7 @@ nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {
   }
   return {{"runs", inspection.runs},
           {"precision_asked", inspection.precision_asked},
+          {"imprecise", inspection.imprecise},
           {"spacing", inspection.spacing},
           {"views_left_out", inspection.views_left_out},
           {"icp_registered", inspection.icp_registered},

@@ -453,14 +453,19 @@ std::uint64_t resampleSeed(const InspectionOptions& options, int id) {
   return options.seed * 2654435761u + static_cast<std::uint64_t>(id);
 }
 
+// Whether a `precision` on U + |bias| = `spread` is within `share` of it.
+bool knownWithin(double precision, double spread, double share) {
+  return precision <= share * spread;
+}
+
 // Whether every characteristic still evaluated has its U + |bias| within `share` of
 // itself at 95 % after the runs so far.
 bool precise(const std::vector<InspectedCharacteristic>& inspected,
              const InspectionOptions& options) {
   return std::all_of(inspected.begin(), inspected.end(), [&](const InspectedCharacteristic& k) {
-    return !k.evaluated ||
-           spreadPrecision(k.values, k.true_value, resampleSeed(options, k.characteristic)) <=
-               options.precision * spreadOf(k.values, k.true_value);
+    return !k.evaluated || knownWithin(spreadPrecision(k.values, k.true_value,
+                                                       resampleSeed(options, k.characteristic)),
+                                       spreadOf(k.values, k.true_value), options.precision);
   });
 }
 
@@ -524,9 +529,12 @@ void runAll(const Setup& s, const detail::SimulatedRegistration& registration,
   for (std::size_t i = 0; i < s.plan.characteristics.size(); ++i) {
     InspectedCharacteristic& k = result.characteristics[i];
     k.points /= result.runs;
-    if (k.evaluated)
-      judge(s.plan.characteristics[i], s.spec.spec.planner.capability,
-            resampleSeed(options, k.characteristic), k);
+    if (!k.evaluated) continue;
+    judge(s.plan.characteristics[i], s.spec.spec.planner.capability,
+          resampleSeed(options, k.characteristic), k);
+    if (options.precision > 0 &&
+        !knownWithin(k.precision, k.uncertainty + std::abs(k.bias), options.precision))
+      result.imprecise.push_back(k.characteristic);
   }
 }
 

@@ -45,6 +45,7 @@ struct InspectedCharacteristic {
 struct Inspection {
   int runs = 0;                    // taken
   double precision_asked = 0;      // InspectionOptions::precision; 0: a fixed number of runs
+  std::vector<int> imprecise;      // ids of those the runs ran out before knowing so well
   double spacing = 0;              // mm, of the simulated points at the standoff
   std::size_t views_left_out = 0;  // registered to nothing: their points join no frame
   // Registered by ICP in every run, on its clouds; the other ICP links are drawn from the
