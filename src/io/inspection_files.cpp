@@ -143,9 +143,13 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   inspection.spacing = numberAt(root, "spacing", path, "the inspection");
   if (root.contains("precision_asked"))
     inspection.precision_asked = numberAt(root, "precision_asked", path, "the inspection");
-  if (const nlohmann::json& ids = root.value("imprecise", nlohmann::json()); ids.is_array())
-    for (const nlohmann::json& id : ids)
-      if (id.is_number_integer()) inspection.imprecise.push_back(id.get<int>());
+  if (root.contains("imprecise")) {
+    const nlohmann::json& ids = root["imprecise"];
+    if (!ids.is_array() ||
+        !std::all_of(ids.begin(), ids.end(), [](const auto& id) { return id.is_number_integer(); }))
+      throw InputError(path, "the inspection: 'imprecise' is not a list of characteristic ids");
+    inspection.imprecise = ids.get<std::vector<int>>();
+  }
   if (root.contains("views_left_out") && root["views_left_out"].is_number_unsigned())
     inspection.views_left_out = root["views_left_out"].get<std::size_t>();
   for (auto [key, count] : {std::pair{"icp_registered", &inspection.icp_registered},
