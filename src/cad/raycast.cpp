@@ -149,6 +149,10 @@ std::vector<std::optional<RayHit>> RayCaster::intersect(std::span<const Ray> ray
     }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    // The rays of a batch are mostly a camera's pixels, side by side: traced as coherent
+    // packets, a cloud is made in about two thirds of the time. On an edge two triangles
+    // share, either may be the hit.
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     rtcIntersect1M(d.scene, &context, batch, static_cast<unsigned>(count), sizeof(RTCRayHit));
     for (std::size_t i = 0; i < count; ++i) {
       if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;

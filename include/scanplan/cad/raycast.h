@@ -48,7 +48,9 @@ class RayCaster {
   // True when anything lies on the ray within [t_near, t_far].
   bool occluded(const Ray& ray) const;
 
-  // Batched queries, run in parallel (oneTBB) over packets of rays.
+  // Batched queries, run in parallel (oneTBB) over packets of rays. A batch's hits are the
+  // same whatever the threads; on an edge two triangles share, the triangle reported may
+  // differ from the single query's (the point and, inside a face, the face do not).
   std::vector<std::optional<RayHit>> intersect(std::span<const Ray> rays) const;
   std::vector<bool> occluded(std::span<const Ray> rays) const;
 
