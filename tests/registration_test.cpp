@@ -93,6 +93,50 @@ TEST(IcpConditionTest, PlaneSphereAndCylinderAreDegenerateCornerIsNot) {
   EXPECT_LT(corner, 20);
 }
 
+// Patches of one to three randomly turned planes, their normals tilted a little or not at
+// all, weighted or not: whether the condition is within a limit, asked of
+// icpConditionWithin, is what the condition number itself says, just below and above it
+// and at the limits the registration uses.
+TEST(IcpConditionTest, WithinALimitAnswersAsTheConditionNumberDoes) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> tilt(0, 1);
+  int finite = 0, infinite = 0;
+  for (int patch = 0; patch < 300; ++patch) {
+    const int planes = 1 + patch % 3;
+    const double wobble = (patch / 3) % 4 == 0 ? 0.0 : 0.02 * ((patch / 3) % 4);
+    std::vector<Vec3> points, normals;
+    std::vector<double> weights;
+    for (int k = 0; k < planes; ++k) {
+      const Vec3 n = Vec3(u(random), u(random), u(random)).normalized();
+      const Vec3 a = n.unitOrthogonal(), b = n.cross(a);
+      const Vec3 origin(40 * u(random), 40 * u(random), 40 * u(random));
+      for (int i = 0; i < 40; ++i) {
+        points.push_back(origin + 30 * u(random) * a + 30 * u(random) * b);
+        normals.push_back(
+            (n + wobble * Vec3(tilt(random), tilt(random), tilt(random))).normalized());
+        weights.push_back(patch % 2 ? 1 + u(random) * 0.5 : 1.0);
+      }
+    }
+    const std::span<const double> w =
+        patch % 2 ? std::span<const double>(weights) : std::span<const double>();
+    const double condition = icpCondition(points, normals, w);
+    std::vector<double> limits = {10, 100, 1000, 1e6};
+    if (std::isfinite(condition)) {
+      ++finite;
+      limits.push_back(condition * (1 - 1e-6));
+      limits.push_back(condition * (1 + 1e-6));
+    } else {
+      ++infinite;
+    }
+    for (const double limit : limits)
+      EXPECT_EQ(icpConditionWithin(points, normals, limit, w), condition <= limit)
+          << "patch " << patch << ", condition " << condition << ", limit " << limit;
+  }
+  EXPECT_GT(finite, 100);
+  EXPECT_GT(infinite, 10);
+}
+
 TEST(MarkersTest, ThreeMarkersOffALineRegister) {
   const std::vector<Vec3> line = {{0, 0, 0}, {50, 0, 0}, {100, 0.5, 0}, {150, 0, 0}};
   EXPECT_FALSE(markersRegister(line, 3, 10));

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <map>
 #include <optional>
@@ -87,9 +88,11 @@ std::vector<View> bridgingPoses(const RegistrationGraph& graph, const Sides& sid
   return poses;
 }
 
-// The observations of bridging poses, kept while the tries go towards one component:
-// after a view that only comes nearer, the next try looks at nearly the same poses. Kept
-// only without a turning table, whose angle, besides the pose, decides what a view sees.
+// The observations of bridging poses, kept across the tries: after a view that only comes
+// nearer, the next try looks at nearly the same poses, and components side by side are
+// bridged from the same targets. The oldest are forgotten past kKeptPoints points in all.
+// Kept only without a turning table, whose angle, besides the pose, decides what a view
+// sees.
 class Observed {
  public:
   explicit Observed(bool keep) : keep_(keep) {}
@@ -101,14 +104,16 @@ class Observed {
     for (const View& pose : poses)
       if (!known_.count(key(pose))) fresh.push_back(pose);
     std::vector<Observation> seen = graph.observe(fresh);
-    for (std::size_t k = 0; k < fresh.size(); ++k)
-      known_.emplace(key(fresh[k]), std::move(seen[k]));
+    for (std::size_t k = 0; k < fresh.size(); ++k) keep(key(fresh[k]), std::move(seen[k]));
     std::vector<Observation> result;
     for (const View& pose : poses) result.push_back(known_.at(key(pose)));
+    forgetOldest();
     return result;
   }
 
  private:
+  static constexpr std::size_t kKeptPoints = std::size_t{1} << 25;  // 128 MB of indices
+
   using Key = std::array<double, 16>;
   static Key key(const View& pose) {
     Key k;
@@ -116,8 +121,26 @@ class Observed {
     return k;
   }
 
+  void keep(const Key& k, Observation seen) {
+    const std::size_t points = seen.points.size();
+    if (!known_.emplace(k, std::move(seen)).second) return;
+    kept_points_ += points;
+    order_.push_back(k);
+  }
+
+  void forgetOldest() {
+    while (kept_points_ > kKeptPoints && !order_.empty()) {
+      const auto oldest = known_.find(order_.front());
+      kept_points_ -= oldest->second.points.size();
+      known_.erase(oldest);
+      order_.pop_front();
+    }
+  }
+
   bool keep_;
   std::map<Key, Observation> known_;
+  std::deque<Key> order_;  // of known_, the oldest first
+  std::size_t kept_points_ = 0;
 };
 
 struct Candidate {
@@ -218,6 +241,7 @@ Registration registerWithBridging(const Simulator& simulator, std::vector<View>&
   std::vector<int> hopeless;  // component roots no chain reached
   const std::size_t components = graph->components();
   std::size_t tries = 0;
+  Observed observed(options.table == nullptr);
   const auto budget = static_cast<std::size_t>(options.max_bridging_views);
   while (views.size() - first_bridge < budget) {
     int towards = -1;
@@ -231,7 +255,6 @@ Registration registerWithBridging(const Simulator& simulator, std::vector<View>&
     report(progress, "registration: bridging " + std::to_string(components) + " components",
            std::min(1.0, static_cast<double>(tries++) / static_cast<double>(components - 1)));
     const std::size_t kept = views.size(), before = graph->components();
-    Observed observed(options.table == nullptr);
     while (graph->components() == before && views.size() - kept < kChain &&
            views.size() - first_bridge < budget) {
       const std::optional<View> view = bridge(*graph, cell, next_id, towards, observed);

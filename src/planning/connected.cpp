@@ -88,9 +88,10 @@ class RateQueue {
   std::priority_queue<Entry> heap_;
 };
 
-// The condition number of the samples' ICP constraints, each by the area it stands for.
-double condition(const Placement& at, const std::vector<PlannedSample>& samples,
-                 const std::vector<int>& measured) {
+// Whether the condition number of the samples' ICP constraints, each by the area it stands
+// for, is at most `limit`.
+bool conditionWithin(const Placement& at, const std::vector<PlannedSample>& samples,
+                     const std::vector<int>& measured, double limit) {
   std::vector<Vec3> p, n;
   std::vector<double> w;
   for (int i : measured) {
@@ -98,7 +99,7 @@ double condition(const Placement& at, const std::vector<PlannedSample>& samples,
     n.push_back(at.points[i].normal);
     w.push_back(samples[i].sample.weight);
   }
-  return icpCondition(p, n, w);
+  return icpConditionWithin(p, n, limit, w);
 }
 
 // What every run of the cover reads: the pair test, the poses by sample and by marker, the
@@ -131,7 +132,7 @@ class CoverContext {
     const auto least_markers = static_cast<std::size_t>(options.min_markers);
     constrained.resize(pool.size());
     tbb::parallel_for(std::size_t{0}, pool.size(), [&](std::size_t v) {
-      constrained[v] = condition(at, samples, pool.samples[v]) <= options.max_condition ||
+      constrained[v] = conditionWithin(at, samples, pool.samples[v], options.max_condition) ||
                        (!markers_seen.empty() && markers_seen[v].size() >= least_markers);
     });
   }
@@ -465,8 +466,7 @@ class ConnectedCover {
   // Whether poses `u` and `v` pass the registration's pair test, each pair tested once.
   bool pairRegisters(std::size_t u, std::size_t v) {
     const auto [found, fresh] = tested_.try_emplace({u, v}, false);
-    if (fresh)
-      found->second = overlaps_.check(pool_.views[u], seen(u), pool_.views[v], seen(v)).passes();
+    if (fresh) found->second = overlaps_.passes(pool_.views[u], seen(u), pool_.views[v], seen(v));
     return found->second;
   }
 
@@ -511,7 +511,7 @@ class ConnectedCover {
   std::optional<std::size_t> registeredAmong(std::size_t v, const std::vector<std::size_t>& views) {
     for (std::size_t c : views) {
       if (!intersect(pool_.samples[c], pool_.samples[v])) continue;
-      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
+      if (overlaps_.passes(pool_.views[c], seen(c), pool_.views[v], seen(v))) return c;
     }
     return std::nullopt;
   }
@@ -583,7 +583,7 @@ class ConnectedCover {
   bool constrains(const std::vector<int>& a, const std::vector<int>& b) const {
     std::vector<int> overlap;
     std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(overlap));
-    return condition(at_, samples_, overlap) <= 10 * options_.max_condition;
+    return conditionWithin(at_, samples_, overlap, 10 * options_.max_condition);
   }
 
   const Observation& seen(std::size_t v) const { return context_.seen(v); }
@@ -608,7 +608,7 @@ class ConnectedCover {
     for (Partner& p : partners_[v]) {
       if (!foreseen(p, v)) continue;
       const std::size_t c = p.view;
-      if (overlaps_.check(pool_.views[c], seen(c), pool_.views[v], seen(v)).passes()) return c;
+      if (overlaps_.passes(pool_.views[c], seen(c), pool_.views[v], seen(v))) return c;
     }
     partners_[v].clear();
     return std::nullopt;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace scanplan {
 
@@ -90,10 +91,15 @@ bool markersRegister(std::span<const Vec3> positions, int min_count, double spre
   return false;
 }
 
-double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
-                    std::span<const double> weights) {
+namespace {
+
+// The covariance icpCondition takes the eigenvalues of; none where the condition is
+// infinite before them (fewer than 6 points, no weight, no spread).
+std::optional<Eigen::Matrix<double, 6, 6>> icpCovariance(std::span<const Vec3> points,
+                                                         std::span<const Vec3> normals,
+                                                         std::span<const double> weights) {
   const std::size_t n = std::min(points.size(), normals.size());
-  if (n < 6) return std::numeric_limits<double>::infinity();
+  if (n < 6) return std::nullopt;
   auto weight = [&](std::size_t i) { return weights.empty() ? 1.0 : weights[i]; };
   Vec3 centre = Vec3::Zero();
   double total = 0;
@@ -101,24 +107,60 @@ double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
     centre += weight(i) * points[i];
     total += weight(i);
   }
-  if (!(total > 0)) return std::numeric_limits<double>::infinity();
+  if (!(total > 0)) return std::nullopt;
   centre /= total;
   double scale = 0;
   for (std::size_t i = 0; i < n; ++i) scale += weight(i) * (points[i] - centre).norm();
   scale /= total;
-  if (!(scale > 0)) return std::numeric_limits<double>::infinity();
+  if (!(scale > 0)) return std::nullopt;
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   for (std::size_t i = 0; i < n; ++i) {
     Eigen::Matrix<double, 6, 1> row;
     row << ((points[i] - centre) / scale).cross(normals[i]), normals[i];
     covariance += weight(i) * row * row.transpose();
   }
+  return covariance;
+}
+
+double conditionOf(const Eigen::Matrix<double, 6, 6>& covariance) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(covariance,
                                                                           Eigen::EigenvaluesOnly);
   const auto& eigenvalues = solver.eigenvalues();  // ascending
   const double largest = eigenvalues(5), smallest = eigenvalues(0);
   if (!(smallest > largest * 1e-12)) return std::numeric_limits<double>::infinity();
   return largest / smallest;
+}
+
+}  // namespace
+
+double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
+                    std::span<const double> weights) {
+  const auto covariance = icpCovariance(points, normals, weights);
+  return covariance ? conditionOf(*covariance) : std::numeric_limits<double>::infinity();
+}
+
+bool icpConditionWithin(std::span<const Vec3> points, std::span<const Vec3> normals, double limit,
+                        std::span<const double> weights) {
+  // By Cauchy's interlacing theorem the covariance's largest eigenvalue is at least that of
+  // each diagonal block, and its smallest at most: the ratio of a block's, or of the two
+  // blocks' together, bounds the condition from below. The translations' block needs no
+  // centre, and alone exceeds any limit on a plane or a cylinder. The blocks' eigenvalues
+  // in closed form.
+  const auto exceeds = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::max(a(2), b(2)) > limit * std::min(a(0), b(0));  // ascending
+  };
+  Eigen::Matrix3d normal_block = Eigen::Matrix3d::Zero();
+  const std::size_t n = std::min(points.size(), normals.size());
+  for (std::size_t i = 0; i < n; ++i)
+    normal_block += (weights.empty() ? 1.0 : weights[i]) * normals[i] * normals[i].transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translations, rotations;
+  translations.computeDirect(normal_block, Eigen::EigenvaluesOnly);
+  if (n >= 6 && exceeds(translations.eigenvalues(), translations.eigenvalues())) return false;
+  const auto covariance = icpCovariance(points, normals, weights);
+  if (!covariance) return false;
+  rotations.computeDirect(covariance->topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly);
+  if (exceeds(rotations.eigenvalues(), translations.eigenvalues())) return false;
+  return conditionOf(*covariance) <= limit;
 }
 
 }  // namespace scanplan

@@ -105,6 +105,16 @@ std::vector<Observation> Overlaps::observe(std::span<const View> views) const {
 
 PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
                           const Observation& ob) const {
+  return test(a, oa, b, ob, true);
+}
+
+bool Overlaps::passes(const View& a, const Observation& oa, const View& b,
+                      const Observation& ob) const {
+  return test(a, oa, b, ob, false).passes();
+}
+
+PairCheck Overlaps::test(const View& a, const Observation& oa, const View& b, const Observation& ob,
+                         bool value) const {
   PairCheck pair;
   pair.a = std::min(a.id, b.id);
   pair.b = std::max(a.id, b.id);
@@ -130,9 +140,13 @@ PairCheck Overlaps::check(const View& a, const Observation& oa, const View& b,
     p.push_back(points()[i].position);
     n.push_back(points()[i].normal);
   }
-  pair.condition = icpCondition(p, n);
-  pair.stable = std::min(share_a, share_b) >= options_.min_overlap &&
-                pair.condition <= options_.max_condition;
+  const bool overlaps = std::min(share_a, share_b) >= options_.min_overlap;
+  if (value) {
+    pair.condition = icpCondition(p, n);
+    pair.stable = overlaps && pair.condition <= options_.max_condition;
+  } else {
+    pair.stable = overlaps && icpConditionWithin(p, n, options_.max_condition);
+  }
   return pair;
 }
 
@@ -142,7 +156,7 @@ bool Overlaps::constrained(const Observation& seen) const {
     p.push_back(points()[i].position);
     n.push_back(points()[i].normal);
   }
-  return icpCondition(p, n) <= options_.max_condition || registers(seen.markers);
+  return icpConditionWithin(p, n, options_.max_condition) || registers(seen.markers);
 }
 
 bool Overlaps::framed(const std::vector<int>& markers) const {

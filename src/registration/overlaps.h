@@ -42,6 +42,8 @@ class Overlaps {
   // ReferencePoints method, the markers two views share do not register them to each other:
   // each registers to the markers' frame, or not (framed).
   PairCheck check(const View& a, const Observation& oa, const View& b, const Observation& ob) const;
+  // check(a, oa, b, ob).passes(), without the condition number's value.
+  bool passes(const View& a, const Observation& oa, const View& b, const Observation& ob) const;
 
   // Something could register to the view: its own surface constrains ICP (condition within
   // the limit) or it sees enough markers.
@@ -59,6 +61,10 @@ class Overlaps {
 
  private:
   bool referencePoints() const;
+  // check(), with the overlap's condition number (`value`), or only whether it is within
+  // the limit (then pair.condition is not set).
+  PairCheck test(const View& a, const Observation& oa, const View& b, const Observation& ob,
+                 bool value) const;
   // Whether the markers (indices) are enough and spread enough to register by.
   bool registers(const std::vector<int>& markers) const;
 

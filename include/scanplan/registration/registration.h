@@ -147,6 +147,10 @@ bool robotRegistersAll(const RegistrationOptions& options);
 // point's constraint counts by its weight.
 double icpCondition(std::span<const Vec3> points, std::span<const Vec3> normals,
                     std::span<const double> weights = {});
+// Whether icpCondition(points, normals, weights) is at most `limit`: the same answer,
+// found without the 6 x 6 eigenvalues where a bound on them already exceeds the limit.
+bool icpConditionWithin(std::span<const Vec3> points, std::span<const Vec3> normals, double limit,
+                        std::span<const double> weights = {});
 
 // True when at least `min_count` points are given and they are not all within `spread`
 // of one line.
