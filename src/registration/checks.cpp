@@ -146,20 +146,20 @@ bool icpConditionWithin(std::span<const Vec3> points, std::span<const Vec3> norm
   // blocks' together, bounds the condition from below. The translations' block needs no
   // centre, and alone exceeds any limit on a plane or a cylinder. The blocks' eigenvalues
   // in closed form.
-  const auto exceeds = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return std::max(a(2), b(2)) > limit * std::min(a(0), b(0));  // ascending
-  };
+  const auto exceeds = [&](double largest, double smallest) { return largest > limit * smallest; };
   Eigen::Matrix3d normal_block = Eigen::Matrix3d::Zero();
   const std::size_t n = std::min(points.size(), normals.size());
   for (std::size_t i = 0; i < n; ++i)
     normal_block += (weights.empty() ? 1.0 : weights[i]) * normals[i] * normals[i].transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translations, rotations;
   translations.computeDirect(normal_block, Eigen::EigenvaluesOnly);
-  if (n >= 6 && exceeds(translations.eigenvalues(), translations.eigenvalues())) return false;
+  const Eigen::Vector3d& t = translations.eigenvalues();  // ascending
+  if (n >= 6 && exceeds(t(2), t(0))) return false;
   const auto covariance = icpCovariance(points, normals, weights);
   if (!covariance) return false;
   rotations.computeDirect(covariance->topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly);
-  if (exceeds(rotations.eigenvalues(), translations.eigenvalues())) return false;
+  const Eigen::Vector3d& r = rotations.eigenvalues();
+  if (exceeds(std::max(r(2), t(2)), std::min(r(0), t(0)))) return false;
   return conditionOf(*covariance) <= limit;
 }
 

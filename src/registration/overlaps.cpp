@@ -125,6 +125,7 @@ PairCheck Overlaps::test(const View& a, const Observation& oa, const View& b, co
     std::erase_if(markers, [&](int i) { return marker_list_[i].on == MarkerCarrier::Plane; });
   pair.shared_markers = markers.size();
   pair.markers = !referencePoints() && registers(markers);
+  if (!value && pair.markers) return pair;  // passes whatever the overlap
   const std::vector<int> overlap = shared(oa.points, ob.points);
   if (overlap.empty()) return pair;
   pair.overlap_area = static_cast<double>(overlap.size()) * spacing_ * spacing_;

@@ -61,8 +61,9 @@ class Overlaps {
 
  private:
   bool referencePoints() const;
-  // check(), with the overlap's condition number (`value`), or only whether it is within
-  // the limit (then pair.condition is not set).
+  // check(), with the overlap's condition number (`value`); else only what passes() needs
+  // (the condition only as within the limit or not, the overlap not at all when markers
+  // register the pair).
   PairCheck test(const View& a, const Observation& oa, const View& b, const Observation& ob,
                  bool value) const;
   // Whether the markers (indices) are enough and spread enough to register by.
