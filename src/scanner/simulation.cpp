@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -45,6 +46,22 @@ void forEach(std::size_t n, const F& f) {
   });
 }
 
+// An angle, radians, with its cosine and sine.
+struct Angle {
+  double value, cos, sin;
+};
+
+Angle angleOf(double degrees) {
+  const double value = radians(degrees);
+  return {value, std::cos(value), std::sin(value)};
+}
+
+// The directions within `spread` radians of the unit `axis`: the whole sphere by default.
+struct NormalCone {
+  Vec3 axis = Vec3::UnitZ();
+  double spread = std::numbers::pi, cos_spread = -1, sin_spread = 0;
+};
+
 // The parts of the measurement test that need no ray, for one view.
 struct ViewGeometry {
   Pose world_to_camera;
@@ -52,6 +69,7 @@ struct ViewGeometry {
   std::vector<Vec3> cameras;  // every camera's centre, the view's own first
   double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
   double cos_camera, cos_projector, cos_reflection;
+  Angle camera_limit, projector_limit;
 
   ViewGeometry(const View& view, const Scanner& s)
       : world_to_camera(view.camera_to_world.inverse()),
@@ -63,7 +81,9 @@ struct ViewGeometry {
         standoff(s.standoff),
         cos_camera(std::cos(radians(s.max_camera_angle))),
         cos_projector(std::cos(radians(s.max_projector_angle))),
-        cos_reflection(std::cos(radians(s.reflection_cone))) {
+        cos_reflection(std::cos(radians(s.reflection_cone))),
+        camera_limit(angleOf(s.max_camera_angle)),
+        projector_limit(angleOf(s.max_projector_angle)) {
     for (const Vec3& c : s.camerasInScanner()) cameras.push_back(view.camera_to_world * c);
   }
 
@@ -83,6 +103,37 @@ struct ViewGeometry {
            std::abs(q.y()) - radius <= half_height * scale;
   }
 
+  // False when every point of the ball (centre, radius) whose normal lies within `cone`
+  // fails the angle tests: from every camera, or from the projector. A normal turns from
+  // the direction to an eye by at least the cone axis' angle to the ball's centre, less the
+  // cone's spread and the ball's angular radius from that eye.
+  bool mayFace(const Vec3& centre, double radius, const NormalCone& cone) const {
+    return within(projector, centre, radius, cone, projector_limit) &&
+           std::any_of(cameras.begin(), cameras.end(), [&](const Vec3& eye) {
+             return within(eye, centre, radius, cone, camera_limit);
+           });
+  }
+
+  // Whether a normal of `cone` at a point of the ball may turn from `eye` by `limit` or
+  // less: the angle from the axis to the eye at most limit + spread + the ball's angular
+  // radius, compared by cosines.
+  static bool within(const Vec3& eye, const Vec3& centre, double radius, const NormalCone& cone,
+                     const Angle& limit) {
+    constexpr double kSlack = 1e-6;  // of a cosine: rounding never drops a point that passes
+    const double widest = limit.value + cone.spread;
+    if (widest >= std::numbers::pi) return true;
+    const Vec3 to_eye = eye - centre;
+    const double distance = to_eye.norm();
+    if (distance <= radius) return true;
+    const double sin_ball = radius / distance, cos_ball = std::sqrt(1 - sin_ball * sin_ball);
+    const double cos_widest = limit.cos * cone.cos_spread - limit.sin * cone.sin_spread;
+    const double sin_widest = limit.sin * cone.cos_spread + limit.cos * cone.sin_spread;
+    // With the ball's radius the widest angle reaches pi: every direction is within it.
+    if (widest >= std::numbers::pi / 2 && sin_ball >= sin_widest) return true;
+    const double cos_reach = cos_widest * cos_ball - sin_widest * sin_ball;
+    return cone.axis.dot(to_eye) >= (cos_reach - kSlack) * distance;
+  }
+
   // Volume, glancing angles and specular reflection, seen from the camera at `eye`, in the
   // order of Loss.
   Loss test(const Vec3& p, const Vec3& n, bool specular, const Vec3& eye) const {
@@ -100,46 +151,145 @@ struct ViewGeometry {
   }
 };
 
-// Points grouped in cubic cells of a given size with a bounding ball, so that a view tests
-// only the points of cells that reach its measuring volume (view-frustum culling).
+// Points grouped in cubic cells of a given size, and in each cell by face and by the axis
+// their normal leans most towards, each group with a bounding ball and a cone holding its
+// normals; so that a view tests only the points of groups that reach its measuring volume
+// (view-frustum culling) and, where only measured points count, whose normals may face it.
 class Cells {
  public:
   Cells(std::span<const SurfacePoint> points, double size) {
     std::map<std::array<long, 3>, std::size_t> cell_of_key;
+    std::vector<std::vector<std::size_t>> members;
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Vec3& p = points[i].position;
       const std::array<long, 3> key = {std::lround(std::floor(p.x() / size)),
                                        std::lround(std::floor(p.y() / size)),
                                        std::lround(std::floor(p.z() / size))};
-      auto [it, inserted] = cell_of_key.emplace(key, cells_.size());
-      if (inserted) cells_.emplace_back();
-      cells_[it->second].members.push_back(i);
+      auto [it, inserted] = cell_of_key.emplace(key, members.size());
+      if (inserted) members.emplace_back();
+      members[it->second].push_back(i);
     }
-    for (Cell& cell : cells_) {
-      Box box;
-      for (std::size_t i : cell.members) box.add(points[i].position);
-      cell.centre = box.center();
-      for (std::size_t i : cell.members)
-        cell.radius = std::max(cell.radius, (points[i].position - cell.centre).norm());
-    }
+    cells_.reserve(members.size());
+    for (const std::vector<std::size_t>& in_cell : members) addCell(points, in_cell);
   }
 
-  // The points of the cells that may reach the view's measuring volume.
+  // The points of the groups that may reach the view's measuring volume.
   std::vector<std::size_t> reaching(const ViewGeometry& geometry) const {
-    std::vector<std::size_t> near;
-    for (const Cell& cell : cells_)
-      if (geometry.mayReachVolume(cell.centre, cell.radius))
-        near.insert(near.end(), cell.members.begin(), cell.members.end());
-    return near;
+    return culled(geometry, false);
+  }
+
+  // Those of them whose normals may face the view (ViewGeometry::mayFace): the others could
+  // only be lost to the cameras' or the projector's angle.
+  std::vector<std::size_t> facing(const ViewGeometry& geometry) const {
+    return culled(geometry, true);
   }
 
  private:
-  struct Cell {
+  struct Ball {
     Vec3 centre = Vec3::Zero();
     double radius = 0;
-    std::vector<std::size_t> members;
   };
+  // Members and groups lie in runs of one array each, so that the views' culling walks
+  // memory in order.
+  struct Group {
+    Ball ball;
+    NormalCone normals;       // holding every member's normal
+    std::size_t first, last;  // its members: members_[first, last)
+  };
+  struct Cell {
+    Ball ball;
+    std::size_t first, last;  // its groups: groups_[first, last)
+  };
+
+  // A group of fewer points has no cone of its own: culling them costs about what testing
+  // them does.
+  static constexpr std::size_t kConedLeast = 8;
+
+  // The cell of `members`: its points by face and by the axis their normals lean most
+  // towards, each such group of kConedLeast or more with its cone; the others together,
+  // with none.
+  void addCell(std::span<const SurfacePoint> points, const std::vector<std::size_t>& members) {
+    Cell cell{ballOf(points, members), groups_.size(), groups_.size()};
+    std::map<std::pair<int, int>, std::vector<std::size_t>> by_normal;
+    for (std::size_t i : members)
+      by_normal[{points[i].face, leaning(points[i].normal)}].push_back(i);
+    std::vector<std::size_t> rest;
+    for (const auto& [key, group] : by_normal) {
+      if (group.size() < kConedLeast) {
+        rest.insert(rest.end(), group.begin(), group.end());
+        continue;
+      }
+      addGroup(ballOf(points, group), coneOf(points, group), group);
+    }
+    if (!rest.empty())
+      addGroup(groups_.size() == cell.first ? cell.ball : ballOf(points, rest), {}, rest);
+    cell.last = groups_.size();
+    cells_.push_back(cell);
+  }
+
+  void addGroup(const Ball& ball, const NormalCone& normals,
+                const std::vector<std::size_t>& members) {
+    groups_.push_back({ball, normals, members_.size(), members_.size() + members.size()});
+    members_.insert(members_.end(), members.begin(), members.end());
+  }
+
+  // The axis (0 to 5: +x, -x, +y, -y, +z, -z) the normal leans most towards.
+  static int leaning(const Vec3& normal) {
+    Eigen::Index axis = 0;
+    normal.cwiseAbs().maxCoeff(&axis);
+    return 2 * static_cast<int>(axis) + (normal[axis] < 0 ? 1 : 0);
+  }
+
+  static Ball ballOf(std::span<const SurfacePoint> points,
+                     const std::vector<std::size_t>& members) {
+    Box box;
+    for (std::size_t i : members) box.add(points[i].position);
+    Ball ball{box.center(), 0};
+    for (std::size_t i : members)
+      ball.radius = std::max(ball.radius, (points[i].position - ball.centre).norm());
+    return ball;
+  }
+
+  // The cone around the members' mean normal holding all of them. Unit normals leaning
+  // towards one axis do not cancel out; any other (zero, not a number) leaves it the whole
+  // sphere.
+  static NormalCone coneOf(std::span<const SurfacePoint> points,
+                           const std::vector<std::size_t>& members) {
+    NormalCone whole, cone;
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i : members) sum += points[i].normal;
+    if (!(sum.norm() > 0) || !sum.allFinite()) return whole;
+    cone.axis = sum.normalized();
+    cone.spread = 0;
+    for (std::size_t i : members) {
+      const double angle = std::acos(std::clamp(cone.axis.dot(points[i].normal), -1.0, 1.0));
+      if (std::isnan(angle)) return whole;
+      cone.spread = std::max(cone.spread, angle);
+    }
+    cone.cos_spread = std::cos(cone.spread);
+    cone.sin_spread = std::sin(cone.spread);
+    return cone;
+  }
+
+  std::vector<std::size_t> culled(const ViewGeometry& geometry, bool facing) const {
+    std::vector<std::size_t> near;
+    for (const Cell& cell : cells_) {
+      if (!geometry.mayReachVolume(cell.ball.centre, cell.ball.radius)) continue;
+      const bool one = cell.last - cell.first == 1;  // with the cell's ball
+      for (std::size_t k = cell.first; k < cell.last; ++k) {
+        const Group& g = groups_[k];
+        if (!one && !geometry.mayReachVolume(g.ball.centre, g.ball.radius)) continue;
+        if (facing && !geometry.mayFace(g.ball.centre, g.ball.radius, g.normals)) continue;
+        near.insert(near.end(), members_.begin() + static_cast<std::ptrdiff_t>(g.first),
+                    members_.begin() + static_cast<std::ptrdiff_t>(g.last));
+      }
+    }
+    return near;
+  }
+
   std::vector<Cell> cells_;
+  std::vector<Group> groups_;
+  std::vector<std::size_t> members_;
 };
 
 // A camera's pixel grid: its centre, its rotation (z towards the measuring volume's
@@ -618,9 +768,10 @@ std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator
   std::vector<std::vector<int>> result(views.size());
   if (impl_->points.empty()) return result;
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
-    // Only the points of cells that reach the measuring volume can be measured.
+    // Only the points of groups that reach the measuring volume and may face the view can
+    // be measured.
     const std::vector<std::size_t> near =
-        impl_->cells.reaching(ViewGeometry(views[v], simulator.scanner()));
+        impl_->cells.facing(ViewGeometry(views[v], simulator.scanner()));
     std::vector<SurfacePoint> subset;
     subset.reserve(near.size());
     for (std::size_t i : near) subset.push_back(impl_->points[i]);

@@ -166,7 +166,8 @@ class Simulator {
 
 // Per view, the indices of the `points` it measures, ascending: the same test as
 // Simulator::measure, applied only to the points of cells that reach each view's
-// measuring volume; views in parallel.
+// measuring volume, and in them to the groups of points whose normals may face the view
+// within the scanner's angles; views in parallel.
 std::vector<std::vector<int>> measuredPoints(const Simulator& simulator,
                                              std::span<const View> views,
                                              std::span<const SurfacePoint> points);
