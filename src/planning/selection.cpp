@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
+#include <queue>
 
 namespace scanplan::detail {
 
@@ -53,22 +54,39 @@ std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& p
     for (int i : pool.samples[v]) covered[i] = 1;
   };
   for (std::size_t v = 0; v < pinned; ++v) choose(v);
-  for (;;) {
-    std::size_t best = pool.size();
-    std::pair<std::size_t, std::size_t> best_gain{0, 0};
-    for (std::size_t v : among) {
-      if (used[v]) continue;
-      std::pair<std::size_t, std::size_t> gain{0, 0};
-      for (int i : pool.samples[v])
-        if (!covered[i]) (samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
-      if (gain > best_gain) {
-        best_gain = gain;
-        best = v;
-      }
+  using Gain = std::pair<std::size_t, std::size_t>;  // (priority, other) samples not covered
+  const auto gain_of = [&](std::size_t v) {
+    Gain gain{0, 0};
+    for (int i : pool.samples[v])
+      if (!covered[i]) (samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
+    return gain;
+  };
+  // The lazy greedy: gains only fall, so an entry on top at its view's present gain is the
+  // best. Ties go to the earliest place in `among`, as a scan in its order takes them.
+  struct Entry {
+    Gain gain;
+    std::size_t place;                          // in `among`
+    bool operator<(const Entry& other) const {  // the top is the greatest
+      return gain < other.gain || (gain == other.gain && place > other.place);
     }
-    if (best == pool.size()) return chosen;
-    choose(best);
+  };
+  std::priority_queue<Entry> queue;
+  for (std::size_t k = 0; k < among.size(); ++k)
+    if (!used[among[k]]) queue.push({gain_of(among[k]), k});
+  while (!queue.empty()) {
+    const Entry top = queue.top();
+    queue.pop();
+    const std::size_t v = among[top.place];
+    if (used[v]) continue;
+    const Gain now = gain_of(v);
+    if (now == Gain{0, 0}) continue;
+    if (now != top.gain) {
+      queue.push({now, top.place});
+      continue;
+    }
+    choose(v);
   }
+  return chosen;
 }
 
 // `chosen` without the views (last first, the `pinned` first ones kept) whose samples all
