@@ -1,6 +1,6 @@
 // Verification of a registration pair by real ICP (Open3D) between simulated clouds.
 
-#include "registration/icp.h"
+#include "registration/icp_stage.h"
 
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/pipelines/registration/Registration.h>
@@ -37,48 +37,76 @@ std::vector<Vec3> near(const std::vector<Vec3>& points, const std::vector<Vec3>&
 // each keeps its own sums on the thread that runs it, and gives the same result every run.
 void oneThread() { omp_set_num_threads(1); }
 
-// The nearest point within a distance: a nanoflann result set that prunes the search
-// by the best distance found so far, starting from the limit.
-struct NearestWithin {
-  double best;  // squared
+// The two nearest points within a distance: a nanoflann result set that prunes the search
+// by the second best distance found so far, starting from the limit.
+struct TwoNearestWithin {
+  double best, second;  // squared
   unsigned index = 0;
   bool found = false;
   std::size_t size() const { return found ? 1 : 0; }
   bool full() const { return true; }
   bool addPoint(double squared, unsigned i) {
+    if (found && i == index) return true;  // the point the search started from, met again
     if (squared < best) {
+      second = best;
       best = squared;
       index = i;
       found = true;
+    } else if (squared < second) {
+      second = squared;
     }
     return true;
   }
-  double worstDist() const { return best; }
+  double worstDist() const { return second; }
+};
+
+// What a source point's last search found: its nearest fixed point within the distance, if
+// any, and the least distance from where the point was then to every other fixed point;
+// and how far the point has moved since.
+struct Found {
+  int nearest = -1;
+  double others = 0;  // mm
+  double moved = 0;   // mm
 };
 
 // Each source point's nearest fixed point within `distance`; the result's fitness and
-// inlier RMSE as Open3D computes them. `before`, the correspondences of the source's last
-// match: a point's fixed point then bounds where its nearest lies now, which the search
-// starts from. The nearest is the same, found sooner.
+// inlier RMSE as Open3D computes them. `found`, per source point, what its last search
+// found: a point whose nearest then is nearer now than every other fixed point can be
+// (others - moved) keeps it without a search; a search starts from it, which bounds where
+// the nearest lies. The nearest is the same as a search from scratch finds.
 registration::RegistrationResult match(const detail::IndexedCloud& fixed,
                                        const open3d::geometry::PointCloud& source, double distance,
-                                       const registration::CorrespondenceSet& before = {}) {
-  std::vector<int> partner(source.points_.size(), -1);
-  for (const Eigen::Vector2i& c : before) partner[static_cast<std::size_t>(c[0])] = c[1];
+                                       std::vector<Found>& found) {
+  constexpr double kMargin = 1e-9;  // mm: rounding never keeps a nearest that is not
+  const double limit = distance * distance;
   registration::RegistrationResult result;
   double squares = 0;
+  const auto take = [&](std::size_t i, int j, double squared) {
+    result.correspondence_set_.emplace_back(static_cast<int>(i), j);
+    squares += squared;
+  };
+  const auto points = static_cast<int>(fixed.cloud.points.size());
   for (std::size_t i = 0; i < source.points_.size(); ++i) {
     const double* point = source.points_[i].data();
-    NearestWithin nearest{distance * distance};
-    if (partner[i] >= 0) {
-      const auto j = static_cast<unsigned>(partner[i]);
+    Found& last = found[i];
+    TwoNearestWithin nearest{limit, limit};
+    if (last.nearest >= 0) {
+      const auto j = static_cast<unsigned>(last.nearest);
       const double squared = fixed.tree.distance.evalMetric(point, j, 3);
-      if (squared < nearest.best) nearest = {squared, j, true};
+      if (std::sqrt(squared) + kMargin <= last.others - last.moved) {
+        if (squared < limit) take(i, last.nearest, squared);
+        continue;
+      }
     }
+    // The search starts from the fixed point found last, or else from the one the source
+    // point before found (the clouds' points lie row by row), and from those beside it.
+    const int from = last.nearest >= 0 ? last.nearest : i > 0 ? found[i - 1].nearest : -1;
+    for (int j = std::max(from - 1, 0); from >= 0 && j <= std::min(from + 1, points - 1); ++j)
+      nearest.addPoint(fixed.tree.distance.evalMetric(point, static_cast<unsigned>(j), 3),
+                       static_cast<unsigned>(j));
     fixed.tree.findNeighbors(nearest, point, nanoflann::SearchParams());
-    if (!nearest.found) continue;
-    result.correspondence_set_.emplace_back(static_cast<int>(i), static_cast<int>(nearest.index));
-    squares += nearest.best;
+    last = {nearest.found ? static_cast<int>(nearest.index) : -1, std::sqrt(nearest.second), 0};
+    if (nearest.found) take(i, last.nearest, nearest.best);
   }
   const std::size_t n = result.correspondence_set_.size();
   result.fitness_ = static_cast<double>(n) / static_cast<double>(source.points_.size());
@@ -86,29 +114,16 @@ registration::RegistrationResult match(const detail::IndexedCloud& fixed,
   return result;
 }
 
-// Open3D's RegistrationICP, point to plane with Tukey's weights, at most 30 iterations,
-// stopping when fitness and RMSE change by less than 1e-4 (0.1 µm of RMSE); but against
-// the fixed cloud's tree made once, instead of again at every call. `source` is moved along, and
-// the motion is added to `transformation`.
-registration::RegistrationResult icp(const detail::IndexedCloud& fixed,
-                                     const open3d::geometry::PointCloud& target,
-                                     open3d::geometry::PointCloud& source, double distance,
-                                     Eigen::Matrix4d& transformation) {
-  const registration::TransformationEstimationPointToPlane estimation(
-      std::make_shared<registration::TukeyLoss>(detail::kTukey * distance));
-  registration::RegistrationResult result = match(fixed, source, distance);
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    const Eigen::Matrix4d update =
-        estimation.ComputeTransformation(source, target, result.correspondence_set_);
-    transformation = update * transformation;
-    source.Transform(update);
-    const registration::RegistrationResult before = std::move(result);
-    result = match(fixed, source, distance, before.correspondence_set_);
-    if (std::abs(before.fitness_ - result.fitness_) < 1e-4 &&
-        std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-4)
-      break;
+// Moves `source` by `update`, adding each point's displacement to what it has `found`.
+void moveBy(const Eigen::Matrix4d& update, open3d::geometry::PointCloud& source,
+            std::vector<Found>& found) {
+  const Eigen::Matrix3d rotation = update.topLeftCorner<3, 3>();
+  const Vec3 shift = update.topRightCorner<3, 1>();
+  for (std::size_t i = 0; i < source.points_.size(); ++i) {
+    const Vec3& p = source.points_[i];
+    found[i].moved += (rotation * p + shift - p).norm();
   }
-  return result;
+  source.Transform(update);
 }
 
 }  // namespace
@@ -126,6 +141,28 @@ Pose perturbation(const Vec3& centre, double distance, double angle, std::mt1993
   motion.linear() = Eigen::AngleAxisd(radians(angle), axis).toRotationMatrix();
   motion.translation() = centre - motion.linear() * centre + distance * shift;
   return motion;
+}
+
+registration::RegistrationResult icpStage(const IndexedCloud& fixed,
+                                          const open3d::geometry::PointCloud& target,
+                                          open3d::geometry::PointCloud& source, double distance,
+                                          Eigen::Matrix4d& transformation) {
+  const registration::TransformationEstimationPointToPlane estimation(
+      std::make_shared<registration::TukeyLoss>(kTukey * distance));
+  std::vector<Found> found(source.points_.size());
+  registration::RegistrationResult result = match(fixed, source, distance, found);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    const Eigen::Matrix4d update =
+        estimation.ComputeTransformation(source, target, result.correspondence_set_);
+    transformation = update * transformation;
+    moveBy(update, source, found);
+    const registration::RegistrationResult before = std::move(result);
+    result = match(fixed, source, distance, found);
+    if (std::abs(before.fitness_ - result.fitness_) < 1e-4 &&
+        std::abs(before.inlier_rmse_ - result.inlier_rmse_) < 1e-4)
+      break;
+  }
+  return result;
 }
 
 IndexedCloud::IndexedCloud(IcpCloud made)
@@ -203,9 +240,9 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   for (std::size_t i = 0; i < source.points_.size(); i += detail::kIcpCoarseStride)
     coarse.points_.push_back(source.points_[i]);
   for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine})
-    icp(indexed, target, coarse, distance, estimate);
+    icpStage(indexed, target, coarse, distance, estimate);
   source.Transform(estimate);
-  result = icp(indexed, target, source, fine, estimate);
+  result = icpStage(indexed, target, source, fine, estimate);
   // Where the registered cloud ends up against where it belongs.
   const Pose residual(estimate * start);
   double squares = 0, largest_error = 0;
