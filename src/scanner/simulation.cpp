@@ -151,13 +151,14 @@ struct ViewGeometry {
   }
 };
 
-// Points grouped in cubic cells of a given size, and in each cell by face and by the axis
-// their normal leans most towards, each group with a bounding ball and a cone holding its
-// normals; so that a view tests only the points of groups that reach its measuring volume
-// (view-frustum culling) and, where only measured points count, whose normals may face it.
+// Points grouped in cubic cells of a given size, each with a bounding ball, so that a view
+// tests only the points of cells that reach its measuring volume (view-frustum culling).
+// With `by_normal`, the points of a cell are grouped further by face and by the axis their
+// normals lean most towards, each group with a ball and a cone holding its normals, so
+// that where only measured points count a view tests only those whose normals may face it.
 class Cells {
  public:
-  Cells(std::span<const SurfacePoint> points, double size) {
+  Cells(std::span<const SurfacePoint> points, double size, bool by_normal) {
     std::map<std::array<long, 3>, std::size_t> cell_of_key;
     std::vector<std::vector<std::size_t>> members;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -170,7 +171,7 @@ class Cells {
       members[it->second].push_back(i);
     }
     cells_.reserve(members.size());
-    for (const std::vector<std::size_t>& in_cell : members) addCell(points, in_cell);
+    for (const std::vector<std::size_t>& in_cell : members) addCell(points, in_cell, by_normal);
   }
 
   // The points of the groups that may reach the view's measuring volume.
@@ -205,26 +206,32 @@ class Cells {
   // them does.
   static constexpr std::size_t kConedLeast = 8;
 
-  // The cell of `members`: its points by face and by the axis their normals lean most
-  // towards, each such group of kConedLeast or more with its cone; the others together,
-  // with none.
-  void addCell(std::span<const SurfacePoint> points, const std::vector<std::size_t>& members) {
+  // The cell of `members`; with `by_normal`, its groups with cones (addConedGroups) and
+  // the rest of its points together, without.
+  void addCell(std::span<const SurfacePoint> points, const std::vector<std::size_t>& members,
+               bool by_normal) {
     Cell cell{ballOf(points, members), groups_.size(), groups_.size()};
-    std::map<std::pair<int, int>, std::vector<std::size_t>> by_normal;
-    for (std::size_t i : members)
-      by_normal[{points[i].face, leaning(points[i].normal)}].push_back(i);
-    std::vector<std::size_t> rest;
-    for (const auto& [key, group] : by_normal) {
-      if (group.size() < kConedLeast) {
-        rest.insert(rest.end(), group.begin(), group.end());
-        continue;
-      }
-      addGroup(ballOf(points, group), coneOf(points, group), group);
-    }
+    const std::vector<std::size_t> rest = by_normal ? addConedGroups(points, members) : members;
     if (!rest.empty())
       addGroup(groups_.size() == cell.first ? cell.ball : ballOf(points, rest), {}, rest);
     cell.last = groups_.size();
     cells_.push_back(cell);
+  }
+
+  // Adds the groups of `members` by face and by the axis their normals lean most towards
+  // that hold kConedLeast points or more, each with its cone; returns the other points.
+  std::vector<std::size_t> addConedGroups(std::span<const SurfacePoint> points,
+                                          const std::vector<std::size_t>& members) {
+    std::map<std::pair<int, int>, std::vector<std::size_t>> groups;
+    for (std::size_t i : members) groups[{points[i].face, leaning(points[i].normal)}].push_back(i);
+    std::vector<std::size_t> rest;
+    for (const auto& [key, group] : groups) {
+      if (group.size() < kConedLeast)
+        rest.insert(rest.end(), group.begin(), group.end());
+      else
+        addGroup(ballOf(points, group), coneOf(points, group), group);
+    }
+    return rest;
   }
 
   void addGroup(const Ball& ball, const NormalCone& normals,
@@ -587,7 +594,7 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
 
   // Cells of a quarter of the depth of field: small enough to cull, large enough to be few.
   d.cells.emplace(std::span<const SurfacePoint>(d.facets.data(), d.part_triangles),
-                  scanner.depth_of_field / 4);
+                  scanner.depth_of_field / 4, false);
 }
 
 Simulator::~Simulator() = default;
@@ -746,7 +753,8 @@ std::vector<Vec3> noiseOf(const CloudRays& rays, std::uint64_t seed) {
 
 // The points in cells a fortieth of the diagonal of their box across.
 struct IndexedPoints::Impl {
-  explicit Impl(std::vector<SurfacePoint> all) : points(std::move(all)), cells(points, size()) {}
+  explicit Impl(std::vector<SurfacePoint> all)
+      : points(std::move(all)), cells(points, size(), true) {}
   double size() const {
     Box box;
     for (const SurfacePoint& p : points) box.add(p.position);
