@@ -202,7 +202,8 @@ TEST(IcpTest, CornerPairIsStableAndIcpRecoversThePerturbation) {
 // A stage of the ICP check finds at every iteration, for every point, the fixed point
 // Open3D's own RegistrationICP finds, and so the same motion: on the corner pair's clouds,
 // the moved one turned 1 degree and shifted 2.4 mm, at distances from the coarse stages'
-// to the fine one's.
+// to the fine one's; each stage from scratch, and from where the one before left the
+// cloud and what it found.
 TEST(IcpTest, AStageMatchesAsOpen3dsOwnIcpDoes) {
   namespace registration = open3d::pipelines::registration;
   const CornerScene scene;
@@ -223,21 +224,29 @@ TEST(IcpTest, AStageMatchesAsOpen3dsOwnIcpDoes) {
     std::sort(pairs.begin(), pairs.end());
     return pairs;
   };
+  open3d::geometry::PointCloud carried = start;
+  std::vector<detail::Found> found(start.points_.size());
   for (const double distance : {10.0, 5.0, 3.0, 2.3}) {
-    open3d::geometry::PointCloud moved = start;
-    Eigen::Matrix4d ours = Eigen::Matrix4d::Identity();
-    const registration::RegistrationResult mine =
-        detail::icpStage(fixed, target, moved, distance, ours);
-    const registration::RegistrationResult theirs = registration::RegistrationICP(
-        start, target, distance, Eigen::Matrix4d::Identity(),
-        registration::TransformationEstimationPointToPlane(
-            std::make_shared<registration::TukeyLoss>(detail::kTukey * distance)),
-        registration::ICPConvergenceCriteria(1e-4, 1e-4, 30));
-    EXPECT_GT(mine.correspondence_set_.size(), 10000u) << distance;
-    EXPECT_EQ(sorted(mine.correspondence_set_), sorted(theirs.correspondence_set_)) << distance;
-    EXPECT_LT((ours - theirs.transformation_).cwiseAbs().maxCoeff(), 1e-9) << distance;
-    EXPECT_NEAR(mine.fitness_, theirs.fitness_, 1e-12) << distance;
-    EXPECT_NEAR(mine.inlier_rmse_, theirs.inlier_rmse_, 1e-9) << distance;
+    for (const bool from_scratch : {true, false}) {
+      const open3d::geometry::PointCloud before = from_scratch ? start : carried;
+      open3d::geometry::PointCloud moved = before;
+      std::vector<detail::Found> fresh(start.points_.size());
+      Eigen::Matrix4d ours = Eigen::Matrix4d::Identity();
+      const registration::RegistrationResult mine =
+          from_scratch ? detail::icpStage(fixed, target, moved, distance, ours, fresh)
+                       : detail::icpStage(fixed, target, carried, distance, ours, found);
+      const registration::RegistrationResult theirs = registration::RegistrationICP(
+          before, target, distance, Eigen::Matrix4d::Identity(),
+          registration::TransformationEstimationPointToPlane(
+              std::make_shared<registration::TukeyLoss>(detail::kTukey * distance)),
+          registration::ICPConvergenceCriteria(1e-4, 1e-4, 30));
+      const std::string stage = std::to_string(distance) + (from_scratch ? " mm" : " mm, carried");
+      EXPECT_GT(mine.correspondence_set_.size(), 10000u) << stage;
+      EXPECT_EQ(sorted(mine.correspondence_set_), sorted(theirs.correspondence_set_)) << stage;
+      EXPECT_LT((ours - theirs.transformation_).cwiseAbs().maxCoeff(), 1e-9) << stage;
+      EXPECT_NEAR(mine.fitness_, theirs.fitness_, 1e-12) << stage;
+      EXPECT_NEAR(mine.inlier_rmse_, theirs.inlier_rmse_, 1e-9) << stage;
+    }
   }
 }
 

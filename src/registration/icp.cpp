@@ -60,15 +60,6 @@ struct TwoNearestWithin {
   double worstDist() const { return second; }
 };
 
-// What a source point's last search found: its nearest fixed point within the distance, if
-// any, and the least distance from where the point was then to every other fixed point;
-// and how far the point has moved since.
-struct Found {
-  int nearest = -1;
-  double others = 0;  // mm
-  double moved = 0;   // mm
-};
-
 // Each source point's nearest fixed point within `distance`; the result's fitness and
 // inlier RMSE as Open3D computes them. `found`, per source point, what its last search
 // found: a point whose nearest then is nearer now than every other fixed point can be
@@ -76,7 +67,7 @@ struct Found {
 // the nearest lies. The nearest is the same as a search from scratch finds.
 registration::RegistrationResult match(const detail::IndexedCloud& fixed,
                                        const open3d::geometry::PointCloud& source, double distance,
-                                       std::vector<Found>& found) {
+                                       std::vector<detail::Found>& found) {
   constexpr double kMargin = 1e-9;  // mm: rounding never keeps a nearest that is not
   const double limit = distance * distance;
   registration::RegistrationResult result;
@@ -88,7 +79,7 @@ registration::RegistrationResult match(const detail::IndexedCloud& fixed,
   const auto points = static_cast<int>(fixed.cloud.points.size());
   for (std::size_t i = 0; i < source.points_.size(); ++i) {
     const double* point = source.points_[i].data();
-    Found& last = found[i];
+    detail::Found& last = found[i];
     TwoNearestWithin nearest{limit, limit};
     if (last.nearest >= 0) {
       const auto j = static_cast<unsigned>(last.nearest);
@@ -116,7 +107,7 @@ registration::RegistrationResult match(const detail::IndexedCloud& fixed,
 
 // Moves `source` by `update`, adding each point's displacement to what it has `found`.
 void moveBy(const Eigen::Matrix4d& update, open3d::geometry::PointCloud& source,
-            std::vector<Found>& found) {
+            std::vector<detail::Found>& found) {
   const Eigen::Matrix3d rotation = update.topLeftCorner<3, 3>();
   const Vec3 shift = update.topRightCorner<3, 1>();
   for (std::size_t i = 0; i < source.points_.size(); ++i) {
@@ -124,6 +115,20 @@ void moveBy(const Eigen::Matrix4d& update, open3d::geometry::PointCloud& source,
     found[i].moved += (rotation * p + shift - p).norm();
   }
   source.Transform(update);
+}
+
+// What the `coarse` cloud's points `found`, for the same points of the whole `source`
+// (every kIcpCoarseStride-th), with how far apart the two stand added to their motion.
+std::vector<detail::Found> onTheWhole(const std::vector<detail::Found>& found,
+                                      const open3d::geometry::PointCloud& coarse,
+                                      const open3d::geometry::PointCloud& source) {
+  std::vector<detail::Found> whole(source.points_.size());
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    const std::size_t i = k * detail::kIcpCoarseStride;
+    whole[i] = found[k];
+    whole[i].moved += (source.points_[i] - coarse.points_[k]).norm();
+  }
+  return whole;
 }
 
 }  // namespace
@@ -146,10 +151,10 @@ Pose perturbation(const Vec3& centre, double distance, double angle, std::mt1993
 registration::RegistrationResult icpStage(const IndexedCloud& fixed,
                                           const open3d::geometry::PointCloud& target,
                                           open3d::geometry::PointCloud& source, double distance,
-                                          Eigen::Matrix4d& transformation) {
+                                          Eigen::Matrix4d& transformation,
+                                          std::vector<Found>& found) {
   const registration::TransformationEstimationPointToPlane estimation(
       std::make_shared<registration::TukeyLoss>(kTukey * distance));
-  std::vector<Found> found(source.points_.size());
   registration::RegistrationResult result = match(fixed, source, distance, found);
   for (int iteration = 0; iteration < 30; ++iteration) {
     const Eigen::Matrix4d update =
@@ -239,10 +244,13 @@ IcpCheck detail::checkIcp(const Simulator& simulator, const IndexedCloud& indexe
   open3d::geometry::PointCloud coarse;
   for (std::size_t i = 0; i < source.points_.size(); i += detail::kIcpCoarseStride)
     coarse.points_.push_back(source.points_[i]);
+  // What each point's searches found carries from stage to stage.
+  std::vector<Found> found(coarse.points_.size());
   for (const double distance : {2 * largest, std::max(largest, 2 * fine), 2 * fine})
-    icpStage(indexed, target, coarse, distance, estimate);
+    icpStage(indexed, target, coarse, distance, estimate, found);
   source.Transform(estimate);
-  result = icpStage(indexed, target, source, fine, estimate);
+  std::vector<Found> on_whole = onTheWhole(found, coarse, source);
+  result = icpStage(indexed, target, source, fine, estimate, on_whole);
   // Where the registered cloud ends up against where it belongs.
   const Pose residual(estimate * start);
   double squares = 0, largest_error = 0;
