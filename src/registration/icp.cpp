@@ -92,9 +92,10 @@ registration::RegistrationResult match(const detail::IndexedCloud& fixed,
     // The search starts from the fixed point found last, or else from the one the source
     // point before found (the clouds' points lie row by row), and from those beside it.
     const int from = last.nearest >= 0 ? last.nearest : i > 0 ? found[i - 1].nearest : -1;
-    for (int j = std::max(from - 1, 0); from >= 0 && j <= std::min(from + 1, points - 1); ++j)
-      nearest.addPoint(fixed.tree.distance.evalMetric(point, static_cast<unsigned>(j), 3),
-                       static_cast<unsigned>(j));
+    if (from >= 0)
+      for (int j = std::max(from - 1, 0); j <= std::min(from + 1, points - 1); ++j)
+        nearest.addPoint(fixed.tree.distance.evalMetric(point, static_cast<unsigned>(j), 3),
+                         static_cast<unsigned>(j));
     fixed.tree.findNeighbors(nearest, point, nanoflann::SearchParams());
     last = {nearest.found ? static_cast<int>(nearest.index) : -1, std::sqrt(nearest.second), 0};
     if (nearest.found) take(i, last.nearest, nearest.best);

@@ -68,8 +68,8 @@ struct ViewGeometry {
   Vec3 projector;
   std::vector<Vec3> cameras;  // every camera's centre, the view's own first
   double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
-  double cos_camera, cos_projector, cos_reflection;
-  Angle camera_limit, projector_limit;
+  Angle camera_limit, projector_limit;  // the largest angles a normal may turn from either
+  double cos_reflection;
 
   ViewGeometry(const View& view, const Scanner& s)
       : world_to_camera(view.camera_to_world.inverse()),
@@ -79,11 +79,9 @@ struct ViewGeometry {
         half_width(s.fov_width / 2),
         half_height(s.fov_height / 2),
         standoff(s.standoff),
-        cos_camera(std::cos(radians(s.max_camera_angle))),
-        cos_projector(std::cos(radians(s.max_projector_angle))),
-        cos_reflection(std::cos(radians(s.reflection_cone))),
         camera_limit(angleOf(s.max_camera_angle)),
-        projector_limit(angleOf(s.max_projector_angle)) {
+        projector_limit(angleOf(s.max_projector_angle)),
+        cos_reflection(std::cos(radians(s.reflection_cone))) {
     for (const Vec3& c : s.camerasInScanner()) cameras.push_back(view.camera_to_world * c);
   }
 
@@ -139,9 +137,9 @@ struct ViewGeometry {
   Loss test(const Vec3& p, const Vec3& n, bool specular, const Vec3& eye) const {
     if (!inVolume(p)) return Loss::OutsideVolume;
     const Vec3 to_camera = (eye - p).normalized();
-    if (n.dot(to_camera) < cos_camera) return Loss::CameraAngle;
+    if (n.dot(to_camera) < camera_limit.cos) return Loss::CameraAngle;
     const Vec3 to_projector = (projector - p).normalized();
-    if (n.dot(to_projector) < cos_projector) return Loss::ProjectorAngle;
+    if (n.dot(to_projector) < projector_limit.cos) return Loss::ProjectorAngle;
     if (specular) {
       // Mirror direction of the projector's light leaving p.
       const Vec3 reflected = 2 * n.dot(to_projector) * n - to_projector;
