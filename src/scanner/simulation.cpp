@@ -151,25 +151,34 @@ struct ViewGeometry {
 
 // Points grouped in cubic cells of a given size, each with a bounding ball, so that a view
 // tests only the points of cells that reach its measuring volume (view-frustum culling).
+// The cells lie in blocks of kSpan³ cells, each with a ball holding its cells', so that a
+// view walks only the cells of blocks that reach its volume.
 // With `by_normal`, the points of a cell are grouped further by face and by the axis their
 // normals lean most towards, each group with a ball and a cone holding its normals, so
 // that where only measured points count a view tests only those whose normals may face it.
 class Cells {
  public:
   Cells(std::span<const SurfacePoint> points, double size, bool by_normal) {
-    std::map<std::array<long, 3>, std::size_t> cell_of_key;
-    std::vector<std::vector<std::size_t>> members;
+    std::map<std::array<long, 6>, std::vector<std::size_t>> members;  // by block, then cell
     for (std::size_t i = 0; i < points.size(); ++i) {
       const Vec3& p = points[i].position;
-      const std::array<long, 3> key = {std::lround(std::floor(p.x() / size)),
-                                       std::lround(std::floor(p.y() / size)),
-                                       std::lround(std::floor(p.z() / size))};
-      auto [it, inserted] = cell_of_key.emplace(key, members.size());
-      if (inserted) members.emplace_back();
-      members[it->second].push_back(i);
+      std::array<long, 6> key{};
+      for (int a = 0; a < 3; ++a) {
+        key[a + 3] = std::lround(std::floor(p[a] / size));
+        key[a] = floorDivided(key[a + 3], kSpan);
+      }
+      members[key].push_back(i);
     }
     cells_.reserve(members.size());
-    for (const std::vector<std::size_t>& in_cell : members) addCell(points, in_cell, by_normal);
+    const std::array<long, 6>* block = nullptr;
+    for (const auto& [key, in_cell] : members) {
+      if (!block || !std::equal(key.begin(), key.begin() + 3, block->begin()))
+        blocks_.push_back({{}, cells_.size(), cells_.size()});
+      block = &key;
+      addCell(points, in_cell, by_normal);
+      blocks_.back().last = cells_.size();
+    }
+    for (Block& b : blocks_) b.ball = ballAround(b.first, b.last);
   }
 
   // The points of the groups that may reach the view's measuring volume.
@@ -199,6 +208,13 @@ class Cells {
     Ball ball;
     std::size_t first, last;  // its groups: groups_[first, last)
   };
+  struct Block {
+    Ball ball;
+    std::size_t first, last;  // its cells: cells_[first, last)
+  };
+
+  // The cells a block spans along each axis.
+  static constexpr long kSpan = 4;
 
   // A group of fewer points has no cone of its own: culling them costs about what testing
   // them does.
@@ -255,6 +271,24 @@ class Cells {
     return ball;
   }
 
+  static long floorDivided(long a, long b) { return a / b - (a % b < 0 ? 1 : 0); }
+
+  // A ball holding the balls of cells_[first, last).
+  Ball ballAround(std::size_t first, std::size_t last) const {
+    Box box;
+    for (std::size_t c = first; c < last; ++c) {
+      const Ball& b = cells_[c].ball;
+      box.add(b.centre - Vec3::Constant(b.radius));
+      box.add(b.centre + Vec3::Constant(b.radius));
+    }
+    Ball ball{box.center(), 0};
+    for (std::size_t c = first; c < last; ++c) {
+      const Ball& b = cells_[c].ball;
+      ball.radius = std::max(ball.radius, (b.centre - ball.centre).norm() + b.radius);
+    }
+    return ball;
+  }
+
   // The cone around the members' mean normal holding all of them. Unit normals leaning
   // towards one axis do not cancel out; any other (zero, not a number) leaves it the whole
   // sphere.
@@ -278,20 +312,30 @@ class Cells {
 
   std::vector<std::size_t> culled(const ViewGeometry& geometry, bool facing) const {
     std::vector<std::size_t> near;
-    for (const Cell& cell : cells_) {
-      if (!geometry.mayReachVolume(cell.ball.centre, cell.ball.radius)) continue;
-      const bool one = cell.last - cell.first == 1;  // with the cell's ball
-      for (std::size_t k = cell.first; k < cell.last; ++k) {
-        const Group& g = groups_[k];
-        if (!one && !geometry.mayReachVolume(g.ball.centre, g.ball.radius)) continue;
-        if (facing && !geometry.mayFace(g.ball.centre, g.ball.radius, g.normals)) continue;
-        near.insert(near.end(), members_.begin() + static_cast<std::ptrdiff_t>(g.first),
-                    members_.begin() + static_cast<std::ptrdiff_t>(g.last));
-      }
+    for (const Block& block : blocks_) {
+      if (!geometry.mayReachVolume(block.ball.centre, block.ball.radius)) continue;
+      for (std::size_t c = block.first; c < block.last; ++c)
+        addCulled(geometry, facing, cells_[c], near);
     }
     return near;
   }
 
+  // Adds the members of the cell's groups that may reach the view's measuring volume (and,
+  // with `facing`, may face the view) to `near`.
+  void addCulled(const ViewGeometry& geometry, bool facing, const Cell& cell,
+                 std::vector<std::size_t>& near) const {
+    if (!geometry.mayReachVolume(cell.ball.centre, cell.ball.radius)) return;
+    const bool one = cell.last - cell.first == 1;  // with the cell's ball
+    for (std::size_t k = cell.first; k < cell.last; ++k) {
+      const Group& g = groups_[k];
+      if (!one && !geometry.mayReachVolume(g.ball.centre, g.ball.radius)) continue;
+      if (facing && !geometry.mayFace(g.ball.centre, g.ball.radius, g.normals)) continue;
+      near.insert(near.end(), members_.begin() + static_cast<std::ptrdiff_t>(g.first),
+                  members_.begin() + static_cast<std::ptrdiff_t>(g.last));
+    }
+  }
+
+  std::vector<Block> blocks_;
   std::vector<Cell> cells_;
   std::vector<Group> groups_;
   std::vector<std::size_t> members_;
