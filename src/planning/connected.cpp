@@ -2,6 +2,7 @@
 // views register to each other, by the markers they share or their geometry, grown from
 // view to view.
 
+#include "planning/rate_queue.h"
 #include "planning/stages.h"
 #include "registration/icp.h"
 #include "registration/overlaps.h"
@@ -46,47 +47,6 @@ constexpr std::size_t kChainFailures = 10;  // chains failing ICP before the sea
 
 // Priority samples not yet covered, then the others: compared in that order.
 using Gain = std::pair<int, int>;
-
-// Poses by their rate (priority, other samples gained per cost), the highest first and the
-// lowest index on ties, for a greedy whose gains only fall: an entry is looked at when it
-// comes to the top, and queued again at its pose's present rate when that has fallen
-// (the lazy greedy). A pose that may be picked must have an entry at or above its rate.
-class RateQueue {
- public:
-  using Rate = std::pair<double, double>;
-  void push(std::size_t v, Rate rate) { heap_.push({rate, v}); }
-
-  // The pose of the highest present rate `rate_of` among those `kept` (an entry of one not
-  // kept is dropped), if that rate is above zero.
-  template <class RateOf, class Kept>
-  std::optional<std::size_t> top(RateOf rate_of, Kept kept) {
-    while (!heap_.empty()) {
-      const Entry entry = heap_.top();
-      if (!kept(entry.pose)) {
-        heap_.pop();
-        continue;
-      }
-      if (const Rate now = rate_of(entry.pose); now != entry.rate) {
-        heap_.pop();
-        heap_.push({now, entry.pose});
-        continue;
-      }
-      if (entry.rate > Rate{0, 0}) return entry.pose;
-      return std::nullopt;
-    }
-    return std::nullopt;
-  }
-
- private:
-  struct Entry {
-    Rate rate;
-    std::size_t pose;
-    bool operator<(const Entry& other) const {  // the top is the greatest
-      return rate < other.rate || (rate == other.rate && pose > other.pose);
-    }
-  };
-  std::priority_queue<Entry> heap_;
-};
 
 // Whether the condition number of the samples' ICP constraints, each by the area it stands
 // for, is at most `limit`.

@@ -1,6 +1,7 @@
 // The selection of the plan's views from the candidate pool (docs/planning.md), and the
 // exact set cover that bounds it.
 
+#include "planning/rate_queue.h"
 #include "planning/stages.h"
 
 #include <scanplan/planning/capability.h>
@@ -14,7 +15,6 @@
 #include <algorithm>
 #include <map>
 #include <numeric>
-#include <queue>
 
 namespace scanplan::detail {
 
@@ -54,38 +54,19 @@ std::vector<std::size_t> greedyCover(const Placement& at, const MeasuredViews& p
     for (int i : pool.samples[v]) covered[i] = 1;
   };
   for (std::size_t v = 0; v < pinned; ++v) choose(v);
-  using Gain = std::pair<std::size_t, std::size_t>;  // (priority, other) samples not covered
-  const auto gain_of = [&](std::size_t v) {
-    Gain gain{0, 0};
-    for (int i : pool.samples[v])
+  // (priority, other) samples not covered, of the view at place k of `among`
+  const auto gain_of = [&](std::size_t k) {
+    RateQueue::Rate gain{0, 0};
+    for (int i : pool.samples[among[k]])
       if (!covered[i]) (samples[i].sample.role == Role::Priority ? gain.first : gain.second)++;
     return gain;
   };
-  // The lazy greedy: gains only fall, so an entry on top at its view's present gain is the
-  // best. Ties go to the earliest place in `among`, as a scan in its order takes them.
-  struct Entry {
-    Gain gain;
-    std::size_t place;                          // in `among`
-    bool operator<(const Entry& other) const {  // the top is the greatest
-      return gain < other.gain || (gain == other.gain && place > other.place);
-    }
-  };
-  std::priority_queue<Entry> queue;
+  const auto unused = [&](std::size_t k) { return !used[among[k]]; };
+  // Ties go to the earliest place in `among`, as a scan in its order takes them.
+  RateQueue queue;
   for (std::size_t k = 0; k < among.size(); ++k)
-    if (!used[among[k]]) queue.push({gain_of(among[k]), k});
-  while (!queue.empty()) {
-    const Entry top = queue.top();
-    queue.pop();
-    const std::size_t v = among[top.place];
-    if (used[v]) continue;
-    const Gain now = gain_of(v);
-    if (now == Gain{0, 0}) continue;
-    if (now != top.gain) {
-      queue.push({now, top.place});
-      continue;
-    }
-    choose(v);
-  }
+    if (unused(k)) queue.push(k, gain_of(k));
+  while (const std::optional<std::size_t> k = queue.top(gain_of, unused)) choose(among[*k]);
   return chosen;
 }
 
