@@ -373,6 +373,28 @@ GeometryReference geometryReference(const Simulator& simulator, const Plan& plan
   return result;
 }
 
+// The reference of coverage that searches more widely than the planner's candidates
+// (coverableByWiderCandidates: every sample, poses aimed at it and moved off it): the
+// samples it reaches, those only its moved poses reach, and how many of each the plan
+// measures, sample by sample.
+void countWiderReach(benchmark::State& state, const Simulator& simulator, const Plan& plan,
+                     const std::vector<SurfacePoint>& points) {
+  const std::vector<char> centred = coverableByDenseCandidates(simulator, points);
+  const std::vector<char> wider = coverableByWiderCandidates(simulator, points);
+  std::size_t reach = 0, measured = 0, moved_only = 0, moved_only_measured = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool by_plan = !plan.samples[i].measured_by.empty();
+    reach += wider[i];
+    measured += wider[i] && by_plan;
+    moved_only += wider[i] && !centred[i];
+    moved_only_measured += wider[i] && !centred[i] && by_plan;
+  }
+  state.counters["wider_reachable"] = static_cast<double>(reach);
+  state.counters["wider_measured"] = static_cast<double>(measured);
+  state.counters["wider_moved_only"] = static_cast<double>(moved_only);
+  state.counters["wider_moved_only_measured"] = static_cast<double>(moved_only_measured);
+}
+
 void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   const std::string path = std::string(SCANPLAN_SHARED_DATA) + "/" + relative;
   if (!std::filesystem::exists(path)) return state.SkipWithError("shared data not found");
@@ -406,6 +428,7 @@ void planPart(benchmark::State& state, const std::string& relative, bool gdt) {
   state.counters["views_over_bound"] =
       static_cast<double>(plan.views.size()) / std::max(plan.bound->lower_bound, 1.0);
   state.counters["plan_seconds"] = seconds;
+  countWiderReach(state, simulator, plan, points);
 }
 
 // Registration, bridging and sequencing after the gdt and global tasks on a NIST model,

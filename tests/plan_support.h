@@ -31,10 +31,11 @@ inline int topFace(const Part& part) {
   return best;
 }
 
-// Samples of `plan` that some valid pose of the dense reference measures
-// (coverableByDenseCandidates: poses aimed at each sample, simulated by the same model as
-// the plan's, built afresh), and how many of those the plan measures. It confirms that the
-// plan's pool and selection miss nothing those poses reach, not the simulation model.
+// Samples of `plan` that some valid pose of the wider dense reference measures
+// (coverableByWiderCandidates: poses aimed at each sample and moved to place it across the
+// measuring volume, simulated by the same model as the plan's, built afresh), and how many
+// of those the plan measures. It confirms that the plan's pool and selection miss nothing
+// those poses reach, not the simulation model.
 // Every `stride`-th sample only, where the plan has thousands.
 inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part, const Plan& plan,
                                                                 std::size_t stride = 1) {
@@ -48,7 +49,7 @@ inline std::pair<std::size_t, std::size_t> coverableAndMeasured(const Part& part
     points.push_back(all[i]);
     measured_by_plan.push_back(!plan.samples[i].measured_by.empty());
   }
-  const std::vector<char> coverable = coverableByDenseCandidates(simulator, points);
+  const std::vector<char> coverable = coverableByWiderCandidates(simulator, points);
   std::size_t can = 0, measured = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     can += coverable[i];

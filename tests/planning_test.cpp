@@ -425,11 +425,15 @@ TEST(Planning, CubeFacesTakeNoMoreViewsThanTheFewestOfADenserSearch) {
 // - 10 x 10 mm and 300 mm deep: seen from its bottom, the opening spans at most 1.4 degrees
 //   around the vertical, inside the grid cell nearest it (2.5 degrees off): no free
 //   direction, occluded by the part;
-// - 40 x 40 mm and 150 mm deep: free directions within 21 degrees of each other at most,
-//   fewer than the 25 degrees between camera and projector: seen, but always lost;
+// - 40 x 40 mm and 200 mm deep: free directions within 16 degrees of each other at most,
+//   fewer than the 25 degrees between camera and projector at the field's centre, and than
+//   the angles at which their rays meet anywhere in the measuring volume: seen, but always
+//   lost;
 // - 60 x 60 mm and 600 mm deep: free up to the standoff, where the camera would stand
 //   inside the pocket or inside the block's material: no valid pose is aimed within reach
 //   of it.
+// No pose of the wider reference (coverableByWiderCandidates) measures the second's samples
+// (every third, for time).
 TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
   test::TempDir dir;
   TopoDS_Shape block = BRepPrimAPI_MakeBox(2000, 1200, 620).Shape();
@@ -438,7 +442,7 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
     Uncoverable reason;
   };
   const Pocket pockets[] = {{200, 10, 300, Uncoverable::OccludedByPart},
-                            {800, 40, 150, Uncoverable::Lost},
+                            {800, 40, 200, Uncoverable::Lost},
                             {1400, 60, 600, Uncoverable::NoValidPose}};
   for (const Pocket& p : pockets)
     block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeBox(
@@ -471,6 +475,13 @@ TEST(Planning, PocketBottomsAreNotCoverableEachForItsReason) {
     ++found[s.uncoverable];
   }
   EXPECT_EQ(found.size(), 3u);
+  std::vector<SurfacePoint> lost;
+  std::size_t seen = 0;
+  for (const SurfacePoint& p : plan.samplePoints())
+    if (bottom_of.at(p.face)->reason == Uncoverable::Lost && seen++ % 3 == 0) lost.push_back(p);
+  ASSERT_FALSE(lost.empty());
+  const std::vector<char> reached = coverableByWiderCandidates(simulatorFor(part, plan), lost);
+  EXPECT_EQ(std::count(reached.begin(), reached.end(), 1), 0);
 }
 
 // Per view of `views` valid for `simulator`, whether it measures `point`.
@@ -485,14 +496,31 @@ std::vector<bool> measuring(const Simulator& simulator, const std::vector<View>&
   return result;
 }
 
+// Poses aimed at `point` along the directions tilted `first_tilt` to 60 degrees from its
+// normal in steps of 5, every 5 degrees of azimuth, with `rotations` rotations each.
+std::vector<View> tiltedPoses(const Scanner& scanner, const SurfacePoint& point, int first_tilt,
+                              int rotations) {
+  std::vector<View> poses;
+  const Vec3 side = point.normal.unitOrthogonal(), other = point.normal.cross(side);
+  for (int tilt = first_tilt; tilt <= 60; tilt += 5)
+    for (int azimuth = 0; azimuth < (tilt == 0 ? 1 : 360); azimuth += 5) {
+      const double t = radians(tilt), a = radians(azimuth);
+      const Vec3 direction =
+          std::cos(t) * point.normal + std::sin(t) * (std::cos(a) * side + std::sin(a) * other);
+      for (const View& view : aimedPoses(scanner, point.position, direction, rotations))
+        poses.push_back(view);
+    }
+  return poses;
+}
+
 // A control point on the floor of a chamber (140 x 140 x 50 mm) under a block's top, 35 mm
 // beside the edge of the 60 x 60 mm opening above it: the roof hides it from every pose
 // along its normal, and a ray from it leaves through the opening only tilted 27 to 40
 // degrees towards the opening, a window narrower than the 25 degrees between camera and
 // projector unless their baseline lies across it. An independent search aims poses at it
 // every 5 degrees of tilt up to 60 and of azimuth, 8 rolls each: a few of those measure it
-// and none along its normal does. The rescue's grid misses it; with planner.rescue.narrow
-// the plan measures it.
+// and none along its normal does. The rescue's grid of poses aimed at it misses it (the
+// dense candidates); with planner.rescue.narrow the plan measures it.
 TEST(Planning, APointOnlyNarrowTiltedPosesReachIsMeasuredByTheNarrowRescue) {
   test::TempDir dir;
   const TopoDS_Shape chamber =
@@ -520,41 +548,73 @@ TEST(Planning, APointOnlyNarrowTiltedPosesReachIsMeasuredByTheNarrowRescue) {
   const std::vector<bool> along =
       measuring(simulator, aimedPoses(looked.scanner, corner.position, corner.normal, 36), corner);
   EXPECT_EQ(std::count(along.begin(), along.end(), true), 0);
-  std::vector<View> tilted;
-  const Vec3 side = corner.normal.unitOrthogonal(), other = corner.normal.cross(side);
-  for (int tilt = 5; tilt <= 60; tilt += 5)
-    for (int azimuth = 0; azimuth < 360; azimuth += 5) {
-      const double t = radians(tilt), a = radians(azimuth);
-      const Vec3 direction =
-          std::cos(t) * corner.normal + std::sin(t) * (std::cos(a) * side + std::sin(a) * other);
-      for (const View& view : aimedPoses(looked.scanner, corner.position, direction, 8))
-        tilted.push_back(view);
-    }
-  const std::vector<bool> reached = measuring(simulator, tilted, corner);
+  const std::vector<bool> reached =
+      measuring(simulator, tiltedPoses(looked.scanner, corner, 5, 8), corner);
   RecordProperty("tilted_poses_measuring",
                  std::to_string(std::count(reached.begin(), reached.end(), true)));
   EXPECT_GT(std::count(reached.begin(), reached.end(), true), 0);
   EXPECT_FALSE(looked.samples.front().measured_by.empty())
       << toString(looked.samples.front().uncoverable);
-  EXPECT_TRUE(plan(false).samples.front().measured_by.empty());
+  EXPECT_EQ(coverableByDenseCandidates(simulator, {corner}), std::vector<char>{0});
+}
+
+// A 400 x 400 x 300 mm block with a 40 x 40 mm pocket `depth` mm deep in the middle of its
+// top, written to and read from `dir`.
+Part blockWithPocket(const test::TempDir& dir, double depth) {
+  const TopoDS_Shape block =
+      BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(400, 400, 300).Shape(),
+                      BRepPrimAPI_MakeBox(gp_Pnt(180, 180, 300 - depth), 40, 40, depth + 1).Shape())
+          .Shape();
+  BRepTools::Write(block, dir.file("pocket.brep").c_str());
+  return importPart(dir.file("pocket.brep"));
+}
+
+// The floor of a 40 x 40 mm pocket 150 mm deep (generic scanner: camera and projector 25
+// degrees apart at the field's centre): from the floor's centre the opening spans at most
+// 21 degrees (across its diagonal), so no pose aimed at the centre lets both the camera's
+// and the projector's rays in. An independent search aims poses at it every 5 degrees of
+// tilt up to 60 and of azimuth, 36 rolls each: none measures it. With the point farther
+// into the measuring volume and off its centre, the rays meet at other angles: the wider
+// reference reaches it where the dense candidates do not, and the plan's rescue measures
+// it, by a view that measures it off the field's centre when simulated afresh.
+TEST(Planning, APocketFloorOnlyOffCentrePosesReachIsMeasured) {
+  test::TempDir dir;
+  const Part part = blockWithPocket(dir, 150);
+  test::writeText(dir.file("points.csv"), "200,200,150,0,0,1\n");
+  const Plan plan = planViews(part, specWith("tasks: [{type: points, file: points.csv}]\n", dir),
+                              PlanningOptions{.registration = false});
+  ASSERT_EQ(plan.samples.size(), 1u);
+  const Simulator simulator = simulatorFor(part, plan);
+  const SurfacePoint floor = plan.samplePoints().front();
+  const std::vector<bool> reached =
+      measuring(simulator, tiltedPoses(plan.scanner, floor, 0, 36), floor);
+  RecordProperty("centred_poses", std::to_string(reached.size()));
+  EXPECT_GT(reached.size(), 10000u);
+  EXPECT_EQ(std::count(reached.begin(), reached.end(), true), 0);
+  EXPECT_EQ(coverableByDenseCandidates(simulator, {floor}), std::vector<char>{0});
+  EXPECT_EQ(coverableByWiderCandidates(simulator, {floor}), std::vector<char>{1});
+  ASSERT_FALSE(plan.samples.front().measured_by.empty())
+      << toString(plan.samples.front().uncoverable);
+  const int id = plan.samples.front().measured_by.front();
+  const auto view =
+      std::find_if(plan.views.begin(), plan.views.end(), [&](const View& v) { return v.id == id; });
+  ASSERT_NE(view, plan.views.end());
+  EXPECT_EQ(simulator.measure(*view, std::vector<SurfacePoint>{floor}).front(), Loss::Measured);
+  const Vec3 in_camera = view->camera_to_world.inverse() * floor.position;
+  EXPECT_GT(std::hypot(in_camera.x(), in_camera.y()), 10.0) << in_camera.transpose();
 }
 
 // planner.max_failures: how many views may be aimed at a sample before it is given up. The
-// bottom of a 40 x 40 mm pocket 150 mm deep is seen but always lost (as above); with one
+// bottom of a 40 x 40 mm pocket 200 mm deep is seen but always lost (as above); with one
 // attempt it is given up after the first round, with three it is aimed at again, and the
 // poses tried on the way join the pool. Either way it ends lost.
 TEST(Planning, MaxFailuresSetsHowOftenALostSampleIsAimedAt) {
   test::TempDir dir;
-  const TopoDS_Shape block =
-      BRepAlgoAPI_Cut(BRepPrimAPI_MakeBox(400, 400, 300).Shape(),
-                      BRepPrimAPI_MakeBox(gp_Pnt(180, 180, 150), 40, 40, 151).Shape())
-          .Shape();
-  BRepTools::Write(block, dir.file("pocket.brep").c_str());
-  const Part part = importPart(dir.file("pocket.brep"));
+  const Part part = blockWithPocket(dir, 200);
   int bottom = 0;
   for (const Face& f : part.faces)
-    if (f.type == SurfaceType::Plane && std::abs(f.bounds.max.z() - 150) < 1e-6 &&
-        std::abs(f.bounds.min.z() - 150) < 1e-6)
+    if (f.type == SurfaceType::Plane && std::abs(f.bounds.max.z() - 100) < 1e-6 &&
+        std::abs(f.bounds.min.z() - 100) < 1e-6)
       bottom = f.id;
   ASSERT_GT(bottom, 0);
   // The top around the pocket too, which the first round measures.

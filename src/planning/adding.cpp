@@ -177,26 +177,61 @@ std::optional<View> firstMeasuring(const Placement& at, std::size_t i,
   return std::nullopt;
 }
 
-// At most this many free directions on the fine grid make an opening narrow enough to
-// look through again, more finely: through a wider one the rescue grid's own poses pass,
-// and they are lost for other reasons.
-constexpr std::uint32_t kNarrowCells = 40;
+// Where the rescue puts a sample in the field when no pose aimed at it measures it (camera
+// frame: shares of the field's width and height and of the depth of field), in this
+// order. First farther and across the field away from the projector, where the camera's
+// and the projector's rays meet at their narrowest angle (about 19 degrees for the generic
+// scanner's 25), through openings too narrow for the poses aimed at the sample. Then the
+// four places of the wider reference's 74 (coverableByWiderCandidates) that a greedy
+// cover takes first: they reach 309 of the 393 samples that only such places reach on the
+// GD&T faces of NIST CTC 01, CTC 02, CTC 04 and FTC 06, seen past edges at other angles.
+constexpr double kRescuePlaces[][3] = {{-0.45, 0, 0.25},
+                                       {0.25, -0.45, 0.25},
+                                       {-0.45, -0.25, 0.25},
+                                       {0.45, -0.45, 0},
+                                       {-0.45, 0.25, 0.25}};
 
-// Poses aimed at sample `i` along the directions of a grid of `step` degrees from which it
-// is seen without occlusion, with `rotations` rotations each, when those are few
-// (kNarrowCells): an opening narrower than the rescue grid's step may let camera and
-// projector both in.
-std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i, double step,
-                                       int rotations) {
+// `aimed` moved so that the sample each is aimed at lies at each of kRescuePlaces, place
+// by place.
+std::vector<View> offCentre(const Scanner& scanner, const std::vector<View>& aimed) {
+  std::vector<View> result;
+  for (const auto& place : kRescuePlaces) {
+    const Vec3 at(place[0] * scanner.fov_width, place[1] * scanner.fov_height,
+                  place[2] * scanner.depth_of_field);
+    for (const View& view : aimed)
+      result.push_back(shiftedPose(view, -(view.camera_to_world.linear() * at)));
+  }
+  return result;
+}
+
+// The directions of a grid of `step` degrees from which sample `i` is seen without
+// occlusion, within the camera's angle limit.
+VisibilityMap freeDirections(const Placement& at, std::size_t i, double step) {
   VisibilityOptions options;
   options.step = step;
   options.cone = at.scanner().max_camera_angle;
   options.reach = at.scanner().standoff;
-  const VisibilityMap free = combinedVisibilityMap(at.simulator, {at.points[i]}, options);
-  std::vector<View> result;
-  const auto seen = static_cast<std::uint32_t>(
+  return combinedVisibilityMap(at.simulator, {at.points[i]}, options);
+}
+
+// How many directions of `free` are free.
+std::size_t freeCount(const VisibilityMap& free) {
+  return static_cast<std::size_t>(
       std::count_if(free.counts.begin(), free.counts.end(), [](std::uint32_t n) { return n > 0; }));
-  if (seen == 0 || seen > kNarrowCells) return result;
+}
+
+// At most this many free directions on the fine grid make an opening narrow enough to
+// look through again, more finely: through a wider one the rescue grid's own poses pass,
+// and they are lost for other reasons.
+constexpr std::size_t kNarrowCells = 40;
+
+// Poses aimed at sample `i` along the `free` directions, with `rotations` rotations each,
+// when those are few (kNarrowCells): an opening narrower than the rescue grid's step may
+// let camera and projector both in.
+std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i,
+                                       const VisibilityMap& free, int rotations) {
+  std::vector<View> result;
+  if (freeCount(free) > kNarrowCells) return result;
   for (int c = 0; c < free.cells(); ++c) {
     if (free.counts[c] == 0) continue;
     const std::vector<View> around =
@@ -204,6 +239,24 @@ std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i, doubl
     result.insert(result.end(), around.begin(), around.end());
   }
   return result;
+}
+
+// The first valid pose measuring sample `i` of the rescue's: the dense poses aimed at it;
+// where none measures it and it is seen from some direction of a grid of half the step,
+// those through a narrow opening (planner.rescue.narrow), then the dense poses placed
+// off the centre.
+std::optional<View> rescuePose(const Placement& at, std::size_t i, const VisibilityMap& grid) {
+  const PlannerSettings& settings = at.settings();
+  const std::vector<View> aimed =
+      densePoses(at.scanner(), at.points[i], grid, settings.rescue_rotations);
+  if (auto found = firstMeasuring(at, i, aimed)) return found;
+  const VisibilityMap free = freeDirections(at, i, settings.rescue_step / 2);
+  if (freeCount(free) == 0) return std::nullopt;
+  if (settings.rescue_narrow)
+    if (auto found =
+            firstMeasuring(at, i, throughNarrowOpening(at, i, free, 2 * settings.rescue_rotations)))
+      return found;
+  return firstMeasuring(at, i, offCentre(at.scanner(), aimed));
 }
 
 }  // namespace
@@ -236,15 +289,8 @@ void rescueViews(const Placement& at, std::vector<PlannedSample>& samples, Measu
   // A sample's rescue pose depends on the sample alone: found for all at once, then added
   // in the samples' order, but for the samples a rescue view added before has measured.
   std::vector<std::optional<View>> found(pending.size());
-  tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t k) {
-    const std::size_t i = pending[k];
-    found[k] = firstMeasuring(
-        at, i, densePoses(at.scanner(), at.points[i], grid, settings.rescue_rotations));
-    if (!found[k] && settings.rescue_narrow)
-      found[k] = firstMeasuring(
-          at, i,
-          throughNarrowOpening(at, i, settings.rescue_step / 2, 2 * settings.rescue_rotations));
-  });
+  tbb::parallel_for(std::size_t{0}, pending.size(),
+                    [&](std::size_t k) { found[k] = rescuePose(at, pending[k], grid); });
   for (std::size_t k = 0; k < pending.size(); ++k) {
     const std::size_t i = pending[k];
     if (!found[k] || !samples[i].measured_by.empty()) continue;

@@ -72,6 +72,23 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
   return coverable;
 }
 
+std::vector<char> coverableByWiderCandidates(const Simulator& simulator,
+                                             const std::vector<SurfacePoint>& samples, double step,
+                                             int rotations, const CellCheck& cell) {
+  std::vector<char> coverable =
+      coverableByDenseCandidates(simulator, samples, step, rotations, cell);
+  const VisibilityMap grid(step);
+  const std::vector<Vec3> offsets = volumeOffsets(simulator.scanner());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (coverable[i]) continue;
+    const DensePoses poses = densePosesOf(simulator, samples, i, i + 1, grid, rotations, offsets);
+    const std::vector<Loss> losses = simulator.measurePairs(poses.views, poses.points);
+    for (std::size_t k = 0; k < losses.size() && !coverable[i]; ++k)
+      coverable[i] = losses[k] == Loss::Measured && poseIsValid(simulator, poses.views[k], cell);
+  }
+  return coverable;
+}
+
 std::vector<char> framedByDenseCandidates(const Simulator& simulator,
                                           const std::vector<SurfacePoint>& samples,
                                           const std::vector<Marker>& markers,

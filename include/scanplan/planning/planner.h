@@ -83,6 +83,16 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
                                              double step = 10, int rotations = 8,
                                              const CellCheck& cell = {});
 
+// Which samples some valid pose of a wider dense set measures: the poses of
+// coverableByDenseCandidates, each also moved so that the sample lies a quarter or 0.45 of
+// the field off the centre each way and a quarter of the depth of field nearer or further.
+// The planner's rescue pass aims at its samples only; so this reference of coverage reaches
+// what the planner's candidates miss: a sample seen past an edge only from off the axis.
+std::vector<char> coverableByWiderCandidates(const Simulator& simulator,
+                                             const std::vector<SurfacePoint>& samples,
+                                             double step = 10, int rotations = 8,
+                                             const CellCheck& cell = {});
+
 // Which samples some valid pose of a wider dense set measures while it registers by
 // reference points on `markers` by itself (`options.min_markers` seen, off one line): the
 // poses of coverableByDenseCandidates, each also moved so that the sample lies a quarter or
