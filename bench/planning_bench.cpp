@@ -1,7 +1,8 @@
 // View planning on real parts: the gdt task (faces of the AP242 PMI) and the global task on
 // every NIST model, and the global task on a die-cast part. Reports samples, those some
 // pose of the pool measures and those measured, views against a plain greedy over dense
-// poses (denseGreedy) and against the lower bound of the pool's set cover, and seconds.
+// poses (denseGreedy) and against the lower bound of the pool's set cover, the samples a
+// wider search reaches and those of them measured (countWiderReach), and seconds.
 // BM_Register: registration, bridging and sequencing of NIST plans, with and without
 // markers. BM_RegisterGlobal: the global task registered by geometry, and the markers
 // proposed.
