@@ -180,7 +180,7 @@ std::optional<View> firstMeasuring(const Placement& at, std::size_t i,
 // Where the rescue puts a sample in the field when no pose aimed at it measures it (camera
 // frame: shares of the field's width and height and of the depth of field), in this
 // order. First farther and across the field away from the projector, where the camera's
-// and the projector's rays meet at their narrowest angle (about 19 degrees for the generic
+// and the projector's rays meet at a narrower angle (about 19 degrees for the generic
 // scanner's 25), through openings too narrow for the poses aimed at the sample. Then the
 // four places of the wider reference's 74 (coverableByWiderCandidates) that a greedy
 // cover takes first: they reach 309 of the 393 samples that only such places reach on the
@@ -241,10 +241,10 @@ std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i,
   return result;
 }
 
-// The first valid pose measuring sample `i` of the rescue's: the dense poses aimed at it;
-// where none measures it and it is seen from some direction of a grid of half the step,
-// those through a narrow opening (planner.rescue.narrow), then the dense poses placed
-// off the centre.
+// The rescue's pose for sample `i`: the first valid pose that measures it of the dense
+// poses aimed at it; where none does and the sample is seen from some direction of a grid
+// of half the step, of those through a narrow opening (planner.rescue.narrow), then of the
+// dense poses placed off the centre (kRescuePlaces).
 std::optional<View> rescuePose(const Placement& at, std::size_t i, const VisibilityMap& grid) {
   const PlannerSettings& settings = at.settings();
   const std::vector<View> aimed =
