@@ -496,6 +496,20 @@ std::vector<bool> measuring(const Simulator& simulator, const std::vector<View>&
   return result;
 }
 
+// Where the first sample of `plan` lies in the camera frame of the first view the plan says
+// measures it, when that view, simulated afresh, does; else none.
+std::optional<Vec3> placeInView(const Plan& plan, const Simulator& simulator) {
+  if (plan.samples.empty() || plan.samples.front().measured_by.empty()) return std::nullopt;
+  const int id = plan.samples.front().measured_by.front();
+  const auto view =
+      std::find_if(plan.views.begin(), plan.views.end(), [&](const View& v) { return v.id == id; });
+  const SurfacePoint point = plan.samplePoints().front();
+  if (view == plan.views.end() ||
+      simulator.measure(*view, std::vector<SurfacePoint>{point}).front() != Loss::Measured)
+    return std::nullopt;
+  return view->camera_to_world.inverse() * point.position;
+}
+
 // Poses aimed at `point` along the directions tilted `first_tilt` to 60 degrees from its
 // normal in steps of 5, every 5 degrees of azimuth, with `rotations` rotations each.
 std::vector<View> tiltedPoses(const Scanner& scanner, const SurfacePoint& point, int first_tilt,
@@ -520,7 +534,8 @@ std::vector<View> tiltedPoses(const Scanner& scanner, const SurfacePoint& point,
 // projector unless their baseline lies across it. An independent search aims poses at it
 // every 5 degrees of tilt up to 60 and of azimuth, 8 rolls each: a few of those measure it
 // and none along its normal does. The rescue's grid of poses aimed at it misses it (the
-// dense candidates); with planner.rescue.narrow the plan measures it.
+// dense candidates). With planner.rescue.narrow the plan measures it by a pose aimed at
+// it; without, by one with it off the field's centre (the rescue's last resort).
 TEST(Planning, APointOnlyNarrowTiltedPosesReachIsMeasuredByTheNarrowRescue) {
   test::TempDir dir;
   const TopoDS_Shape chamber =
@@ -553,9 +568,14 @@ TEST(Planning, APointOnlyNarrowTiltedPosesReachIsMeasuredByTheNarrowRescue) {
   RecordProperty("tilted_poses_measuring",
                  std::to_string(std::count(reached.begin(), reached.end(), true)));
   EXPECT_GT(std::count(reached.begin(), reached.end(), true), 0);
-  EXPECT_FALSE(looked.samples.front().measured_by.empty())
-      << toString(looked.samples.front().uncoverable);
   EXPECT_EQ(coverableByDenseCandidates(simulator, {corner}), std::vector<char>{0});
+  const std::optional<Vec3> narrow = placeInView(looked, simulator);
+  ASSERT_TRUE(narrow) << toString(looked.samples.front().uncoverable);
+  EXPECT_LT(std::hypot(narrow->x(), narrow->y()), 1.0) << narrow->transpose();
+  const Plan plain = plan(false);
+  const std::optional<Vec3> off = placeInView(plain, simulator);
+  ASSERT_TRUE(off) << toString(plain.samples.front().uncoverable);
+  EXPECT_GT(std::hypot(off->x(), off->y()), 10.0) << off->transpose();
 }
 
 // A 400 x 400 x 300 mm block with a 40 x 40 mm pocket `depth` mm deep in the middle of its
@@ -593,15 +613,9 @@ TEST(Planning, APocketFloorOnlyOffCentrePosesReachIsMeasured) {
   EXPECT_EQ(std::count(reached.begin(), reached.end(), true), 0);
   EXPECT_EQ(coverableByDenseCandidates(simulator, {floor}), std::vector<char>{0});
   EXPECT_EQ(coverableByWiderCandidates(simulator, {floor}), std::vector<char>{1});
-  ASSERT_FALSE(plan.samples.front().measured_by.empty())
-      << toString(plan.samples.front().uncoverable);
-  const int id = plan.samples.front().measured_by.front();
-  const auto view =
-      std::find_if(plan.views.begin(), plan.views.end(), [&](const View& v) { return v.id == id; });
-  ASSERT_NE(view, plan.views.end());
-  EXPECT_EQ(simulator.measure(*view, std::vector<SurfacePoint>{floor}).front(), Loss::Measured);
-  const Vec3 in_camera = view->camera_to_world.inverse() * floor.position;
-  EXPECT_GT(std::hypot(in_camera.x(), in_camera.y()), 10.0) << in_camera.transpose();
+  const std::optional<Vec3> place = placeInView(plan, simulator);
+  ASSERT_TRUE(place) << toString(plan.samples.front().uncoverable);
+  EXPECT_GT(std::hypot(place->x(), place->y()), 10.0) << place->transpose();
 }
 
 // planner.max_failures: how many views may be aimed at a sample before it is given up. The
