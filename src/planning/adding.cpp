@@ -191,16 +191,14 @@ constexpr double kRescuePlaces[][3] = {{-0.45, 0, 0.25},
                                        {0.45, -0.45, 0},
                                        {-0.45, 0.25, 0.25}};
 
-// `aimed` moved so that the sample each is aimed at lies at each of kRescuePlaces, place
-// by place.
-std::vector<View> offCentre(const Scanner& scanner, const std::vector<View>& aimed) {
+// `aimed` moved so that the sample each is aimed at lies at `place` (of kRescuePlaces).
+std::vector<View> placed(const Scanner& scanner, const std::vector<View>& aimed,
+                         const double (&place)[3]) {
+  const Vec3 at(place[0] * scanner.fov_width, place[1] * scanner.fov_height,
+                place[2] * scanner.depth_of_field);
   std::vector<View> result;
-  for (const auto& place : kRescuePlaces) {
-    const Vec3 at(place[0] * scanner.fov_width, place[1] * scanner.fov_height,
-                  place[2] * scanner.depth_of_field);
-    for (const View& view : aimed)
-      result.push_back(shiftedPose(view, -(view.camera_to_world.linear() * at)));
-  }
+  for (const View& view : aimed)
+    result.push_back(shiftedPose(view, -(view.camera_to_world.linear() * at)));
   return result;
 }
 
@@ -244,7 +242,7 @@ std::vector<View> throughNarrowOpening(const Placement& at, std::size_t i,
 // The rescue's pose for sample `i`: the first valid pose that measures it of the dense
 // poses aimed at it; where none does and the sample is seen from some direction of a grid
 // of half the step, of those through a narrow opening (planner.rescue.narrow), then of the
-// dense poses placed off the centre (kRescuePlaces).
+// dense poses placed off the centre, place by place (kRescuePlaces).
 std::optional<View> rescuePose(const Placement& at, std::size_t i, const VisibilityMap& grid) {
   const PlannerSettings& settings = at.settings();
   const std::vector<View> aimed =
@@ -256,7 +254,9 @@ std::optional<View> rescuePose(const Placement& at, std::size_t i, const Visibil
     if (auto found =
             firstMeasuring(at, i, throughNarrowOpening(at, i, free, 2 * settings.rescue_rotations)))
       return found;
-  return firstMeasuring(at, i, offCentre(at.scanner(), aimed));
+  for (const auto& place : kRescuePlaces)
+    if (auto found = firstMeasuring(at, i, placed(at.scanner(), aimed, place))) return found;
+  return std::nullopt;
 }
 
 }  // namespace

@@ -78,7 +78,8 @@ std::vector<char> coverableByWiderCandidates(const Simulator& simulator,
   std::vector<char> coverable =
       coverableByDenseCandidates(simulator, samples, step, rotations, cell);
   const VisibilityMap grid(step);
-  const std::vector<Vec3> offsets = volumeOffsets(simulator.scanner());
+  std::vector<Vec3> offsets = volumeOffsets(simulator.scanner());
+  std::erase_if(offsets, [](const Vec3& offset) { return offset.isZero(); });  // tried above
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (coverable[i]) continue;
     const DensePoses poses = densePosesOf(simulator, samples, i, i + 1, grid, rotations, offsets);

@@ -151,7 +151,7 @@ struct ViewGeometry {
 
 // Points grouped in cubic cells of a given size, each with a bounding ball, so that a view
 // tests only the points of cells that reach its measuring volume (view-frustum culling).
-// The cells lie in blocks of kSpan³ cells, each with a ball holding its cells', so that a
+// The cells lie in blocks of kSpan³ cells, each with a ball holding its points, so that a
 // view walks only the cells of blocks that reach its volume.
 // With `by_normal`, the points of a cell are grouped further by face and by the axis their
 // normals lean most towards, each group with a ball and a cone holding its normals, so
@@ -178,7 +178,7 @@ class Cells {
       addCell(points, in_cell, by_normal);
       blocks_.back().last = cells_.size();
     }
-    for (Block& b : blocks_) b.ball = ballAround(b.first, b.last);
+    for (Block& b : blocks_) b.ball = ballOf(points, blockMembers(b));
   }
 
   // The points of the groups that may reach the view's measuring volume.
@@ -261,8 +261,7 @@ class Cells {
     return 2 * static_cast<int>(axis) + (normal[axis] < 0 ? 1 : 0);
   }
 
-  static Ball ballOf(std::span<const SurfacePoint> points,
-                     const std::vector<std::size_t>& members) {
+  static Ball ballOf(std::span<const SurfacePoint> points, std::span<const std::size_t> members) {
     Box box;
     for (std::size_t i : members) box.add(points[i].position);
     Ball ball{box.center(), 0};
@@ -273,20 +272,11 @@ class Cells {
 
   static long floorDivided(long a, long b) { return a / b - (a % b < 0 ? 1 : 0); }
 
-  // A ball holding the balls of cells_[first, last).
-  Ball ballAround(std::size_t first, std::size_t last) const {
-    Box box;
-    for (std::size_t c = first; c < last; ++c) {
-      const Ball& b = cells_[c].ball;
-      box.add(b.centre - Vec3::Constant(b.radius));
-      box.add(b.centre + Vec3::Constant(b.radius));
-    }
-    Ball ball{box.center(), 0};
-    for (std::size_t c = first; c < last; ++c) {
-      const Ball& b = cells_[c].ball;
-      ball.radius = std::max(ball.radius, (b.centre - ball.centre).norm() + b.radius);
-    }
-    return ball;
+  // The members of the block's cells, which lie in one run of members_.
+  std::span<const std::size_t> blockMembers(const Block& block) const {
+    const std::size_t first = groups_[cells_[block.first].first].first;
+    const std::size_t last = groups_[cells_[block.last - 1].last - 1].last;
+    return {members_.data() + first, last - first};
   }
 
   // The cone around the members' mean normal holding all of them. Unit normals leaning
