@@ -62,28 +62,48 @@ struct NormalCone {
   double spread = std::numbers::pi, cos_spread = -1, sin_spread = 0;
 };
 
-// The parts of the measurement test that need no ray, for one view.
-struct ViewGeometry {
-  Pose world_to_camera;
-  Vec3 projector;
-  std::vector<Vec3> cameras;  // every camera's centre, the view's own first
+// What the measurement test reads of the scanner, the same for every view: the measuring
+// volume, the angle limits and the eyes' places in the scanner's frame.
+struct Volume {
+  static constexpr std::size_t kMostCameras = 2;
+
   double z_min, z_max, half_width, half_height, standoff;  // volume in S, mm
   Angle camera_limit, projector_limit;  // the largest angles a normal may turn from either
   double cos_reflection;
+  Vec3 projector_in_scanner;
+  std::array<Vec3, kMostCameras> cameras_in_scanner;  // the view's own first
+  std::size_t camera_count;
 
-  ViewGeometry(const View& view, const Scanner& s)
-      : world_to_camera(view.camera_to_world.inverse()),
-        projector(projectorPosition(view, s)),
-        z_min(s.standoff - s.depth_of_field / 2),
+  explicit Volume(const Scanner& s)
+      : z_min(s.standoff - s.depth_of_field / 2),
         z_max(s.standoff + s.depth_of_field / 2),
         half_width(s.fov_width / 2),
         half_height(s.fov_height / 2),
         standoff(s.standoff),
         camera_limit(angleOf(s.max_camera_angle)),
         projector_limit(angleOf(s.max_projector_angle)),
-        cos_reflection(std::cos(radians(s.reflection_cone))) {
-    for (const Vec3& c : s.camerasInScanner()) cameras.push_back(view.camera_to_world * c);
+        cos_reflection(std::cos(radians(s.reflection_cone))),
+        projector_in_scanner(s.projectorInScanner()),
+        camera_count(0) {
+    for (const Vec3& c : s.camerasInScanner()) cameras_in_scanner.at(camera_count++) = c;
   }
+};
+
+// The parts of the measurement test that need no ray, for one view.
+struct ViewGeometry : Volume {
+  Pose world_to_camera;
+  Vec3 projector;
+  std::array<Vec3, kMostCameras> cameras;  // every camera's centre, the view's own first
+
+  ViewGeometry(const View& view, const Volume& volume)
+      : Volume(volume),
+        world_to_camera(view.camera_to_world.inverse()),
+        projector(view.camera_to_world * projector_in_scanner) {
+    for (std::size_t c = 0; c < camera_count; ++c)
+      cameras[c] = view.camera_to_world * cameras_in_scanner[c];
+  }
+
+  std::span<const Vec3> eyes() const { return {cameras.data(), camera_count}; }
 
   bool inVolume(const Vec3& p) const {
     Vec3 q = world_to_camera * p;
@@ -107,7 +127,7 @@ struct ViewGeometry {
   // cone's spread and the ball's angular radius from that eye.
   bool mayFace(const Vec3& centre, double radius, const NormalCone& cone) const {
     return within(projector, centre, radius, cone, projector_limit) &&
-           std::any_of(cameras.begin(), cameras.end(), [&](const Vec3& eye) {
+           std::ranges::any_of(eyes(), [&](const Vec3& eye) {
              return within(eye, centre, radius, cone, camera_limit);
            });
   }
@@ -371,6 +391,7 @@ std::uint64_t rowStream(int view_id, std::uint64_t row) {
 
 struct Simulator::Impl {
   Scanner scanner;
+  std::optional<Volume> volume;  // of the scanner
   SimulationOptions options;
   TriangleMesh world;  // part (first) then fixtures, world frame
   std::size_t part_triangles = 0;
@@ -420,7 +441,7 @@ struct Simulator::Impl {
   std::pair<Loss, int> firstCamera(const ViewGeometry& geometry, const SurfacePoint& sp,
                                    std::size_t first = 0) const {
     Loss worst = Loss::Measured;
-    for (std::size_t c = first; c < geometry.cameras.size(); ++c) {
+    for (std::size_t c = first; c < geometry.camera_count; ++c) {
       const Loss loss = testWithoutRays(geometry, sp, geometry.cameras[c]);
       if (loss == Loss::Measured) return {loss, static_cast<int>(c)};
       worst = c == first ? loss : std::max(worst, loss);
@@ -489,7 +510,7 @@ struct Simulator::Impl {
   // tested and all others are outside the volume.
   std::vector<Loss> measure(const View& view, std::span<const SurfacePoint> points,
                             const std::vector<std::size_t>* subset, std::size_t* ray_count) const {
-    const ViewGeometry geometry(view, scanner);
+    const ViewGeometry geometry(view, *volume);
     std::vector<Loss> losses(points.size(), Loss::OutsideVolume);
     std::vector<std::size_t> all;
     if (!subset) {
@@ -583,6 +604,7 @@ Simulator::Simulator(const Part& part, const Scanner& scanner, SimulationOptions
   Impl& d = *impl_;
   validate(scanner, scanner.name);
   d.scanner = scanner;
+  d.volume.emplace(scanner);
   d.face_count = part.faces.size();
   d.specular.assign(d.face_count + 1, 0);
   for (int id : options.specular_faces) {
@@ -696,7 +718,7 @@ std::vector<Loss> Simulator::measurePairs(std::span<const View> views,
   std::vector<Loss> losses(points.size());
   std::vector<std::optional<ViewGeometry>> geometries(points.size());
   tbb::parallel_for(std::size_t{0}, points.size(),
-                    [&](std::size_t i) { geometries[i].emplace(views[i], d.scanner); });
+                    [&](std::size_t i) { geometries[i].emplace(views[i], *d.volume); });
   std::vector<std::size_t> all(points.size());
   std::iota(all.begin(), all.end(), std::size_t{0});
   d.testWithRays(
@@ -709,7 +731,7 @@ Acquisition Simulator::acquire(const View& view) const {
   const Impl& d = *impl_;
   Acquisition acquisition;
   acquisition.view_id = view.id;
-  const ViewGeometry geometry(view, d.scanner);
+  const ViewGeometry geometry(view, *d.volume);
   const std::vector<std::size_t> reachable = d.cells->reaching(geometry);
   acquisition.facets = d.measure(view, d.facets, &reachable, &acquisition.rays);
   acquisition.face_area.assign(d.face_count, 0.0);
@@ -740,7 +762,7 @@ PointCloud Simulator::cloud(const View& view, std::uint64_t seed, double spacing
 CloudRays Simulator::rays(const View& view, double spacing) const {
   const Impl& d = *impl_;
   const Scanner& s = d.scanner;
-  const ViewGeometry geometry(view, s);
+  const ViewGeometry geometry(view, *d.volume);
   if (!(spacing > 0)) spacing = s.point_spacing;
   const CloudGrid grid{spacing, static_cast<int>(std::floor(s.fov_width / spacing)),
                        static_cast<int>(std::floor(s.fov_height / spacing)), view.id};
@@ -807,11 +829,11 @@ std::vector<std::vector<int>> IndexedPoints::measured(const Simulator& simulator
                                                       std::span<const View> views) const {
   std::vector<std::vector<int>> result(views.size());
   if (impl_->points.empty()) return result;
+  const Volume volume(simulator.scanner());
   tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
     // Only the points of groups that reach the measuring volume and may face the view can
     // be measured.
-    const std::vector<std::size_t> near =
-        impl_->cells.facing(ViewGeometry(views[v], simulator.scanner()));
+    const std::vector<std::size_t> near = impl_->cells.facing(ViewGeometry(views[v], volume));
     std::vector<SurfacePoint> subset;
     subset.reserve(near.size());
     for (std::size_t i : near) subset.push_back(impl_->points[i]);
