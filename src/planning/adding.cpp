@@ -194,11 +194,9 @@ constexpr double kRescuePlaces[][3] = {
 // `aimed` moved so that the sample each is aimed at lies at `place` (of kRescuePlaces).
 std::vector<View> placed(const Scanner& scanner, const std::vector<View>& aimed,
                          const double (&place)[3]) {
-  const Vec3 at(place[0] * scanner.fov_width, place[1] * scanner.fov_height,
-                place[2] * scanner.depth_of_field);
+  const Vec3 at = placeInVolume(scanner, place[0], place[1], place[2]);
   std::vector<View> result;
-  for (const View& view : aimed)
-    result.push_back(shiftedPose(view, -(view.camera_to_world.linear() * at)));
+  for (const View& view : aimed) result.push_back(shiftedInView(view, -at));
   return result;
 }
 

@@ -30,8 +30,7 @@ DensePoses densePosesOf(const Simulator& simulator, const std::vector<SurfacePoi
   for (std::size_t i = first; i < last; ++i)
     for (const View& view : densePoses(simulator.scanner(), samples[i], grid, rotations))
       for (const Vec3& offset : offsets) {
-        poses.views.push_back(
-            offset.isZero() ? view : shiftedPose(view, view.camera_to_world.linear() * offset));
+        poses.views.push_back(offset.isZero() ? view : shiftedInView(view, offset));
         poses.points.push_back(samples[i]);
         poses.owner.push_back(i);
       }
@@ -46,9 +45,7 @@ std::vector<Vec3> volumeOffsets(const Scanner& scanner) {
   const std::vector<double> across = {0.0, -0.25, 0.25, -0.45, 0.45};
   for (double z : {0.0, -0.25, 0.25})
     for (double x : across)
-      for (double y : across)
-        offsets.emplace_back(x * scanner.fov_width, y * scanner.fov_height,
-                             z * scanner.depth_of_field);
+      for (double y : across) offsets.push_back(placeInVolume(scanner, x, y, z));
   return offsets;
 }
 

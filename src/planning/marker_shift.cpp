@@ -78,7 +78,7 @@ class MarkerShift : public KnownMarkers {
       if (tries == kTries) break;
       if (!mayRegister(near, shift)) continue;
       ++tries;
-      const View moved = shiftedPose(view, view.camera_to_world.linear() * shift);
+      const View moved = shiftedInView(view, shift);
       if (!poseIsValid(at_.simulator, moved, at_.cell) || !registers(seen({&moved, 1}).front()))
         continue;
       std::vector<int> now = samples_.measured(at_.simulator, {&moved, 1}).front();
@@ -142,8 +142,7 @@ class FramedSearch : public KnownMarkers {
   std::vector<View> posesFor(const SurfacePoint& sample) const {
     std::vector<View> aimed;
     for (const View& view : densePoses(at_.scanner(), sample, grid_, kFramedRotations))
-      for (const Vec3& offset : offsets_)
-        aimed.push_back(shiftedPose(view, view.camera_to_world.linear() * offset));
+      for (const Vec3& offset : offsets_) aimed.push_back(shiftedInView(view, offset));
     const std::vector<SurfacePoint> points(aimed.size(), sample);
     const std::vector<Loss> losses = at_.simulator.measurePairs(aimed, points);
     std::vector<View> measuring;
@@ -166,8 +165,7 @@ class FramedSearch : public KnownMarkers {
     std::vector<Vec3> offsets;
     for (double z : {0.0, -0.2, 0.2})
       for (double x : {0.0, -0.35, 0.35})
-        for (double y : {0.0, -0.35, 0.35})
-          offsets.emplace_back(x * s.fov_width, y * s.fov_height, z * s.depth_of_field);
+        for (double y : {0.0, -0.35, 0.35}) offsets.push_back(placeInVolume(s, x, y, z));
     return offsets;
   }
 

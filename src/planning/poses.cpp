@@ -197,6 +197,14 @@ View shiftedPose(const View& view, const Vec3& shift) {
   return moved;
 }
 
+View shiftedInView(const View& view, const Vec3& shift) {
+  return shiftedPose(view, view.camera_to_world.linear() * shift);
+}
+
+Vec3 placeInVolume(const Scanner& scanner, double x, double y, double z) {
+  return {x * scanner.fov_width, y * scanner.fov_height, z * scanner.depth_of_field};
+}
+
 std::vector<View> posesAround(const Scanner& scanner, const SurfacePoint& target) {
   const Vec3 n = target.normal, u = n.unitOrthogonal(), w = n.cross(u);
   std::vector<Vec3> directions{n};

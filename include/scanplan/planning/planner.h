@@ -86,7 +86,7 @@ std::vector<char> coverableByDenseCandidates(const Simulator& simulator,
 // Which samples some valid pose of a wider dense set measures: the poses of
 // coverableByDenseCandidates, each also moved so that the sample lies a quarter or 0.45 of
 // the field off the centre each way and a quarter of the depth of field nearer or further.
-// The planner's rescue pass tries 5 of its 74 places off the centre (docs/planning.md); so
+// The planner's rescue pass tries 8 of its 74 places off the centre (docs/planning.md); so
 // this reference of coverage reaches what the planner's candidates miss.
 std::vector<char> coverableByWiderCandidates(const Simulator& simulator,
                                              const std::vector<SurfacePoint>& samples,

@@ -87,6 +87,13 @@ std::vector<View> ringPoses(const Scanner& scanner, const SurfacePoint& anchor,
 // `view` with its target (and camera) moved by `shift` (world, mm), orientation kept.
 View shiftedPose(const View& view, const Vec3& shift);
 
+// `view` moved by `shift` in its own camera frame (mm), orientation kept.
+View shiftedInView(const View& view, const Vec3& shift);
+
+// A place in the scanner's measuring volume, camera frame (mm): `x` and `y` shares of the
+// field's width and height across the axis, `z` a share of the depth of field along it.
+Vec3 placeInVolume(const Scanner& scanner, double x, double y, double z);
+
 // Bridging poses aimed at `target`: along its normal and tilted by 30 degrees towards
 // eight sides (to see the walls around it), each with two rotations about the view axis.
 std::vector<View> posesAround(const Scanner& scanner, const SurfacePoint& target);
