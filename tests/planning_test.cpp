@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -865,6 +866,29 @@ TEST(SetCover, FindsTheKnownMinimum) {
   std::vector<char> some = {1, 1, 0, 0, 0, 0};
   EXPECT_EQ(minimumSetCover(sets, some).chosen.size(), 1u);
   EXPECT_TRUE(minimumSetCover({}, required).chosen.empty());
+}
+
+// Every k-element subset of n elements: the LP relaxation's optimum is n / k (each set at
+// 1 / C(n - 1, k - 1) covers every element once; each element's dual at 1 / k is feasible),
+// so the bound is n / k rounded up. Hundreds or thousands of sets, far more than one round
+// of pricing adds: a bound taken before the last round would be higher.
+TEST(SetCover, LowerBoundIsTheLpOptimumOverEverySubset) {
+  const auto subsets = [](int n, int k) {
+    std::vector<std::vector<int>> sets;
+    for (unsigned mask = 0; mask < (1u << n); ++mask)
+      if (std::popcount(mask) == k) {
+        std::vector<int> set;
+        for (int e = 0; e < n; ++e)
+          if (mask & (1u << e)) set.push_back(e);
+        sets.push_back(set);
+      }
+    return sets;
+  };
+  for (const auto& [n, k, bound] :
+       {std::tuple{20, 4, 5}, std::tuple{18, 3, 6}, std::tuple{13, 3, 5}, std::tuple{9, 2, 5}}) {
+    const std::vector<std::vector<int>> sets = subsets(n, k);
+    EXPECT_EQ(setCoverLowerBound(sets, std::vector<char>(n, 1)), bound) << n << " choose " << k;
+  }
 }
 
 // `count` random sets over `elements` elements, each element in a set with chance 1 in

@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -29,7 +30,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kLpIterations = 100000;  // simplex iterations of an LP relaxation
+constexpr int kLpIterations = 100000;     // simplex iterations of an LP relaxation
+constexpr std::size_t kPricedSets = 200;  // sets added to an LP at each pricing
 
 double secondsSince(Clock::time_point began) {
   return std::chrono::duration<double>(Clock::now() - began).count();
@@ -429,6 +431,72 @@ std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
                  core);
 }
 
+// Per row of `reduced`, the set holding it that holds the most rows (the first on ties):
+// together they cover every row.
+std::vector<int> largestPerRow(const Reduced& reduced) {
+  std::vector<int> largest(reduced.rows, -1);
+  for (std::size_t c = 0; c < reduced.columns.size(); ++c)
+    for (int r : reduced.columns[c])
+      if (largest[r] < 0 || reduced.columns[c].size() > reduced.columns[largest[r]].size())
+        largest[r] = static_cast<int>(c);
+  return largest;
+}
+
+// The sets of `reduced` not `in` the LP whose reduced cost against the rows' duals `dual`
+// (1 less the duals of their rows) is negative, most negative first, at most kPricedSets.
+std::vector<int> pricedSets(const Reduced& reduced, const std::vector<char>& in,
+                            const double* dual) {
+  constexpr double kNegative = -1e-7;  // CLP's dual feasibility tolerance
+  std::vector<std::pair<double, int>> entering;
+  for (std::size_t c = 0; c < reduced.columns.size(); ++c) {
+    if (in[c]) continue;
+    double cost = 1;
+    for (int r : reduced.columns[c]) cost -= dual[r];
+    if (cost < kNegative) entering.push_back({cost, static_cast<int>(c)});
+  }
+  std::stable_sort(entering.begin(), entering.end(),
+                   [](auto& a, auto& b) { return a.first < b.first; });
+  entering.resize(std::min(entering.size(), kPricedSets));
+  std::vector<int> result;
+  for (const auto& [cost, c] : entering) result.push_back(c);
+  return result;
+}
+
+// The optimum of the LP relaxation of `reduced` (loadRelaxation's) by pricing: solved over
+// the sets largestPerRow names, then again with the sets of negative reduced cost added
+// (pricedSets), until no set has one. The optimum is the whole LP's, over a small share of
+// its sets; none when kLpIterations simplex iterations in all do not reach it.
+std::optional<double> relaxationByPricing(const Reduced& reduced) {
+  std::vector<char> in(reduced.columns.size(), 0);
+  Reduced start;
+  start.rows = reduced.rows;
+  for (int c : largestPerRow(reduced))
+    if (!in[c]) {
+      in[c] = 1;
+      start.columns.push_back(reduced.columns[c]);
+    }
+  OsiClpSolverInterface solver;
+  loadRelaxation(start, solver);
+  solver.setHintParam(OsiDoDualInResolve, false, OsiHintDo);  // new sets: primal simplex
+  int iterations = 0;
+  solver.getModelPtr()->setMaximumIterations(kLpIterations);
+  solver.initialSolve();
+  for (;;) {
+    iterations += solver.getIterationCount();
+    if (!solver.isProvenOptimal()) return std::nullopt;
+    const std::vector<int> entering = pricedSets(reduced, in, solver.getRowPrice());
+    if (entering.empty()) return solver.getObjValue();
+    for (int c : entering) {
+      in[c] = 1;
+      const std::vector<int>& rows = reduced.columns[c];
+      const std::vector<double> ones(rows.size(), 1.0);
+      solver.addCol(static_cast<int>(rows.size()), rows.data(), ones.data(), 0.0, 1.0, 1.0);
+    }
+    solver.getModelPtr()->setMaximumIterations(kLpIterations - iterations);
+    solver.resolve();
+  }
+}
+
 }  // namespace
 
 SetCoverResult minimumSetCover(const std::vector<std::vector<int>>& sets,
@@ -473,9 +541,8 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
                           const std::vector<char>& required) {
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return 0;
-  OsiClpSolverInterface solver;
-  loadRelaxation(reduced, solver);
-  return solveRelaxation(solver) ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+  const std::optional<double> lp = relaxationByPricing(reduced);
+  return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
 SetCoverResult minimumMulticover(const std::vector<std::vector<int>>& sets,
@@ -596,7 +663,7 @@ bool meetsNeed(const PartialInstance& p, const std::vector<int>& chosen) {
   std::vector<char> covered(p.group_of.size(), 0);
   for (int c : chosen)
     for (int r : p.columns[c]) covered[r] = 1;
-  std::vector<double> got(p.need.size(), 0);
+  std::vector<int> got(p.need.size(), 0);  // rows covered per group
   for (std::size_t r = 0; r < covered.size(); ++r) got[p.group_of[r]] += covered[r];
   for (std::size_t g = 0; g < got.size(); ++g)
     if (got[g] < p.need[g]) return false;
