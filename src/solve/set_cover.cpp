@@ -300,11 +300,12 @@ double objectiveOf(const OsiClpSolverInterface& solver, const double* x) {
   return sum;
 }
 
-// CBC's own solver (cuts and primal heuristics, as its command line runs them) on the
-// integer program of `solver`, from the feasible solution `start` (every column), within
-// `limits`: the first `sets` columns at 1 in the best solution found (the start's unless
-// one costs less), and whether it is proven least, the bound (rounded up when `integral`)
-// and whether the time cap stopped it, into `result`.
+// CBC's own solver (cuts and primal heuristics, as its command line runs them, without
+// strong branching: over the few nodes a plan's search is given, its look-ahead at each
+// node costs more than it finds, docs/planning.md) on the integer program of `solver`, from
+// the feasible solution `start` (every column), within `limits`: the first `sets` columns at 1 in
+// the best solution found (the start's unless one costs less), and whether it is proven least, the
+// bound (rounded up when `integral`) and whether the time cap stopped it, into `result`.
 std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector<double> start,
                                 int sets, const SolveLimits& limits, bool integral,
                                 SetCoverResult& result, const SetCoverProgress& progress = {}) {
@@ -322,8 +323,9 @@ std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector
   const double start_cost = objectiveOf(solver, start.data());
   model.setBestSolution(start.data(), columns, start_cost, true);
   const std::string time = std::to_string(limits.seconds), nodes = std::to_string(limits.nodes);
-  const char* argv[] = {"scanplan",   "-log",  "0",           "-slog",  "0",    "-sec",
-                        time.c_str(), "-maxN", nodes.c_str(), "-solve", "-quit"};
+  const char* argv[] = {"scanplan", "-log",       "0",     "-slog",       "0",
+                        "-sec",     time.c_str(), "-maxN", nodes.c_str(), "-strong",
+                        "0",        "-solve",     "-quit"};
   CbcMain1(static_cast<int>(std::size(argv)), argv, model, nullptr, data);
   const double* best = model.bestSolution();
   const double* chosen_x =
