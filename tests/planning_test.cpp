@@ -868,26 +868,40 @@ TEST(SetCover, FindsTheKnownMinimum) {
   EXPECT_TRUE(minimumSetCover({}, required).chosen.empty());
 }
 
+// Every k-element subset of n elements (n at most 31).
+std::vector<std::vector<int>> everySubset(int n, int k) {
+  std::vector<std::vector<int>> sets;
+  for (unsigned mask = 0; mask < (1u << n); ++mask)
+    if (std::popcount(mask) == k) {
+      std::vector<int> set;
+      for (int e = 0; e < n; ++e)
+        if (mask & (1u << e)) set.push_back(e);
+      sets.push_back(set);
+    }
+  return sets;
+}
+
 // Every k-element subset of n elements: the LP relaxation's optimum is n / k (each set at
 // 1 / C(n - 1, k - 1) covers every element once; each element's dual at 1 / k is feasible),
 // so the bound is n / k rounded up. Up to 4,845 sets (20 choose 4), many times the 200 one
 // round of pricing adds: a bound taken before the last round would be higher.
 TEST(SetCover, LowerBoundIsTheLpOptimumOverEverySubset) {
-  const auto subsets = [](int n, int k) {
-    std::vector<std::vector<int>> sets;
-    for (unsigned mask = 0; mask < (1u << n); ++mask)
-      if (std::popcount(mask) == k) {
-        std::vector<int> set;
-        for (int e = 0; e < n; ++e)
-          if (mask & (1u << e)) set.push_back(e);
-        sets.push_back(set);
-      }
-    return sets;
-  };
   for (const auto& [n, k, bound] :
        {std::tuple{20, 4, 5}, std::tuple{18, 3, 6}, std::tuple{13, 3, 5}, std::tuple{9, 2, 5}}) {
-    const std::vector<std::vector<int>> sets = subsets(n, k);
+    const std::vector<std::vector<int>> sets = everySubset(n, k);
     EXPECT_EQ(setCoverLowerBound(sets, std::vector<char>(n, 1)), bound) << n << " choose " << k;
+  }
+}
+
+// The same sets, m of the n elements needed: the partial cover's LP optimum is m / k (the
+// sets hold k elements each, so they cover m elements only at a total of m / k; the sets
+// all at m / (k C(n - 1, k - 1)) reach it), and the bound is m / k rounded up.
+TEST(SetCover, PartialLowerBoundIsTheLpOptimumOverEverySubset) {
+  for (const auto& [n, k, m, bound] : {std::tuple{20, 4, 13, 4}, std::tuple{18, 3, 17, 6},
+                                       std::tuple{18, 3, 18, 6}, std::tuple{13, 3, 7, 3}}) {
+    const std::vector<std::vector<int>> sets = everySubset(n, k);
+    EXPECT_EQ(partialCoverLowerBound(sets, std::vector<int>(n, 0), {static_cast<double>(m)}), bound)
+        << n << " choose " << k << ", " << m << " needed";
   }
 }
 

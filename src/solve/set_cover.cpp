@@ -16,6 +16,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -433,27 +434,36 @@ std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
                  core);
 }
 
-// Per row of `reduced`, the set holding it that holds the most rows (the first on ties):
-// together they cover every row.
-std::vector<int> largestPerRow(const Reduced& reduced) {
-  std::vector<int> largest(reduced.rows, -1);
-  for (std::size_t c = 0; c < reduced.columns.size(); ++c)
-    for (int r : reduced.columns[c])
-      if (largest[r] < 0 || reduced.columns[c].size() > reduced.columns[largest[r]].size())
+// An LP relaxation whose sets' columns pricing adds (relaxationByPricing): each set's rows,
+// the coefficient a set has in each of its rows, and how to load the LP over some of the
+// sets (their columns first, cost 1 each).
+struct Priced {
+  const std::vector<std::vector<int>>& columns;
+  int rows = 0;
+  double coefficient = 1;
+  std::function<void(const std::vector<std::vector<int>>&, OsiClpSolverInterface&)> load;
+};
+
+// Per row, the set holding it that holds the most rows (the first on ties): together they
+// hold every row some set holds.
+std::vector<int> largestPerRow(const Priced& lp) {
+  std::vector<int> largest(lp.rows, -1);
+  for (std::size_t c = 0; c < lp.columns.size(); ++c)
+    for (int r : lp.columns[c])
+      if (largest[r] < 0 || lp.columns[c].size() > lp.columns[largest[r]].size())
         largest[r] = static_cast<int>(c);
   return largest;
 }
 
-// The sets of `reduced` not `in` the LP whose reduced cost against the rows' duals `dual`
-// (1 less the duals of their rows) is negative, most negative first, at most kPricedSets.
-std::vector<int> pricedSets(const Reduced& reduced, const std::vector<char>& in,
-                            const double* dual) {
+// The sets not `in` the LP whose reduced cost against the rows' duals `dual` is negative,
+// most negative first, at most kPricedSets.
+std::vector<int> pricedSets(const Priced& lp, const std::vector<char>& in, const double* dual) {
   constexpr double kNegative = -1e-7;  // CLP's dual feasibility tolerance
   std::vector<std::pair<double, int>> entering;
-  for (std::size_t c = 0; c < reduced.columns.size(); ++c) {
+  for (std::size_t c = 0; c < lp.columns.size(); ++c) {
     if (in[c]) continue;
     double cost = 1;
-    for (int r : reduced.columns[c]) cost -= dual[r];
+    for (int r : lp.columns[c]) cost -= lp.coefficient * dual[r];
     if (cost < kNegative) entering.push_back({cost, static_cast<int>(c)});
   }
   std::stable_sort(entering.begin(), entering.end(),
@@ -464,21 +474,20 @@ std::vector<int> pricedSets(const Reduced& reduced, const std::vector<char>& in,
   return result;
 }
 
-// The optimum of the LP relaxation of `reduced` (loadRelaxation's) by pricing: solved over
-// the sets largestPerRow names, then again with the sets of negative reduced cost added
-// (pricedSets), until no set has one. The optimum is the whole LP's, over a small share of
-// its sets; none when kLpIterations simplex iterations in all do not reach it.
-std::optional<double> relaxationByPricing(const Reduced& reduced) {
-  std::vector<char> in(reduced.columns.size(), 0);
-  Reduced start;
-  start.rows = reduced.rows;
-  for (int c : largestPerRow(reduced))
-    if (!in[c]) {
+// The optimum of the LP relaxation `lp` by pricing: solved over the sets largestPerRow
+// names, then again with the sets of negative reduced cost added (pricedSets), until no
+// set has one. The optimum is the whole LP's, over a small share of its sets; none when
+// kLpIterations simplex iterations in all do not reach it.
+std::optional<double> relaxationByPricing(const Priced& lp) {
+  std::vector<char> in(lp.columns.size(), 0);
+  std::vector<std::vector<int>> start;
+  for (int c : largestPerRow(lp))
+    if (c >= 0 && !in[c]) {
       in[c] = 1;
-      start.columns.push_back(reduced.columns[c]);
+      start.push_back(lp.columns[c]);
     }
   OsiClpSolverInterface solver;
-  loadRelaxation(start, solver);
+  lp.load(start, solver);
   solver.setHintParam(OsiDoDualInResolve, false, OsiHintDo);  // new sets: primal simplex
   int iterations = 0;
   solver.getModelPtr()->setMaximumIterations(kLpIterations);
@@ -486,13 +495,13 @@ std::optional<double> relaxationByPricing(const Reduced& reduced) {
   for (;;) {
     iterations += solver.getIterationCount();
     if (!solver.isProvenOptimal()) return std::nullopt;
-    const std::vector<int> entering = pricedSets(reduced, in, solver.getRowPrice());
+    const std::vector<int> entering = pricedSets(lp, in, solver.getRowPrice());
     if (entering.empty()) return solver.getObjValue();
     for (int c : entering) {
       in[c] = 1;
-      const std::vector<int>& rows = reduced.columns[c];
-      const std::vector<double> ones(rows.size(), 1.0);
-      solver.addCol(static_cast<int>(rows.size()), rows.data(), ones.data(), 0.0, 1.0, 1.0);
+      const std::vector<int>& rows = lp.columns[c];
+      const std::vector<double> values(rows.size(), lp.coefficient);
+      solver.addCol(static_cast<int>(rows.size()), rows.data(), values.data(), 0.0, 1.0, 1.0);
     }
     solver.getModelPtr()->setMaximumIterations(kLpIterations - iterations);
     solver.resolve();
@@ -543,7 +552,15 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
                           const std::vector<char>& required) {
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return 0;
-  const std::optional<double> lp = relaxationByPricing(reduced);
+  const Priced relaxation{
+      reduced.columns, reduced.rows, 1.0,
+      [&](const std::vector<std::vector<int>>& columns, OsiClpSolverInterface& solver) {
+        Reduced some;
+        some.rows = reduced.rows;
+        some.columns = columns;
+        loadRelaxation(some, solver);
+      }};
+  const std::optional<double> lp = relaxationByPricing(relaxation);
   return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
@@ -774,10 +791,16 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
   Reduced kept;
   dropDominatedSets(p.columns, static_cast<int>(p.group_of.size()), kept);
   p.columns = std::move(kept.columns);
-  OsiClpSolverInterface solver;
-  loadPartial(p, std::vector<double>(p.columns.size(), 1.0), solver);
+  // The sets' columns have -1 in the rows they hold (loadPartial).
+  const Priced relaxation{
+      p.columns, static_cast<int>(p.group_of.size()), -1.0,
+      [&](const std::vector<std::vector<int>>& columns, OsiClpSolverInterface& solver) {
+        PartialInstance some{columns, p.group_of, p.need};
+        loadPartial(some, std::vector<double>(columns.size(), 1.0), solver);
+      }};
   const StdoutSilenced quiet;
-  return solveRelaxation(solver) ? std::ceil(solver.getObjValue() - 1e-6) : 0;
+  const std::optional<double> lp = relaxationByPricing(relaxation);
+  return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
 SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,

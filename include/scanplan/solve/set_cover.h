@@ -80,7 +80,8 @@ SetCoverResult minimumPartialCover(const std::vector<std::vector<int>>& sets,
 
 // The optimum of minimumPartialCover's LP relaxation with unit costs, rounded up: a lower
 // bound on the fewest sets meeting the needs; 0 when the LP is not solved within 100,000
-// simplex iterations (a count, so that the bound is the same on every machine).
+// simplex iterations in all (a count, so that the bound is the same on every machine).
+// Solved by pricing, as setCoverLowerBound.
 double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
                               const std::vector<int>& group, const std::vector<double>& need);
 
