@@ -303,10 +303,11 @@ double objectiveOf(const OsiClpSolverInterface& solver, const double* x) {
 
 // CBC's own solver (cuts and primal heuristics, as its command line runs them, without
 // strong branching: over the few nodes a plan's search is given, its look-ahead at each
-// node costs more than it finds, docs/planning.md) on the integer program of `solver`, from
-// the feasible solution `start` (every column), within `limits`: the first `sets` columns at 1 in
-// the best solution found (the start's unless one costs less), and whether it is proven least, the
-// bound (rounded up when `integral`) and whether the time cap stopped it, into `result`.
+// node costs more than it finds, docs/planning.md) on the integer program of `solver`,
+// from the feasible solution `start` (every column), within `limits`: the first `sets`
+// columns at 1 in the best solution found (the start's unless one costs less), and whether
+// it is proven least, the bound (rounded up when `integral`) and whether the time cap
+// stopped it, into `result`.
 std::vector<int> branchAndBound(const OsiClpSolverInterface& solver, std::vector<double> start,
                                 int sets, const SolveLimits& limits, bool integral,
                                 SetCoverResult& result, const SetCoverProgress& progress = {}) {
