@@ -16,7 +16,6 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
-#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -227,6 +226,7 @@ void loadRelaxation(const Reduced& reduced, OsiClpSolverInterface& solver,
     indices.insert(indices.end(), column.begin(), column.end());
     lengths.push_back(static_cast<int>(column.size()));
   }
+  starts.push_back(static_cast<int>(indices.size()));  // past the last: never empty
   const int columns = static_cast<int>(reduced.columns.size());
   const std::vector<double> ones(indices.size(), 1.0);
   const CoinPackedMatrix matrix(true, reduced.rows, columns,
@@ -435,14 +435,12 @@ std::vector<int> coreCover(const Reduced& reduced, const std::vector<int>& core,
                  core);
 }
 
-// An LP relaxation whose sets' columns pricing adds (relaxationByPricing): each set's rows,
-// the coefficient a set has in each of its rows, and how to load the LP over some of the
-// sets (their columns first, cost 1 each).
+// The sets whose columns pricing adds to an LP relaxation (relaxationByPricing): each set's
+// rows and the coefficient a set has in each of its rows (cost 1 each, between 0 and 1).
 struct Priced {
   const std::vector<std::vector<int>>& columns;
   int rows = 0;
   double coefficient = 1;
-  std::function<void(const std::vector<std::vector<int>>&, OsiClpSolverInterface&)> load;
 };
 
 // Per row, the set holding it that holds the most rows (the first on ties): together they
@@ -475,37 +473,37 @@ std::vector<int> pricedSets(const Priced& lp, const std::vector<char>& in, const
   return result;
 }
 
-// The optimum of the LP relaxation `lp` by pricing: solved over the sets largestPerRow
-// names, then again with the sets of negative reduced cost added (pricedSets), until no
-// set has one. The optimum is the whole LP's, over a small share of its sets; none when
-// kLpIterations simplex iterations in all do not reach it.
-std::optional<double> relaxationByPricing(const Priced& lp) {
+// The sets `added` of `lp` not yet `in` the LP of `solver`, added as its columns.
+void addSets(const Priced& lp, const std::vector<int>& added, std::vector<char>& in,
+             OsiClpSolverInterface& solver) {
+  for (int c : added) {
+    if (c < 0 || in[c]) continue;
+    in[c] = 1;
+    const std::vector<int>& rows = lp.columns[c];
+    const std::vector<double> values(rows.size(), lp.coefficient);
+    solver.addCol(static_cast<int>(rows.size()), rows.data(), values.data(), 0.0, 1.0, 1.0);
+  }
+}
+
+// The optimum of the LP relaxation loaded into `solver` without the sets of `lp`, by
+// pricing: solved with the sets largestPerRow names, then again with the sets of negative
+// reduced cost added (pricedSets), until no set has one. The optimum is the whole LP's,
+// over a small share of its sets; none when kLpIterations simplex iterations in all do not
+// reach it.
+std::optional<double> relaxationByPricing(const Priced& lp, OsiClpSolverInterface& solver) {
   std::vector<char> in(lp.columns.size(), 0);
-  std::vector<std::vector<int>> start;
-  for (int c : largestPerRow(lp))
-    if (c >= 0 && !in[c]) {
-      in[c] = 1;
-      start.push_back(lp.columns[c]);
-    }
-  OsiClpSolverInterface solver;
-  lp.load(start, solver);
+  addSets(lp, largestPerRow(lp), in, solver);
+  if (!solveRelaxation(solver)) return std::nullopt;
   solver.setHintParam(OsiDoDualInResolve, false, OsiHintDo);  // new sets: primal simplex
-  int iterations = 0;
-  solver.getModelPtr()->setMaximumIterations(kLpIterations);
-  solver.initialSolve();
+  int iterations = solver.getIterationCount();
   for (;;) {
-    iterations += solver.getIterationCount();
-    if (!solver.isProvenOptimal()) return std::nullopt;
     const std::vector<int> entering = pricedSets(lp, in, solver.getRowPrice());
     if (entering.empty()) return solver.getObjValue();
-    for (int c : entering) {
-      in[c] = 1;
-      const std::vector<int>& rows = lp.columns[c];
-      const std::vector<double> values(rows.size(), lp.coefficient);
-      solver.addCol(static_cast<int>(rows.size()), rows.data(), values.data(), 0.0, 1.0, 1.0);
-    }
+    addSets(lp, entering, in, solver);
     solver.getModelPtr()->setMaximumIterations(kLpIterations - iterations);
     solver.resolve();
+    iterations += solver.getIterationCount();
+    if (!solver.isProvenOptimal()) return std::nullopt;
   }
 }
 
@@ -553,15 +551,10 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
                           const std::vector<char>& required) {
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return 0;
-  const Priced relaxation{
-      reduced.columns, reduced.rows, 1.0,
-      [&](const std::vector<std::vector<int>>& columns, OsiClpSolverInterface& solver) {
-        Reduced some;
-        some.rows = reduced.rows;
-        some.columns = columns;
-        loadRelaxation(some, solver);
-      }};
-  const std::optional<double> lp = relaxationByPricing(relaxation);
+  OsiClpSolverInterface solver;
+  loadRelaxation(Reduced{{}, {}, {}, reduced.rows}, solver);  // the rows alone
+  const std::optional<double> lp =
+      relaxationByPricing({reduced.columns, reduced.rows, 1.0}, solver);
   return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
@@ -792,15 +785,12 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
   Reduced kept;
   dropDominatedSets(p.columns, static_cast<int>(p.group_of.size()), kept);
   p.columns = std::move(kept.columns);
-  // The sets' columns have -1 in the rows they hold (loadPartial).
-  const Priced relaxation{
-      p.columns, static_cast<int>(p.group_of.size()), -1.0,
-      [&](const std::vector<std::vector<int>>& columns, OsiClpSolverInterface& solver) {
-        PartialInstance some{columns, p.group_of, p.need};
-        loadPartial(some, std::vector<double>(columns.size(), 1.0), solver);
-      }};
+  OsiClpSolverInterface solver;  // the rows' and groups' constraints, no set yet
+  loadPartial(PartialInstance{{}, p.group_of, p.need}, {}, solver);
   const StdoutSilenced quiet;
-  const std::optional<double> lp = relaxationByPricing(relaxation);
+  // The sets' columns have -1 in the rows they hold (loadPartial).
+  const std::optional<double> lp =
+      relaxationByPricing({p.columns, static_cast<int>(p.group_of.size()), -1.0}, solver);
   return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
