@@ -417,6 +417,31 @@ std::string specError(const test::TempDir& dir, const std::string& text) {
   return inputError(path, [&] { loadSpec(path); });
 }
 
+// What a file holds is quoted in a message only so far: a line of 200,000 bytes, or a key
+// of 1,000, is cut at kQuotedBytes and its control bytes are '?'.
+TEST(ErrorMessages, LongOrControlTextIsQuotedBriefly) {
+  test::TempDir dir;
+  test::writeText(dir.file("long.stl"), "solid t\n" + std::string(200000, 'A') + "\x1b[2J\n");
+  const std::string stl = importError(dir.file("long.stl"));
+  EXPECT_PRED2(
+      contains, stl,
+      "line 2: 'facet normal' expected, found '" + std::string(kQuotedBytes - 3, 'A') + "...'");
+  EXPECT_LT(stl.size(), 200u);
+  EXPECT_EQ(stl.find('\x1b'), std::string::npos);
+  test::writeText(dir.file("escape.stl"), "solid t\nfacet \x1b[2Jnormal\n");
+  EXPECT_PRED2(contains, importError(dir.file("escape.stl")), "found 'facet ?[2Jnormal'");
+  const std::string spec = specError(dir, "planner:\n  " + std::string(1000, 'k') + ": 1\n");
+  EXPECT_PRED2(contains, spec,
+               "unknown key '" + std::string(kQuotedBytes - 3, 'k') + "...' in planner");
+  EXPECT_LT(spec.size(), 200u);
+  // A cut never splits a character: 'é' is two bytes, and 77 bytes end inside one.
+  std::string accents;
+  for (int k = 0; k < 60; ++k) accents += "\xc3\xa9";
+  EXPECT_PRED2(contains, briefReason("found '" + accents + "'"),
+               "found '" + accents.substr(0, 76) + "...'");
+  EXPECT_EQ(briefReason("short 'ok' and 'fine'"), "short 'ok' and 'fine'");
+}
+
 TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {
   test::TempDir dir;
   EXPECT_PRED2(contains, specError(dir, "tasks:\n  - {type: global}\ntasks:\n  - {type: gdt}\n"),

@@ -3,6 +3,7 @@
 // exceptions. The CLI catches them once, prints `error: <file>: <reason>` and exits with
 // the class's code (docs/design.md §8). Internal invariants use assertions, not exceptions.
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -17,19 +18,30 @@ enum ExitCode : int {
   kExitOutput = 4,    // an output could not be written
 };
 
+// `reason` fit to print on one line: every control byte (a line break, an escape) becomes
+// '?', and each excerpt of a user's file quoted in it ('...') longer than kQuotedBytes is
+// cut there and ends in "...": a line of a binary file, or a whole YAML map, would
+// otherwise drown the message.
+inline constexpr std::size_t kQuotedBytes = 80;
+std::string briefReason(std::string reason);
+
 // Base of all scanplan errors. `file()` names the input or output concerned (may be
-// empty), `reason()` says what is wrong with it; `what()` is "<file>: <reason>".
+// empty), `reason()` says what is wrong with it (briefReason); `what()` is
+// "<file>: <reason>".
 class Error : public std::runtime_error {
  public:
   Error(std::string file, std::string reason)
-      : std::runtime_error(file.empty() ? reason : file + ": " + reason),
-        file_(std::move(file)),
-        reason_(std::move(reason)) {}
+      : Error(std::move(file), briefReason(std::move(reason)), 0) {}
   const std::string& file() const noexcept { return file_; }
   const std::string& reason() const noexcept { return reason_; }
   virtual ExitCode exitCode() const noexcept = 0;
 
  private:
+  Error(std::string file, std::string reason, int)
+      : std::runtime_error(file.empty() ? reason : file + ": " + reason),
+        file_(std::move(file)),
+        reason_(std::move(reason)) {}
+
   std::string file_;
   std::string reason_;
 };
