@@ -31,16 +31,17 @@ std::string briefReason(std::string reason);
 class Error : public std::runtime_error {
  public:
   Error(std::string file, std::string reason)
-      : Error(std::move(file), briefReason(std::move(reason)), 0) {}
+      : std::runtime_error(joined(file, briefReason(reason))),
+        file_(std::move(file)),
+        reason_(briefReason(std::move(reason))) {}
   const std::string& file() const noexcept { return file_; }
   const std::string& reason() const noexcept { return reason_; }
   virtual ExitCode exitCode() const noexcept = 0;
 
  private:
-  Error(std::string file, std::string reason, int)
-      : std::runtime_error(file.empty() ? reason : file + ": " + reason),
-        file_(std::move(file)),
-        reason_(std::move(reason)) {}
+  static std::string joined(const std::string& file, const std::string& reason) {
+    return file.empty() ? reason : file + ": " + reason;
+  }
 
   std::string file_;
   std::string reason_;
