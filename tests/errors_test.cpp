@@ -440,6 +440,12 @@ TEST(ErrorMessages, LongOrControlTextIsQuotedBriefly) {
   EXPECT_PRED2(contains, briefReason("found '" + accents + "'"),
                "found '" + accents.substr(0, 76) + "...'");
   EXPECT_EQ(briefReason("short 'ok' and 'fine'"), "short 'ok' and 'fine'");
+  // An apostrophe in a word opens and closes nothing, however far the next quote lies.
+  const std::string prose =
+      "the robot's arm, whose controller takes its maker's format only, "
+      "and this part's name: '";
+  EXPECT_EQ(briefReason(prose + std::string(100, 'x') + "'"),
+            prose + std::string(kQuotedBytes - 3, 'x') + "...'");
 }
 
 TEST(SpecErrors, DuplicateKeysUnusedFacesAndUnknownPresetsNameTheSpec) {

@@ -21,7 +21,8 @@ enum ExitCode : int {
 // `reason` fit to print on one line: every control byte (a line break, an escape) becomes
 // '?', and each excerpt of a user's file quoted in it ('...') longer than kQuotedBytes is
 // cut there and ends in "...": a line of a binary file, or a whole YAML map, would
-// otherwise drown the message.
+// otherwise drown the message. A quote within a word (the apostrophe of "the part's")
+// neither opens nor closes an excerpt.
 inline constexpr std::size_t kQuotedBytes = 80;
 std::string briefReason(std::string reason);
 
