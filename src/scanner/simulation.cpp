@@ -451,8 +451,8 @@ struct Simulator::Impl {
 
   // The measurement test of points[i] from geometry(i) for each i of `tested` (the others
   // keep their loss): the tests without rays, then an occlusion ray to the camera that
-  // passed them and one to the projector. A point the part hides from that camera is tried
-  // from the next camera that passes them.
+  // passed them and, where that one is free, one to the projector. A point the part hides
+  // from that camera is tried from the next camera that passes them.
   template <typename GeometryOf>
   void testWithRays(std::span<const SurfacePoint> points, const std::vector<std::size_t>& tested,
                     const GeometryOf& geometry, std::vector<Loss>& losses,
@@ -468,27 +468,37 @@ struct Simulator::Impl {
     for (std::size_t i : tested)
       if (losses[i] == Loss::Measured) candidates.push_back(i);
     while (!candidates.empty()) {
-      std::vector<Ray> rays(2 * candidates.size());
-      forEach(candidates.size(), [&](std::size_t k) {
-        const std::size_t i = candidates[k];
-        rays[2 * k] = segment(points[i], geometry(i).cameras[eye[i]]);
-        rays[2 * k + 1] = segment(points[i], geometry(i).projector);
-      });
-      const std::vector<bool> blocked = caster->occluded(rays);
-      if (ray_count) *ray_count += rays.size();
-      std::vector<std::size_t> again;
+      const std::vector<bool> hidden = occluded(
+          candidates, [&](std::size_t i) { return geometry(i).cameras[eye[i]]; }, points,
+          ray_count);
+      std::vector<std::size_t> again, seen;
       for (std::size_t k = 0; k < candidates.size(); ++k) {
         const std::size_t i = candidates[k];
-        if (blocked[2 * k]) {
-          eye[i] = static_cast<std::int8_t>(firstCamera(geometry(i), points[i], eye[i] + 1).second);
-          losses[i] = eye[i] >= 0 ? Loss::Measured : Loss::CameraOccluded;
-          if (eye[i] >= 0) again.push_back(i);
-        } else if (blocked[2 * k + 1]) {
-          losses[i] = Loss::ProjectorOccluded;
+        if (!hidden[k]) {
+          seen.push_back(i);
+          continue;
         }
+        eye[i] = static_cast<std::int8_t>(firstCamera(geometry(i), points[i], eye[i] + 1).second);
+        losses[i] = eye[i] >= 0 ? Loss::Measured : Loss::CameraOccluded;
+        if (eye[i] >= 0) again.push_back(i);
       }
+      const std::vector<bool> unlit = occluded(
+          seen, [&](std::size_t i) { return geometry(i).projector; }, points, ray_count);
+      for (std::size_t k = 0; k < seen.size(); ++k)
+        if (unlit[k]) losses[seen[k]] = Loss::ProjectorOccluded;
       candidates = std::move(again);
     }
+  }
+
+  // Whether the part hides eye(i) from points[i], for each i of `which`.
+  template <typename EyeOf>
+  std::vector<bool> occluded(const std::vector<std::size_t>& which, const EyeOf& eye,
+                             std::span<const SurfacePoint> points, std::size_t* ray_count) const {
+    std::vector<Ray> rays(which.size());
+    forEach(which.size(),
+            [&](std::size_t k) { rays[k] = segment(points[which[k]], eye(which[k])); });
+    if (ray_count) *ray_count += rays.size();
+    return caster->occluded(rays);
   }
 
   // The working plane z = 0 hides the segment p -> eye when the point lies under it or the
