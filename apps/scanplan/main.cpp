@@ -26,14 +26,6 @@ extern "C" void onInterrupt(int signal) {
   std::raise(signal);
 }
 
-// An error's text on one line: names taken from the input (a file's, a robot's) may hold
-// line breaks or terminal escapes, which are shown as '?'.
-std::string oneLine(std::string text) {
-  for (char& c : text)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  return text;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -81,11 +73,11 @@ int main(int argc, char** argv) {
     return code;
   } catch (const Error& e) {
     cli::clearProgress();
-    std::fprintf(stderr, "error: %s\n", oneLine(e.what()).c_str());
+    std::fprintf(stderr, "error: %s\n", printable(e.what()).c_str());
     return e.exitCode();
   } catch (const std::exception& e) {
     cli::clearProgress();
-    std::fprintf(stderr, "error: internal: %s\n", oneLine(e.what()).c_str());
+    std::fprintf(stderr, "error: internal: %s\n", printable(e.what()).c_str());
     return kExitPlanning;
   }
 }

@@ -29,9 +29,14 @@ std::pair<std::size_t, std::size_t> nextQuoted(const std::string& text, std::siz
 
 }  // namespace
 
-std::string briefReason(std::string reason) {
-  for (char& c : reason)
+std::string printable(std::string text) {
+  for (char& c : text)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return text;
+}
+
+std::string briefReason(std::string reason) {
+  reason = printable(std::move(reason));
   std::string brief;
   std::size_t at = 0;
   while (at < reason.size()) {

@@ -84,9 +84,9 @@ class StdoutSilenced {
 // elements another set also holds is dropped, and so is an element whose sets include all
 // sets of another element (covering that one covers it). The minimum is unchanged.
 struct Reduced {
-  std::vector<std::vector<int>> columns;  // per kept set: its rows
-  std::vector<int> set_of;                // per kept set: its index among the given sets
-  std::vector<int> kept_as;               // per given set: a kept set holding all it covers, or -1
+  std::vector<std::vector<int>> columns{};  // per kept set: its rows
+  std::vector<int> set_of{};                // per kept set: its index among the given sets
+  std::vector<int> kept_as{};  // per given set: a kept set holding all it covers, or -1
   int rows = 0;
 };
 
@@ -552,9 +552,9 @@ double setCoverLowerBound(const std::vector<std::vector<int>>& sets,
   const Reduced reduced = reduce(sets, required);
   if (reduced.rows == 0) return 0;
   OsiClpSolverInterface solver;
-  loadRelaxation(Reduced{{}, {}, {}, reduced.rows}, solver);  // the rows alone
+  loadRelaxation(Reduced{.rows = reduced.rows}, solver);  // the rows alone
   const std::optional<double> lp =
-      relaxationByPricing({reduced.columns, reduced.rows, 1.0}, solver);
+      relaxationByPricing({.columns = reduced.columns, .rows = reduced.rows}, solver);
   return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 
@@ -614,7 +614,7 @@ namespace {
 // The partial cover as rows of element indices: per set its rows, per row its group; the
 // need of each group capped by the rows it has.
 struct PartialInstance {
-  std::vector<std::vector<int>> columns;
+  std::vector<std::vector<int>> columns{};
   std::vector<int> group_of;  // per row
   std::vector<double> need;   // per group
 };
@@ -786,11 +786,12 @@ double partialCoverLowerBound(const std::vector<std::vector<int>>& sets,
   dropDominatedSets(p.columns, static_cast<int>(p.group_of.size()), kept);
   p.columns = std::move(kept.columns);
   OsiClpSolverInterface solver;  // the rows' and groups' constraints, no set yet
-  loadPartial(PartialInstance{{}, p.group_of, p.need}, {}, solver);
+  loadPartial(PartialInstance{.group_of = p.group_of, .need = p.need}, {}, solver);
   const StdoutSilenced quiet;
   // The sets' columns have -1 in the rows they hold (loadPartial).
-  const std::optional<double> lp =
-      relaxationByPricing({p.columns, static_cast<int>(p.group_of.size()), -1.0}, solver);
+  const std::optional<double> lp = relaxationByPricing(
+      {.columns = p.columns, .rows = static_cast<int>(p.group_of.size()), .coefficient = -1},
+      solver);
   return lp ? std::ceil(*lp - 1e-6) : 0;
 }
 

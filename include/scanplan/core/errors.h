@@ -18,11 +18,14 @@ enum ExitCode : int {
   kExitOutput = 4,    // an output could not be written
 };
 
-// `reason` fit to print on one line: every control byte (a line break, an escape) becomes
-// '?', and each excerpt of a user's file quoted in it ('...') longer than kQuotedBytes is
-// cut there and ends in "...": a line of a binary file, or a whole YAML map, would
-// otherwise drown the message. A quote within a word (the apostrophe of "the part's")
-// neither opens nor closes an excerpt.
+// `text` to print on one line: every control byte (a line break, a terminal escape)
+// becomes '?'. Names taken from the inputs (a file's, a robot's) may hold them.
+std::string printable(std::string text);
+
+// `reason` fit to print on one line: printable, and each excerpt of a user's file quoted in it
+// ('...') longer than kQuotedBytes is cut there and ends in "...": a line of a binary file, or a
+// whole YAML map, would otherwise drown the message. A quote within a word (the apostrophe of "the
+// part's") neither opens nor closes an excerpt.
 inline constexpr std::size_t kQuotedBytes = 80;
 std::string briefReason(std::string reason);
 
@@ -31,6 +34,7 @@ std::string briefReason(std::string reason);
 // "<file>: <reason>".
 class Error : public std::runtime_error {
  public:
+  // briefReason runs twice (for what() and for reason()), on the error path only.
   Error(std::string file, std::string reason)
       : std::runtime_error(joined(file, briefReason(reason))),
         file_(std::move(file)),
