@@ -1638,5 +1638,48 @@ TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
   EXPECT_EQ(verifyPlan(wrong, *part_, *spec_).coverage_differences, 1u);
 }
 
+// The check verifies by ICP only the pairs its own tree needs, where the planner verified
+// others too (bridging, checks run ahead), and a sequence may rely on one of those: view
+// `b` right after `a`, which it registers to by a stable pair the check left unverified
+// and the plan says ICP passed. The check confirms such a link by ICP before it counts a
+// break; where the plan says ICP failed the pair, it counts one.
+TEST(RegistrationTest, VerifyConfirmsTheIcpLinksTheSequenceReliesOn) {
+  SHARED_DATA_OR_SKIP(path, "mech/asi_repatch-hpdc.stp");
+  const Part part = importPart(path);
+  const Spec spec = defaultSpec();
+  const Plan plan = planViews(part, spec);
+  ASSERT_TRUE(plan.registration && plan.registration->aligned_as_taken);
+  const PlanCheck first = verifyPlan(plan, part, spec);
+  EXPECT_EQ(first.sequence_breaks, 0u);
+  const Registration& checked = *first.plan.registration;
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < plan.views.size(); ++v) index[plan.views[v].id] = v;
+  const Simulator simulator(
+      part, plan.scanner, simulationOptionsFor(resolveSpec(part, spec), part, plan.part_to_world));
+  std::optional<PairCheck> relied;  // a stable pair the check left unverified that ICP passes
+  for (const PairCheck& p : checked.pairs)
+    if (!p.markers && p.stable && !p.icp &&
+        checked.views[index.at(p.b)].method != RegistrationMethod::None &&
+        checkIcp(simulator, plan.views[index.at(p.a)], plan.views[index.at(p.b)],
+                 registrationOptions(spec))
+            .passed) {
+      relied = p;
+      break;
+    }
+  ASSERT_TRUE(relied) << "no stable pair left unverified that ICP passes";
+
+  Plan reordered = plan;
+  std::vector<int>& order = reordered.sequence->views;
+  std::erase_if(order, [&](int id) { return id == relied->a || id == relied->b; });
+  order.insert(order.begin(), {relied->a, relied->b});
+  auto claim = [&](bool passed) {
+    for (PairCheck& p : reordered.registration->pairs)
+      if (p.a == relied->a && p.b == relied->b) p.icp = IcpCheck{.passed = passed};
+    return verifyPlan(reordered, part, spec).sequence_breaks;
+  };
+  EXPECT_EQ(claim(true), 0u);
+  EXPECT_EQ(claim(false), 1u);
+}
+
 }  // namespace
 }  // namespace scanplan

@@ -55,10 +55,25 @@ bool linkHolds(const Registration& found, int id, const ViewRegistration& claime
   return pair && pair->registrable();
 }
 
+// Whether views `a` and `b` (indices) register to each other as the file's registration
+// claims, where the check, which verifies by ICP only the pairs its own tree needs, left the
+// pair unverified: the pair's overlap is registrable as checked again, and ICP run on it
+// passes (the earlier view's cloud fixed, as the registration runs it).
+bool claimedIcpLinkHolds(const Simulator& simulator, const std::vector<View>& views,
+                         const Registration& claimed, const Registration& found, std::size_t a,
+                         std::size_t b, const RegistrationOptions& options) {
+  const auto [first, second] = std::minmax(a, b);
+  const int ia = views[first].id, ib = views[second].id;
+  const PairCheck* pair = found.pair(ia, ib);
+  if (!claimed.linked(ia, ib) || !pair || !pair->registrable() || pair->icp) return false;
+  return checkIcp(simulator, views[first], views[second], options).passed;
+}
+
 // The sequence as the file gives it, into `check`: every view once, each registered view
-// after one it registers to, and its motion cost.
+// after one it registers to, and its motion cost. A view follows one it registers to by a
+// link of the check's registration, or by one the file's claims and the check confirms.
 void checkSequence(const Simulator& simulator, const Plan& plan, const std::vector<View>& views,
-                   PlanCheck& check) {
+                   const RegistrationOptions& options, PlanCheck& check) {
   Plan& again = check.plan;
   std::map<int, int> index, seen;
   for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = static_cast<int>(v);
@@ -73,6 +88,9 @@ void checkSequence(const Simulator& simulator, const Plan& plan, const std::vect
     if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
     bool follows = false;
     for (std::size_t j = 0; j < k && !follows; ++j) follows = links[order[k]][order[j]];
+    for (std::size_t j = 0; j < k && !follows && plan.registration; ++j)
+      follows = claimedIcpLinkHolds(simulator, views, *plan.registration, *again.registration,
+                                    order[k], order[j], options);
     check.sequence_breaks += !follows;
   }
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
@@ -134,7 +152,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   check.unregistered = views.size() - again.registration->registered();
   check.registration_required = again.registration->required;
 
-  checkSequence(simulator, plan, views, check);
+  checkSequence(simulator, plan, views, registration, check);
   return check;
 }
 
