@@ -57,6 +57,13 @@ target_link_libraries(scanplan_occt INTERFACE
 
 scanplan_require(TinyGLTF libtinygltf-dev CONFIG)
 scanplan_require(fcl libfcl-dev CONFIG)
+# OMPL's package sets variables, not a target; its library comes first in OMPL_LIBRARIES,
+# then the Boost libraries it links itself (whose -dev packages need not be installed).
+scanplan_require(ompl libompl-dev CONFIG)
+list(GET OMPL_LIBRARIES 0 SCANPLAN_OMPL_LIBRARY)
+add_library(scanplan_ompl INTERFACE)
+target_include_directories(scanplan_ompl SYSTEM INTERFACE ${OMPL_INCLUDE_DIRS})
+target_link_libraries(scanplan_ompl INTERFACE ${SCANPLAN_OMPL_LIBRARY})
 pkg_check_modules(STB IMPORTED_TARGET stb)
 if(NOT STB_FOUND)
   message(FATAL_ERROR "scanplan needs stb: install the Debian package 'libstb-dev' "

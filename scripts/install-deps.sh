@@ -12,7 +12,7 @@ packages=(
   libocct-ocaf-dev libocct-data-exchange-dev libocct-visualization-dev
   libembree-dev libeigen3-dev libtbb-dev libnanoflann-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libfmt-dev coinor-libcbc-dev libqhull-dev
-  libopen3d-dev libtinygltf-dev libstb-dev libfcl-dev
+  libopen3d-dev libtinygltf-dev libstb-dev libfcl-dev libompl-dev
   chromium
   python3-dev python3-venv python3-distributed pybind11-dev python3-numpy python3-pytest python3-matplotlib python3-yaml
   libgtest-dev libgmock-dev libbenchmark-dev

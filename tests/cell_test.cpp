@@ -794,6 +794,53 @@ TEST(Cell, AMoveThatSweepsTheScannerThroughAPostIsCaughtAndCleared) {
       ASSERT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
 }
 
+// An IRB 2400 scanning under a roof 500 mm deep, 850 to 890 mm up, that reaches from 850 mm
+// out: the flange 900 mm out and 300 mm up below it, pointing down. Lifted straight up, the arm
+// meets the roof; from home above it, the direct move and the move through home's joints cut
+// through it. The way in and out is searched for in joint space (under the roof's front
+// edge): the program is cleared, every configuration of it, sampled four times finer than
+// the planner samples, clear of the roof, and the same path found again.
+TEST(Cell, AViewUnderARoofIsReachedByASearchedPath) {
+  const TriangleMesh roof = box({850, -400, 850}, {500, 800, 40});
+  Cell cell = irb2400At(Vec3::Zero());
+  cell.approach = 0;
+  const CellCollisions collisions(cell, Scanner().body(), roof, Pose::Identity(), {}, true,
+                                  cell.clearance);
+  Pose flange = Pose::Identity();
+  flange.linear() = Eigen::AngleAxisd(M_PI, Vec3::UnitX()).toRotationMatrix();
+  flange.translation() = Vec3(900, 0, 300);
+  std::optional<Joints> under;
+  for (const Joints& q : inverseKinematics(workingRange(cell), flange))
+    if (!under && !collisions.collides({0, q})) under = q;
+  ASSERT_TRUE(under) << "no clear pose under the roof";
+  RobotProgram program;
+  program.cell = cell;
+  program.steps.push_back({1, "global", {0, *under}, flange, {}, {}});
+  planMotion(program, collisions, viaLift(cell, Scanner()));
+  ASSERT_TRUE(program.home);
+  EXPECT_TRUE(program.uncleared.empty());
+  EXPECT_FALSE(program.steps[0].via.empty());
+  EXPECT_FALSE(program.via_home.empty());
+  const std::vector<Waypoint> path = waypoints(program);
+  for (std::size_t k = 1; k < path.size(); ++k)
+    for (const CellPose& pose : sampledMove(collisions, path[k - 1].pose, path[k].pose, 4))
+      ASSERT_FALSE(collisions.collides(pose)) << path[k - 1].what << " -> " << path[k].what;
+
+  RobotProgram again = program;
+  again.home.reset();
+  again.uncleared.clear();
+  for (ProgramStep& step : again.steps) step.via.clear();
+  again.via_home.clear();
+  planMotion(again, collisions, viaLift(cell, Scanner()));
+  auto joints = [](const std::vector<CellPose>& poses) {
+    std::vector<Joints> q;
+    for (const CellPose& p : poses) q.push_back(p.joints);
+    return q;
+  };
+  EXPECT_EQ(joints(again.steps[0].via), joints(program.steps[0].via));
+  EXPECT_EQ(joints(again.via_home), joints(program.via_home));
+}
+
 // Without cell.home the program starts and ends at a computed home: clear, the scanner
 // looking down from above the part and its fixtures, and none of the program's view or
 // approach poses.

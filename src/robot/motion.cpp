@@ -2,6 +2,8 @@
 // joint-interpolated moves sampled and checked with the cell's collision model (FCL), and
 // via points above the scene where a direct move collides.
 
+#include "robot/path_search.h"
+
 #include <scanplan/robot/cycle.h>
 #include <scanplan/robot/motion.h>
 
@@ -111,7 +113,8 @@ std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisi
 
 // The via points of the move from `from` to `to` (at one table angle): none when it is
 // clear, else up over the scene from each end where it can rise, and across; where the
-// move across collides, through `home`'s joints. nullopt when that collides too.
+// move across collides, through `home`'s joints; where that collides too, a path searched
+// for in joint space (robot/path_search.h). nullopt when the search finds none.
 std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellCollisions& collisions,
                                                const CellPose& from, const CellPose& to,
                                                double height, const CellPose* home) {
@@ -123,10 +126,9 @@ std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellColli
   const CellPose& top_from = up.empty() ? from : up.back();
   const CellPose& top_to = down.empty() ? to : down.back();
   if (!moveIsClear(collisions, top_from, top_to)) {
-    if (!home) return std::nullopt;
-    const CellPose over{to.table_angle, home->joints};
-    if (!moveIsClear(collisions, top_from, over) || !moveIsClear(collisions, over, top_to))
-      return std::nullopt;
+    const CellPose over{to.table_angle, home ? home->joints : Joints{}};
+    if (!home || !moveIsClear(collisions, top_from, over) || !moveIsClear(collisions, over, top_to))
+      return detail::searchedPath(cell, collisions, from, to);
     up.push_back(over);
   }
   up.insert(up.end(), down.rbegin(), down.rend());
