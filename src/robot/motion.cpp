@@ -113,8 +113,7 @@ std::optional<Joints> approachOf(const Cell& cell, const CellCollisions& collisi
 
 // The via points of the move from `from` to `to` (at one table angle): none when it is
 // clear, else up over the scene from each end where it can rise, and across; where the
-// move across collides, through `home`'s joints; where that collides too, a path searched
-// for in joint space (robot/path_search.h). nullopt when the search finds none.
+// move across collides, through `home`'s joints. nullopt when that collides too.
 std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellCollisions& collisions,
                                                const CellPose& from, const CellPose& to,
                                                double height, const CellPose* home) {
@@ -126,9 +125,10 @@ std::optional<std::vector<CellPose>> viaPoints(const Cell& cell, const CellColli
   const CellPose& top_from = up.empty() ? from : up.back();
   const CellPose& top_to = down.empty() ? to : down.back();
   if (!moveIsClear(collisions, top_from, top_to)) {
-    const CellPose over{to.table_angle, home ? home->joints : Joints{}};
-    if (!home || !moveIsClear(collisions, top_from, over) || !moveIsClear(collisions, over, top_to))
-      return detail::searchedPath(cell, collisions, from, to);
+    if (!home) return std::nullopt;
+    const CellPose over{to.table_angle, home->joints};
+    if (!moveIsClear(collisions, top_from, over) || !moveIsClear(collisions, over, top_to))
+      return std::nullopt;
     up.push_back(over);
   }
   up.insert(up.end(), down.rbegin(), down.rend());
@@ -241,6 +241,27 @@ bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const C
 
 namespace {
 
+// The via points of a move no lift over the scene clears, searched for in joint space
+// (robot/path_search.h): at one table angle, or with the table turning where the arm
+// stands at the move's start, else at its end. nullopt when the search finds none.
+std::optional<std::vector<CellPose>> searchedMove(const Cell& cell,
+                                                  const CellCollisions& collisions,
+                                                  const CellPose& from, const CellPose& to) {
+  if (from.table_angle == to.table_angle) return detail::searchedPath(cell, collisions, from, to);
+  const CellPose turned_from{to.table_angle, from.joints}, turned_to{from.table_angle, to.joints};
+  if (moveIsClear(collisions, from, turned_from))
+    if (auto path = detail::searchedPath(cell, collisions, turned_from, to)) {
+      path->insert(path->begin(), turned_from);
+      return path;
+    }
+  if (moveIsClear(collisions, turned_to, to))
+    if (auto path = detail::searchedPath(cell, collisions, from, turned_to)) {
+      path->push_back(turned_to);
+      return path;
+    }
+  return std::nullopt;
+}
+
 // Where the arm stands when it starts on step `s` and leaves it: its approach, or the view
 // itself when it has none.
 CellPose stepStart(const ProgramStep& s) {
@@ -304,11 +325,14 @@ void planMotion(RobotProgram& program, const CellCollisions& collisions, double 
   Moves moves{cell, collisions, program, height,
               std::vector<std::optional<std::vector<CellPose>>>(n + 1)};
   for (std::size_t k = 0; k <= n; ++k) moves.plan(k);
-  // A move not cleared: the step it reaches, or the one it leaves, by another solution.
+  // A move not cleared: the step it reaches, or the one it leaves, by another solution;
+  // else a path searched for.
   for (std::size_t k = 0; k <= n; ++k) {
     if (moves.via[k] || (k < n && moves.resolve(k))) continue;
     if (k > 0) moves.resolve(k - 1);
   }
+  for (std::size_t k = 0; k <= n; ++k)
+    if (!moves.via[k]) moves.via[k] = searchedMove(cell, collisions, moves.from(k), moves.to(k));
   for (std::size_t k = 0; k <= n; ++k) {
     const int from = k == 0 ? 0 : program.steps[k - 1].view;
     const int to = k == n ? 0 : program.steps[k].view;

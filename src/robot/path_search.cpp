@@ -14,6 +14,7 @@
 #include <ompl/geometric/planners/rrt/RRTConnect.h>
 #include <ompl/util/Console.h>
 
+#include <algorithm>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -37,13 +38,12 @@ class SeededSampler : public ob::StateSampler {
       q[j] = std::uniform_real_distribution<double>(bounds.low[j], bounds.high[j])(random_);
   }
   void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
-    sampleAround(state, near, [&](double) {
+    sampleAround(state, near, [&] {
       return std::uniform_real_distribution<double>(-distance, distance)(random_);
     });
   }
   void sampleGaussian(ob::State* state, const ob::State* mean, double sigma) override {
-    sampleAround(state, mean,
-                 [&](double) { return std::normal_distribution<double>(0, sigma)(random_); });
+    sampleAround(state, mean, [&] { return std::normal_distribution<double>(0, sigma)(random_); });
   }
 
  private:
@@ -51,7 +51,7 @@ class SeededSampler : public ob::StateSampler {
   void sampleAround(ob::State* state, const ob::State* centre, Offset offset) {
     const double* c = centre->as<ob::RealVectorStateSpace::StateType>()->values;
     double* q = state->as<ob::RealVectorStateSpace::StateType>()->values;
-    for (unsigned j = 0; j < space_->getDimension(); ++j) q[j] = c[j] + offset(c[j]);
+    for (unsigned j = 0; j < space_->getDimension(); ++j) q[j] = c[j] + offset();
     space_->enforceBounds(state);
   }
 
@@ -146,6 +146,7 @@ std::optional<std::vector<CellPose>> searchedPath(const Cell& cell,
   problem->setStartAndGoalStates(start, goal);
   og::RRTConnect planner(si);
   planner.setNearestNeighbors<ompl::NearestNeighborsLinear>();  // no random pivots
+  planner.setRange(kSearchStep);
   planner.setProblemDefinition(problem);
   planner.setup();
   unsigned iterations = 0;

@@ -12,13 +12,16 @@
 
 namespace scanplan::detail {
 
-// Configurations the search may add to its two trees before it gives up: a count, so that
-// a search finds the same path on every machine and under any load.
-inline constexpr unsigned kSearchedStates = 4000;
+// Steps of the search before it gives up: a count, so that a search finds the same path on
+// every machine and under any load. Each step reaches at most kSearchStep (radians, over
+// the six joints together) towards a sampled configuration, then as far as it can towards
+// the other tree.
+inline constexpr unsigned kSearchedStates = 1000;
+inline constexpr double kSearchStep = 0.5;
 
 // The via points (both ends left out) of a clear joint path from `from` to `to`, at
 // `from`'s table angle; none when the ends collide or the search finds no path within
-// kSearchedStates. The same path for the same ends on every run.
+// kSearchedStates steps. The same path for the same ends on every run.
 std::optional<std::vector<CellPose>> searchedPath(const Cell& cell,
                                                   const CellCollisions& collisions,
                                                   const CellPose& from, const CellPose& to);
