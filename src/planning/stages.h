@@ -134,7 +134,7 @@ struct Selection {
 
 // The selection over the pool, its `pinned` first views always kept: a greedy set cover by
 // marginal coverage, priority samples first; improved by CBC on the pool's set cover of
-// every sample some pool view measures (planner.selection_seconds, starting from the
+// every sample some pool view measures (planner.selection_nodes, starting from the
 // greedy cover); views whose samples all others also measure dropped (last first); the
 // rest ordered by marginal coverage, priority samples first. Below coverage targets of 1,
 // by cycle time (planner.objective), or aimed at characteristics (planner.aim), CBC solves

@@ -124,11 +124,12 @@ std::optional<std::vector<CellPose>> searchedPath(const Cell& cell,
 
   const RobotModel range = workingRange(cell);
   auto space = std::make_shared<ob::RealVectorStateSpace>(6);
-  ob::RealVectorBounds bounds(6);
-  for (int j = 0; j < 6; ++j)
-    bounds.setLow(j, std::min({range.lower[j], from.joints[j], to.joints[j]}));
-  for (int j = 0; j < 6; ++j)
-    bounds.setHigh(j, std::max({range.upper[j], from.joints[j], to.joints[j]}));
+  ob::RealVectorBounds bounds(6);  // the working range, and both ends (OMPL's upper above lower)
+  for (int j = 0; j < 6; ++j) {
+    const double low = std::min({range.lower[j], from.joints[j], to.joints[j]});
+    bounds.setLow(j, low);
+    bounds.setHigh(j, std::max({range.upper[j], from.joints[j], to.joints[j], low + 1e-9}));
+  }
   space->setBounds(bounds);
   space->setStateSamplerAllocator(
       [](const ob::StateSpace* s) { return std::make_shared<SeededSampler>(s); });
@@ -146,12 +147,12 @@ std::optional<std::vector<CellPose>> searchedPath(const Cell& cell,
   problem->setStartAndGoalStates(start, goal);
   og::RRTConnect planner(si);
   planner.setNearestNeighbors<ompl::NearestNeighborsLinear>();  // no random pivots
-  planner.setRange(kSearchStep);
+  planner.setRange(kSearchStepLength);
   planner.setProblemDefinition(problem);
   planner.setup();
-  unsigned iterations = 0;
-  const ob::PlannerStatus status = planner.solve(
-      ob::PlannerTerminationCondition([&] { return ++iterations > kSearchedStates; }));
+  unsigned steps = 0;
+  const ob::PlannerStatus status =
+      planner.solve(ob::PlannerTerminationCondition([&] { return ++steps > kMostSearchSteps; }));
   if (status != ob::PlannerStatus::EXACT_SOLUTION) return std::nullopt;
 
   std::vector<CellPose> path;

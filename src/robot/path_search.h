@@ -13,15 +13,15 @@
 namespace scanplan::detail {
 
 // Steps of the search before it gives up: a count, so that a search finds the same path on
-// every machine and under any load. Each step reaches at most kSearchStep (radians, over
+// every machine and under any load. Each step reaches at most kSearchStepLength (radians, over
 // the six joints together) towards a sampled configuration, then as far as it can towards
 // the other tree.
-inline constexpr unsigned kSearchedStates = 1000;
-inline constexpr double kSearchStep = 0.5;
+inline constexpr unsigned kMostSearchSteps = 1000;
+inline constexpr double kSearchStepLength = 0.5;
 
 // The via points (both ends left out) of a clear joint path from `from` to `to`, at
 // `from`'s table angle; none when the ends collide or the search finds no path within
-// kSearchedStates steps. The same path for the same ends on every run.
+// kMostSearchSteps steps. The same path for the same ends on every run.
 std::optional<std::vector<CellPose>> searchedPath(const Cell& cell,
                                                   const CellCollisions& collisions,
                                                   const CellPose& from, const CellPose& to);
