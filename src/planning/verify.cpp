@@ -55,17 +55,33 @@ bool linkHolds(const Registration& found, int id, const ViewRegistration& claime
   return pair && pair->registrable();
 }
 
-// Whether views `a` and `b` (indices) register to each other as the file's registration
-// claims, where the check, which verifies by ICP only the pairs its own tree needs, left the
-// pair unverified: the pair's overlap is registrable as checked again, and ICP run on it
-// passes (the earlier view's cloud fixed, as the registration runs it).
-bool claimedIcpLinkHolds(const Simulator& simulator, const std::vector<View>& views,
-                         const Registration& claimed, const Registration& found, std::size_t a,
-                         std::size_t b, const RegistrationOptions& options) {
+// Per pair of views (indices), whether the file's registration claims the pair links and
+// the check, which verifies by ICP only the pairs its own tree needs, left it unverified
+// with a registrable overlap: a link ICP can confirm.
+std::vector<std::vector<char>> confirmableLinks(const std::vector<View>& views,
+                                                const Registration& claimed,
+                                                const Registration& found) {
+  std::map<int, std::size_t> index;
+  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = v;
+  std::set<std::pair<int, int>> claims;
+  for (const PairCheck& p : claimed.pairs)
+    if (claimed.links(p)) claims.insert({p.a, p.b});
+  std::vector<std::vector<char>> result(views.size(), std::vector<char>(views.size(), 0));
+  for (const PairCheck& p : found.pairs) {
+    const auto a = index.find(p.a), b = index.find(p.b);
+    if (!p.registrable() || p.icp || !claims.count({p.a, p.b}) || a == index.end() ||
+        b == index.end())
+      continue;
+    result[a->second][b->second] = result[b->second][a->second] = 1;
+  }
+  return result;
+}
+
+// Whether ICP registers views `a` and `b` (indices), the earlier one's cloud fixed, as the
+// registration runs it.
+bool icpPasses(const Simulator& simulator, const std::vector<View>& views, std::size_t a,
+               std::size_t b, const RegistrationOptions& options) {
   const auto [first, second] = std::minmax(a, b);
-  const int ia = views[first].id, ib = views[second].id;
-  const PairCheck* pair = found.pair(ia, ib);
-  if (!claimed.linked(ia, ib) || !pair || !pair->registrable() || pair->icp) return false;
   return checkIcp(simulator, views[first], views[second], options).passed;
 }
 
@@ -84,13 +100,17 @@ void checkSequence(const Simulator& simulator, const Plan& plan, const std::vect
   check.sequence_missing = views.size() - order.size() +
                            (plan.sequence ? plan.sequence->views.size() - order.size() : 0);
   const std::vector<std::vector<char>> links = registrationLinks(views, *again.registration);
+  const std::vector<std::vector<char>> confirmable =
+      plan.registration
+          ? confirmableLinks(views, *plan.registration, *again.registration)
+          : std::vector<std::vector<char>>(views.size(), std::vector<char>(views.size(), 0));
   for (std::size_t k = 1; k < order.size(); ++k) {
     if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
+    const int v = order[k];
     bool follows = false;
-    for (std::size_t j = 0; j < k && !follows; ++j) follows = links[order[k]][order[j]];
-    for (std::size_t j = 0; j < k && !follows && plan.registration; ++j)
-      follows = claimedIcpLinkHolds(simulator, views, *plan.registration, *again.registration,
-                                    order[k], order[j], options);
+    for (std::size_t j = 0; j < k && !follows; ++j) follows = links[v][order[j]];
+    for (std::size_t j = 0; j < k && !follows; ++j)
+      follows = confirmable[v][order[j]] && icpPasses(simulator, views, v, order[j], options);
     check.sequence_breaks += !follows;
   }
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
