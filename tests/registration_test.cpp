@@ -1638,11 +1638,11 @@ TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
   EXPECT_EQ(verifyPlan(wrong, *part_, *spec_).coverage_differences, 1u);
 }
 
-// The check verifies by ICP only the pairs its own tree needs, where the planner verified
-// others too (bridging, checks run ahead), and a sequence may rely on one of those: view
-// `b` right after `a`, which it registers to by a stable pair the check left unverified
-// and the plan says ICP passed. The check confirms such a link by ICP before it counts a
-// break; where the plan says ICP failed the pair, it counts one.
+// On the die-cast housing's plan: the check verifies by ICP only the pairs its own tree
+// needs, where the planner verified others too (bridging, checks run ahead), and a sequence
+// may rely on one of those: view `b` right after `a`, which it registers to by a stable pair the
+// check left unverified and the plan says ICP passed. The check confirms such a link by ICP before
+// it counts a break; where the plan says ICP failed the pair, it counts one.
 TEST(RegistrationTest, VerifyConfirmsTheIcpLinksTheSequenceReliesOn) {
   SHARED_DATA_OR_SKIP(path, "mech/asi_repatch-hpdc.stp");
   const Part part = importPart(path);

@@ -1,6 +1,7 @@
 // Safe motion between the views of a robot program: approach poses along the view axes,
-// joint-interpolated moves sampled and checked with the cell's collision model (FCL), and
-// via points above the scene where a direct move collides.
+// joint-interpolated moves sampled and checked with the cell's collision model (FCL), via
+// points above the scene where a direct move collides, and a path searched for in joint
+// space where those do not clear it (robot/path_search.h).
 
 #include "robot/path_search.h"
 

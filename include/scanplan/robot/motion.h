@@ -2,8 +2,8 @@
 // Safe motion of a robot program (docs/cell.md): the robot leaves and returns to its home
 // joints, reaches each view from an approach pose back along the view's axis and leaves
 // it the same way, and every move between is joint-interpolated and checked for
-// collisions; a move that collides is lifted over the part through via points, or named
-// as one that could not be cleared.
+// collisions; a move that collides is lifted over the part through via points, or goes by
+// a path searched for in joint space, or is named as one that could not be cleared.
 
 #include <scanplan/robot/cell.h>
 #include <scanplan/robot/program.h>
@@ -29,8 +29,9 @@ bool moveIsClear(const CellCollisions& collisions, const CellPose& from, const C
 // approach (cell.approach mm back along the view's axis, clear of everything, the move to
 // the view clear too) and the via points of the moves between: the table turns with the
 // arm standing still where the whole turn is clear, and where a direct move collides, the
-// arm goes straight up to `lift` mm above the highest point of the scene and across. Moves
-// still colliding are listed in program.uncleared.
+// arm goes straight up to `lift` mm above the highest point of the scene and across, else
+// the view is taken by another of its solutions, else a path is searched for in joint space
+// (docs/cell.md). Moves still colliding are listed in program.uncleared.
 void planMotion(RobotProgram& program, const CellCollisions& collisions, double lift);
 
 // How far above the scene's highest point via points go: the mount, the scanner's body
