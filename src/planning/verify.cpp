@@ -55,18 +55,16 @@ bool linkHolds(const Registration& found, int id, const ViewRegistration& claime
   return pair && pair->registrable();
 }
 
-// Per pair of views (indices), whether the file's registration claims the pair links and
-// the check, which verifies by ICP only the pairs its own tree needs, left it unverified
-// with a registrable overlap: a link ICP can confirm.
-std::vector<std::vector<char>> confirmableLinks(const std::vector<View>& views,
+// Per pair of the `count` views (indices; `index` by view id), whether the file's
+// registration claims the pair links and the check, which verifies by ICP only the pairs
+// its own tree needs, left it unverified with a registrable overlap: a link ICP can confirm.
+std::vector<std::vector<char>> confirmableLinks(std::size_t count, const std::map<int, int>& index,
                                                 const Registration& claimed,
                                                 const Registration& found) {
-  std::map<int, std::size_t> index;
-  for (std::size_t v = 0; v < views.size(); ++v) index[views[v].id] = v;
   std::set<std::pair<int, int>> claims;
   for (const PairCheck& p : claimed.pairs)
     if (claimed.links(p)) claims.insert({p.a, p.b});
-  std::vector<std::vector<char>> result(views.size(), std::vector<char>(views.size(), 0));
+  std::vector<std::vector<char>> result(count, std::vector<char>(count, 0));
   for (const PairCheck& p : found.pairs) {
     const auto a = index.find(p.a), b = index.find(p.b);
     if (!p.registrable() || p.icp || !claims.count({p.a, p.b}) || a == index.end() ||
@@ -77,17 +75,10 @@ std::vector<std::vector<char>> confirmableLinks(const std::vector<View>& views,
   return result;
 }
 
-// Whether ICP registers views `a` and `b` (indices), the earlier one's cloud fixed, as the
-// registration runs it.
-bool icpPasses(const Simulator& simulator, const std::vector<View>& views, std::size_t a,
-               std::size_t b, const RegistrationOptions& options) {
-  const auto [first, second] = std::minmax(a, b);
-  return checkIcp(simulator, views[first], views[second], options).passed;
-}
-
 // The sequence as the file gives it, into `check`: every view once, each registered view
 // after one it registers to, and its motion cost. A view follows one it registers to by a
 // link of the check's registration, or by one the file's claims and the check confirms.
+// The plan has a registration (verifyPlacement checks none without).
 void checkSequence(const Simulator& simulator, const Plan& plan, const std::vector<View>& views,
                    const RegistrationOptions& options, PlanCheck& check) {
   Plan& again = check.plan;
@@ -101,16 +92,25 @@ void checkSequence(const Simulator& simulator, const Plan& plan, const std::vect
                            (plan.sequence ? plan.sequence->views.size() - order.size() : 0);
   const std::vector<std::vector<char>> links = registrationLinks(views, *again.registration);
   const std::vector<std::vector<char>> confirmable =
-      plan.registration
-          ? confirmableLinks(views, *plan.registration, *again.registration)
-          : std::vector<std::vector<char>>(views.size(), std::vector<char>(views.size(), 0));
+      confirmableLinks(views.size(), index, *plan.registration, *again.registration);
+  std::map<int, IcpCloud> clouds;  // by view index, each made once
+  auto cloud = [&](int v) -> const IcpCloud& {
+    auto found = clouds.find(v);
+    if (found == clouds.end())
+      found = clouds.emplace(v, icpCloud(simulator, views[v], options)).first;
+    return found->second;
+  };
+  // ICP on the pair, the earlier view's cloud fixed, as the registration runs it.
+  auto icpPasses = [&](int a, int b) {
+    return checkIcp(simulator, cloud(std::min(a, b)), cloud(std::max(a, b)), options).passed;
+  };
   for (std::size_t k = 1; k < order.size(); ++k) {
     if (again.registration->views[order[k]].method == RegistrationMethod::None) continue;
     const int v = order[k];
     bool follows = false;
     for (std::size_t j = 0; j < k && !follows; ++j) follows = links[v][order[j]];
     for (std::size_t j = 0; j < k && !follows; ++j)
-      follows = confirmable[v][order[j]] && icpPasses(simulator, views, v, order[j], options);
+      follows = confirmable[v][order[j]] && icpPasses(v, order[j]);
     check.sequence_breaks += !follows;
   }
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));

@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <memory>
 #include <mutex>
-#include <random>
 
 namespace scanplan::detail {
 namespace {
@@ -25,37 +24,13 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-// Uniform joint configurations from a generator of its own, seeded alike for every search:
-// OMPL's own samplers draw from seeds its process hands out one after another.
-class SeededSampler : public ob::StateSampler {
+// OMPL's own sampler of the joint box, its generator seeded alike for every search: OMPL
+// otherwise seeds each generator from seeds its process hands out one after another.
+class SeededSampler : public ob::RealVectorStateSampler {
  public:
-  explicit SeededSampler(const ob::StateSpace* space) : ob::StateSampler(space) {}
-
-  void sampleUniform(ob::State* state) override {
-    const ob::RealVectorBounds& bounds = space_->as<ob::RealVectorStateSpace>()->getBounds();
-    double* q = state->as<ob::RealVectorStateSpace::StateType>()->values;
-    for (std::size_t j = 0; j < bounds.low.size(); ++j)
-      q[j] = std::uniform_real_distribution<double>(bounds.low[j], bounds.high[j])(random_);
+  explicit SeededSampler(const ob::StateSpace* space) : ob::RealVectorStateSampler(space) {
+    rng_.setLocalSeed(1);
   }
-  void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
-    sampleAround(state, near, [&] {
-      return std::uniform_real_distribution<double>(-distance, distance)(random_);
-    });
-  }
-  void sampleGaussian(ob::State* state, const ob::State* mean, double sigma) override {
-    sampleAround(state, mean, [&] { return std::normal_distribution<double>(0, sigma)(random_); });
-  }
-
- private:
-  template <typename Offset>
-  void sampleAround(ob::State* state, const ob::State* centre, Offset offset) {
-    const double* c = centre->as<ob::RealVectorStateSpace::StateType>()->values;
-    double* q = state->as<ob::RealVectorStateSpace::StateType>()->values;
-    for (unsigned j = 0; j < space_->getDimension(); ++j) q[j] = c[j] + offset();
-    space_->enforceBounds(state);
-  }
-
-  std::mt19937_64 random_{1};
 };
 
 CellPose poseOf(const ob::State* state, double table_angle) {

@@ -34,19 +34,18 @@ std::string briefReason(std::string reason);
 // "<file>: <reason>".
 class Error : public std::runtime_error {
  public:
-  // briefReason runs twice (for what() and for reason()), on the error path only.
   Error(std::string file, std::string reason)
-      : std::runtime_error(joined(file, briefReason(reason))),
-        file_(std::move(file)),
-        reason_(briefReason(std::move(reason))) {}
+      : Error(std::move(file), briefReason(std::move(reason)), Brief{}) {}
   const std::string& file() const noexcept { return file_; }
   const std::string& reason() const noexcept { return reason_; }
   virtual ExitCode exitCode() const noexcept = 0;
 
  private:
-  static std::string joined(const std::string& file, const std::string& reason) {
-    return file.empty() ? reason : file + ": " + reason;
-  }
+  struct Brief {};  // the reason is brief already
+  Error(std::string file, std::string brief, Brief)
+      : std::runtime_error(file.empty() ? brief : file + ": " + brief),
+        file_(std::move(file)),
+        reason_(std::move(brief)) {}
 
   std::string file_;
   std::string reason_;
