@@ -25,6 +25,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 
 namespace scanplan {
 namespace {
@@ -1679,6 +1680,65 @@ TEST(RegistrationTest, VerifyConfirmsTheIcpLinksTheSequenceReliesOn) {
   };
   EXPECT_EQ(claim(true), 0u);
   EXPECT_EQ(claim(false), 1u);
+}
+
+// The die-cast housing in every rest orientation (four setups), registered by its geometry.
+// The merged plan numbers each later setup's views after the earlier ones', where each
+// setup was planned with its views numbered from 1; those numbers seed each view's
+// simulated cloud and ICP's start. The check runs each setup with its numbers as planned:
+// every pair both verified by ICP has the same ICP error, in the later setups too, and no
+// view registers otherwise than planned.
+TEST(RegistrationTest, VerifyRunsEachSetupsIcpAsItWasPlanned) {
+  SHARED_DATA_OR_SKIP(path, "mech/asi_repatch-hpdc.stp");
+  const Part part = importPart(path);
+  Spec spec = defaultSpec();
+  spec.rest_all = true;
+  const Plan plan = planViews(part, spec);
+  ASSERT_GE(plan.orientations.size(), 2u);
+  const PlanCheck check = verifyPlan(plan, part, spec);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.plan.registration->registered(), plan.registration->registered());
+  const std::set<int> first(plan.orientations[0].views.begin(), plan.orientations[0].views.end());
+  std::size_t compared = 0, later = 0;
+  for (const PairCheck& p : plan.registration->pairs) {
+    const PairCheck* again = check.plan.registration->pair(p.a, p.b);
+    if (!p.icp || !again || !again->icp) continue;
+    ++compared;
+    later += !first.count(p.a);
+    EXPECT_NEAR(again->icp->error, p.icp->error, 1e-9) << "views " << p.a << ", " << p.b;
+    EXPECT_EQ(again->icp->passed, p.icp->passed) << "views " << p.a << ", " << p.b;
+  }
+  EXPECT_GT(later, 0u) << "no pair of a later setup verified by ICP in both";
+  EXPECT_GT(compared, later);
+}
+
+// The die-cast housing in every rest orientation on a cell's turning table, registered by
+// the markers on the table's plate, which turn with it: the check of each setup takes each
+// of its views at the table angle the plan takes it at, and finds the views registered as
+// planned.
+TEST(RegistrationTest, VerifyTurnsTheTableForEachSetupsViewsAsPlanned) {
+  SHARED_DATA_OR_SKIP(path, "mech/asi_repatch-hpdc.stp");
+  const Part part = importPart(path);
+  test::TempDir dir;
+  test::writeText(dir.file("spec.yaml"),
+                  "part: {rest: all}\n"
+                  "markers: {grid: 40, on: plate}\n"
+                  "registration: {method: markers}\n"
+                  "tasks: [{type: global}]\n"
+                  "cell:\n"
+                  "  robot: {preset: abb-irb4600-60-205, base: {position: [-1000, 0, 0]}}\n"
+                  "  mount: {position: [0, 0, 150]}\n"
+                  "  table: {}\n");
+  const Spec spec = loadSpec(dir.file("spec.yaml"));
+  const Plan plan = planViews(part, spec);
+  ASSERT_GE(plan.orientations.size(), 2u);
+  std::set<double> angles;
+  for (const std::optional<CellPose>& pose : plan.cell_poses)
+    if (pose) angles.insert(pose->table_angle);
+  ASSERT_GE(angles.size(), 2u) << "the table does not turn";
+  const PlanCheck check = verifyPlan(plan, part, spec);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.plan.registration->registered(), plan.registration->registered());
 }
 
 }  // namespace
