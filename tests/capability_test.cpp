@@ -177,7 +177,7 @@ TEST(Capability, APlanesFlatnessIsTheRangeOfItsPointsNoise) {
   // more than the zone.
   EXPECT_NEAR(full.capability.ratio, 0.05 / (2 * full.u), 1e-12);
   EXPECT_EQ(full.capability.verdict, Verdict::NotCapable);
-  EXPECT_EQ(full.capability.reason, Shortfall::TooNoisy);
+  EXPECT_EQ(full.capability.reason, Shortfall::TooUncertain);
 }
 
 // Read from points 8 mm apart (planner.evaluation_spacing), each the mean of four of the

@@ -372,10 +372,10 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");
   EXPECT_EQ(planError(path, [](auto& p) { p["units"] = "inch"; }), "units 'inch': plans are in mm");
-  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 3; }),
-            "version 3 is not one this scanplan reads (it reads versions 1 to 2)");
+  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 4; }),
+            "version 4 is not one this scanplan reads (it reads versions 1 to 3)");
   EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 0; }),
-            "version 0 is not one this scanplan reads (it reads versions 1 to 2)");
+            "version 0 is not one this scanplan reads (it reads versions 1 to 3)");
   EXPECT_EQ(planError(path, [](auto& p) { p["views"][2]["task"] = "gdtt"; }),
             "view 3: unknown task 'gdtt'");
   EXPECT_EQ(planError(path, [](auto& p) { p["view"] = p["views"]; }), "plan: unknown key 'view'");
@@ -404,6 +404,24 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   old["summary"].erase("cycle");
   test::writeText(path, old.dump());
   EXPECT_FALSE(readPlan(path).cycle.has_value());
+  // Versions 1 and 2 named a budget too large for the tolerance too_noisy; version 3 does not.
+  nlohmann::json two = nlohmann::json::parse(test::readText(test::examplePlan()));
+  two["version"] = 2;
+  std::size_t renamed = 0;
+  for (auto& c : two["characteristics"])
+    if (c["capability"]["reason"] == "too_uncertain") {
+      c["capability"]["reason"] = "too_noisy";
+      ++renamed;
+    }
+  ASSERT_GT(renamed, 0u) << "the example plan has no characteristic too uncertain";
+  test::writeText(path, two.dump());
+  const Plan read_two = readPlan(path);
+  EXPECT_EQ(std::count_if(read_two.capabilities.begin(), read_two.capabilities.end(),
+                          [](const Capability& c) { return c.reason == Shortfall::TooUncertain; }),
+            static_cast<long>(renamed));
+  two["version"] = 3;
+  test::writeText(path, two.dump());
+  EXPECT_PRED2(contains, inputError(path, [&] { readPlan(path); }), "unknown value 'too_noisy'");
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["cycle"]["model"] = "x"; }),
                "summary cycle: unknown model 'x'");
   EXPECT_PRED2(contains, planError(path, [](auto& p) { p["summary"]["cycle"]["motion"] = -1; }),

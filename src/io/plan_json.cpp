@@ -584,6 +584,7 @@ json objectAt(const json& root, const char* key) {
 // What a plan file reads into, and where errors point.
 struct PlanReader {
   const std::string& path;
+  int version;  // of the file
 
   Scanner scanner(const json& root) const {
     const json& entry = root.contains("scanner") ? root["scanner"] : json();
@@ -875,8 +876,7 @@ struct PlanReader {
     c.uncertainty = field<double>(section, "uncertainty", path, where);
     c.ratio = field<double>(section, "ratio", path, where);
     c.verdict = named<Verdict>(field<std::string>(section, "verdict", path, where), 4, where);
-    c.reason =
-        named<Shortfall>(field<std::string>(section, "reason", path, where), kShortfalls, where);
+    c.reason = shortfall(field<std::string>(section, "reason", path, where), where);
     if (const json budget = section.value("budget", json()); budget.is_object()) {
       const std::string in = where + " budget";
       c.budget = {field<double>(budget, "noise", path, in),
@@ -896,6 +896,13 @@ struct PlanReader {
     c.inspected_bias = number("inspected_bias");
     c.inspected_precision = number("inspected_precision");
     return c;
+  }
+
+  // A characteristic's shortfall named `name`; versions 1 and 2 named too_uncertain
+  // too_noisy.
+  Shortfall shortfall(const std::string& name, const std::string& where) const {
+    if (version < 3 && name == "too_noisy") return Shortfall::TooUncertain;
+    return named<Shortfall>(name, kShortfalls, where);
   }
 
   // The enum value whose name is `name`, among the first `count`.
@@ -1162,7 +1169,7 @@ Plan readPlanFields(const std::string& path) {
   if (field<std::string>(root, "format", path, "plan") != "scanplan.plan")
     throw InputError(path, "not a scanplan plan (format is not 'scanplan.plan')");
   checkPlanKeys(root, path);
-  const PlanReader reader{path};
+  const PlanReader reader{path, field<int>(root, "version", path, "plan")};
   Plan plan;
   plan.part_to_world = views.part_to_world;
   plan.views = std::move(views.views);

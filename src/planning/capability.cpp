@@ -964,7 +964,7 @@ void judge(const Characteristic& c, Capability& k, const CapabilityOptions& opti
     k.verdict = Verdict::Capable;
   } else {
     k.verdict = k.ratio >= options.marginal_ratio ? Verdict::Marginal : Verdict::NotCapable;
-    k.reason = sparse ? Shortfall::TooSparse : Shortfall::TooNoisy;
+    k.reason = sparse ? Shortfall::TooSparse : Shortfall::TooUncertain;
   }
 }
 
@@ -1019,7 +1019,7 @@ Limit limitOf(const Part& part, const Characteristic& c, const Capability& k, co
   switch (k.reason) {
     case Shortfall::SetupsNotJoined: return Limit::SetupsNotJoined;
     case Shortfall::NotRegistered: return Limit::NotRegistered;
-    case Shortfall::TooNoisy:
+    case Shortfall::TooUncertain:
       return k.budget.registration > largest ? Limit::RegistrationError : Limit::None;
     case Shortfall::DatumsUnmeasured:
       return reachOf(datumFaces(part.gdt, c), kDatumsCoveredEnough, plan);
@@ -1058,7 +1058,7 @@ std::string_view toString(Shortfall reason) {
     case Shortfall::None: return "none";
     case Shortfall::Uncovered: return "uncovered";
     case Shortfall::TooSparse: return "too_sparse";
-    case Shortfall::TooNoisy: return "too_noisy";
+    case Shortfall::TooUncertain: return "too_uncertain";
     case Shortfall::NotLinked: return "not_linked";
     case Shortfall::NotRegistered: return "not_registered";
     case Shortfall::SetupsNotJoined: return "setups_not_joined";

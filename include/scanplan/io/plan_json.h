@@ -11,7 +11,9 @@ namespace scanplan {
 
 // The version of plan.json this scanplan writes. Version 2 adds the cycle time
 // (summary.cycle) and the cell's accelerations; version 1 plans read without them.
-constexpr int kPlanVersion = 2;
+// Version 3 names a characteristic's error budget too large for its tolerance
+// `too_uncertain`, whatever its sources, where versions 1 and 2 said `too_noisy`.
+constexpr int kPlanVersion = 3;
 
 // The plan as JSON: every field §7 requires (format, version, units, part, scanner,
 // views, sequence, samples with measured_by, summary) plus `not_coverable` reasons and

@@ -104,14 +104,14 @@ enum class Shortfall {
   None,
   Uncovered,
   TooSparse,
-  TooNoisy,
+  TooUncertain,  // U too large for the tolerance, whatever its sources
   NotLinked,
   NotRegistered,
   SetupsNotJoined,
   DatumsUnmeasured  // less than half its datum features' area measured: no frame to fit
 };
 constexpr int kShortfalls = 8;
-// "none", "uncovered", "too_sparse", "too_noisy", "not_linked", "not_registered",
+// "none", "uncovered", "too_sparse", "too_uncertain", "not_linked", "not_registered",
 // "setups_not_joined", "datums_unmeasured"
 std::string_view toString(Shortfall reason);
 
