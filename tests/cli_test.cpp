@@ -126,6 +126,12 @@ TEST(Cli, BadUsageIsExitCodeOne) {
   EXPECT_EQ(r.code, 1);
   EXPECT_PRED2(test::contains, r.out, "--coverage: must be a share within (0, 1]");
   EXPECT_FALSE(std::filesystem::exists("never-written"));
+  // Markers are placed for one rest orientation: refused before the part is planned.
+  const CommandResult every =
+      run("plan " + part + " --rest all --place-markers -o never-written -q");
+  EXPECT_EQ(every.code, 1);
+  EXPECT_PRED2(test::contains, every.out, "--place-markers: plans one rest orientation only");
+  EXPECT_FALSE(std::filesystem::exists("never-written"));
 }
 
 TEST(Cli, SimulateTwoViewsWithClouds) {

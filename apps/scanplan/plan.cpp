@@ -128,13 +128,9 @@ void applyRest(Spec& spec, const std::string& rest) {
   spec.rest_pose.reset();
 }
 
-int run(const Options& options, const GlobalOptions& global) {
-  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  if (!options.rest.empty()) applyRest(spec, options.rest);
-  const std::vector<std::string> inputs = commandInputs({options.part}, spec);
-  for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
-    refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
-  Progress progress = terminalProgress(global);
+// The spec with the command line's settings over its own: --scanner, --coverage, --aim
+// (--rest is applied before, when the inputs are listed).
+void applyOptions(Spec& spec, const Options& options) {
   if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
   if (options.coverage) {
     if (!(*options.coverage > 0 && *options.coverage <= 1))
@@ -144,6 +140,20 @@ int run(const Options& options, const GlobalOptions& global) {
   }
   if (!options.aim.empty())
     spec.planner.aim = options.aim == "samples" ? Aim::Samples : Aim::Characteristics;
+  if (options.place_markers && spec.rest_all)  // refused before the part is read and planned
+    throw UsageError("--place-markers",
+                     "plans one rest orientation only, not every one (--rest all, or the "
+                     "spec's part.rest: all)");
+}
+
+int run(const Options& options, const GlobalOptions& global) {
+  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  if (!options.rest.empty()) applyRest(spec, options.rest);
+  const std::vector<std::string> inputs = commandInputs({options.part}, spec);
+  for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
+    refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);
+  Progress progress = terminalProgress(global);
+  applyOptions(spec, options);
   const Part part = importWithWarnings(options.part, {}, progress);
   PlanningOptions planning;
   planning.registration = !options.no_registration;
