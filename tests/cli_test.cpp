@@ -1072,6 +1072,64 @@ TEST(Cli, ExportsInTheCadFrameLandOnTheModel) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("x.png")));
 }
 
+// NIST FTC 11 planned in both its rest orientations in a cell: the part is turned by hand
+// between the two setups, so each is a robot program of its own (--setup). Each holds the
+// views of its setup, and its scanner poses in the part's frame are the views' poses taken
+// back through that setup's placement of the part (plan.json's orientations).
+TEST(Cli, EachSetupOfAPartTurnedOverIsARobotProgramOfItsOwn) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("spec.yaml"),
+                  "part: {rest: all}\ntasks: [{type: global}]\n"
+                  "cell:\n  robot: {preset: abb-irb4600-60-205, base: {position: [-1000, 0, 0]}}\n"
+                  "  mount: {position: [0, 0, 150]}\n");
+  const std::string spec = " --spec " + dir.file("spec.yaml") + " -q";
+  const std::string plan = dir.file("out/plan.json");
+  CommandResult r = run("plan " + part + spec + " -o " + dir.file("out") + " --no-report");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json planned = nlohmann::json::parse(test::readText(plan));
+  const nlohmann::json& setups = planned["orientations"];
+  ASSERT_EQ(setups.size(), 2u);
+  auto matrix = [](const nlohmann::json& rows) {
+    Eigen::Matrix4d m;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) m(i, j) = rows[i][j].get<double>();
+    return m;
+  };
+  std::map<int, Eigen::Matrix4d> camera;  // by view id, in the world of its setup
+  for (const nlohmann::json& view : planned["views"])
+    camera[view["id"].get<int>()] = matrix(view["camera_to_world"]);
+
+  r = run("export " + plan + " --format rapid -o " + dir.file("all.mod") + spec);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "--setup: the plan turns the part into 2 rest orientations");
+  EXPECT_FALSE(std::filesystem::exists(dir.file("all.mod")));
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::string file = dir.file("setup" + std::to_string(k + 1) + ".json");
+    r = run("export " + plan + " --format robot-json --setup " + std::to_string(k + 1) + " -o " +
+            file + spec);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json program = nlohmann::json::parse(test::readText(file));
+    EXPECT_PRED2(test::contains, program["source"].get<std::string>(),
+                 "setup " + std::to_string(k + 1) + " of 2");
+    const Eigen::Matrix4d to_cad = matrix(setups[k]["part_to_world"]).inverse();
+    std::set<int> views;
+    for (const nlohmann::json& step : program["steps"]) {
+      const int id = step["view"].get<int>();
+      views.insert(id);
+      EXPECT_TRUE(matrix(step["scanner"]).isApprox(to_cad * camera.at(id), 1e-6))
+          << "setup " << k + 1 << ", view " << id;
+    }
+    EXPECT_EQ(views, setups[k]["views"].get<std::set<int>>()) << "setup " << k + 1;
+  }
+  r = run("export " + plan + " --format rapid --setup 3 -o " + dir.file("third.mod") + spec);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "--setup: the plan has 2 setups, not 3");
+  r = run("export " + plan + " --format csv --setup 1 -o " + dir.file("views.csv") + spec);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "--setup: applies to robot programs");
+}
+
 TEST(Cli, PlanInACellAndExportItsRobotPrograms) {
   test::TempDir dir;
   const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");

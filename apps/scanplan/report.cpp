@@ -129,26 +129,54 @@ struct ExportCommand {
   double spacing = 1;
   std::string frame;  // cad (the default) or world; files of points and poses only
   bool allow_collisions = false;
+  std::size_t setup = 0;  // robot programs of a plan over several rest orientations: 1 to N
 };
+
+// Whether `format` is a robot program.
+bool programFormat(const std::string& format) {
+  return format == "krl" || format == "rapid" || format == "fanuc" || format == "urscript" ||
+         format == "robot-json";
+}
+
+// The plan a robot program is written for: the plan, or of a plan over several rest
+// orientations, the setup --setup names: each setup is a program of its own, the part
+// turned by hand between them.
+Plan programPlan(const Plan& plan, std::size_t setup) {
+  const std::size_t setups = std::max<std::size_t>(1, plan.orientations.size());
+  if (setup == 0 && setups > 1)
+    throw UsageError("--setup", "the plan turns the part into " + std::to_string(setups) +
+                                    " rest orientations, each a program of its own: name one, "
+                                    "1 to " +
+                                    std::to_string(setups));
+  if (setup > setups)
+    throw UsageError("--setup", "the plan has " + std::to_string(setups) + " setup" +
+                                    (setups == 1 ? "" : "s") + ", not " + std::to_string(setup));
+  return setups == 1 ? plan : setupPlan(plan, setup - 1);
+}
 
 // The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
 void writeProgram(const Checked& c, const ExportCommand& options) {
-  const std::optional<Cell>& cell = c.spec.spec.cell ? c.spec.spec.cell : c.plan.cell;
+  const Plan plan = programPlan(c.plan, options.setup);
+  const std::optional<Cell>& cell = c.spec.spec.cell ? c.spec.spec.cell : plan.cell;
   if (!cell)
     throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
                      "robot programs need the cell: the plan carries none (made without one, "
                      "or with link meshes); give a spec with cell.robot (--spec)");
   // KRL wants the program named as its file.
   const std::string name = std::filesystem::path(options.out).stem().string();
-  const SimulationOptions placed = simulationOptionsFor(c.spec, c.part, c.plan.part_to_world);
-  const CellCollisions collisions(*cell, c.plan.scanner.body(), c.part.mesh, c.plan.part_to_world,
+  const SimulationOptions placed = simulationOptionsFor(c.spec, c.part, plan.part_to_world);
+  const CellCollisions collisions(*cell, plan.scanner.body(), c.part.mesh, plan.part_to_world,
                                   placed.fixtures, placed.working_plane, cell->clearance);
   // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.
   const std::vector<std::optional<CellPose>> poses =
-      c.spec.spec.cell ? cellPoses(*cell, c.plan.views, visitingOrder(c.plan), &collisions)
-                       : c.plan.cell_poses;
-  const RobotProgram program =
-      safeProgram(c.plan, *cell, collisions, poses, name, options.input.plan);
+      c.spec.spec.cell ? cellPoses(*cell, plan.views, visitingOrder(plan), &collisions)
+                       : plan.cell_poses;
+  const std::string source =
+      options.input.plan + (c.plan.orientations.size() > 1
+                                ? ", setup " + std::to_string(options.setup) + " of " +
+                                      std::to_string(c.plan.orientations.size())
+                                : "");
+  const RobotProgram program = safeProgram(plan, *cell, collisions, poses, name, source);
   checkClearMoves(program, options.allow_collisions, options.out);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
   writeRobotProgram(program, language, options.out);
@@ -192,6 +220,9 @@ Frame exportFrame(const ExportCommand& options) {
                      "applies to csv, glb, samples-ply and clouds-ply; " + options.format +
                          " is written in the " +
                          (options.format == "png" ? "report's view" : "robot's own frames"));
+  if (options.setup > 0 && !programFormat(options.format))
+    throw UsageError("--setup",
+                     "applies to robot programs; " + options.format + " holds every setup");
   return options.frame == "world" ? Frame::World : Frame::Cad;
 }
 
@@ -275,6 +306,11 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
   command->add_flag("--allow-collisions", options->allow_collisions,
                     "Robot programs: write one even with moves that collide and could not be "
                     "cleared, marked in its header (refused otherwise)");
+  command
+      ->add_option("--setup", options->setup,
+                   "Robot programs of a plan over several rest orientations: the setup to write "
+                   "(1 to N), each a program of its own, the part turned by hand between them")
+      ->check(CLI::PositiveNumber);
   command
       ->add_option("--spacing", options->spacing,
                    "clouds-ply: mm between the camera rays of each view (default 1; 0: the "

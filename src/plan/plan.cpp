@@ -7,6 +7,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <set>
 
 namespace scanplan {
 
@@ -236,6 +237,56 @@ void joinSetups(Plan& plan, const RegistrationOptions& options) {
         plan.orientations[k].frame = j;
         break;
       }
+}
+
+Plan setupPlan(const Plan& plan, std::size_t k, int id_offset) {
+  const PlannedOrientation& o = plan.orientations.at(k);
+  Plan sub = plan;
+  sub.orientations.clear();
+  sub.part_to_world = o.rest.part_to_world;
+  sub.markers = o.markers;
+  const Pose to_world = o.rest.part_to_world * plan.part_to_world.inverse();
+  const std::set<int> ids(o.views.begin(), o.views.end());
+  auto mine = [&](int id) { return ids.count(id) > 0; };
+  auto renumber = [&](int& id) {
+    if (id > 0) id -= id_offset;
+  };
+  sub.views.clear();
+  sub.cell_poses.clear();
+  if (sub.registration) {
+    sub.registration->views.clear();
+    std::erase_if(sub.registration->pairs,
+                  [&](const PairCheck& p) { return !mine(p.a) || !mine(p.b); });
+    for (PairCheck& p : sub.registration->pairs) renumber(p.a), renumber(p.b);
+    sub.registration->reference = o.reference;
+    renumber(sub.registration->reference);
+  }
+  for (std::size_t v = 0; v < plan.views.size(); ++v) {
+    if (!mine(plan.views[v].id)) continue;
+    sub.views.push_back(plan.views[v]);
+    renumber(sub.views.back().id);
+    if (v < plan.cell_poses.size()) sub.cell_poses.push_back(plan.cell_poses[v]);
+    if (plan.registration && v < plan.registration->views.size()) {
+      sub.registration->views.push_back(plan.registration->views[v]);
+      renumber(sub.registration->views.back().to);
+    }
+  }
+  for (PlannedSample& s : sub.samples) {
+    s.sample.position = to_world * s.sample.position;
+    s.sample.normal = to_world.linear() * s.sample.normal;
+    std::erase_if(s.measured_by, [&](int id) { return !mine(id); });
+    for (int& id : s.measured_by) renumber(id);
+  }
+  if (sub.sequence) {
+    std::erase_if(sub.sequence->views, [&](int id) { return !mine(id); });
+    for (int& id : sub.sequence->views) renumber(id);
+  }
+  return sub;
+}
+
+int setupIdOffset(const Plan& plan, std::size_t k) {
+  const std::vector<int>& ids = plan.orientations.at(k).views;
+  return ids.empty() ? 0 : *std::min_element(ids.begin(), ids.end()) - 1;
 }
 
 Pose orientationPlacement(const Plan& plan, std::size_t k) {

@@ -176,58 +176,6 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
   return check;
 }
 
-// The part of `plan` planned in orientation `o`: its views, the samples in its world, the
-// claims of its views only, with the view ids it was planned with (from 1: the merged plan
-// shifts them by `offset`), which seed its views' simulated clouds and ICP as they did.
-Plan orientationPlan(const Plan& plan, const PlannedOrientation& o, int offset) {
-  Plan sub = plan;
-  sub.orientations.clear();
-  sub.part_to_world = o.rest.part_to_world;
-  sub.markers = o.markers;
-  const Pose to_world = o.rest.part_to_world * plan.part_to_world.inverse();
-  const std::set<int> ids(o.views.begin(), o.views.end());
-  auto mine = [&](int id) { return ids.count(id) > 0; };
-  auto planned = [&](int& id) {
-    if (id > 0) id -= offset;
-  };
-  sub.views.clear();
-  sub.cell_poses.clear();
-  if (sub.registration) {
-    sub.registration->views.clear();
-    std::erase_if(sub.registration->pairs,
-                  [&](const PairCheck& p) { return !mine(p.a) || !mine(p.b); });
-    for (PairCheck& p : sub.registration->pairs) planned(p.a), planned(p.b);
-    sub.registration->reference = o.reference;
-    planned(sub.registration->reference);
-  }
-  for (std::size_t v = 0; v < plan.views.size(); ++v) {
-    if (!mine(plan.views[v].id)) continue;
-    sub.views.push_back(plan.views[v]);
-    planned(sub.views.back().id);
-    if (v < plan.cell_poses.size()) sub.cell_poses.push_back(plan.cell_poses[v]);
-    if (plan.registration && v < plan.registration->views.size()) {
-      sub.registration->views.push_back(plan.registration->views[v]);
-      planned(sub.registration->views.back().to);
-    }
-  }
-  for (PlannedSample& s : sub.samples) {
-    s.sample.position = to_world * s.sample.position;
-    s.sample.normal = to_world.linear() * s.sample.normal;
-    std::erase_if(s.measured_by, [&](int id) { return !mine(id); });
-    for (int& id : s.measured_by) planned(id);
-  }
-  if (sub.sequence) {
-    std::erase_if(sub.sequence->views, [&](int id) { return !mine(id); });
-    for (int& id : sub.sequence->views) planned(id);
-  }
-  return sub;
-}
-
-// How far the merged plan shifts the ids of orientation `o`'s views: the views before it.
-int orientationOffset(const PlannedOrientation& o) {
-  return o.views.empty() ? 0 : *std::min_element(o.views.begin(), o.views.end()) - 1;
-}
-
 }  // namespace
 
 PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
@@ -255,10 +203,12 @@ PlanCheck verifyPlan(const Plan& plan, const Part& part, const Spec& spec,
     again.registration = Registration{};
     again.sequence = Sequence{};
   }
-  for (PlannedOrientation& o : again.orientations) {
-    const int offset = orientationOffset(o);
+  for (std::size_t k = 0; k < again.orientations.size(); ++k) {
+    PlannedOrientation& o = again.orientations[k];
+    // Each setup with the view ids it was planned with: they seed its clouds and ICP.
+    const int offset = setupIdOffset(plan, k);
     PlanCheck part_check =
-        verifyPlacement(orientationPlan(plan, o, offset), part, resolved, options, progress);
+        verifyPlacement(setupPlan(plan, k, offset), part, resolved, options, progress);
     check.coverage_differences += part_check.coverage_differences;
     check.registration_differences += part_check.registration_differences;
     check.sequence_missing += part_check.sequence_missing;

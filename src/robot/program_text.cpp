@@ -22,7 +22,7 @@ std::string header(const RobotProgram& p, std::string_view comment, bool urscrip
   out << comment << " scanplan robot program " << p.name << "\n"
       << comment << " from " << commentText(p.source) << "\n"
       << comment << " robot " << commentText(p.cell.robot.name) << ", " << p.steps.size()
-      << " views in sequence order";
+      << (p.steps.size() == 1 ? " view" : " views in sequence order");
   if (p.cell.table)
     out << (urscript ? ", rotary table turned by turn_table" : ", rotary table as external axis 1");
   out << "\n";

@@ -275,6 +275,14 @@ std::size_t registeredInOneFrame(const std::vector<SetupRegistration>& setups);
 // orientation's frame.
 void joinSetups(Plan& plan, const RegistrationOptions& options);
 
+// Setup `k` of a plan over several rest orientations, alone: its views with the
+// registration, sequence and cell poses that are theirs, the samples in its world and
+// measured by its views only; each view id less `id_offset`.
+Plan setupPlan(const Plan& plan, std::size_t k, int id_offset = 0);
+// What the plan adds to the ids of setup `k`'s views, which it planned numbered from 1 (and
+// which seeded their simulated clouds and ICP): the count of views before them.
+int setupIdOffset(const Plan& plan, std::size_t k);
+
 // Where orientation `k` places the part (Plan::part_to_world for one placement).
 Pose orientationPlacement(const Plan& plan, std::size_t k);
 
