@@ -160,6 +160,52 @@ TEST(Cli, SimulateTwoViewsWithClouds) {
   EXPECT_NE(json.out.find("\"camera_angle\""), std::string::npos);
 }
 
+// A plan of NIST FTC 11 with the laser-line head, in both its rest orientations: simulated
+// from its plan.json, each view is simulated with the plan's scanner and the part standing
+// as the view's setup places it, as when each setup's views are given with that placement
+// and the scanner named.
+TEST(Cli, SimulatingAPlanTakesItsScannerAndEachSetupsPlacement) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  test::writeText(dir.file("spec.yaml"),
+                  "part: {rest: all}\nscanner: laser-line\ntasks: [{type: global}]\n");
+  CommandResult r = run("-q plan " + part + " --spec " + dir.file("spec.yaml") + " -o " +
+                        dir.file("out") + " --no-report --no-registration");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string plan = dir.file("out/plan.json");
+  const nlohmann::json planned = nlohmann::json::parse(test::readText(plan));
+  ASSERT_EQ(planned["orientations"].size(), 2u);
+  r = run("-q simulate --json " + part + " --views " + plan);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json all = nlohmann::json::parse(r.out);
+  EXPECT_EQ(all["scanner"], "laser-line");
+  std::map<int, double> area;  // by view id
+  for (const nlohmann::json& view : all["views"])
+    area[view["id"].get<int>()] = view["measured_area"].get<double>();
+  ASSERT_EQ(area.size(), planned["views"].size());
+  for (const nlohmann::json& setup : planned["orientations"]) {
+    nlohmann::json views = nlohmann::json::array();
+    for (const nlohmann::json& view : planned["views"])
+      if (view["orientation"] == setup["id"])
+        views.push_back({{"id", view["id"]}, {"camera_to_world", view["camera_to_world"]}});
+    ASSERT_FALSE(views.empty()) << "setup " << setup["id"];
+    test::writeText(
+        dir.file("setup.json"),
+        nlohmann::json{{"part", {{"part_to_world", setup["part_to_world"]}}}, {"views", views}}
+            .dump());
+    r = run("-q simulate --json " + part + " --views " + dir.file("setup.json") +
+            " --scanner laser-line");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json alone = nlohmann::json::parse(r.out);
+    ASSERT_EQ(alone["views"].size(), views.size());
+    for (const nlohmann::json& view : alone["views"]) {
+      const int id = view["id"].get<int>();
+      EXPECT_GT(view["measured_area"].get<double>(), 0) << "view " << id;
+      EXPECT_NEAR(area.at(id), view["measured_area"].get<double>(), 1e-6) << "view " << id;
+    }
+  }
+}
+
 TEST(Cli, SimulateBadInputsAreExitCodeTwo) {
   test::TempDir dir;
   std::string part = test::example("parts/nist_ctc_01_asme1_ap242-e1.stp");

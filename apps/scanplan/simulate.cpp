@@ -6,6 +6,7 @@
 #include <scanplan/cad/import.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/io/cloud_ply.h>
+#include <scanplan/io/plan_json.h>
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/io/views_json.h>
 #include <scanplan/planning.h>
@@ -17,6 +18,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 namespace scanplan::cli {
 namespace {
@@ -86,19 +88,48 @@ void printViews(const json& out, const Part& part, const Scanner& scanner) {
   }
 }
 
+// The views to simulate, each with where the part stands for it, and the scanner: of a
+// plan, its own scanner and each view in its setup's placement (a plan over several rest
+// orientations turns the part between setups); else the file's placement and the spec's
+// scanner. --scanner overrides either.
+struct Simulated {
+  std::vector<View> views;
+  std::vector<Pose> placed;  // per view: part_to_world
+  Scanner scanner;
+};
+Simulated toSimulate(const Options& options, const Spec& spec) {
+  const ViewsFile file = readViews(options.views);
+  Simulated s{file.views, std::vector<Pose>(file.views.size(), file.part_to_world), spec.scanner};
+  if (file.plan) {
+    const Plan plan = readPlan(options.views);
+    const std::vector<std::size_t> setup = viewOrientations(plan);
+    for (std::size_t v = 0; v < s.views.size(); ++v)
+      s.placed[v] = orientationPlacement(plan, setup[v]);
+    s.scanner = plan.scanner;
+  }
+  if (!options.scanner.empty()) s.scanner = scannerNamed(options.scanner);
+  return s;
+}
+
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
-  Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  if (!options.scanner.empty()) spec.scanner = scannerNamed(options.scanner);
-  ViewsFile views = readViews(options.views);
+  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const Simulated views = toSimulate(options, spec);
   Part part = importWithWarnings(options.part, {}, progress);
 
   const ResolvedSpec resolved = resolveSpec(part, spec);
   printWarnings("", resolved.warnings);
-  SimulationOptions simulation = simulationOptionsFor(resolved, part, views.part_to_world);
-  simulation.working_plane = simulation.working_plane && !options.no_working_plane;
-  report(progress, "building ray-casting scene", 0);
-  Simulator simulator(part, spec.scanner, simulation);
+  // A simulator per placement of the part, made when a view first needs it.
+  std::vector<std::pair<Pose, std::unique_ptr<Simulator>>> simulators;
+  auto simulatorFor = [&](const Pose& placed) -> const Simulator& {
+    for (const auto& [pose, simulator] : simulators)
+      if (pose.matrix() == placed.matrix()) return *simulator;
+    report(progress, "building ray-casting scene", 0);
+    SimulationOptions simulation = simulationOptionsFor(resolved, part, placed);
+    simulation.working_plane = simulation.working_plane && !options.no_working_plane;
+    simulators.emplace_back(placed, std::make_unique<Simulator>(part, views.scanner, simulation));
+    return *simulators.back().second;
+  };
 
   if (!options.cloud_dir.empty()) {
     std::error_code ec;
@@ -106,18 +137,18 @@ int run(const Options& options, const GlobalOptions& global) {
     if (ec) throw OutputError(options.cloud_dir, "cannot create the folder: " + ec.message());
   }
 
-  json out = {{"part", part.file}, {"scanner", spec.scanner.name}, {"views", json::array()}};
+  json out = {{"part", part.file}, {"scanner", views.scanner.name}, {"views", json::array()}};
   for (std::size_t v = 0; v < views.views.size(); ++v) {
     report(progress, fmt::format("simulating view {} of {}", v + 1, views.views.size()),
            static_cast<double>(v) / static_cast<double>(views.views.size()));
-    out["views"].push_back(simulatedView(simulator, views.views[v], options));
+    out["views"].push_back(simulatedView(simulatorFor(views.placed[v]), views.views[v], options));
   }
   clearProgress();
 
   if (options.json)
     std::cout << out.dump(2) << '\n';
   else
-    printViews(out, part, spec.scanner);
+    printViews(out, part, views.scanner);
   return 0;
 }
 

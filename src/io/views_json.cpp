@@ -21,6 +21,7 @@ ViewsFile readViews(const std::string& path) {
   ViewsFile file;
   const json* views = &root;
   if (root.is_object()) {
+    file.plan = root.contains("format") && root["format"] == "scanplan.plan";
     if (!root.contains("views")) throw InputError(path, "no 'views' array");
     views = &root["views"];
     if (root.contains("part") && root["part"].contains("part_to_world"))

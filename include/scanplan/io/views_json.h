@@ -11,6 +11,7 @@ namespace scanplan {
 struct ViewsFile {
   std::vector<View> views;
   Pose part_to_world = Pose::Identity();  // from the plan's part section, if any
+  bool plan = false;                      // the file is a plan.json (readPlan reads the rest)
 };
 
 // Reads `path`: a whole plan.json, an object with a `views` array, or a bare array of
