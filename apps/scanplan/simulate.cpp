@@ -89,9 +89,10 @@ void printViews(const json& out, const Part& part, const Scanner& scanner) {
 }
 
 // The views to simulate, each with where the part stands for it, and the scanner: of a
-// plan, its own scanner and each view in its setup's placement (a plan over several rest
-// orientations turns the part between setups); else the file's placement and the spec's
-// scanner. --scanner overrides either.
+// plan, each view in its setup's placement (a plan over several rest orientations turns the
+// part between setups) and the plan's scanner unless --spec is given, as the Python
+// module's simulate; else the file's placement and the spec's scanner. --scanner overrides
+// either.
 struct Simulated {
   std::vector<View> views;
   std::vector<Pose> placed;  // per view: part_to_world
@@ -105,7 +106,7 @@ Simulated toSimulate(const Options& options, const Spec& spec) {
     const std::vector<std::size_t> setup = viewOrientations(plan);
     for (std::size_t v = 0; v < s.views.size(); ++v)
       s.placed[v] = orientationPlacement(plan, setup[v]);
-    s.scanner = plan.scanner;
+    if (options.spec.empty()) s.scanner = plan.scanner;
   }
   if (!options.scanner.empty()) s.scanner = scannerNamed(options.scanner);
   return s;
@@ -161,7 +162,9 @@ void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& sele
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command->add_option("--views", options->views, "Views as JSON: a plan.json or its views array")
       ->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML): scanner, specular faces")
+  command
+      ->add_option("--spec", options->spec,
+                   "Inspection spec (YAML): scanner (a plan's own without it), specular faces")
       ->check(kNamedFile);
   command->add_option("--scanner", options->scanner,
                       "Scanner preset or scanner file (YAML), overriding the spec's");
