@@ -335,6 +335,41 @@ TEST(PlanErrors, FaceAreasReadBackAndNoFaceMeasuresMoreThanItHas) {
             "face_areas: expected one entry per face of the part");
 }
 
+// A plan over several rest orientations takes each view in one setup: a view two
+// orientations list, or none does, is refused naming it.
+TEST(PlanErrors, EachViewIsInOneOrientation) {
+  test::TempDir dir;
+  const std::string path = dir.file("plan.json");
+  // The example's views split into two setups standing alike: the first view alone, then
+  // the others.
+  auto twoSetups = [](nlohmann::json& p) {
+    nlohmann::json first = nlohmann::json::array(), rest = nlohmann::json::array();
+    for (const nlohmann::json& view : p["views"])
+      (first.empty() ? first : rest).push_back(view["id"]);
+    for (const nlohmann::json& ids : {first, rest})
+      p["orientations"].push_back(
+          {{"part_to_world", p["part"]["part_to_world"]}, {"down", {0, 0, -1}}, {"views", ids}});
+  };
+  nlohmann::json plan = nlohmann::json::parse(test::readText(test::examplePlan()));
+  twoSetups(plan);
+  test::writeText(path, plan.dump());
+  EXPECT_EQ(readPlan(path).orientations.size(), 2u);
+  EXPECT_PRED2(contains,
+               planError(path,
+                         [&](auto& p) {
+                           twoSetups(p);
+                           p["orientations"][1]["views"].push_back(p["views"][0]["id"]);
+                         }),
+               "orientation 2 lists view 1, which orientation 1 lists too");
+  EXPECT_PRED2(contains,
+               planError(path,
+                         [&](auto& p) {
+                           twoSetups(p);
+                           p["orientations"][1]["views"].erase(0);
+                         }),
+               "view 2 is in no orientation");
+}
+
 TEST(PlanErrors, ReferencesToViewsAndFacesThePlanDoesNotHave) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");

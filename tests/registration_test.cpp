@@ -1741,5 +1741,29 @@ TEST(RegistrationTest, VerifyTurnsTheTableForEachSetupsViewsAsPlanned) {
   EXPECT_EQ(check.plan.registration->registered(), plan.registration->registered());
 }
 
+// The first rest orientation of a plan over several may hold no view (the planner keeps
+// the first, whatever it adds). NIST FTC 11's plan, its views put in a second setup that
+// stands the part as planned, behind an empty first one: the check finds every view as
+// planned.
+TEST(RegistrationTest, VerifyChecksAPlanWhoseFirstSetupHasNoViews) {
+  const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  const Spec spec = defaultSpec();
+  Plan plan = planViews(part, spec);
+  ASSERT_TRUE(plan.registration);
+  PlannedOrientation empty, all;
+  empty.rest.part_to_world = Pose(Eigen::Translation3d(0, 0, 50)) * plan.part_to_world;
+  all.rest.part_to_world = plan.part_to_world;
+  all.reference = plan.registration->reference;
+  all.frame = 1;
+  for (const View& view : plan.views) all.views.push_back(view.id);
+  plan.orientations = {empty, all};
+  const PlanCheck check = verifyPlan(plan, part, spec);
+  EXPECT_EQ(check.coverage_differences, 0u);
+  EXPECT_EQ(check.registration_differences, 0u);
+  EXPECT_EQ(check.sequence_missing, 0u);
+  EXPECT_EQ(check.sequence_breaks, 0u);
+  EXPECT_EQ(check.plan.registration->registered(), plan.registration->registered());
+}
+
 }  // namespace
 }  // namespace scanplan

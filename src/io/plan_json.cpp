@@ -1035,8 +1035,21 @@ void checkReferences(const Plan& plan, const std::string& path) {
       require(pair.b, "a registration pair", false);
     }
   }
-  for (const PlannedOrientation& o : plan.orientations)
-    for (int id : o.views) require(id, "an orientation", false);
+  // Each view is taken in one setup, when the plan has several.
+  std::map<int, std::size_t> setup_of;  // view id: its orientation's place in the list
+  for (std::size_t k = 0; k < plan.orientations.size(); ++k)
+    for (int id : plan.orientations[k].views) {
+      const std::string where = "orientation " + std::to_string(k + 1);
+      require(id, where, false);
+      if (const auto [it, added] = setup_of.emplace(id, k); !added)
+        throw InputError(path, where + " lists view " + std::to_string(id) +
+                                   ", which orientation " + std::to_string(it->second + 1) +
+                                   " lists too");
+    }
+  if (!plan.orientations.empty())
+    for (const View& view : plan.views)
+      if (!setup_of.count(view.id))
+        throw InputError(path, "view " + std::to_string(view.id) + " is in no orientation");
   for (const Characteristic& c : plan.characteristics)
     for (int face : c.faces)
       if (face < 1 || static_cast<std::size_t>(face) > plan.part_faces)
