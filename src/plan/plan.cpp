@@ -248,9 +248,8 @@ Plan setupPlan(const Plan& plan, std::size_t k, int id_offset) {
   const Pose to_world = o.rest.part_to_world * plan.part_to_world.inverse();
   const std::set<int> ids(o.views.begin(), o.views.end());
   auto mine = [&](int id) { return ids.count(id) > 0; };
-  auto renumber = [&](int& id) {
-    if (id > 0) id -= id_offset;
-  };
+  // A view's id as renumbered; 0 for a view of another setup, which no link crosses.
+  auto renumber = [&](int& id) { id = mine(id) ? id - id_offset : 0; };
   sub.views.clear();
   sub.cell_poses.clear();
   if (sub.registration) {
