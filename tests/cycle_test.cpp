@@ -2,7 +2,10 @@
 // reference.
 #include "support.h"
 
+#include <scanplan/cad/import.h>
+#include <scanplan/io/plan_json.h>
 #include <scanplan/io/spec_yaml.h>
+#include <scanplan/planning.h>
 #include <scanplan/robot/cycle.h>
 #include <scanplan/robot/kinematics.h>
 #include <scanplan/robot/program.h>
@@ -164,7 +167,7 @@ TEST(Cycle, SpecSetsEveryFigureOfTheCycle) {
   const std::string path = dir.file("spec.yaml");
   test::writeText(path,
                   "scanner: {preset: laser-line, sweep_speed: 50}\n"
-                  "cycle: {settle: 1, handshake: 0, speed: 100, acceleration: 200}\n"
+                  "cycle: {settle: 1, handshake: 0, speed: 100, acceleration: 200, turn_over: 40}\n"
                   "cell:\n  robot: {preset: ur10e, accelerations: [10, 20, 30, 40, 50, 60]}\n"
                   "  table: {speed: 45, acceleration: 30}\n");
   const Spec spec = loadSpec(path);
@@ -173,6 +176,7 @@ TEST(Cycle, SpecSetsEveryFigureOfTheCycle) {
   EXPECT_EQ(spec.cycle.handshake, 0);
   EXPECT_EQ(spec.cycle.speed, 100);
   EXPECT_EQ(spec.cycle.acceleration, 200);
+  EXPECT_EQ(spec.cycle.turn_over, 40);
   ASSERT_TRUE(spec.cell && spec.cell->table);
   EXPECT_NEAR(degrees(spec.cell->robot.accelerations[5]), 60, 1e-9);
   EXPECT_NEAR(degrees(spec.cell->table->speed), 45, 1e-9);
@@ -187,6 +191,7 @@ TEST(Cycle, SpecSetsEveryFigureOfTheCycle) {
            {"cycle: {settle: -1}\n", "cycle.settle must lie within [0, 60] s"},
            {"cycle: {sped: 1}\n", "unknown key 'sped' in cycle"},
            {"cycle: {acceleration: 0}\n", "cycle.acceleration must lie within"},
+           {"cycle: {turn_over: 4000}\n", "cycle.turn_over must lie within [0, 3600] s"},
            {"cell:\n  robot: {preset: ur10e, accelerations: [0, 1, 1, 1, 1, 1]}\n",
             "cell.robot.accelerations: joint 1 needs an acceleration within [1, 36000] °/s²"},
            {"cell:\n  robot: {preset: ur10e}\n  table: {speed: 0}\n",
@@ -195,6 +200,37 @@ TEST(Cycle, SpecSetsEveryFigureOfTheCycle) {
     test::writeText(path, text);
     EXPECT_PRED2(test::contains, test::inputError(path, [&] { loadSpec(path); }), reason) << text;
   }
+}
+
+// NIST FTC 11 planned in both its rest orientations: the part is turned over by hand once
+// between the two runs, and the cycle counts cycle.turn_over for it. With 45 s the plan is
+// the same and its cycle 45 s longer, the second setup's views on the curve too; plan.json
+// keeps the turn.
+TEST(Cycle, TurningThePartOverBetweenSetupsCountsItsSeconds) {
+  const Part part = importPart(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  Spec spec = defaultSpec();
+  spec.rest_all = true;
+  const PlanningOptions alone{.registration = false};
+  const Plan free = planViews(part, spec, alone);
+  spec.cycle.turn_over = 45;
+  const Plan turned = planViews(part, spec, alone);
+  ASSERT_EQ(turned.orientations.size(), 2u);
+  ASSERT_TRUE(free.cycle && turned.cycle);
+  EXPECT_EQ(turned.views.size(), free.views.size());
+  EXPECT_EQ(turned.cycle->turns, 1u);
+  EXPECT_EQ(free.cycle->turning, 0);
+  EXPECT_NEAR(turned.cycle->total(), free.cycle->total() + 45, 1e-9);
+  const std::size_t first = turned.orientations[0].views.size();
+  ASSERT_EQ(turned.cycle->by_views.size(), turned.views.size());
+  for (std::size_t k = 0; k < turned.views.size(); ++k)
+    EXPECT_NEAR(turned.cycle->by_views[k], free.cycle->by_views[k] + (k < first ? 0 : 45), 1e-9)
+        << "view " << k + 1;
+  test::TempDir dir;
+  writePlan(turned, dir.file("plan.json"));
+  const Plan read = readPlan(dir.file("plan.json"));
+  ASSERT_TRUE(read.cycle);
+  EXPECT_EQ(read.cycle->turns, 1u);
+  EXPECT_NEAR(read.cycle->total(), turned.cycle->total(), 1e-9);
 }
 
 }  // namespace

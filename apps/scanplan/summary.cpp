@@ -176,6 +176,9 @@ void printPlanSummary(const Plan& plan, const Part& part) {
         "handshakes {:.1f} ({})\n",
         "cycle time", c.total(), c.acquisition, c.motion, c.table, c.other,
         c.model == "cell" ? "the robot program" : "generic positioning, no cell");
+    if (c.turns > 0)
+      fmt::print("{:<22} {:.1f} s: the part turned over by hand {} time{} (cycle.turn_over)\n", "",
+                 c.turning, c.turns, c.turns == 1 ? "" : "s");
   }
 }
 

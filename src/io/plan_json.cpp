@@ -245,6 +245,10 @@ json cycleJson(const CycleTime& c) {
                  {"views", c.views},   {"acquisition", c.acquisition},
                  {"motion", c.motion}, {"table", c.table},
                  {"other", c.other}};
+  if (c.turns > 0) {
+    result["turns"] = c.turns;
+    result["turning"] = c.turning;
+  }
   if (!c.by_views.empty()) result["by_views"] = c.by_views;
   return result;
 }
@@ -938,10 +942,12 @@ struct PlanReader {
     if (c.model != "cell" && c.model != "generic")
       throw InputError(path, where + ": unknown model '" + c.model + "'");
     c.views = field<std::size_t>(entry, "views", path, where);
-    double* parts[] = {&c.acquisition, &c.motion, &c.table, &c.other};
-    const char* names[] = {"acquisition", "motion", "table", "other"};
-    for (int k = 0; k < 4; ++k) {
-      *parts[k] = field<double>(entry, names[k], path, where);
+    c.turns = fieldOr(entry, "turns", std::size_t{0}, path, where);
+    double* parts[] = {&c.acquisition, &c.motion, &c.table, &c.other, &c.turning};
+    const char* names[] = {"acquisition", "motion", "table", "other", "turning"};
+    for (int k = 0; k < 5; ++k) {
+      *parts[k] = k < 4 ? field<double>(entry, names[k], path, where)
+                        : fieldOr(entry, names[k], 0.0, path, where);
       if (!(*parts[k] >= 0 && std::isfinite(*parts[k])))
         throw InputError(path, where + ": '" + names[k] + "' is not a number of seconds");
     }
@@ -1113,10 +1119,10 @@ void checkSectionKeys(const json& root, const std::string& path) {
        "cycle", "coverage_by_views", "measured_area", "capable_by_views"},
       path, "summary");
   // clang-format on
-  detail::refuseUnknownKeys(
-      objectAt(objectAt(root, "summary"), "cycle"),
-      {"model", "seconds", "views", "acquisition", "motion", "table", "other", "by_views"}, path,
-      "summary cycle");
+  detail::refuseUnknownKeys(objectAt(objectAt(root, "summary"), "cycle"),
+                            {"model", "seconds", "views", "acquisition", "motion", "table", "other",
+                             "turns", "turning", "by_views"},
+                            path, "summary cycle");
   detail::refuseUnknownKeys(objectAt(root, "registration"),
                             {"method", "required", "aligned_as_taken", "reference", "markers",
                              "pairs", "verified", "robot_accuracy", "proposed_markers"},

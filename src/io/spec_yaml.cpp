@@ -331,12 +331,13 @@ void checkKeys(const YAML::Node& node, const std::set<std::string>& allowed,
 }
 
 CycleSettings readCycle(const YAML::Node& node, const SpecReader& reader) {
-  checkKeys(node, {"settle", "handshake", "speed", "acceleration"}, reader, "cycle");
+  checkKeys(node, {"settle", "handshake", "speed", "acceleration", "turn_over"}, reader, "cycle");
   CycleSettings c;
   reader.read(node, "cycle", "settle", c.settle);
   reader.read(node, "cycle", "handshake", c.handshake);
   reader.read(node, "cycle", "speed", c.speed);
   reader.read(node, "cycle", "acceleration", c.acceleration);
+  reader.read(node, "cycle", "turn_over", c.turn_over);
   validate(c, reader.path());
   return c;
 }

@@ -656,8 +656,9 @@ void appendMotion(Plan& merged, const CellMotion& motion, int offset) {
 }
 
 // Appends `part` (planned in a later rest orientation) to `merged`: its views, registration,
-// sequence and sweeps with ids shifted past merged's, and the samples it measures.
-void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
+// sequence and sweeps with ids shifted past merged's, and the samples it measures; its run
+// after the part is turned over by hand (`turn_over` seconds), where merged has views.
+void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest, double turn_over) {
   const int offset = static_cast<int>(merged.views.size());
   auto shift = [&](int& id) {
     if (id > 0) id += offset;
@@ -692,6 +693,10 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest) {
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
   if (part.cell_motion) appendMotion(merged, *part.cell_motion, offset);
   if (part.cycle) {
+    if (merged.cycle && merged.cycle->views > 0) {
+      ++merged.cycle->turns;
+      merged.cycle->turning += turn_over;
+    }
     if (merged.cycle)
       *merged.cycle += *part.cycle;
     else
@@ -746,7 +751,7 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
       if (plan.registration) merged.registration = Registration{};
       if (plan.sequence) merged.sequence = Sequence{};
     }
-    mergeOrientation(merged, std::move(plan), rests[k]);
+    mergeOrientation(merged, std::move(plan), rests[k], spec.spec.cycle.turn_over);
   }
   joinSetups(merged, registrationOptions(spec.spec));
   return merged;

@@ -15,6 +15,7 @@ void validate(const CycleSettings& c, const std::string& source) {
   within(c.handshake, 0, 60, "handshake must lie within [0, 60] s");
   within(c.speed, 1, 10000, "speed must lie within [1, 10000] mm/s");
   within(c.acceleration, 1, 100000, "acceleration must lie within [1, 100000] mm/s²");
+  within(c.turn_over, 0, 3600, "turn_over must lie within [0, 3600] s");
 }
 
 CycleTime& CycleTime::operator+=(const CycleTime& more) {
@@ -29,6 +30,8 @@ CycleTime& CycleTime::operator+=(const CycleTime& more) {
   motion += more.motion;
   table += more.table;
   other += more.other;
+  turns += more.turns;
+  turning += more.turning;
   return *this;
 }
 

@@ -398,6 +398,7 @@ if (summary.cycle) {
   summaryRows.push(['cycle time', `${fmt(c.seconds)} s (${c.model === 'cell' ? 'the robot program' : 'generic positioning, no cell'})`],
     ['  acquisition', `${fmt(c.acquisition)} s over ${c.views} views`], ['  motion', `${fmt(c.motion)} s`],
     ['  table', `${fmt(c.table)} s`], ['  settling and handshakes', `${fmt(c.other)} s`]);
+  if (c.turns) summaryRows.push(['  turning the part over by hand', `${fmt(c.turning)} s, ${c.turns} time${c.turns === 1 ? '' : 's'}`]);
 }
 if (summary.sweep_views !== undefined) summaryRows.push(['sweep views', summary.sweep_views]);
 summaryRows.push(['planning time', `${fmt(summary.seconds, 2)} s`]);

@@ -20,11 +20,12 @@ struct CycleSettings {
   double handshake = 0.2;     // s from the end of the acquisition to the next move
   double speed = 250;         // generic positioning: the scanner's top speed, mm/s
   double acceleration = 500;  // and its acceleration, mm/s²
+  double turn_over = 0;       // s to turn the part over by hand between two setups
 };
 
 // \throw InputError naming `source` and the key when a value is out of range: settle and
 // handshake within [0, 60] s, speed within [1, 10000] mm/s, acceleration within
-// [1, 100000] mm/s².
+// [1, 100000] mm/s², turn_over within [0, 3600] s.
 void validate(const CycleSettings& settings, const std::string& source);
 
 // A run of the plan, seconds, split by what the cell does.
@@ -35,13 +36,15 @@ struct CycleTime {
   double motion = 0;       // moving between views (home, approaches, vias included)
   double table = 0;        // the moves the table's turn makes longer than the arm's
   double other = 0;        // settling and handshakes, over all views
+  std::size_t turns = 0;   // turns of the part by hand between setups (rest orientations)
+  double turning = 0;      // and their seconds (cycle.turn_over each)
   // The estimated cycle of the plan's first k views (in its numbering, by marginal
   // coverage), k = 1..views: their time at the views and the moves of a path through
   // them (cheapest insertion). Empty when not estimated.
   std::vector<double> by_views;
-  double total() const { return acquisition + motion + table + other; }
+  double total() const { return acquisition + motion + table + other + turning; }
   // Another run after this one (a later rest orientation): the parts add up, and its
-  // curve continues this one's.
+  // curve continues this one's. The turn of the part between them is added apart.
   CycleTime& operator+=(const CycleTime& more);
 };
 
