@@ -126,6 +126,17 @@ TEST(Cli, BadUsageIsExitCodeOne) {
   EXPECT_EQ(r.code, 1);
   EXPECT_PRED2(test::contains, r.out, "--coverage: must be a share within (0, 1]");
   EXPECT_FALSE(std::filesystem::exists("never-written"));
+  // A number out of its option's range is named in one short line, its range in it.
+  for (const std::string bad : {"export p.json --format rapid --setup 0 -o x.mod",
+                                "export p.json --format clouds-ply --spacing -1 -o x.ply",
+                                "inspect p.json x.stp --spacing 0", "inspect p.json x.stp --runs 1",
+                                "--threads 0 info x.step"}) {
+    const CommandResult refused = run(bad);
+    EXPECT_EQ(refused.code, 1) << bad;
+    const std::string line = refused.out.substr(0, refused.out.find('\n'));
+    EXPECT_LT(line.size(), 100u) << bad << ": " << line;
+    EXPECT_PRED2(test::contains, line, "not in range") << bad;
+  }
   // Markers are placed for one rest orientation: refused before the part is planned.
   const CommandResult every =
       run("plan " + part + " --rest all --place-markers -o never-written -q");

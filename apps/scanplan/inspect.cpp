@@ -156,7 +156,7 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
           "--spacing", options->spacing,
           "Simulated points' spacing at the standoff, mm (default planner.evaluation_spacing, "
           "or fov_height / 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(0.01, 100.0));
   command
       ->add_option("--icp", options->icp,
                    "Views registered by ICP: drawn from the capability model's covariance "

@@ -310,12 +310,12 @@ void addExportCommand(CLI::App& app, const GlobalOptions& global, Action& select
       ->add_option("--setup", options->setup,
                    "Robot programs of a plan over several rest orientations: the setup to write "
                    "(1 to N), each a program of its own, the part turned by hand between them")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 10000));
   command
       ->add_option("--spacing", options->spacing,
                    "clouds-ply: mm between the camera rays of each view (default 1; 0: the "
                    "scanner's point spacing, which makes files of gigabytes for large plans)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 100.0));
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return runExport(*options, global); };
   });
