@@ -1372,6 +1372,13 @@ TEST(Cli, RestOverridesTheSpecsPlacement) {
   r = run("-q plan " + part + " --rest 999 -o " + dir.file("bad"));
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("unknown face id 999"), std::string::npos) << r.out;
+  // A face the part cannot stand on (FTC 11's face 3 is curved) is named as --rest gave it,
+  // also beside a spec that says nothing of it.
+  for (const std::string& spec : {std::string(), " --spec " + dir.file("all.yaml")}) {
+    r = run("-q plan " + part + spec + " --rest 3 -o " + dir.file("bad"));
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(r.out.rfind("error: --rest: face 3 is not flat", 0), 0u) << r.out;
+  }
 }
 
 // --aim characteristics: planned for its GD&T alone (gdt: from-file leaves the dimensioned

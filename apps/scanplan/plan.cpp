@@ -6,6 +6,7 @@
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/cad/localization.h>
 #include <scanplan/core/atomic_file.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
@@ -155,6 +156,8 @@ int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   applyOptions(spec, options);
   const Part part = importWithWarnings(options.part, {}, progress);
+  // --rest FACE is checked here, so that a face the part cannot stand on is named as given.
+  if (!options.rest.empty() && spec.rest_face) restOnFace(part, spec.rest_face, "", "--rest");
   PlanningOptions planning;
   planning.registration = !options.no_registration;
   Plan plan = planViews(part, spec, planning, progress);

@@ -140,9 +140,10 @@ std::vector<RestOrientation> restOrientations(const Part& part) {
   return result;
 }
 
-RestOrientation restOnFace(const Part& part, int face_id, const std::string& source) {
+RestOrientation restOnFace(const Part& part, int face_id, const std::string& source,
+                           const std::string& key) {
   const Face& face = part.face(face_id);
-  const std::string name = "part.rest: face " + std::to_string(face_id);
+  const std::string name = key + ": face " + std::to_string(face_id);
   Vec3 normal = Vec3::Zero();
   for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
     const Vec3 n = part.mesh.normal(t);

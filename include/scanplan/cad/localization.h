@@ -31,8 +31,9 @@ Vec3 centreOfMass(const Part& part);
 std::vector<RestOrientation> restOrientations(const Part& part);
 
 // The rest orientation in which the part stands on face `face` (a flat face lying in the
-// hull face it rests on). \throw InputError naming `source` for an unknown, curved or
-// unstable face.
-RestOrientation restOnFace(const Part& part, int face, const std::string& source);
+// hull face it rests on). \throw InputError naming `source` and `key`, where the face was
+// given, for an unknown, curved or unstable face.
+RestOrientation restOnFace(const Part& part, int face, const std::string& source,
+                           const std::string& key = "part.rest");
 
 }  // namespace scanplan
