@@ -692,15 +692,14 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest, doub
   merged.cell = part.cell;
   merged.cell_poses.insert(merged.cell_poses.end(), part.cell_poses.begin(), part.cell_poses.end());
   if (part.cell_motion) appendMotion(merged, *part.cell_motion, offset);
-  if (part.cycle) {
-    if (merged.cycle && merged.cycle->views > 0) {
+  if (part.cycle && !merged.cycle) {
+    merged.cycle = part.cycle;
+  } else if (part.cycle) {
+    if (merged.cycle->views > 0) {  // the part turned over by hand since the last setup
       ++merged.cycle->turns;
       merged.cycle->turning += turn_over;
     }
-    if (merged.cycle)
-      *merged.cycle += *part.cycle;
-    else
-      merged.cycle = part.cycle;
+    *merged.cycle += *part.cycle;
   }
   for (Sweep& sweep : part.sweeps) {
     for (int& id : sweep.views) shift(id);

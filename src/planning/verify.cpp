@@ -113,9 +113,8 @@ void checkSequence(const Simulator& simulator, const Plan& plan, const std::vect
       follows = confirmable[v][order[j]] && icpPasses(v, order[j]);
     check.sequence_breaks += !follows;
   }
-  again.sequence.emplace();
-  if (views.empty()) return;  // a setup without views (the first of several may have none)
   const Eigen::MatrixXd cost = shortestPaths(directCosts(simulator, views));
+  again.sequence.emplace();
   for (int k : order) again.sequence->views.push_back(views[k].id);
   again.sequence->length = pathLength(cost, order);
   again.sequence->nearest_neighbour_length =

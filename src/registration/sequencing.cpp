@@ -155,6 +155,7 @@ std::size_t violations(const std::vector<std::vector<char>>& linked,
 std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
                                        const std::vector<std::vector<char>>& linked, int start) {
   const auto n = static_cast<int>(cost.rows());
+  if (n == 0) return {};
   std::vector<int> order{start};
   std::vector<char> visited(static_cast<std::size_t>(n), 0), reachable(visited);
   visited[start] = 1;

@@ -51,7 +51,8 @@ std::vector<double> insertionPathLengths(const Eigen::MatrixXd& cost);
 double pathLength(const Eigen::MatrixXd& cost, std::span<const int> order);
 
 // Nearest-neighbour order of all nodes from `start`, each node taken, when one can be, among
-// those that may follow a node already visited (linked[i][j] != 0: i may follow j).
+// those that may follow a node already visited (linked[i][j] != 0: i may follow j); empty
+// without nodes.
 std::vector<int> nearestNeighbourOrder(const Eigen::MatrixXd& cost,
                                        const std::vector<std::vector<char>>& linked, int start);
 
