@@ -1,5 +1,6 @@
 // The Python module `scanplan` (pybind11, docs/python.md): read a part, make or read a
-// spec, plan, simulate, verify, and write the plan and its report. Points, normals and
+// spec, plan, simulate, verify, inspect, and write the plan, its report and its robot
+// programs. Points, normals and
 // poses come as numpy arrays; errors as exceptions of the exit codes' classes; planning
 // runs with the GIL released and reports progress to an optional callback.
 
@@ -8,11 +9,16 @@
 #include "study.h"
 
 #include <scanplan/cad/import.h>
+#include <scanplan/core/errors.h>
 #include <scanplan/core/version.h>
+#include <scanplan/io/inspection_files.h>
 #include <scanplan/io/plan_json.h>
 #include <scanplan/io/spec_yaml.h>
 #include <scanplan/planning.h>
+#include <scanplan/planning/inspection.h>
 #include <scanplan/report/report.h>
+#include <scanplan/robot/motion.h>
+#include <scanplan/robot/program.h>
 #include <scanplan/scanner/simulation.h>
 #include <scanplan/spec/spec.h>
 
@@ -20,6 +26,7 @@
 #include <pybind11/stl.h>
 
 #include <exception>
+#include <filesystem>
 
 namespace py = pybind11;
 using namespace py::literals;
@@ -56,13 +63,18 @@ class Callback {
   std::exception_ptr error_;
 };
 
-// A spec from None (the default), a dict (read as JSON, which is YAML too) or a Spec.
+// `value` as JSON text, which is YAML too.
+std::string jsonText(const py::object& value) {
+  return py::module_::import("json").attr("dumps")(value).cast<std::string>();
+}
+
+// A spec from None (the default), a dict shaped as the YAML file, or a Spec.
 Spec specOf(const py::object& spec) {
   if (spec.is_none()) return defaultSpec();
-  if (py::isinstance<py::dict>(spec)) {
-    const std::string text = py::module_::import("json").attr("dumps")(spec).cast<std::string>();
-    return specFromText(text, "<dict>");
-  }
+  if (py::isinstance<py::dict>(spec)) return specFromText(jsonText(spec), "<dict>");
+  if (!py::isinstance<Spec>(spec))
+    throw py::type_error("spec: expected a scanplan.Spec, a dict or None, not " +
+                         py::str(py::type::of(spec).attr("__name__")).cast<std::string>());
   return spec.cast<Spec>();
 }
 
@@ -145,6 +157,64 @@ py::dict verify(const Plan& plan, const Part& part, const py::object& spec,
                   "sequence_breaks"_a = check.sequence_breaks,
                   "unregistered"_a = check.unregistered,
                   "registration_required"_a = check.registration_required);
+}
+
+// The deviations of the simulated part: None, a deviations file's path, or its list of
+// dicts ({"faces": [ids], "offset": mm}, ...).
+std::vector<Deviation> deviationsOf(const py::object& deviations) {
+  if (deviations.is_none()) return {};
+  if (py::isinstance<py::str>(deviations)) return loadDeviations(deviations.cast<std::string>());
+  return deviationsFromText(jsonText(py::dict("deviations"_a = deviations)), "<deviations>");
+}
+
+// A virtual inspection of the plan: inspection.json as Python objects.
+py::object inspect(const Plan& plan, const Part& part, const py::object& spec,
+                   const std::optional<int>& runs, double precision, double spacing,
+                   const std::string& icp, const py::object& deviations, std::uint64_t seed,
+                   const py::object& progress) {
+  const Spec resolved = specOf(spec);
+  InspectionOptions options;
+  options.runs = runs.value_or(precision > 0 ? kMostPreciseRuns : options.runs);
+  options.precision = precision;
+  options.spacing = spacing;
+  options.seed = seed;
+  if (icp != "drawn" && icp != "registered")
+    throw UsageError("icp", "'" + icp + "': expected drawn or registered");
+  options.icp = icp == "registered" ? InspectionOptions::IcpLinks::Registered
+                                    : InspectionOptions::IcpLinks::Drawn;
+  options.deviations = deviationsOf(deviations);
+  Callback callback(progress);
+  Inspection result;
+  {
+    py::gil_scoped_release release;
+    result = inspectPlan(part, resolveSpec(part, resolved), plan, options, callback.progress());
+  }
+  callback.raiseIfFailed();
+  return toPython(inspectionJson(result, plan));
+}
+
+// Writes the plan's robot program (export's formats: krl, rapid, fanuc, urscript, json) and
+// says what it holds.
+py::dict writeProgramFile(const Plan& plan, const Part& part, const std::string& path,
+                          const std::string& format, const py::object& spec, std::size_t setup,
+                          bool allow_collisions) {
+  checkProgramLanguage(format);
+  const Spec resolved = specOf(spec);
+  RobotProgram program;
+  {
+    py::gil_scoped_release release;
+    const ProgramRequest request{std::filesystem::path(path).stem().string(), setup,
+                                 "plan of " + plan.part_file, "setup"};
+    program = planProgram(plan, part, resolveSpec(part, resolved), request);
+    checkClearMoves(program, allow_collisions, path);
+    writeRobotProgram(program, format, path);
+  }
+  std::vector<int> views;
+  for (const ProgramStep& step : program.steps) views.push_back(step.view);
+  std::vector<std::string> uncleared;
+  for (const RobotMove& move : program.uncleared) uncleared.push_back(toString(move));
+  return py::dict("views"_a = views, "unreached"_a = program.unreached, "uncleared"_a = uncleared,
+                  "seconds"_a = programSeconds(program));
 }
 
 void writeReportFile(const Plan& plan, const Part& part, const std::string& path,
@@ -263,6 +333,15 @@ void bindFunctions(py::module_& m) {
   m.def("read_plan", &readPlan, "path"_a, "Reads a plan.json");
   m.def("write_report", &writeReportFile, "plan"_a, "part"_a, "path"_a, "spec"_a = py::none(),
         "progress"_a = py::none(), "Writes the 3D HTML report of the plan");
+  m.def("inspect", &inspect, "plan"_a, "part"_a, "spec"_a = py::none(), "runs"_a = py::none(),
+        "precision"_a = 0.0, "spacing"_a = 0.0, "icp"_a = "drawn", "deviations"_a = py::none(),
+        "seed"_a = 1, "progress"_a = py::none(),
+        "Inspects the plan virtually: each characteristic over Monte Carlo runs of its scans "
+        "(inspection.json as a dict)");
+  m.def("write_program", &writeProgramFile, "plan"_a, "part"_a, "path"_a, "format"_a,
+        "spec"_a = py::none(), "setup"_a = 0, "allow_collisions"_a = false,
+        "Writes the plan's robot program (krl, rapid, fanuc, urscript or json) in the spec's "
+        "cell, else the plan's; setup: 1 to N for a plan over several rest orientations");
   m.def("scanner_presets", &scannerPresetNames, "The scanner presets' names");
 }
 

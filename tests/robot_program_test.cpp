@@ -737,6 +737,26 @@ TEST(RobotProgram, KrlIsNamedAsItsFileOrRefused) {
   }
 }
 
+// A format none of the controllers runs is refused, not written as another: robot-json (the
+// command's name for the program as JSON) and a misspelling alike.
+TEST(RobotProgram, AFormatNoControllerRunsIsRefusedAndNothingWritten) {
+  test::TempDir dir;
+  const RobotProgram p = withRobot(program(), "abb-irb4600-60-205");
+  for (const std::string format : {"robot-json", "RAPID", "gcode", ""}) {
+    const std::string path = dir.file("scan.mod");
+    try {
+      writeRobotProgram(p, format, path);
+      ADD_FAILURE() << "'" << format << "' was accepted";
+    } catch (const UsageError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                "format: '" + format + "': expected krl, rapid, fanuc, urscript or json");
+    }
+    EXPECT_FALSE(std::filesystem::exists(path)) << format;
+  }
+  writeRobotProgram(p, "rapid", dir.file("scan.mod"));
+  EXPECT_TRUE(std::filesystem::exists(dir.file("scan.mod")));
+}
+
 // KRL numbers its inputs and outputs from 1; the view number's 16 outputs from
 // cell.signals.view must not hold the trigger. Both refused naming the signal.
 TEST(RobotProgram, KrlSignalsStartAtOneAndTheTriggerLiesOutsideTheViewNumber) {

@@ -22,9 +22,6 @@
 namespace scanplan::cli {
 namespace {
 
-// The most runs of an inspection run until precise, unless --runs says.
-constexpr int kMostRuns = 1000;
-
 struct Options {
   std::string plan;
   std::string part;
@@ -98,7 +95,7 @@ int run(const Options& options, const GlobalOptions& global) {
   const Plan plan = readPlan(options.plan);
   const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
   InspectionOptions inspection;
-  inspection.runs = options.precision > 0 && !options.runs_given ? kMostRuns : options.runs;
+  inspection.runs = options.precision > 0 && !options.runs_given ? kMostPreciseRuns : options.runs;
   inspection.precision = options.precision;
   inspection.spacing = options.spacing;
   inspection.icp = options.icp;
@@ -142,7 +139,7 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
           ->add_option("--runs", options->runs,
                        fmt::format("Monte Carlo runs (default 20; with --precision, the most, "
                                    "default {})",
-                                   kMostRuns))
+                                   kMostPreciseRuns))
           ->check(CLI::Range(2, 10000));
   command
       ->add_option("--precision", options->precision,

@@ -138,45 +138,12 @@ bool programFormat(const std::string& format) {
          format == "robot-json";
 }
 
-// The plan a robot program is written for: the plan, or of a plan over several rest
-// orientations, the setup --setup names: each setup is a program of its own, the part
-// turned by hand between them.
-Plan programPlan(const Plan& plan, std::size_t setup) {
-  const std::size_t setups = std::max<std::size_t>(1, plan.orientations.size());
-  if (setup == 0 && setups > 1)
-    throw UsageError("--setup", "the plan turns the part into " + std::to_string(setups) +
-                                    " rest orientations, each a program of its own: name one, "
-                                    "1 to " +
-                                    std::to_string(setups));
-  if (setup > setups)
-    throw UsageError("--setup", "the plan has " + std::to_string(setups) + " setup" +
-                                    (setups == 1 ? "" : "s") + ", not " + std::to_string(setup));
-  return setups == 1 ? plan : setupPlan(plan, setup - 1);
-}
-
 // The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
 void writeProgram(const Checked& c, const ExportCommand& options) {
-  const Plan plan = programPlan(c.plan, options.setup);
-  const std::optional<Cell>& cell = c.spec.spec.cell ? c.spec.spec.cell : plan.cell;
-  if (!cell)
-    throw InputError(options.input.spec.empty() ? options.input.plan : options.input.spec,
-                     "robot programs need the cell: the plan carries none (made without one, "
-                     "or with link meshes); give a spec with cell.robot (--spec)");
   // KRL wants the program named as its file.
-  const std::string name = std::filesystem::path(options.out).stem().string();
-  const SimulationOptions placed = simulationOptionsFor(c.spec, c.part, plan.part_to_world);
-  const CellCollisions collisions(*cell, plan.scanner.body(), c.part.mesh, plan.part_to_world,
-                                  placed.fixtures, placed.working_plane, cell->clearance);
-  // The plan's joints in its own cell; in the spec's, those cellPoses chooses there.
-  const std::vector<std::optional<CellPose>> poses =
-      c.spec.spec.cell ? cellPoses(*cell, plan.views, visitingOrder(plan), &collisions)
-                       : plan.cell_poses;
-  const std::string source =
-      options.input.plan + (c.plan.orientations.size() > 1
-                                ? ", setup " + std::to_string(options.setup) + " of " +
-                                      std::to_string(c.plan.orientations.size())
-                                : "");
-  const RobotProgram program = safeProgram(plan, *cell, collisions, poses, name, source);
+  const ProgramRequest request{std::filesystem::path(options.out).stem().string(), options.setup,
+                               options.input.plan, "--setup"};
+  const RobotProgram program = planProgram(c.plan, c.part, c.spec, request);
   checkClearMoves(program, options.allow_collisions, options.out);
   const std::string language = options.format == "robot-json" ? "json" : options.format;
   writeRobotProgram(program, language, options.out);

@@ -134,6 +134,83 @@ def test_bad_input_raises_the_exit_codes_class(tmp_path):
     with pytest.raises(scanplan.InputError, match="not a rigid motion"):
         part = scanplan.import_part(PART)
         scanplan.simulate(part, scanplan.plan(part, registration=False), views=np.zeros((1, 4, 4)))
+    with pytest.raises(TypeError, match="spec: expected a scanplan.Spec, a dict or None, not int"):
+        scanplan.plan(part, 5)
+
+
+MARKED = {"gdt": "from-file", "markers": {"grid": 30, "on": "both"}, "tasks": [{"type": "gdt"}]}
+
+
+def by_id(inspection):
+    return {c["id"]: c for c in inspection["characteristics"]}
+
+
+def test_a_bore_made_larger_inspects_larger_by_as_much(part, tmp_path):
+    """FTC 11's GD&T, its views registered by markers, inspected virtually: with the 32 mm
+    bore (face 4) made 0.2 mm larger, the bore measures 0.2 mm larger within its U and
+    nothing else changes; and the inspection is the one `scanplan inspect` makes of the plan
+    written, the deviations given as a file."""
+    plan = scanplan.plan(part, MARKED)
+    bore = next(c["id"] for c in plan.to_json()["characteristics"]
+                if c["kind"] == "diameter" and c["faces"] == [4])
+    as_made = by_id(scanplan.inspect(plan, part, spec=MARKED, runs=5))
+    deviations = [{"faces": [4], "diameter": 0.2}]
+    larger = scanplan.inspect(plan, part, spec=MARKED, runs=5, deviations=deviations)
+    made, grown = as_made[bore], by_id(larger)[bore]
+    assert made["evaluated"] and made["true_value"] == pytest.approx(32)
+    assert grown["true_value"] == pytest.approx(32.2)
+    assert abs(grown["mean"] - 32.2) <= grown["uncertainty"]
+    assert grown["mean"] - made["mean"] == pytest.approx(0.2, abs=1e-3)
+    for k, c in by_id(larger).items():
+        if k != bore and c["evaluated"]:
+            assert c["mean"] == pytest.approx(as_made[k]["mean"], abs=1e-6)
+
+    (tmp_path / "spec.yaml").write_text(json.dumps(MARKED))
+    (tmp_path / "deviations.yaml").write_text(json.dumps({"deviations": deviations}))
+    scanplan.write_plan(plan, str(tmp_path / "plan.json"))
+    subprocess.run([os.environ["SCANPLAN_CLI"], "-q", "inspect", str(tmp_path / "plan.json"),
+                    PART, "--spec", str(tmp_path / "spec.yaml"), "--runs", "5", "--deviations",
+                    str(tmp_path / "deviations.yaml")], check=True, stdout=subprocess.DEVNULL)
+    with open(tmp_path / "inspection.json") as f:
+        assert json.load(f) == larger
+    with pytest.raises(scanplan.InputError, match="deviation 1: the part has no face 99"):
+        scanplan.inspect(plan, part, deviations=[{"faces": [99], "offset": 0.1}])
+    with pytest.raises(scanplan.UsageError, match="expected drawn or registered"):
+        scanplan.inspect(plan, part, icp="both")
+
+
+def test_each_setup_s_robot_program_is_the_one_the_command_line_exports(part, tmp_path):
+    """FTC 11 in both its rest orientations in an ABB cell: each setup's RAPID program written
+    from Python is the one `scanplan export --setup K` writes from the plan file, but for the
+    line naming where it comes from; a plan of two setups without one named, a setup it does
+    not have, and a format no controller runs are refused, and nothing is written."""
+    spec = {"part": {"rest": "all"}, "tasks": [{"type": "global"}],
+            "cell": {"robot": {"preset": "abb-irb4600-60-205", "base": {"position": [-1000, 0, 0]}},
+                     "mount": {"position": [0, 0, 150]}}}
+    plan = scanplan.plan(part, spec)
+    setups = plan.to_json()["orientations"]
+    assert len(setups) == 2
+    scanplan.write_plan(plan, str(tmp_path / "plan.json"))
+    for k, setup in enumerate(setups, start=1):
+        mine, theirs = tmp_path / f"py{k}.mod", tmp_path / f"cli{k}.mod"
+        made = scanplan.write_program(plan, part, str(mine), "rapid", setup=k)
+        assert sorted(made["views"]) == sorted(setup["views"])
+        assert made["unreached"] == [] and made["uncleared"] == [] and made["seconds"] > 0
+        subprocess.run([os.environ["SCANPLAN_CLI"], "-q", "export", str(tmp_path / "plan.json"),
+                        PART, "--format", "rapid", "--setup", str(k), "-o", str(theirs)],
+                       check=True, stdout=subprocess.DEVNULL)
+        lines = [f.read_text().replace(f"cli{k}", f"py{k}").splitlines() for f in (theirs, mine)]
+        assert len(lines[0]) == len(lines[1]) > 10
+        differ = [a for a, b in zip(*lines) if a != b]
+        assert len(differ) == 1 and "from" in differ[0] and f"setup {k} of 2" in differ[0]
+    refused = tmp_path / "refused.mod"
+    with pytest.raises(scanplan.UsageError, match="2 rest orientations, each a program"):
+        scanplan.write_program(plan, part, str(refused), "rapid")
+    with pytest.raises(scanplan.UsageError, match="the plan has 2 setups, not 3"):
+        scanplan.write_program(plan, part, str(refused), "rapid", setup=3)
+    with pytest.raises(scanplan.UsageError, match="expected krl, rapid, fanuc, urscript or json"):
+        scanplan.write_program(plan, part, str(refused), "gcode", setup=1)
+    assert not refused.exists()
 
 
 def test_a_spec_from_a_dict_and_progress(part):

@@ -163,22 +163,26 @@ Inspection readInspection(const std::string& path, const Plan& plan) {
   return inspection;
 }
 
-std::vector<Deviation> loadDeviations(const std::string& path) {
-  requireInputFile(path);
-  std::ifstream in(path, std::ios::binary);
+std::vector<Deviation> deviationsFromText(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
-    root = loadOneDocument({std::istreambuf_iterator<char>(in), {}}, path, "a deviations file");
+    root = loadOneDocument(text, source, "a deviations file");
   } catch (const YAML::Exception& e) {
-    throw InputError(path, "not valid YAML: " + std::string(e.what()));
+    throw InputError(source, "not valid YAML: " + std::string(e.what()));
   }
   const YAML::Node list = root.IsMap() ? root["deviations"] : YAML::Node();
   if (!list || !list.IsSequence())
-    throw InputError(path, "no 'deviations:' list of {faces, offset | bow | move | diameter}");
+    throw InputError(source, "no 'deviations:' list of {faces, offset | bow | move | diameter}");
   std::vector<Deviation> result;
   for (std::size_t k = 0; k < list.size(); ++k)
-    result.push_back(deviationOf(list[k], path, "deviation " + std::to_string(k + 1)));
+    result.push_back(deviationOf(list[k], source, "deviation " + std::to_string(k + 1)));
   return result;
+}
+
+std::vector<Deviation> loadDeviations(const std::string& path) {
+  requireInputFile(path);
+  std::ifstream in(path, std::ios::binary);
+  return deviationsFromText({std::istreambuf_iterator<char>(in), {}}, path);
 }
 
 nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan) {

@@ -1,6 +1,8 @@
 // A plan's views as the robot's steps, in visiting order.
 
+#include <scanplan/core/errors.h>
 #include <scanplan/planning/cell_poses.h>
+#include <scanplan/planning/planner.h>
 #include <scanplan/planning/robot_steps.h>
 #include <scanplan/robot/kinematics.h>
 #include <scanplan/robot/motion.h>
@@ -17,6 +19,20 @@ std::map<int, std::size_t> viewIndex(const Plan& plan) {
   std::map<int, std::size_t> index;
   for (std::size_t i = 0; i < plan.views.size(); ++i) index[plan.views[i].id] = i;
   return index;
+}
+
+// The plan a program is written for: the plan, or the setup `setup` (1 to N) of a plan over
+// several rest orientations.
+Plan programPlan(const Plan& plan, std::size_t setup, const std::string& key) {
+  const std::size_t setups = std::max<std::size_t>(1, plan.orientations.size());
+  if (setup == 0 && setups > 1)
+    throw UsageError(key, "the plan turns the part into " + std::to_string(setups) +
+                              " rest orientations, each a program of its own: name one, 1 to " +
+                              std::to_string(setups));
+  if (setup > setups)
+    throw UsageError(key, "the plan has " + std::to_string(setups) + " setup" +
+                              (setups == 1 ? "" : "s") + ", not " + std::to_string(setup));
+  return setups == 1 ? plan : setupPlan(plan, setup - 1);
 }
 
 }  // namespace
@@ -64,6 +80,28 @@ RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollision
   RobotProgram program = robotProgram(plan, cell, poses, name, source);
   planMotion(program, collisions, viaLift(cell, plan.scanner));
   return program;
+}
+
+RobotProgram planProgram(const Plan& written, const Part& part, const ResolvedSpec& spec,
+                         const ProgramRequest& request) {
+  const Plan plan = programPlan(written, request.setup, request.setup_key);
+  const std::optional<Cell>& cell = spec.spec.cell ? spec.spec.cell : plan.cell;
+  if (!cell)
+    throw InputError(spec.spec.source.empty() ? request.plan_file : spec.spec.source,
+                     "robot programs need the cell: the plan carries none (made without one, "
+                     "or with link meshes); give a spec with cell.robot");
+  const SimulationOptions placed = simulationOptionsFor(spec, part, plan.part_to_world);
+  const CellCollisions collisions(*cell, plan.scanner.body(), part.mesh, plan.part_to_world,
+                                  placed.fixtures, placed.working_plane, cell->clearance);
+  const std::vector<std::optional<CellPose>> poses =
+      spec.spec.cell ? cellPoses(*cell, plan.views, visitingOrder(plan), &collisions)
+                     : plan.cell_poses;
+  const std::size_t setups = written.orientations.size();
+  const std::string source =
+      request.plan_file +
+      (setups > 1 ? ", setup " + std::to_string(request.setup) + " of " + std::to_string(setups)
+                  : "");
+  return safeProgram(plan, *cell, collisions, poses, request.name, source);
 }
 
 std::vector<int> viewsBehind(const std::vector<RobotMove>& uncleared) {

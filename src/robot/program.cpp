@@ -573,8 +573,16 @@ std::string programJson(const RobotProgram& p) {
   return root.dump(1) + "\n";
 }
 
+void checkProgramLanguage(std::string_view format) {
+  if (format != "krl" && format != "rapid" && format != "fanuc" && format != "urscript" &&
+      format != "json")
+    throw UsageError("format", "'" + commentText(std::string(format)) +
+                                   "': expected krl, rapid, fanuc, urscript or json");
+}
+
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path) {
+  checkProgramLanguage(format);
   const std::string stem = std::filesystem::path(path).stem().string();
   // KRL and FANUC run a program under its file's name.
   if ((format == "krl" || format == "fanuc") && stem != program.name) {

@@ -15,6 +15,8 @@ namespace scanplan {
 // `deviations:` a list of {faces: [ids], and one of offset: mm, bow: mm, move: [x, y, z],
 // diameter: mm}. \throw InputError naming `path` and the entry at fault.
 std::vector<Deviation> loadDeviations(const std::string& path);
+// The same read from `text`, errors naming `source`.
+std::vector<Deviation> deviationsFromText(const std::string& text, const std::string& source);
 
 // The inspection with each characteristic's kind, width and datums from `plan`.
 nlohmann::json inspectionJson(const Inspection& inspection, const Plan& plan);

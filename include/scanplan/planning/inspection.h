@@ -40,6 +40,8 @@ struct InspectionOptions {
 // Runs between the checks of InspectionOptions::precision, and the fewest it checks.
 inline constexpr int kPrecisionBatch = 10;
 inline constexpr int kLeastRuns = 20;
+// The most runs of an inspection run until precise, where the caller names no other.
+inline constexpr int kMostPreciseRuns = 1000;
 
 // U + |bias| of `values`, measured on a part of value `true_value`: twice their standard
 // deviation (k = 2) and their mean's distance from it.

@@ -97,8 +97,12 @@ std::string urScript(const RobotProgram& program);
 std::string fanucProgram(const RobotProgram& program);
 std::string programJson(const RobotProgram& program);
 
-// "krl", "rapid", "fanuc", "urscript" or "json". \throw UsageError (checkProgramFormat), or
-// OutputError when it cannot be written.
+// Refuses a format that is none of writeRobotProgram's. \throw UsageError naming "format".
+void checkProgramLanguage(std::string_view format);
+
+// "krl", "rapid", "fanuc", "urscript" or "json". \throw UsageError for another
+// (checkProgramLanguage), one the cell's robot does not run (checkProgramFormat), or a file
+// name the language cannot run; OutputError when it cannot be written.
 void writeRobotProgram(const RobotProgram& program, std::string_view format,
                        const std::string& path);
 
