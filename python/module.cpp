@@ -78,6 +78,11 @@ Spec specOf(const py::object& spec) {
   return spec.cast<Spec>();
 }
 
+// The spec of a call on `plan`: as specOf, but None is the spec the plan was made with.
+Spec specOf(const py::object& spec, const Plan& plan) {
+  return spec.is_none() ? planSpec(plan, "<plan>") : specOf(spec);
+}
+
 py::object toPython(const nlohmann::json& value) {
   return py::module_::import("json").attr("loads")(value.dump());
 }
@@ -114,7 +119,7 @@ Plan plan(const Part& part, const py::object& spec, bool registration, const py:
 // with the plan's scanner unless `spec` is given: per view a dict of numpy arrays.
 py::list simulate(const Part& part, const Plan& plan, const py::object& spec,
                   const py::object& views, std::uint64_t seed) {
-  Spec resolved = specOf(spec);
+  Spec resolved = specOf(spec, plan);
   if (spec.is_none()) resolved.scanner = plan.scanner;
   const bool own = views.is_none();
   const std::vector<View> simulated =
@@ -143,7 +148,7 @@ py::list simulate(const Part& part, const Plan& plan, const py::object& spec,
 
 py::dict verify(const Plan& plan, const Part& part, const py::object& spec,
                 const py::object& progress) {
-  const Spec resolved = specOf(spec);
+  const Spec resolved = specOf(spec, plan);
   Callback callback(progress);
   PlanCheck check;
   {
@@ -172,7 +177,7 @@ py::object inspect(const Plan& plan, const Part& part, const py::object& spec,
                    const std::optional<int>& runs, double precision, double spacing,
                    const std::string& icp, const py::object& deviations, std::uint64_t seed,
                    const py::object& progress) {
-  const Spec resolved = specOf(spec);
+  const Spec resolved = specOf(spec, plan);
   InspectionOptions options;
   options.runs = runs.value_or(precision > 0 ? kMostPreciseRuns : options.runs);
   options.precision = precision;
@@ -199,7 +204,7 @@ py::dict writeProgramFile(const Plan& plan, const Part& part, const std::string&
                           const std::string& format, const py::object& spec, std::size_t setup,
                           bool allow_collisions) {
   checkProgramLanguage(format);
-  const Spec resolved = specOf(spec);
+  const Spec resolved = specOf(spec, plan);
   RobotProgram program;
   {
     py::gil_scoped_release release;
@@ -219,7 +224,7 @@ py::dict writeProgramFile(const Plan& plan, const Part& part, const std::string&
 
 void writeReportFile(const Plan& plan, const Part& part, const std::string& path,
                      const py::object& spec, const py::object& progress) {
-  const Spec resolved = specOf(spec);
+  const Spec resolved = specOf(spec, plan);
   Callback callback(progress);
   {
     py::gil_scoped_release release;

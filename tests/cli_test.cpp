@@ -672,7 +672,7 @@ TEST(Cli, InspectRegistersTheIcpLinksInEachRunAndSaysSo) {
       nlohmann::json::parse(std::ifstream(dir.file("inspection.json")));
   EXPECT_GT(inspection.at("icp_registered").get<std::size_t>(), 0u);
   const std::size_t lines = static_cast<std::size_t>(std::count(r.out.begin(), r.out.end(), '\n'));
-  EXPECT_EQ(lines, inspection.at("characteristics").size() + 7) << r.out;
+  EXPECT_EQ(lines, inspection.at("characteristics").size() + 8) << r.out;
   const CommandResult bad = run(inspect + "sideways");
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("--icp"), std::string::npos) << bad.out;
@@ -735,6 +735,42 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("broken.json"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
       << r.out;
+}
+// A plan holds the spec it was made with, and the commands reading it take that one when
+// given none: FTC 11 planned with markers on the part, whose disks hide the surface under
+// them, verifies as planned without --spec, also once the spec file is rewritten or gone;
+// checked with a spec without those markers, samples under them count as measured.
+TEST(Cli, CommandsGivenNoSpecTakeTheOneThePlanWasMadeWith) {
+  test::TempDir dir;
+  const std::string part = test::testData("nist_ftc_11_asme1_ap242-e1.stp");
+  const std::string spec = dir.file("spec.yaml");
+  test::writeText(spec, "markers: {grid: 10, on: both}\ntasks: [{type: global}]\n");
+  const std::string plan = dir.file("out/plan.json");
+  CommandResult r =
+      run("-q plan " + part + " --spec " + spec + " -o " + dir.file("out") + " --no-report");
+  ASSERT_EQ(r.code, 0) << r.out;
+  test::writeText(dir.file("unmarked.yaml"), "tasks: [{type: global}]\n");
+  r = run("-q verify " + plan + " " + part + " --spec " + dir.file("unmarked.yaml"));
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "samples measured otherwise than planned");
+  const std::string source = "spec                   " +
+                             std::filesystem::absolute(spec).lexically_normal().string() +
+                             " (the plan's)\n";
+  for (const std::string change : {"as it was", "rewritten", "removed"}) {
+    if (change == "rewritten") test::writeText(spec, "tasks: [{type: global}]\n");
+    if (change == "removed") std::filesystem::remove(spec);
+    r = run("-q verify " + plan + " " + part);
+    EXPECT_EQ(r.code, 0) << change << "\n" << r.out;
+    EXPECT_PRED2(test::contains, r.out, "coverage check         as planned\n");
+    EXPECT_PRED2(test::contains, r.out, source);
+  }
+  // A plan's spec that no longer reads is named as the plan's.
+  nlohmann::json broken = nlohmann::json::parse(test::readText(plan));
+  broken["spec"]["text"] = "tasks: [";
+  test::writeText(plan, broken.dump());
+  r = run("-q verify " + plan + " " + part);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "error: " + plan + ": the spec it was made with, ");
 }
 
 // verify catches each way a plan can lie about its registration and its sequence, and a

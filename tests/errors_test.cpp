@@ -407,10 +407,10 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   test::TempDir dir;
   const std::string path = dir.file("plan.json");
   EXPECT_EQ(planError(path, [](auto& p) { p["units"] = "inch"; }), "units 'inch': plans are in mm");
-  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 4; }),
-            "version 4 is not one this scanplan reads (it reads versions 1 to 3)");
+  EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 5; }),
+            "version 5 is not one this scanplan reads (it reads versions 1 to 4)");
   EXPECT_EQ(planError(path, [](auto& p) { p["version"] = 0; }),
-            "version 0 is not one this scanplan reads (it reads versions 1 to 3)");
+            "version 0 is not one this scanplan reads (it reads versions 1 to 4)");
   EXPECT_EQ(planError(path, [](auto& p) { p["views"][2]["task"] = "gdtt"; }),
             "view 3: unknown task 'gdtt'");
   EXPECT_EQ(planError(path, [](auto& p) { p["view"] = p["views"]; }), "plan: unknown key 'view'");
@@ -419,6 +419,8 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   EXPECT_EQ(planError(path, [](auto& p) { p["samples"][1]["weight"] = 2; }),
             "sample 2: unknown key 'weight'");
   EXPECT_EQ(planError(path, [](auto& p) { p["part"]["unit"] = "mm"; }), "part: unknown key 'unit'");
+  EXPECT_EQ(planError(path, [](auto& p) { p["spec"]["txt"] = ""; }), "spec: unknown key 'txt'");
+  EXPECT_PRED2(contains, planError(path, [](auto& p) { p["spec"]["text"] = 1; }), "spec");
   EXPECT_EQ(planError(path, [](auto& p) { p["registration"]["tolerence"] = 0.1; }),
             "registration: unknown key 'tolerence'");
   EXPECT_EQ(planError(path, [](auto& p) { p["characteristics"][1]["toleranse"] = 0.1; }),
@@ -432,8 +434,15 @@ TEST(PlanErrors, WhatThisVersionDoesNotUnderstandIsRefused) {
   test::writeText(path, text);
   EXPECT_EQ(inputError(path, [&] { readPlan(path); }),
             "the key 'units' is given twice in one object");
-  // The plan as written reads, and so does a version 1 plan, without a cycle time.
-  EXPECT_NO_THROW(readPlan(test::examplePlan()));
+  // The plan as written reads with the spec it was made with, and so does a version 3 plan
+  // without one, and a version 1 plan without a cycle time.
+  EXPECT_EQ(readPlan(test::examplePlan()).spec->text,
+            test::readText(test::example("specs/ctc01.yaml")));
+  nlohmann::json three = nlohmann::json::parse(test::readText(test::examplePlan()));
+  three["version"] = 3;
+  three.erase("spec");
+  test::writeText(path, three.dump());
+  EXPECT_FALSE(readPlan(path).spec.has_value());
   nlohmann::json old = nlohmann::json::parse(test::readText(test::examplePlan()));
   old["version"] = 1;
   old["summary"].erase("cycle");

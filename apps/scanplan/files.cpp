@@ -1,6 +1,7 @@
 #include "files.h"
 
 #include <scanplan/core/errors.h>
+#include <scanplan/io/spec_yaml.h>
 
 #include <filesystem>
 
@@ -10,6 +11,15 @@ std::vector<std::string> commandInputs(std::vector<std::string> inputs, const Sp
   const std::vector<std::string> named = specFiles(spec);
   inputs.insert(inputs.end(), named.begin(), named.end());
   return inputs;
+}
+
+Spec specFor(const std::string& given, const Plan& plan, const std::string& plan_file) {
+  return given.empty() ? planSpec(plan, plan_file) : loadSpec(given);
+}
+
+std::string specSource(const std::string& given, const Plan& plan) {
+  if (!given.empty()) return given;
+  return plan.spec ? plan.spec->file + " (the plan's)" : "the default (the plan's)";
 }
 
 void refuseInputAsOutput(const std::string& out, const std::vector<std::string>& inputs) {

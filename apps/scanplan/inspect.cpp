@@ -93,7 +93,7 @@ void printInspection(const Inspection& inspection, const Plan& plan) {
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   const Plan plan = readPlan(options.plan);
-  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const Spec spec = specFor(options.spec, plan, options.plan);
   InspectionOptions inspection;
   inspection.runs = options.precision > 0 && !options.runs_given ? kMostPreciseRuns : options.runs;
   inspection.precision = options.precision;
@@ -112,6 +112,7 @@ int run(const Options& options, const GlobalOptions& global) {
   clearProgress();
   fmt::print("{:<22} {}\n", "plan", options.plan);
   fmt::print("{:<22} {}\n", "part", part.file);
+  fmt::print("{:<22} {}\n", "spec", specSource(options.spec, plan));
   printInspection(result, plan);
   fmt::print("{:<22} {}\n", "written", out);
   return kExitOk;
@@ -127,7 +128,9 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
       "scans, with the scanner's errors and the registration's");
   command->add_option("plan", options->plan, "plan.json")->required();
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
-  command->add_option("--spec", options->spec, "Inspection spec (YAML) the plan was made with")
+  command
+      ->add_option("--spec", options->spec,
+                   "Inspection spec (YAML) (default: the one the plan was made with)")
       ->check(kNamedFile);
   command
       ->add_option("--deviations", options->deviations,

@@ -39,11 +39,6 @@ void refuseOwnInput(const std::string& out, const Input& input, const Spec& spec
   refuseInputAsOutput(out, commandInputs({input.plan, input.part}, spec));
 }
 
-// The spec given with --spec, or the default one.
-Spec specOf(const Input& input) {
-  return input.spec.empty() ? defaultSpec() : loadSpec(input.spec);
-}
-
 struct Checked {
   Plan plan;
   Part part;
@@ -51,8 +46,7 @@ struct Checked {
 };
 
 // The plan re-simulated and its registration re-checked on its part, as verify does.
-Checked check(const Input& input, const Spec& spec, const Progress& progress) {
-  Plan plan = readPlan(input.plan);
+Checked check(const Input& input, const Plan& plan, const Spec& spec, const Progress& progress) {
   std::string part_file = input.part.empty() ? plan.part_file : input.part;
   if (part_file.empty())
     throw InputError(input.plan, "names no part file; give the part on the command line");
@@ -76,7 +70,8 @@ void addInput(CLI::App& command, Input& input) {
                      "CAD or mesh file of the part (default: the file the plan names)");
   command
       .add_option("--spec", input.spec,
-                  "Inspection spec (YAML) of the plan: specular faces, markers, fixtures")
+                  "Inspection spec (YAML) of the plan: specular faces, markers, fixtures, cell "
+                  "(default: the one the plan was made with)")
       ->check(kNamedFile);
 }
 
@@ -106,12 +101,13 @@ int runReport(const ReportCommand& options, const GlobalOptions& global) {
       options.out.empty()
           ? (std::filesystem::path(options.input.plan).parent_path() / "report.html").string()
           : options.out;
-  const Spec spec = specOf(options.input);
+  const Plan plan = readPlan(options.input.plan);
+  const Spec spec = specFor(options.input.spec, plan, options.input.plan);
   refuseOwnInput(out, options.input, spec);
   if (!options.png.empty()) refuseOwnInput(options.png, options.input, spec);
   if (!options.inspection.empty()) refuseInputAsOutput(out, {options.inspection});
   Progress progress = terminalProgress(global);
-  const Checked c = check(options.input, spec, progress);
+  const Checked c = check(options.input, plan, spec, progress);
   ReportEvidence evidence = reportEvidence(c.plan, c.part, c.spec, {}, progress);
   evidence.inspection = inspectionFor(options, c.plan);
   writeReport(c.plan, c.part, c.spec, evidence, out);
@@ -195,14 +191,15 @@ Frame exportFrame(const ExportCommand& options) {
 
 int runExport(const ExportCommand& options, const GlobalOptions& global) {
   const Frame frame = exportFrame(options);
-  const Spec spec = specOf(options.input);
+  const Plan plan = readPlan(options.input.plan);
+  const Spec spec = specFor(options.input.spec, plan, options.input.plan);
   refuseOwnInput(options.out, options.input, spec);
   // The views' CSV needs the plan only; a part given is checked against it all the same.
   if (options.format == "csv" && options.input.part.empty()) {
-    writeViewsInOrder(readPlan(options.input.plan), frame, options.out);
+    writeViewsInOrder(plan, frame, options.out);
   } else {
     Progress progress = terminalProgress(global);
-    const Checked c = check(options.input, spec, progress);
+    const Checked c = check(options.input, plan, spec, progress);
     if (options.format == "csv") {
       writeViewsInOrder(c.plan, frame, options.out);
     } else if (options.format == "glb") {

@@ -1,6 +1,7 @@
 // scanplan simulate: what each given view measures on the part.
 
 #include "commands.h"
+#include "files.h"
 #include "terminal.h"
 
 #include <scanplan/cad/import.h>
@@ -88,25 +89,30 @@ void printViews(const json& out, const Part& part, const Scanner& scanner) {
   }
 }
 
-// The views to simulate, each with where the part stands for it, and the scanner: of a
-// plan, each view in its setup's placement (a plan over several rest orientations turns the
-// part between setups) and the plan's scanner unless --spec is given, as the Python
-// module's simulate; else the file's placement and the spec's scanner. --scanner overrides
-// either.
+// The views to simulate, each with where the part stands for it, the scanner and the spec:
+// of a plan, each view in its setup's placement (a plan over several rest orientations turns
+// the part between setups), and unless --spec is given the plan's scanner and the spec it was
+// made with, as the Python module's simulate; else the file's placement, the spec (--spec or
+// the default) and its scanner. --scanner overrides either.
 struct Simulated {
   std::vector<View> views;
   std::vector<Pose> placed;  // per view: part_to_world
   Scanner scanner;
+  Spec spec;
 };
-Simulated toSimulate(const Options& options, const Spec& spec) {
+Simulated toSimulate(const Options& options) {
   const ViewsFile file = readViews(options.views);
-  Simulated s{file.views, std::vector<Pose>(file.views.size(), file.part_to_world), spec.scanner};
+  Simulated s{file.views, std::vector<Pose>(file.views.size(), file.part_to_world), {}, {}};
   if (file.plan) {
     const Plan plan = readPlan(options.views);
     const std::vector<std::size_t> setup = viewOrientations(plan);
     for (std::size_t v = 0; v < s.views.size(); ++v)
       s.placed[v] = orientationPlacement(plan, setup[v]);
-    if (options.spec.empty()) s.scanner = plan.scanner;
+    s.spec = specFor(options.spec, plan, options.views);
+    s.scanner = options.spec.empty() ? plan.scanner : s.spec.scanner;
+  } else {
+    s.spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+    s.scanner = s.spec.scanner;
   }
   if (!options.scanner.empty()) s.scanner = scannerNamed(options.scanner);
   return s;
@@ -114,8 +120,8 @@ Simulated toSimulate(const Options& options, const Spec& spec) {
 
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
-  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  const Simulated views = toSimulate(options, spec);
+  const Simulated views = toSimulate(options);
+  const Spec& spec = views.spec;
   Part part = importWithWarnings(options.part, {}, progress);
 
   const ResolvedSpec resolved = resolveSpec(part, spec);
@@ -163,8 +169,9 @@ void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& sele
   command->add_option("--views", options->views, "Views as JSON: a plan.json or its views array")
       ->required();
   command
-      ->add_option("--spec", options->spec,
-                   "Inspection spec (YAML): scanner (a plan's own without it), specular faces")
+      ->add_option(
+          "--spec", options->spec,
+          "Inspection spec (YAML): scanner, specular faces, markers (a plan's own without it)")
       ->check(kNamedFile);
   command->add_option("--scanner", options->scanner,
                       "Scanner preset or scanner file (YAML), overriding the spec's");

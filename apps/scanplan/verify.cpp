@@ -1,6 +1,7 @@
 // scanplan verify: checks a plan again on its part: coverage, registration, sequence.
 
 #include "commands.h"
+#include "files.h"
 #include "summary.h"
 #include "terminal.h"
 
@@ -27,13 +28,14 @@ struct Options {
 int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   const Plan plan = readPlan(options.plan);
-  const Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
+  const Spec spec = specFor(options.spec, plan, options.plan);
   const Part part = importWithWarnings(options.part, {}, progress);
   const PlanCheck check = verifyPlan(plan, part, spec, {}, progress);
   clearProgress();
 
   fmt::print("{:<22} {}\n", "plan", options.plan);
   fmt::print("{:<22} {}\n", "part", part.file);
+  fmt::print("{:<22} {}\n", "spec", specSource(options.spec, plan));
   printPlanSummary(check.plan, part);
   auto verdict = [](std::size_t differences, const std::string& what) {
     return differences == 0 ? std::string("as planned") : fmt::format("{} {}", differences, what);
@@ -79,7 +81,8 @@ void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& select
   command->add_option("part", options->part, "CAD or mesh file of the part")->required();
   command
       ->add_option("--spec", options->spec,
-                   "Inspection spec (YAML): specular faces, markers, registration thresholds")
+                   "Inspection spec (YAML): specular faces, markers, registration thresholds "
+                   "(default: the one the plan was made with)")
       ->check(kNamedFile);
   command->callback([options, &global, &selected] {
     selected = [options, &global] { return run(*options, global); };

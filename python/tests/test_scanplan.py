@@ -148,14 +148,14 @@ def by_id(inspection):
 def test_a_bore_made_larger_inspects_larger_by_as_much(part, tmp_path):
     """FTC 11's GD&T, its views registered by markers, inspected virtually: with the 32 mm
     bore (face 4) made 0.2 mm larger, the bore measures 0.2 mm larger within its U and
-    nothing else changes; and the inspection is the one `scanplan inspect` makes of the plan
-    written, the deviations given as a file."""
+    nothing else changes; and the inspection, with the spec the plan was made with, is the one
+    `scanplan inspect` makes of the plan written, given the spec and the deviations as files."""
     plan = scanplan.plan(part, MARKED)
     bore = next(c["id"] for c in plan.to_json()["characteristics"]
                 if c["kind"] == "diameter" and c["faces"] == [4])
-    as_made = by_id(scanplan.inspect(plan, part, spec=MARKED, runs=5))
+    as_made = by_id(scanplan.inspect(plan, part, runs=5))
     deviations = [{"faces": [4], "diameter": 0.2}]
-    larger = scanplan.inspect(plan, part, spec=MARKED, runs=5, deviations=deviations)
+    larger = scanplan.inspect(plan, part, runs=5, deviations=deviations)
     made, grown = as_made[bore], by_id(larger)[bore]
     assert made["evaluated"] and made["true_value"] == pytest.approx(32)
     assert grown["true_value"] == pytest.approx(32.2)

@@ -498,6 +498,7 @@ json planJson(const Plan& plan) {
   }
   if (!plan.orientations.empty()) addOrientations(plan, result);
   if (plan.cell) addCell(plan, result);
+  if (plan.spec) result["spec"] = {{"file", plan.spec->file}, {"text", plan.spec->text}};
   if (!plan.sweeps.empty()) addSweeps(plan, result);
   if (plan.bound) result["summary"]["bound"] = boundJson(plan);
   if (plan.cycle) result["summary"]["cycle"] = cycleJson(*plan.cycle);
@@ -1157,8 +1158,9 @@ void checkPlanKeys(const json& root, const std::string& path) {
   detail::refuseUnknownKeys(
       root,
       {"format", "version", "units", "part", "scanner", "views", "sequence", "samples", "summary",
-       "registration", "orientations", "cell", "sweeps", "characteristics", "face_areas"},
+       "registration", "orientations", "cell", "sweeps", "characteristics", "face_areas", "spec"},
       path, "plan");
+  detail::refuseUnknownKeys(objectAt(root, "spec"), {"file", "text"}, path, "spec");
   detail::refuseUnknownKeys(objectAt(root, "part"),
                             {"file", "absolute_file", "faces", "part_to_world"}, path, "part");
   const json views = root.value("views", json::array());
@@ -1240,6 +1242,9 @@ Plan readPlanFields(const std::string& path) {
     plan.cell_motion = reader.cellMotion(root);
   }
   plan.cycle = reader.cycle(root);
+  if (root.contains("spec"))
+    plan.spec = PlanSpec{field<std::string>(root["spec"], "file", path, "spec"),
+                         field<std::string>(root["spec"], "text", path, "spec")};
   checkReferences(plan, path);
   return plan;
 }

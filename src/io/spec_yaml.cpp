@@ -781,7 +781,19 @@ Spec specFromText(const std::string& text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     throw InputError(source, "not valid YAML: " + std::string(e.what()));
   }
-  return specFromYaml(root, source);
+  Spec spec = specFromYaml(root, source);
+  spec.text = text;
+  return spec;
+}
+
+Spec planSpec(const Plan& plan, const std::string& plan_file) {
+  if (!plan.spec) return defaultSpec();
+  try {
+    return specFromText(plan.spec->text, plan.spec->file);
+  } catch (const InputError& e) {
+    throw InputError(plan_file,
+                     "the spec it was made with, " + plan.spec->file + ": " + e.reason());
+  }
 }
 
 }  // namespace scanplan

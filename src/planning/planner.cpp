@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iterator>
 #include <map>
 #include <memory>
@@ -852,12 +853,20 @@ namespace {
 
 // A plan of more views than planner.most_views allows is refused, as a part is whose size
 // would need them. \throw PlanningError naming the spec (else the part).
-const Plan& withinMostViews(const Plan& plan, const Part& part, const Spec& spec) {
+void checkMostViews(const Plan& plan, const Part& part, const Spec& spec) {
   if (plan.views.size() > static_cast<std::size_t>(spec.planner.most_views))
     throw PlanningError(spec.source.empty() ? part.file : spec.source,
                         fmt::format("the plan needs {} views, more than planner.most_views ({})",
                                     plan.views.size(), spec.planner.most_views));
-  return plan;
+}
+
+// The spec as the plan records it: a file by its absolute path.
+std::optional<PlanSpec> recordedSpec(const Spec& spec) {
+  if (spec.text.empty()) return std::nullopt;
+  std::error_code ec;
+  const bool file = std::filesystem::is_regular_file(spec.source, ec);
+  return PlanSpec{file ? std::filesystem::absolute(spec.source, ec).string() : spec.source,
+                  spec.text};
 }
 
 }  // namespace
@@ -865,17 +874,21 @@ const Plan& withinMostViews(const Plan& plan, const Part& part, const Spec& spec
 Plan planViews(const Part& part, const Spec& spec, const PlanningOptions& options,
                const Progress& progress) {
   Plan plan = planAndJudge(part, spec, options, progress);
-  if (!spec.planner.lift_capability || !liftable(plan)) return withinMostViews(plan, part, spec);
-  // Again with every characteristic's faces as GD&T targets; kept when more are capable.
-  Spec lifting = spec;
-  Task targets{TaskType::Gdt, {}, {}, {}};
-  for (const Characteristic& c : plan.characteristics)
-    for (int face : c.faces) targets.faces.push_back({face, {}, {}});
-  lifting.tasks.push_back(targets);
-  Plan lifted = planAndJudge(part, lifting, options, progress);
-  lifted.seconds += plan.seconds;
-  plan.seconds = lifted.seconds;
-  return withinMostViews(capableCount(lifted) > capableCount(plan) ? lifted : plan, part, spec);
+  if (spec.planner.lift_capability && liftable(plan)) {
+    // Again with every characteristic's faces as GD&T targets; kept when more are capable.
+    Spec lifting = spec;
+    Task targets{TaskType::Gdt, {}, {}, {}};
+    for (const Characteristic& c : plan.characteristics)
+      for (int face : c.faces) targets.faces.push_back({face, {}, {}});
+    lifting.tasks.push_back(targets);
+    Plan lifted = planAndJudge(part, lifting, options, progress);
+    lifted.seconds += plan.seconds;
+    plan.seconds = lifted.seconds;
+    if (capableCount(lifted) > capableCount(plan)) plan = std::move(lifted);
+  }
+  checkMostViews(plan, part, spec);
+  plan.spec = recordedSpec(spec);
+  return plan;
 }
 
 PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,

@@ -85,7 +85,11 @@ RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollision
 RobotProgram planProgram(const Plan& written, const Part& part, const ResolvedSpec& spec,
                          const ProgramRequest& request) {
   const Plan plan = programPlan(written, request.setup, request.setup_key);
-  const std::optional<Cell>& cell = spec.spec.cell ? spec.spec.cell : plan.cell;
+  // The cell planned takes the views with the joints planned: with no spec's cell, or with
+  // the spec the plan was made with. Another cell, with those cellPoses chooses there.
+  const bool planned =
+      plan.cell && (!spec.spec.cell || (written.spec && written.spec->text == spec.spec.text));
+  const std::optional<Cell>& cell = planned ? plan.cell : spec.spec.cell;
   if (!cell)
     throw InputError(spec.spec.source.empty() ? request.plan_file : spec.spec.source,
                      "robot programs need the cell: the plan carries none (made without one, "
@@ -94,8 +98,7 @@ RobotProgram planProgram(const Plan& written, const Part& part, const ResolvedSp
   const CellCollisions collisions(*cell, plan.scanner.body(), part.mesh, plan.part_to_world,
                                   placed.fixtures, placed.working_plane, cell->clearance);
   const std::vector<std::optional<CellPose>> poses =
-      spec.spec.cell ? cellPoses(*cell, plan.views, visitingOrder(plan), &collisions)
-                     : plan.cell_poses;
+      planned ? plan.cell_poses : cellPoses(*cell, plan.views, visitingOrder(plan), &collisions);
   const std::size_t setups = written.orientations.size();
   const std::string source =
       request.plan_file +

@@ -13,7 +13,9 @@ namespace scanplan {
 // (summary.cycle) and the cell's accelerations; version 1 plans read without them.
 // Version 3 names a characteristic's error budget too large for its tolerance
 // `too_uncertain`, whatever its sources, where versions 1 and 2 said `too_noisy`.
-constexpr int kPlanVersion = 3;
+// Version 4 holds the spec the plan was made with (`spec`: its file and text), which the
+// commands reading a plan take when given none; earlier plans read without it.
+constexpr int kPlanVersion = 4;
 
 // The plan as JSON: every field §7 requires (format, version, units, part, scanner,
 // views, sequence, samples with measured_by, summary) plus `not_coverable` reasons and

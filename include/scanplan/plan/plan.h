@@ -169,6 +169,13 @@ struct CapableCount {
   std::size_t capable = 0;
 };
 
+// The spec a plan was made with, as it was read: its file (absolute; as given when it names
+// no file, "<dict>" for one from Python) and its text.
+struct PlanSpec {
+  std::string file;
+  std::string text;
+};
+
 struct Plan {
   std::string part_file;
   std::size_t part_faces = 0;
@@ -206,6 +213,9 @@ struct Plan {
   // Per face of the part, in face order: its measured area (planning/coverage_area.h);
   // empty for a plan read from a version that had none.
   std::vector<FaceArea> face_areas;
+  // The spec it was made with; none for the default one. The commands reading a plan take it
+  // when given none.
+  std::optional<PlanSpec> spec;
   std::vector<StageTime> times;
   double seconds = 0;
   std::optional<PlanBound> bound;  // of the selection; per orientation, summed

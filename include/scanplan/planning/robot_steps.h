@@ -44,9 +44,10 @@ struct ProgramRequest {
   std::string setup_key = "setup";  // how errors name the setup: the caller's option
 };
 
-// The robot program of `plan` (of its setup, `request`) in the spec's cell, else the plan's
-// own: the spec's cell takes each view with the joints cellPoses chooses there, the plan's
-// with those planned; every move planned clear of the part and the fixtures (safeProgram).
+// The robot program of `plan` (of its setup, `request`) in the cell it was planned in, with
+// the joints planned, unless a spec other than the plan's own gives a cell: then in that
+// cell, with the joints cellPoses chooses there. Every move planned clear of the part and
+// the fixtures (safeProgram).
 // \throw UsageError naming the setup key for a setup the plan does not have, or none named
 // for a plan of several; InputError naming the spec's file (else the plan's) when neither
 // gives a cell.

@@ -110,6 +110,7 @@ struct PlannerSettings {
 
 struct Spec {
   std::string source;                  // the file it was read from, "" for defaults
+  std::string text;                    // the text it was read from, "" for defaults
   Scanner scanner;                     // `scanner:` preset name or mapping
   std::string part_file;               // part.file, resolved to the spec's folder, or ""
   bool rest_auto = false;              // part.rest: auto (the steadiest rest orientation)
