@@ -764,8 +764,14 @@ TEST(Cli, CommandsGivenNoSpecTakeTheOneThePlanWasMadeWith) {
     EXPECT_PRED2(test::contains, r.out, "coverage check         as planned\n");
     EXPECT_PRED2(test::contains, r.out, source);
   }
-  // A plan's spec that no longer reads is named as the plan's.
+  // The spec's file as the plan names it is printed without its control bytes.
   nlohmann::json broken = nlohmann::json::parse(test::readText(plan));
+  broken["spec"]["file"] = "/tmp/\x1b[2Jspec.yaml";
+  test::writeText(plan, broken.dump());
+  r = run("-q verify " + plan + " " + part);
+  EXPECT_PRED2(test::contains, r.out, "/tmp/?[2Jspec.yaml (the plan's)\n");
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
+  // A plan's spec that no longer reads is named as the plan's.
   broken["spec"]["text"] = "tasks: [";
   test::writeText(plan, broken.dump());
   r = run("-q verify " + plan + " " + part);

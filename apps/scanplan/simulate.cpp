@@ -70,7 +70,7 @@ json simulatedView(const Simulator& simulator, const View& view, const Options& 
 // its cloud.
 void printViews(const json& out, const Part& part, const Scanner& scanner) {
   fmt::print("part     {} ({} facets)\nscanner  {}\n", part.file, part.mesh.triangles.size(),
-             scanner.name);
+             printable(scanner.name));
   for (const json& entry : out["views"]) {
     std::vector<int> ids;
     for (const json& face : entry["faces"]) ids.push_back(face["id"].get<int>());
