@@ -1,8 +1,8 @@
 // The Python module `scanplan` (pybind11, docs/python.md): read a part, make or read a
 // spec, plan, simulate, verify, inspect, and write the plan, its report and its robot
-// programs. Points, normals and
-// poses come as numpy arrays; errors as exceptions of the exit codes' classes; planning
-// runs with the GIL released and reports progress to an optional callback.
+// programs. Points, normals and poses come as numpy arrays; errors as exceptions of the
+// exit codes' classes; the work runs with the GIL released and reports progress to an
+// optional callback.
 
 #include "arrays.h"
 #include "errors.h"
@@ -345,8 +345,9 @@ void bindFunctions(py::module_& m) {
         "(inspection.json as a dict)");
   m.def("write_program", &writeProgramFile, "plan"_a, "part"_a, "path"_a, "format"_a,
         "spec"_a = py::none(), "setup"_a = 0, "allow_collisions"_a = false,
-        "Writes the plan's robot program (krl, rapid, fanuc, urscript or json) in the spec's "
-        "cell, else the plan's; setup: 1 to N for a plan over several rest orientations");
+        "Writes the plan's robot program (krl, rapid, fanuc, urscript or json) in the cell it "
+        "was planned in, or another spec's; setup: 1 to N for a plan over several rest "
+        "orientations");
   m.def("scanner_presets", &scannerPresetNames, "The scanner presets' names");
 }
 

@@ -134,7 +134,7 @@ bool programFormat(const std::string& format) {
          format == "robot-json";
 }
 
-// The robot program of the plan in its cell: the spec's (--spec) or else the plan's own.
+// The robot program of the plan in its cell, or in another spec's (planProgram).
 void writeProgram(const Checked& c, const ExportCommand& options) {
   // KRL wants the program named as its file.
   const ProgramRequest request{std::filesystem::path(options.out).stem().string(), options.setup,
