@@ -20,7 +20,8 @@ Spec specFor(const std::string& given, const Plan& plan, const std::string& plan
 std::string specSource(const std::string& given, const Plan& plan) {
   if (!given.empty()) return given;
   // The file's name as the plan gives it may hold control bytes.
-  return plan.spec ? printable(plan.spec->file) + " (the plan's)" : "the default (the plan's)";
+  return plan.spec ? printable(plan.spec->file) + " (the plan's)"
+                   : "the default (the plan names none)";
 }
 
 void refuseInputAsOutput(const std::string& out, const std::vector<std::string>& inputs) {
