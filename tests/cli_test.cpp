@@ -1019,6 +1019,26 @@ TEST(Cli, APlanFindsItsPartFromAnyFolder) {
   std::filesystem::rename(dir.file("job"), dir.file("moved"));
   r = run("-q report " + dir.file("moved/out/plan.json") + " -o " + dir.file("moved.html"));
   EXPECT_EQ(r.code, 0) << r.out;
+  // verify and inspect find it as report does, given no part.
+  const std::string moved_part = "part                   " + dir.file("moved/parts/disc.stp");
+  r = run("-q verify " + dir.file("moved/out/plan.json"));
+  EXPECT_PRED2(test::contains, r.out, moved_part);
+  EXPECT_PRED2(test::contains, r.out, "coverage check         as planned");
+  r = run("-q inspect " + dir.file("moved/out/plan.json") + " --runs 2");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_PRED2(test::contains, r.out, moved_part);
+  // A plan naming no part needs one given.
+  nlohmann::json nameless = nlohmann::json::parse(test::readText(dir.file("moved/out/plan.json")));
+  nameless["part"]["file"] = "";
+  nameless["part"]["absolute_file"] = nullptr;
+  test::writeText(dir.file("nameless.json"), nameless.dump());
+  for (const std::string command : {"verify", "inspect", "report"}) {
+    r = run("-q " + command + " " + dir.file("nameless.json"));
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_PRED2(
+        test::contains, r.out,
+        dir.file("nameless.json") + ": names no part file; give the part on the command line");
+  }
 }
 
 }  // namespace

@@ -24,6 +24,18 @@ std::string specSource(const std::string& given, const Plan& plan) {
                    : "the default (the plan names none)";
 }
 
+std::string partFileFor(const std::string& given, const Plan& plan, const std::string& plan_file) {
+  if (!given.empty()) return given;
+  if (plan.part_file.empty())
+    throw InputError(plan_file, "names no part file; give the part on the command line");
+  const std::filesystem::path beside = std::filesystem::path(plan_file).parent_path() /
+                                       std::filesystem::path(plan.part_file).filename();
+  std::error_code ec;  // a name the file system refuses is left for importPart to name
+  if (!std::filesystem::exists(plan.part_file, ec) && std::filesystem::exists(beside, ec))
+    return beside.string();
+  return plan.part_file;
+}
+
 void refuseInputAsOutput(const std::string& out, const std::vector<std::string>& inputs) {
   std::error_code ec;
   for (const std::string& in : inputs)

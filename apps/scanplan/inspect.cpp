@@ -104,8 +104,9 @@ int run(const Options& options, const GlobalOptions& global) {
       options.out.empty()
           ? (std::filesystem::path(options.plan).parent_path() / "inspection.json").string()
           : options.out;
-  refuseInputAsOutput(out, commandInputs({options.plan, options.part, options.deviations}, spec));
-  const Part part = importWithWarnings(options.part, {}, progress);
+  const std::string part_file = partFileFor(options.part, plan, options.plan);
+  refuseInputAsOutput(out, commandInputs({options.plan, part_file, options.deviations}, spec));
+  const Part part = importWithWarnings(part_file, {}, progress);
   const ResolvedSpec resolved = resolveSpec(part, spec);
   const Inspection result = inspectPlan(part, resolved, plan, inspection, progress);
   writeInspection(result, plan, out);
@@ -127,7 +128,8 @@ void addInspectCommand(CLI::App& app, const GlobalOptions& global, Action& selec
       "Inspect a plan virtually: each characteristic measured over Monte Carlo runs of its "
       "scans, with the scanner's errors and the registration's");
   command->add_option("plan", options->plan, "plan.json")->required();
-  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("part", options->part,
+                      "CAD or mesh file of the part (default: the file the plan names)");
   command
       ->add_option("--spec", options->spec,
                    "Inspection spec (YAML) (default: the one the plan was made with)")

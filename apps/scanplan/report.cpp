@@ -47,17 +47,7 @@ struct Checked {
 
 // The plan re-simulated and its registration re-checked on its part, as verify does.
 Checked check(const Input& input, const Plan& plan, const Spec& spec, const Progress& progress) {
-  std::string part_file = input.part.empty() ? plan.part_file : input.part;
-  if (part_file.empty())
-    throw InputError(input.plan, "names no part file; give the part on the command line");
-  // The part file the plan names, else a file of that name beside the plan.
-  const std::filesystem::path beside =
-      std::filesystem::path(input.plan).parent_path() / std::filesystem::path(part_file).filename();
-  std::error_code ec;  // a name the file system refuses is left for importPart to name
-  if (input.part.empty() && !std::filesystem::exists(part_file, ec) &&
-      std::filesystem::exists(beside, ec))
-    part_file = beside.string();
-  Part part = importWithWarnings(part_file, {}, progress);
+  Part part = importWithWarnings(partFileFor(input.part, plan, input.plan), {}, progress);
   PlanCheck checked = verifyPlan(plan, part, spec, {}, progress);
   ResolvedSpec resolved = resolveSpec(part, spec);
   printWarnings("", resolved.warnings);

@@ -29,7 +29,7 @@ int run(const Options& options, const GlobalOptions& global) {
   Progress progress = terminalProgress(global);
   const Plan plan = readPlan(options.plan);
   const Spec spec = specFor(options.spec, plan, options.plan);
-  const Part part = importWithWarnings(options.part, {}, progress);
+  const Part part = importWithWarnings(partFileFor(options.part, plan, options.plan), {}, progress);
   const PlanCheck check = verifyPlan(plan, part, spec, {}, progress);
   clearProgress();
 
@@ -78,7 +78,8 @@ void addVerifyCommand(CLI::App& app, const GlobalOptions& global, Action& select
       "Check a plan again on its part: coverage, registration and sequence (exit 3 when the "
       "plan does not hold)");
   command->add_option("plan", options->plan, "plan.json")->required();
-  command->add_option("part", options->part, "CAD or mesh file of the part")->required();
+  command->add_option("part", options->part,
+                      "CAD or mesh file of the part (default: the file the plan names)");
   command
       ->add_option("--spec", options->spec,
                    "Inspection spec (YAML): specular faces, markers, registration thresholds "
