@@ -753,6 +753,13 @@ TEST(Cli, CommandsGivenNoSpecTakeTheOneThePlanWasMadeWith) {
   r = run("-q verify " + plan + " " + part + " --spec " + dir.file("unmarked.yaml"));
   EXPECT_EQ(r.code, 3) << r.out;
   EXPECT_PRED2(test::contains, r.out, "samples measured otherwise than planned");
+  // simulate too: each view measures as with the spec given, not as without its markers.
+  const std::string simulate = "-q simulate --json " + part + " --views " + plan;
+  const CommandResult own = run(simulate), given = run(simulate + " --spec " + spec),
+                      unmarked = run(simulate + " --spec " + dir.file("unmarked.yaml"));
+  ASSERT_EQ(own.code, 0) << own.out;
+  EXPECT_EQ(own.out, given.out);
+  EXPECT_NE(own.out, unmarked.out);
   const std::string source = "spec                   " +
                              std::filesystem::absolute(spec).lexically_normal().string() +
                              " (the plan's)\n";
