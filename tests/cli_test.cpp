@@ -736,6 +736,7 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
       << r.out;
 }
+
 // A plan holds the spec it was made with, and the commands reading it take that one when
 // given none: FTC 11 planned with markers on the part, whose disks hide the surface under
 // them, verifies as planned without --spec, also once the spec file is rewritten or gone;
