@@ -1182,6 +1182,13 @@ void checkPlanKeys(const json& root, const std::string& path) {
                               path, "sample " + std::to_string(i + 1));
 }
 
+// The spec the plan was made with (version 4 on), if it names one.
+std::optional<PlanSpec> planSpecOf(const json& root, const std::string& path) {
+  if (!root.contains("spec")) return std::nullopt;
+  return PlanSpec{field<std::string>(root["spec"], "file", path, "spec"),
+                  field<std::string>(root["spec"], "text", path, "spec")};
+}
+
 // readPlan without its net for values of the wrong type.
 Plan readPlanFields(const std::string& path) {
   ViewsFile views = readViews(path);  // checks the file, the JSON and every view
@@ -1242,9 +1249,7 @@ Plan readPlanFields(const std::string& path) {
     plan.cell_motion = reader.cellMotion(root);
   }
   plan.cycle = reader.cycle(root);
-  if (root.contains("spec"))
-    plan.spec = PlanSpec{field<std::string>(root["spec"], "file", path, "spec"),
-                         field<std::string>(root["spec"], "text", path, "spec")};
+  plan.spec = planSpecOf(root, path);
   checkReferences(plan, path);
   return plan;
 }
