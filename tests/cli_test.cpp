@@ -569,6 +569,19 @@ TEST(Cli, PlaceMarkersPlansAgainWithTheProposedOnes) {
   ASSERT_EQ(plan.markers.size(), proposed.size());
   for (std::size_t k = 0; k < proposed.size(); ++k)
     EXPECT_LT((plan.markers[k].position - proposed[k].position).norm(), 1e-6);
+  // A spec registering by geometry: the plan registers by the markers placed, and verify
+  // checks it so, given the spec or taking the plan's.
+  test::writeText(dir.file("geometry.yaml"),
+                  "registration: {method: geometry}\ntasks: [{type: global}]\n");
+  r = run("plan " + part + " --spec " + dir.file("geometry.yaml") + " -o " + dir.file("geo") +
+          " --no-report -q --place-markers");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "%), by markers");
+  for (const std::string& spec : {std::string(), " --spec " + dir.file("geometry.yaml")}) {
+    r = run("verify " + dir.file("geo/plan.json") + " -q" + spec);
+    EXPECT_EQ(r.code, 0) << spec << "\n" << r.out;
+    EXPECT_PRED2(test::contains, r.out, "registration check     as planned\n");
+  }
 }
 
 // inspect: every characteristic of the plan in inspection.json beside it, a value per run

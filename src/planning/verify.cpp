@@ -28,8 +28,15 @@ std::shared_ptr<const TableTurn> planTable(const Plan& plan, const std::vector<M
 
 // The registration options a plan is checked with: the spec's, without bridging, with the
 // plan's method (and robot accuracy) when the spec names none, and the plan's `required`.
-RegistrationOptions checkOptions(const Spec& spec, const Registration& planned) {
+// A plan with the markers it proposed placed registers by them where the spec registers by
+// geometry, as the planner took them (planWithProposedMarkers).
+RegistrationOptions checkOptions(const Spec& spec, const Plan& plan) {
+  const Registration& planned = *plan.registration;
   RegistrationOptions registration = registrationOptions(spec);
+  if (registration.method == RegistrationMode::Geometry &&
+      std::any_of(plan.markers.begin(), plan.markers.end(),
+                  [](const Marker& m) { return m.placed; }))
+    registration.method = RegistrationMode::Markers;
   registration.bridging = false;
   registration.required = planned.required;
   registration.aligned_as_taken = planned.aligned_as_taken;
@@ -148,7 +155,7 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
 
   if (!options.registration || !plan.registration) return check;
   std::vector<View> views = plan.views;
-  RegistrationOptions registration = checkOptions(spec, *plan.registration);
+  RegistrationOptions registration = checkOptions(spec, plan);
   if (!spec.markers_file.empty() || spec.marker_grid > 0 || !spec.fixtures.empty())
     again.markers = spec_markers;
   registration.table = planTable(plan, again.markers);
