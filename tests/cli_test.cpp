@@ -774,9 +774,19 @@ TEST(Cli, CommandsGivenNoSpecTakeTheOneThePlanWasMadeWith) {
   ASSERT_EQ(own.code, 0) << own.out;
   EXPECT_EQ(own.out, given.out);
   EXPECT_NE(own.out, unmarked.out);
-  const std::string source = "spec                   " +
-                             std::filesystem::absolute(spec).lexically_normal().string() +
-                             " (the plan's)\n";
+  const std::string absolute = std::filesystem::absolute(spec).lexically_normal().string();
+  const std::string source = "spec                   " + absolute + " (the plan's)\n";
+  // Planned in every rest (--rest over the spec's), with markers on each rest's upward
+  // faces: checked so, where the spec's own rest puts them on the first rest's only.
+  r = run("-q plan " + part + " --spec " + spec + " --rest all -o " + dir.file("every") +
+          " --no-report");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run("-q verify " + dir.file("every/plan.json") + " " + part);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_PRED2(test::contains, r.out, "spec                   " + absolute + ", resting all");
+  EXPECT_PRED2(test::contains, r.out, "coverage check         as planned\n");
+  r = run("-q verify " + dir.file("every/plan.json") + " " + part + " --spec " + spec);
+  EXPECT_PRED2(test::contains, r.out, "samples measured otherwise than planned");
   for (const std::string change : {"as it was", "rewritten", "removed"}) {
     if (change == "rewritten") test::writeText(spec, "tasks: [{type: global}]\n");
     if (change == "removed") std::filesystem::remove(spec);
@@ -793,6 +803,12 @@ TEST(Cli, CommandsGivenNoSpecTakeTheOneThePlanWasMadeWith) {
   EXPECT_PRED2(test::contains, r.out, "/tmp/?[2Jspec.yaml (the plan's)\n");
   EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
   // A plan's spec that no longer reads is named as the plan's.
+  broken["spec"]["rest"] = "sideways";
+  test::writeText(plan, broken.dump());
+  r = run("-q verify " + plan + " " + part);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_PRED2(test::contains, r.out,
+               "error: " + plan + ": spec.rest: expected auto, all, drawn or a face id");
   broken["spec"]["text"] = "tasks: [";
   test::writeText(plan, broken.dump());
   r = run("-q verify " + plan + " " + part);

@@ -19,9 +19,11 @@ Spec specFor(const std::string& given, const Plan& plan, const std::string& plan
 
 std::string specSource(const std::string& given, const Plan& plan) {
   if (!given.empty()) return given;
+  if (!plan.spec) return "the default (the plan names none)";
   // The file's name as the plan gives it may hold control bytes.
-  return plan.spec ? printable(plan.spec->file) + " (the plan's)"
-                   : "the default (the plan names none)";
+  std::string source = plan.spec->file.empty() ? "the default" : printable(plan.spec->file);
+  if (!plan.spec->rest.empty()) source += ", resting " + printable(plan.spec->rest);
+  return source + " (the plan's)";
 }
 
 std::string partFileFor(const std::string& given, const Plan& plan, const std::string& plan_file) {

@@ -116,19 +116,6 @@ void printCoverageAndBound(const Plan& plan) {
                        "planner.selection_nodes: this plan depends on the machine's speed"});
 }
 
-// --rest over the spec's part.rest: auto, all, drawn (as the CAD model is drawn) or a face id.
-void applyRest(Spec& spec, const std::string& rest) {
-  const bool face = !rest.empty() && rest.size() <= 9 && rest[0] != '0' &&
-                    std::all_of(rest.begin(), rest.end(),
-                                [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
-  if (rest != "auto" && rest != "all" && rest != "drawn" && !face)
-    throw UsageError("--rest", "expected auto, all, drawn or a face id, not '" + rest + "'");
-  spec.rest_auto = rest == "auto";
-  spec.rest_all = rest == "all";
-  spec.rest_face = face ? std::stoi(rest) : 0;
-  spec.rest_pose.reset();
-}
-
 // The spec with the command line's settings over its own: --scanner, --coverage, --aim
 // (--rest is applied before, when the inputs are listed).
 void applyOptions(Spec& spec, const Options& options) {
@@ -149,7 +136,7 @@ void applyOptions(Spec& spec, const Options& options) {
 
 int run(const Options& options, const GlobalOptions& global) {
   Spec spec = options.spec.empty() ? defaultSpec() : loadSpec(options.spec);
-  if (!options.rest.empty()) applyRest(spec, options.rest);
+  if (!options.rest.empty()) setRest(spec, options.rest, "--rest");
   const std::vector<std::string> inputs = commandInputs({options.part}, spec);
   for (const char* name : {"plan.json", "report.html", "plan.png", kProposedMarkers})
     refuseInputAsOutput((std::filesystem::path(options.outdir) / name).string(), inputs);

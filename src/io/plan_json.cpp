@@ -498,7 +498,10 @@ json planJson(const Plan& plan) {
   }
   if (!plan.orientations.empty()) addOrientations(plan, result);
   if (plan.cell) addCell(plan, result);
-  if (plan.spec) result["spec"] = {{"file", plan.spec->file}, {"text", plan.spec->text}};
+  if (plan.spec) {
+    result["spec"] = {{"file", plan.spec->file}, {"text", plan.spec->text}};
+    if (!plan.spec->rest.empty()) result["spec"]["rest"] = plan.spec->rest;
+  }
   if (!plan.sweeps.empty()) addSweeps(plan, result);
   if (plan.bound) result["summary"]["bound"] = boundJson(plan);
   if (plan.cycle) result["summary"]["cycle"] = cycleJson(*plan.cycle);
@@ -1160,7 +1163,7 @@ void checkPlanKeys(const json& root, const std::string& path) {
       {"format", "version", "units", "part", "scanner", "views", "sequence", "samples", "summary",
        "registration", "orientations", "cell", "sweeps", "characteristics", "face_areas", "spec"},
       path, "plan");
-  detail::refuseUnknownKeys(objectAt(root, "spec"), {"file", "text"}, path, "spec");
+  detail::refuseUnknownKeys(objectAt(root, "spec"), {"file", "text", "rest"}, path, "spec");
   detail::refuseUnknownKeys(objectAt(root, "part"),
                             {"file", "absolute_file", "faces", "part_to_world"}, path, "part");
   const json views = root.value("views", json::array());
@@ -1186,7 +1189,8 @@ void checkPlanKeys(const json& root, const std::string& path) {
 std::optional<PlanSpec> planSpecOf(const json& root, const std::string& path) {
   if (!root.contains("spec")) return std::nullopt;
   return PlanSpec{field<std::string>(root["spec"], "file", path, "spec"),
-                  field<std::string>(root["spec"], "text", path, "spec")};
+                  field<std::string>(root["spec"], "text", path, "spec"),
+                  fieldOr(root["spec"], "rest", std::string(), path, "spec")};
 }
 
 // readPlan without its net for values of the wrong type.

@@ -788,12 +788,19 @@ Spec specFromText(const std::string& text, const std::string& source) {
 
 Spec planSpec(const Plan& plan, const std::string& plan_file) {
   if (!plan.spec) return defaultSpec();
+  Spec spec;
   try {
-    return specFromText(plan.spec->text, plan.spec->file);
+    spec = plan.spec->text.empty() ? defaultSpec() : specFromText(plan.spec->text, plan.spec->file);
   } catch (const InputError& e) {
     throw InputError(plan_file,
                      "the spec it was made with, " + plan.spec->file + ": " + e.reason());
   }
+  try {
+    if (!plan.spec->rest.empty()) setRest(spec, plan.spec->rest, "spec.rest");
+  } catch (const UsageError& e) {
+    throw InputError(plan_file, e.what());
+  }
+  return spec;
 }
 
 }  // namespace scanplan

@@ -862,11 +862,11 @@ void checkMostViews(const Plan& plan, const Part& part, const Spec& spec) {
 
 // The spec as the plan records it: a file by its absolute path.
 std::optional<PlanSpec> recordedSpec(const Spec& spec) {
-  if (spec.text.empty()) return std::nullopt;
+  if (spec.text.empty() && spec.rest_given.empty()) return std::nullopt;
   std::error_code ec;
   const bool file = std::filesystem::is_regular_file(spec.source, ec);
   return PlanSpec{file ? std::filesystem::absolute(spec.source, ec).string() : spec.source,
-                  spec.text};
+                  spec.text, spec.rest_given};
 }
 
 }  // namespace

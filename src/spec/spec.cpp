@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,19 @@
 #include <type_traits>
 
 namespace scanplan {
+
+void setRest(Spec& spec, const std::string& rest, const std::string& key) {
+  const bool face = !rest.empty() && rest.size() <= 9 && rest[0] != '0' &&
+                    std::all_of(rest.begin(), rest.end(),
+                                [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  if (rest != "auto" && rest != "all" && rest != "drawn" && !face)
+    throw UsageError(key, "expected auto, all, drawn or a face id, not '" + rest + "'");
+  spec.rest_auto = rest == "auto";
+  spec.rest_all = rest == "all";
+  spec.rest_face = face ? std::stoi(rest) : 0;
+  spec.rest_pose.reset();
+  spec.rest_given = rest;
+}
 
 Spec defaultSpec() {
   Spec spec;

@@ -170,10 +170,12 @@ struct CapableCount {
 };
 
 // The spec a plan was made with, as it was read: its file (absolute; as given when it names
-// no file, "<dict>" for one from Python) and its text.
+// no file, "<dict>" for one from Python), its text, and how the part stands where that was
+// given over the text's part.rest (`plan --rest`, Spec::rest_given; "" none).
 struct PlanSpec {
   std::string file;
   std::string text;
+  std::string rest;
 };
 
 struct Plan {

@@ -111,6 +111,7 @@ struct PlannerSettings {
 struct Spec {
   std::string source;                  // the file it was read from, "" for defaults
   std::string text;                    // the text it was read from, "" for defaults
+  std::string rest_given;              // part.rest as given over the text's (setRest), or ""
   Scanner scanner;                     // `scanner:` preset name or mapping
   std::string part_file;               // part.file, resolved to the spec's folder, or ""
   bool rest_auto = false;              // part.rest: auto (the steadiest rest orientation)
@@ -146,6 +147,11 @@ struct Spec {
 
 // The default spec: the generic structured-light scanner, one global task.
 Spec defaultSpec();
+
+// How the part stands, given over the spec's part.rest (`plan --rest`): auto, all, drawn (as
+// the CAD model is drawn) or a face id; kept in Spec::rest_given. \throw UsageError naming
+// `key` for another value.
+void setRest(Spec& spec, const std::string& rest, const std::string& key);
 
 // A spec resolved against its part, once: every face selector turned into face ids and
 // checked, the GD&T faces taken from the part. Every stage of planning reads this.
