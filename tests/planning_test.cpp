@@ -71,6 +71,37 @@ Simulator simulatorFor(const Part& part, const Plan& plan) {
   return Simulator(part, plan.scanner, options);
 }
 
+// FTC 11 stands in 85 rest orientations. With markers on each rest's upward faces, which
+// stay on the part as it turns, the samples under them are measured in none: the plan tries
+// the rests only while other samples are left (two), and every sample it leaves unmeasured
+// lies within a marker's radius of a marker on the part, lost under it.
+TEST(Planning, EveryRestStopsWhenOnlySamplesUnderMarkersAreLeft) {
+  test::TempDir dir;
+  const Part& part = test::importedOnce(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  const Spec spec = specWith(
+      "part: {rest: all}\nmarkers: {grid: 10, on: both, diameter: 8}\ntasks: [{type: global}]\n",
+      dir);
+  std::set<std::string> rests;
+  const Plan plan = planViews(part, spec, {}, [&](std::string_view stage, double) {
+    if (stage.rfind("rest orientation ", 0) == 0) rests.insert(std::string(stage));
+  });
+  EXPECT_EQ(rests.size(), 2u);
+  EXPECT_TRUE(rests.count("rest orientation 1 of 85")) << *rests.begin();
+  std::size_t left = 0;
+  for (const PlannedSample& s : plan.samples) {
+    if (!s.measured_by.empty()) continue;
+    ++left;
+    double nearest = 1e300;
+    for (const Marker& m : plan.markers)
+      if (m.on == MarkerCarrier::Part)
+        nearest = std::min(nearest, (m.position - s.sample.position).norm());
+    EXPECT_LE(nearest, 4 + 1e-9) << s.sample.position.transpose();
+    EXPECT_EQ(s.uncoverable, Uncoverable::Lost);
+    EXPECT_EQ(s.last_loss, Loss::UnderMarker);
+  }
+  EXPECT_GT(left, 0u);
+}
+
 TEST(Planning, RestAllMeasuresEverySideOfACube) {
   test::TempDir dir;
   Part part = cube(dir);

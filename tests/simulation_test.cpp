@@ -134,6 +134,12 @@ TEST(MeasurementTest, AMarkerOnTheSurfaceCoversWhatLiesUnderIt) {
   EXPECT_EQ(measureOne(simulator, {centre() + Vec3(0, 4.1, 0), facing, 1}), Loss::Measured);
   EXPECT_EQ(measureOne(simulator, {centre() + Vec3(1, 0, 3), facing, 1}), Loss::Measured);
   EXPECT_EQ(measureOne(simulator, {centre(), facing, 0}), Loss::Measured);
+  // underSpots judges the same points as the simulation, whatever the view.
+  const std::vector<SurfacePoint> points = {{centre() + Vec3(3.9, 0, 0), facing, 1},
+                                            {centre() + Vec3(0, 4.1, 0), facing, 1},
+                                            {centre() + Vec3(1, 0, 3), facing, 1},
+                                            {centre(), facing, 0}};
+  EXPECT_EQ(underSpots(options.covered, points), (std::vector<char>{1, 0, 0, 0}));
   // Without the spot, the covered point is measured.
   const Simulator bare(farPart(), scanner(), noPlane());
   EXPECT_EQ(measureOne(bare, {centre() + Vec3(3.9, 0, 0), facing, 1}), Loss::Measured);

@@ -725,13 +725,29 @@ void mergeOrientation(Plan& merged, Plan part, const RestOrientation& rest, doub
 
 // Every rest orientation in turn, steadiest first, each aiming at what the earlier ones
 // left unmeasured; an orientation that adds no view is left out (but the first).
+// Per sample, whether a marker stuck on the part covers it: so in every rest, since such
+// markers turn with the part (specMarkers), and no view measures it.
+std::vector<char> underPartMarkers(const Part& part, const ResolvedSpec& spec,
+                                   const std::vector<Sample>& sampled, const Pose& part_to_world) {
+  std::vector<SurfacePoint> points;
+  for (const Sample& s : sampled)
+    points.push_back({part_to_world * s.position, part_to_world.linear() * s.normal, s.face});
+  return underSpots(simulationOptionsFor(spec, part, part_to_world).covered, points);
+}
+
 Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector<Sample>& sampled,
                    const PlanningOptions& options, const Progress& progress) {
   const std::vector<RestOrientation> rests = restOrientations(part);
   Plan merged;
   std::vector<char> done(sampled.size(), 0);
+  // The rests are tried until every sample is measured, or under a marker.
+  const std::vector<char> covered =
+      rests.empty() ? std::vector<char>(sampled.size(), 0)
+                    : underPartMarkers(part, spec, sampled, rests.front().part_to_world);
   for (std::size_t k = 0; k < rests.size(); ++k) {
-    if (k > 0 && std::all_of(done.begin(), done.end(), [](char d) { return d != 0; })) break;
+    bool left = false;
+    for (std::size_t i = 0; i < done.size() && !left; ++i) left = !done[i] && !covered[i];
+    if (k > 0 && !left) break;
     report(progress,
            "rest orientation " + std::to_string(k + 1) + " of " + std::to_string(rests.size()), 0);
     Plan plan = planPlacement(part, spec, sampled, rests[k].part_to_world, done, options, progress);
@@ -753,6 +769,12 @@ Plan planEveryRest(const Part& part, const ResolvedSpec& spec, const std::vector
     }
     mergeOrientation(merged, std::move(plan), rests[k], spec.spec.cycle.turn_over);
   }
+  // A sample under a marker in every rest is lost under it, whatever the first rest said.
+  for (std::size_t i = 0; i < merged.samples.size() && i < covered.size(); ++i)
+    if (covered[i] && merged.samples[i].measured_by.empty()) {
+      merged.samples[i].uncoverable = Uncoverable::Lost;
+      merged.samples[i].last_loss = Loss::UnderMarker;
+    }
   joinSetups(merged, registrationOptions(spec.spec));
   return merged;
 }

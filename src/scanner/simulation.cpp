@@ -35,6 +35,30 @@ std::string_view toString(Loss loss) {
   return "unknown";
 }
 
+bool spotCovers(const CoveredSpot& spot, const SurfacePoint& point) {
+  return point.face > 0 &&
+         (point.position - spot.centre).squaredNorm() <= spot.radius * spot.radius &&
+         std::abs((point.position - spot.centre).dot(spot.normal)) <= spot.radius / 2 &&
+         point.normal.dot(spot.normal) > 0.5;
+}
+
+std::vector<char> underSpots(const std::vector<CoveredSpot>& spots,
+                             std::span<const SurfacePoint> points) {
+  std::vector<char> under(points.size(), 0);
+  if (spots.empty()) return under;
+  std::vector<Vec3> centres;
+  for (const CoveredSpot& spot : spots) centres.push_back(spot.centre);
+  const detail::PointCloudAdaptor cloud{centres};
+  const detail::PointTree tree(3, cloud);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    unsigned nearest = 0;
+    double squared = 0;
+    tree.knnSearch(points[i].position.data(), 1, &nearest, &squared);
+    under[i] = spotCovers(spots[nearest], points[i]);
+  }
+  return under;
+}
+
 namespace {
 
 // f(i) for i in [0, n), in parallel in blocks: each test is light, and views are often
@@ -418,10 +442,7 @@ struct Simulator::Impl {
     unsigned nearest = 0;
     double squared = 0;
     spots->knnSearch(sp.position.data(), 1, &nearest, &squared);
-    const CoveredSpot& spot = options.covered[nearest];
-    return squared <= spot.radius * spot.radius &&
-           std::abs((sp.position - spot.centre).dot(spot.normal)) <= spot.radius / 2 &&
-           sp.normal.dot(spot.normal) > 0.5;
+    return spotCovers(options.covered[nearest], sp);
   }
 
   // The tests of a point that cast no ray, seen from the camera at `eye`: volume, angles,

@@ -51,6 +51,15 @@ struct CoveredSpot {
   double radius = 0;            // mm
 };
 
+// Whether `spot` covers `point` (face >= 1): within its radius of its centre, near its plane
+// (within half the radius) and facing its way.
+bool spotCovers(const CoveredSpot& spot, const SurfacePoint& point);
+
+// Per point, whether the spot nearest it covers it, as the simulation judges (Loss::
+// UnderMarker) whatever the view.
+std::vector<char> underSpots(const std::vector<CoveredSpot>& spots,
+                             std::span<const SurfacePoint> points);
+
 struct SimulationOptions {
   Pose part_to_world = Pose::Identity();  // where the part stands in the cell
   bool working_plane = true;              // the plane z = 0 occludes (world frame)
