@@ -918,8 +918,7 @@ PlacedMarkers planWithProposedMarkers(const Part& part, Spec spec, Plan plan,
                                       int rounds) {
   if (!plan.orientations.empty())
     throw InputError(part.file, "--place-markers plans one rest orientation only");
-  if (spec.registration.method == RegistrationMode::Geometry)
-    spec.registration.method = RegistrationMode::Markers;
+  registerByPlacedMarkers(spec.registration);
   PlacedMarkers result{std::move(plan), {}};
   for (int round = 0; round < rounds; ++round) {
     const Plan& last = result.plan;

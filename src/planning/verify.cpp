@@ -28,15 +28,11 @@ std::shared_ptr<const TableTurn> planTable(const Plan& plan, const std::vector<M
 
 // The registration options a plan is checked with: the spec's, without bridging, with the
 // plan's method (and robot accuracy) when the spec names none, and the plan's `required`.
-// A plan with the markers it proposed placed registers by them where the spec registers by
-// geometry, as the planner took them (planWithProposedMarkers).
+// A plan with the markers it proposed placed registers by them (registerByPlacedMarkers).
 RegistrationOptions checkOptions(const Spec& spec, const Plan& plan) {
   const Registration& planned = *plan.registration;
   RegistrationOptions registration = registrationOptions(spec);
-  if (registration.method == RegistrationMode::Geometry &&
-      std::any_of(plan.markers.begin(), plan.markers.end(),
-                  [](const Marker& m) { return m.placed; }))
-    registration.method = RegistrationMode::Markers;
+  if (!spec.placed_markers.empty()) registerByPlacedMarkers(registration);
   registration.bridging = false;
   registration.required = planned.required;
   registration.aligned_as_taken = planned.aligned_as_taken;

@@ -188,6 +188,10 @@ RegistrationOptions registrationOptions(const Spec& spec) {
   return registration;
 }
 
+void registerByPlacedMarkers(RegistrationOptions& options) {
+  if (options.method == RegistrationMode::Geometry) options.method = RegistrationMode::Markers;
+}
+
 Pose fixtureToWorld(const FixtureModel& fixture, const Pose& part_to_world) {
   return fixture.in_world ? fixture.placement : Pose(part_to_world * fixture.placement);
 }

@@ -181,6 +181,11 @@ ResolvedSpec resolveSpec(const Part& part, const Spec& spec);
 // planner's seed.
 RegistrationOptions registrationOptions(const Spec& spec);
 
+// The registration of views with markers placed where a plan proposed them (`plan
+// --place-markers`): by markers where `options` say geometry, else the markers go unused.
+// The planner and the check of its plan take the same.
+void registerByPlacedMarkers(RegistrationOptions& options);
+
 // The files `spec` names: itself, its part, markers, fixture models and their markers, and
 // control points; a run must not write over any of them.
 std::vector<std::string> specFiles(const Spec& spec);
