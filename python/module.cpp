@@ -228,6 +228,7 @@ void writeReportFile(const Plan& plan, const Part& part, const std::string& path
   Callback callback(progress);
   {
     py::gil_scoped_release release;
+    checkPlanPart(plan, part);
     writeReport(plan, part, resolved, path, {}, callback.progress());
   }
   callback.raiseIfFailed();

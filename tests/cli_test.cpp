@@ -2,6 +2,8 @@
 
 #include "support.h"
 
+#include <scanplan/cad/elementary.h>
+#include <scanplan/cad/import.h>
 #include <scanplan/cad/ply.h>
 #include <scanplan/core/version.h>
 #include <scanplan/io/plan_json.h>
@@ -10,6 +12,7 @@
 #include <scanplan/registration/registration.h>
 #include <scanplan/report/report.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
@@ -748,6 +751,76 @@ TEST(Cli, VerifyFailsAPlanThatDoesNotHold) {
   EXPECT_NE(r.out.find("broken.json"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("refers to view 999, which the plan does not have"), std::string::npos)
       << r.out;
+}
+
+// A part changed since its plan was made, with the same faces, is not the plan's: FTC 11
+// with its 32 mm bore 0.1 mm larger in the file (the samples on the bore lie off it), and a
+// box mesh made 0.5 mm taller (those on its top). Every command that reads the plan against
+// a part refuses it, naming the file, and writes nothing; the part as planned verifies.
+TEST(Cli, APartChangedSinceThePlanWasMadeIsRefused) {
+  test::TempDir dir;
+  std::ifstream in(test::testData("nist_ftc_11_asme1_ap242-e1.stp"));
+  std::string step((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  test::writeText(dir.file("ftc11.stp"), step);
+  const std::string bore = "CYLINDRICAL_SURFACE('',#739,16.);";
+  ASSERT_NE(step.find(bore), std::string::npos);
+  step.replace(step.find(bore), bore.size(), "CYLINDRICAL_SURFACE('',#739,16.05);");
+  test::writeText(dir.file("ftc11-changed.stp"), step);
+  auto box = [](double height) {
+    std::string off = "OFF\n8 12 0\n";
+    for (int k = 0; k < 8; ++k)
+      off += fmt::format("{} {} {}\n", k & 1 ? 100 : 0, k & 2 ? 60 : 0, k & 4 ? height : 0);
+    return off +
+           "3 0 2 1\n3 1 2 3\n3 4 5 6\n3 5 7 6\n3 0 1 4\n3 1 5 4\n3 2 6 3\n3 3 6 7\n"
+           "3 0 4 2\n3 2 4 6\n3 1 3 5\n3 3 7 5\n";
+  };
+  test::writeText(dir.file("box.off"), box(40));
+  test::writeText(dir.file("box-changed.off"), box(40.5));
+  // The face changed: the bore, a cylinder of radius 16; the box's top.
+  auto changedFace = [](const Part& part) {
+    for (const Face& face : part.faces) {
+      const auto surface = elementarySurface(part, face.id);
+      if ((surface && surface->type == SurfaceType::Cylinder &&
+           std::abs(surface->radius - 16) < 1e-9) ||
+          (part.format == "OFF" && face.bounds.min.z() > 39.9))
+        return face.id;
+    }
+    return 0;
+  };
+  for (const std::string& file : {std::string("ftc11.stp"), std::string("box.off")}) {
+    const std::string name = file.substr(0, file.find('.'));
+    const std::string plan = dir.file(name + "/plan.json");
+    CommandResult r = run("plan " + dir.file(file) + " -o " + dir.file(name) +
+                          " --no-report --no-registration -q");
+    ASSERT_EQ(r.code, 0) << r.out;
+    r = run("verify " + plan + " -q");
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("part check             every sample on its face"), std::string::npos)
+        << r.out;
+    const int face = changedFace(importPart(dir.file(file)));
+    ASSERT_GT(face, 0) << file;
+    const Plan planned = readPlan(plan);
+    const auto on_face =
+        std::count_if(planned.samples.begin(), planned.samples.end(),
+                      [&](const PlannedSample& s) { return s.sample.face == face; });
+    ASSERT_GT(on_face, 0) << file;
+    const std::string changed = dir.file(name + "-changed" + file.substr(file.find('.')));
+    const std::string refused = fmt::format(
+        "error: {}: {} of the plan's {} samples lie off their "
+        "faces on it",
+        changed, on_face, planned.samples.size());
+    for (const std::string& command :
+         {"verify " + plan, "inspect " + plan + " -o " + dir.file("i.json"),
+          "report " + plan + " -o " + dir.file("report.html"),
+          "export " + plan + " --format glb -o " + dir.file("v.glb")}) {
+      r = run(command + " " + changed + " -q");
+      EXPECT_EQ(r.code, 2) << command << "\n" << r.out;
+      EXPECT_NE(r.out.find(refused), std::string::npos) << command << "\n" << r.out;
+      EXPECT_NE(r.out.find("not the part the plan was made for"), std::string::npos) << r.out;
+    }
+    for (const char* written : {"i.json", "report.html", "v.glb"})
+      EXPECT_FALSE(std::filesystem::exists(dir.file(written))) << written;
+  }
 }
 
 // A plan holds the spec it was made with, and the commands reading it take that one when

@@ -133,10 +133,16 @@ std::vector<SurfaceCase> surfaceCases() {
        new Geom_ToroidalSurface(frame, 30, 8),
        0,
        2 * M_PI},
+      // A spindle torus (minor radius past the major, as a dome's), whose tube crosses its
+      // axis: the nearest point may lie on the tube about the far side of the ring.
+      {{SurfaceType::Torus, origin, axis, 6, 10},
+       new Geom_ToroidalSurface(frame, 6, 10),
+       0,
+       2 * M_PI},
   };
 }
 
-// The point of a cylinder, cone (both nappes), sphere and torus nearest points scattered about them
+// The point of a cylinder, cone (both nappes), sphere and tori nearest points scattered about them
 // lies as far as OCCT's projection onto the same surface finds, on the surface (OCCT's distance
 // from it 0), and off it along its normal there.
 TEST(ElementarySurface, TheNearestPointIsOcctsProjection) {

@@ -283,6 +283,7 @@ TEST(Inspection, StraightnessOfABowedFaceAndABentBoreIsTheBow) {
 // declared: the top bowed by 0.05, the hole moved by 0.2 in x, its diameter 0.1 over.
 Plan fourViews(const HolePlate& p) {
   Plan plan;
+  plan.part_faces = p.part.faces.size();
   plan.scanner = defaultSpec().scanner;
   plan.characteristics = p.characteristics;
   Registration registration;
@@ -568,6 +569,7 @@ struct IcpPlate {
       if (f.type == SurfaceType::Plane && f.bounds.min.z() > 19.99) top = f.id;
     }
     part.gdt.datums = {{"A", {top}}, {"B", first}};
+    plan.part_faces = part.faces.size();
     plan.scanner = defaultSpec().scanner;
     plan.characteristics = {{1, "position", false, 0.5, 0, 0.5, {"A", "B"}, second}};
     Registration registration;

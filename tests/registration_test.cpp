@@ -5,6 +5,7 @@
 #include "registration/icp_stage.h"
 #include "support.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/import.h>
 #include <scanplan/core/errors.h>
 #include <scanplan/io/plan_json.h>
@@ -1637,6 +1638,38 @@ TEST_F(RegisteredPlan, VerifyAgreesWithThePlanWrittenAndReadBack) {
       break;
     }
   EXPECT_EQ(verifyPlan(wrong, *part_, *spec_).coverage_differences, 1u);
+}
+
+// The bundled example's samples lie on their faces of the part planned. Moved along their
+// normals by twice what a sample may lie off an elementary surface, each on a plane,
+// cylinder, cone, sphere or torus lies off it (by the test's own count of such faces), and
+// the part is refused as not the plan's; by half that, none does.
+TEST_F(RegisteredPlan, SamplesMovedOffTheirFacesMakeThePartNotThePlans) {
+  const PartFit fit = partFit(*plan_, *part_);
+  EXPECT_EQ(fit.samples, plan_->samples.size());
+  EXPECT_EQ(fit.off, 0u);
+  EXPECT_LT(fit.exact_farthest, 1e-6);
+  EXPECT_NO_THROW(checkPlanPart(*plan_, *part_));
+  std::size_t elementary = 0;
+  for (const PlannedSample& s : plan_->samples)
+    elementary += elementarySurface(*part_, s.sample.face).has_value();
+  ASSERT_GT(elementary, plan_->samples.size() / 2);
+  auto moved = [&](double by) {
+    Plan plan = *plan_;
+    for (PlannedSample& s : plan.samples) s.sample.position += by * s.sample.normal;
+    return plan;
+  };
+  EXPECT_EQ(partFit(moved(fit.exact_tolerance / 2), *part_).off, 0u);
+  const Plan off = moved(2 * fit.exact_tolerance);
+  EXPECT_GE(partFit(off, *part_).off, elementary);
+  try {
+    checkPlanPart(off, *part_);
+    ADD_FAILURE() << "a part its plan's samples lie off is taken";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(part_->file), std::string::npos) << message;
+    EXPECT_NE(message.find("not the part the plan was made for"), std::string::npos) << message;
+  }
 }
 
 // On the die-cast housing's plan: the check verifies by ICP only the pairs its own tree

@@ -40,6 +40,11 @@ int run(const Options& options, const GlobalOptions& global) {
   auto verdict = [](std::size_t differences, const std::string& what) {
     return differences == 0 ? std::string("as planned") : fmt::format("{} {}", differences, what);
   };
+  fmt::print(
+      "{:<22} every sample on its face: within {:.4f} mm of its surface ({:g} allowed) and "
+      "{:.4f} mm of its triangles ({:.4f} allowed)\n",
+      "part check", check.part.exact_farthest, check.part.exact_tolerance, check.part.mesh_farthest,
+      check.part.mesh_tolerance);
   fmt::print("{:<22} {}\n", "coverage check",
              verdict(check.coverage_differences, "samples measured otherwise than planned"));
   if (!plan.registration) {

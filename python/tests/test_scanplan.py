@@ -121,6 +121,20 @@ def test_write_read_and_verify(plan, part, tmp_path):
     assert check["coverage_differences"] == 0
     scanplan.write_report(plan, part, str(tmp_path / "report.html"))
     assert (tmp_path / "report.html").stat().st_size > 0
+    # The part with its 32 mm bore made 0.1 mm larger in the file is not the plan's.
+    with open(PART, encoding="latin-1") as f:
+        step = f.read()
+    bore = "CYLINDRICAL_SURFACE('',#739,16.);"
+    assert bore in step
+    changed = tmp_path / "changed.stp"
+    changed.write_text(step.replace(bore, "CYLINDRICAL_SURFACE('',#739,16.05);"), encoding="latin-1")
+    other = scanplan.import_part(str(changed))
+    for call in (lambda: scanplan.verify(back, other), lambda: scanplan.inspect(back, other),
+                 lambda: scanplan.write_program(back, other, str(tmp_path / "p.src"), "krl"),
+                 lambda: scanplan.write_report(back, other, str(tmp_path / "other.html"))):
+        with pytest.raises(scanplan.InputError, match="not the part the plan was made for"):
+            call()
+    assert not (tmp_path / "p.src").exists() and not (tmp_path / "other.html").exists()
 
 
 def test_bad_input_raises_the_exit_codes_class(tmp_path):

@@ -99,10 +99,22 @@ std::pair<Vec3, Vec3> nearestOn(const ElementarySurface& s, const Vec3& p) {
       return {s.origin + s.radius * out, out};
     }
     case SurfaceType::Torus: {
-      const Vec3 ring = s.origin + s.radius * across(from, s.axis);
-      const Vec3 to = p - ring;
-      const Vec3 out = to.norm() > 1e-12 ? Vec3(to.normalized()) : across(from, s.axis);
-      return {ring + s.minor_radius * out, out};
+      // In the plane of the axis and `p`, the tube's circle about the ring's point on each
+      // side of the axis: the nearer of the two nearest. The far side's is the nearer only
+      // where the tube crosses the axis (a spindle torus, minor radius past the major).
+      std::pair<Vec3, Vec3> best;
+      double least = std::numeric_limits<double>::infinity();
+      for (const double side : {1.0, -1.0}) {
+        const Vec3 ring = s.origin + side * s.radius * across(from, s.axis);
+        const Vec3 to = p - ring;
+        const Vec3 out = to.norm() > 1e-12 ? Vec3(to.normalized()) : across(from, s.axis);
+        const double distance = std::abs(to.norm() - s.minor_radius);
+        if (distance < least) {
+          least = distance;
+          best = {ring + s.minor_radius * out, out};
+        }
+      }
+      return best;
     }
     default: return {p - h * s.axis, s.axis};
   }

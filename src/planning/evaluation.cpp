@@ -3,14 +3,12 @@
 
 #include "planning/evaluation.h"
 
+#include "cad/face_triangles.h"
 #include "core/kd_tree.h"
-
-#include <scanplan/cad/mesh.h>
 
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -404,60 +402,11 @@ Evaluation toleranceValue(const Characteristic& c, const Gdt& gdt, const Nominal
 
 }  // namespace
 
-// A face's triangles, found near a point by their centres; `reach` the farthest any
-// vertex lies from its triangle's centre.
-struct Facets {
-  std::vector<std::array<Vec3, 3>> corners;
-  std::vector<Vec3> normals, centres;
-  double reach = 0;
-  std::unique_ptr<PointCloudAdaptor> cloud;
-  std::unique_ptr<PointTree> tree;
-};
-
 struct Nominal::Trees {
   std::map<int, std::unique_ptr<PointCloudAdaptor>> clouds;
   std::map<int, std::unique_ptr<PointTree>> trees;
-  std::map<int, Facets> facets;
+  std::map<int, FaceTriangles> facets;
 };
-
-namespace {
-
-// `f`: the triangles of the part's mesh on face `id`, indexed in place.
-void fillFacets(const Part& part, int id, Facets& f) {
-  const Face& face = part.face(id);
-  for (int t = face.first_triangle; t < face.first_triangle + face.triangle_count; ++t) {
-    const Vec3i& tri = part.mesh.triangles[static_cast<std::size_t>(t)];
-    const std::array<Vec3, 3> corners{part.mesh.vertices[tri[0]], part.mesh.vertices[tri[1]],
-                                      part.mesh.vertices[tri[2]]};
-    const Vec3 centre = (corners[0] + corners[1] + corners[2]) / 3;
-    for (const Vec3& c : corners) f.reach = std::max(f.reach, (c - centre).norm());
-    f.corners.push_back(corners);
-    f.normals.push_back(part.mesh.normal(t));
-    f.centres.push_back(centre);
-  }
-  f.cloud = std::make_unique<PointCloudAdaptor>(PointCloudAdaptor{f.centres});
-  f.tree = std::make_unique<PointTree>(3, *f.cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  f.tree->buildIndex();
-}
-
-// The triangles of `f` that may have a point within `distance` of `p`: those whose centre
-// lies within that and the reach.
-Neighbours trianglesNear(const Facets& f, const Vec3& p, double distance) {
-  const double within = distance + f.reach + 1e-9;
-  Neighbours near;
-  nanoflann::SearchParams unsorted;
-  unsorted.sorted = false;
-  f.tree->radiusSearch(p.data(), within * within, near, unsorted);
-  return near;
-}
-
-// The point of triangle `t` of `f` nearest `p`.
-Vec3 pointOnTriangle(const Facets& f, unsigned t, const Vec3& p) {
-  const auto& c = f.corners[t];
-  return closestPointOnTriangle(p, c[0], c[1], c[2]);
-}
-
-}  // namespace
 
 Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     : trees_(std::make_unique<Trees>()) {
@@ -483,7 +432,7 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
     f.normal = plane.normal;
     for (const Vec3& p : f.points) f.rim = std::max(f.rim, perpendicular(p - f.centroid, f.normal));
     if (f.type == SurfaceType::Cylinder) f.cylinder = cylinderFromNormals(f.points, f.normals);
-    if (part.face(id).triangle_count > 0) fillFacets(part, id, trees_->facets[id]);
+    if (part.face(id).triangle_count > 0) trees_->facets.try_emplace(id, part, id);
     auto& cloud = trees_->clouds[id] =
         std::make_unique<PointCloudAdaptor>(PointCloudAdaptor{f.points});
     auto& tree = trees_->trees[id] =
@@ -502,32 +451,14 @@ const NominalFace* Nominal::face(int id) const {
 std::optional<SurfacePoint> Nominal::onTriangles(int id, const Vec3& p) const {
   const auto found = trees_->facets.find(id);
   if (found == trees_->facets.end()) return std::nullopt;
-  // The nearest point of the triangle whose centre is nearest lies within that centre's
-  // distance; the nearest of all, on a triangle whose centre lies within that and the
-  // reach: the nearest point on those, with that triangle's normal.
-  const Facets& facets = found->second;
-  unsigned index = 0;
-  double squared = 0;
-  facets.tree->knnSearch(p.data(), 1, &index, &squared);
-  double best = std::numeric_limits<double>::infinity();
-  SurfacePoint result{p, facets.normals[index], id};
-  for (const auto& [t, d2] : trianglesNear(facets, p, std::sqrt(squared))) {
-    const Vec3 q = pointOnTriangle(facets, t, p);
-    const double d = (p - q).norm();
-    if (d >= best) continue;
-    best = d;
-    result = {q, facets.normals[t], id};
-  }
-  return result;
+  const auto on = found->second.nearest(p);
+  if (!on) return std::nullopt;
+  return SurfacePoint{on->position, on->normal, id};
 }
 
 bool Nominal::withinBounds(int id, const Vec3& p, double distance) const {
   const auto found = trees_->facets.find(id);
-  if (found == trees_->facets.end()) return true;
-  const Neighbours near = trianglesNear(found->second, p, distance);
-  return std::any_of(near.begin(), near.end(), [&](const auto& candidate) {
-    return (p - pointOnTriangle(found->second, candidate.first, p)).norm() <= distance;
-  });
+  return found == trees_->facets.end() || found->second.within(p, distance);
 }
 
 SurfacePoint Nominal::closest(int id, const Vec3& p) const {

@@ -17,6 +17,7 @@
 #include <scanplan/planning/capability.h>
 #include <scanplan/planning/inspection.h>
 #include <scanplan/planning/planner.h>
+#include <scanplan/planning/verify.h>
 #include <scanplan/scanner/simulation.h>
 
 #include <tbb/parallel_for.h>
@@ -548,6 +549,7 @@ Inspection inspectPlan(const Part& part, const ResolvedSpec& spec, const Plan& p
     throw InputError(plan.part_file, "inspection precision must be within [0, 1)");
   if (!(options.spacing >= 0) || options.spacing > plan.scanner.fov_height)
     throw InputError(plan.part_file, "inspection spacing must be within [0, fov_height]");
+  checkPlanPart(plan, part);
   checkDeviations(part, options.deviations);
   Inspection result;
   result.runs = options.runs;

@@ -4,6 +4,7 @@
 #include <scanplan/planning/cell_poses.h>
 #include <scanplan/planning/planner.h>
 #include <scanplan/planning/robot_steps.h>
+#include <scanplan/planning/verify.h>
 #include <scanplan/robot/kinematics.h>
 #include <scanplan/robot/motion.h>
 
@@ -84,6 +85,7 @@ RobotProgram safeProgram(const Plan& plan, const Cell& cell, const CellCollision
 
 RobotProgram planProgram(const Plan& written, const Part& part, const ResolvedSpec& spec,
                          const ProgramRequest& request) {
+  checkPlanPart(written, part);
   const Plan plan = programPlan(written, request.setup, request.setup_key);
   // The cell planned takes the views with the joints planned: with no spec's cell, or with
   // the spec the plan was made with. Another cell, with those cellPoses chooses there.
