@@ -4,6 +4,7 @@
 
 #include "support.h"
 
+#include <scanplan/cad/elementary.h>
 #include <scanplan/cad/import.h>
 
 #include <gtest/gtest-spi.h>
@@ -161,6 +162,32 @@ TEST_P(NistImport, ToleranceFacesAreValidIds) {
   }
   // Every NIST tolerance is attached to geometry.
   EXPECT_EQ(attached, part.gdt.tolerances.size());
+}
+
+// A diameter or radius the file gives on cylinders of one radius is that radius (twice
+// for a diameter) as the B-Rep models it, within its tolerance and a hundredth of a
+// millimetre: the file's unit read once, whether it writes the value as a qualified item
+// (FTC 06, 07), which OCCT leaves in the file's unit, or not (FTC 08), which it converts.
+TEST_P(NistImport, SizeDimensionsAreTheirCylindersSize) {
+  const NistCase& c = GetParam();
+  std::string path = pathOf(c);
+  SHARED_FILE_OR_SKIP(path);
+  const Part& part = test::importedOnce(path);
+  std::size_t checked = 0;
+  for (const Dimension& d : part.gdt.dimensions) {
+    if ((d.type != "diameter" && d.type != "radius") || d.faces.empty()) continue;
+    std::set<double> radii;
+    for (int id : d.faces) {
+      const auto surface = elementarySurface(part, id);
+      radii.insert(surface && surface->type == SurfaceType::Cylinder ? surface->radius : -1);
+    }
+    if (radii.size() != 1 || *radii.begin() < 0) continue;
+    const double modelled = (d.type == "diameter" ? 2 : 1) * *radii.begin();
+    EXPECT_NEAR(d.value, modelled, std::max(d.lower, d.upper) + 0.01)
+        << d.type << " on faces " << testing::PrintToString(d.faces);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Nist, NistImport, testing::ValuesIn(kNistCases),

@@ -103,7 +103,11 @@ StepPmiMeasures scanStepPmiMeasures(const std::string& path) {
       double scale = units.millimetres(unit);
       if (++name_uses[name] == 1 && scale > 0) result.tolerance_magnitudes[name] = value * scale;
     }
-    if (record.find("REPRESENTATION_ITEM('nominal value')") != std::string::npos) {
+    // Only the items that are also qualified (QUALIFIED_REPRESENTATION_ITEM, as NIST FTC 06
+    // and 07 write them) keep their unit through OCCT's reader; it converts the others by
+    // their own unit (FTC 08's inches).
+    if (record.find("REPRESENTATION_ITEM('nominal value')") != std::string::npos &&
+        record.find("QUALIFIED_REPRESENTATION_ITEM(") != std::string::npos) {
       auto [value, unit] = UnitResolver::measureIn(record);
       double scale = units.millimetres(unit);
       if (scale > 0) nominal_scales.insert(scale);

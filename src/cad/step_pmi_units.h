@@ -3,7 +3,8 @@
 // - tolerance magnitudes written as a complex measure entity
 //   (LENGTH_MEASURE_WITH_UNIT & MEASURE_REPRESENTATION_ITEM), which it reads as 0;
 // - the unit of dimension nominal values written as 'nominal value' measure
-//   representation items, which it leaves unconverted (inches stay inches);
+//   representation items that are also qualified representation items, which it leaves
+//   unconverted (inches stay inches; the unqualified ones it converts);
 // - the items of an ITEM_IDENTIFIED_REPRESENTATION_USAGE written as a SET_REPRESENTATION_ITEM
 //   (how the NIST models name a datum feature's faces), which it reads as none.
 
@@ -15,7 +16,8 @@ namespace scanplan::detail {
 
 struct StepPmiMeasures {
   std::map<std::string, double> tolerance_magnitudes;  // by tolerance name, mm
-  double nominal_value_scale = 1;  // mm per unit of the 'nominal value' items (one unit)
+  // mm per unit of the qualified 'nominal value' items (when they share one unit)
+  double nominal_value_scale = 1;
 };
 
 // Scans a STEP Part 21 file. Never throws on content it does not understand: those
