@@ -13,6 +13,7 @@
 #include <scanplan/io/plan_json.h>
 #include <scanplan/planning.h>
 #include <scanplan/planning/capability.h>
+#include <scanplan/planning/inspection.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
@@ -678,6 +679,63 @@ TEST(Capability, ABoresPositionToAnotherBoreSpansBothViewsShiftsAndNoTurn) {
   const double s = 0.1 / 2.7955, analytic = 2 * 2.4477 * s * std::sqrt(2.0);
   RecordProperty("registration_u", std::to_string(k.budget.registration));
   EXPECT_NEAR(k.budget.registration, analytic, 0.05 * analytic);
+}
+
+// A diameter on the two-bore plate's pattern of two Ø20 bores (2X) holds each bore within
+// its limits, so each bore's own wall must be measured. With four views tilted 50° into
+// each bore from four sides (placed by a robot of 0.01 mm), it is capable, and the virtual
+// inspection evaluates it:
+// its U, each bore's diameter fitted to its own points, the largest, agrees with the
+// model's within 20 % (200 runs); the second bore made 0.1 mm larger is found so, within
+// that U. With the views into the first bore alone, half the pattern unmeasured, it is not
+// capable, and the inspection names the bore it cannot fit.
+TEST(Capability, APatternsDiameterNeedsEachOfItsCylindersMeasured) {
+  test::TempDir dir;
+  const test::TwoBorePlate p = test::twoBorePlate(dir);
+  std::vector<int> both = p.first;
+  both.insert(both.end(), p.second.begin(), p.second.end());
+  std::sort(both.begin(), both.end());
+  const Characteristic diameter{2, "diameter", true, 20, 19.9, 20.1, {}, both};
+  const ResolvedSpec spec = resolveSpec(p.part, defaultSpec());
+  // The reference far off; then four views tilted into each bore, 90° apart about it.
+  Plan plan = robotPlacedViews(spec.spec.scanner, std::vector<double>(9, 2000));
+  plan.part_faces = p.part.faces.size();
+  plan.characteristics = {diameter};
+  plan.registration->robot_accuracy = 0.01;
+  for (std::size_t v = 1; v < 9; ++v)
+    plan.views[v] = test::tiltedView(plan.views[v].id, {v < 5 ? 100.0 : 600.0, 50, 20},
+                                     plan.scanner.standoff, static_cast<double>(v % 4) * M_PI / 2);
+  const Capability k = capabilities(p.part, spec, plan, {diameter}).front();
+  EXPECT_EQ(k.verdict, Verdict::Capable) << toString(k.reason);
+  InspectionOptions options;
+  options.runs = 200;
+  const InspectedCharacteristic inspected =
+      inspectPlan(p.part, spec, plan, options).characteristics[0];
+  ASSERT_TRUE(inspected.evaluated) << inspected.not_evaluated;
+  RecordProperty("predicted_u_inspected_u_bias", std::to_string(k.uncertainty) + " " +
+                                                     std::to_string(inspected.uncertainty) + " " +
+                                                     std::to_string(inspected.bias));
+  EXPECT_NEAR(k.uncertainty / (inspected.uncertainty + std::abs(inspected.bias)), 1, 0.2);
+  options.runs = 4;
+  options.deviations = {{Deviation::Kind::Diameter, p.second, 0.1, Vec3::Zero()}};
+  const InspectedCharacteristic larger =
+      inspectPlan(p.part, spec, plan, options).characteristics[0];
+  ASSERT_TRUE(larger.evaluated) << larger.not_evaluated;
+  EXPECT_NEAR(larger.true_value, 20.1, 0.002);
+  EXPECT_NEAR(larger.mean, 20.1, inspected.uncertainty + std::abs(inspected.bias));
+
+  plan.views.resize(5);
+  plan.registration->views.resize(5);
+  const Capability half = capabilities(p.part, spec, plan, {diameter}).front();
+  EXPECT_EQ(half.verdict, Verdict::NotCapable);
+  EXPECT_TRUE(half.reason == Shortfall::Uncovered || half.reason == Shortfall::TooSparse)
+      << toString(half.reason);
+  options.deviations.clear();
+  const InspectedCharacteristic unfit = inspectPlan(p.part, spec, plan, options).characteristics[0];
+  EXPECT_FALSE(unfit.evaluated);
+  EXPECT_NE(unfit.not_evaluated.find("a cylinder of its pattern is not measured enough to fit"),
+            std::string::npos)
+      << unfit.not_evaluated;
 }
 
 // The capability curve of two views, each on one half of a plate's top (flatness 0.3),

@@ -518,6 +518,21 @@ double largestMagnitude(const std::vector<double>& values) {
   return m;
 }
 
+// The change of a diameter (`times` 2) or a radius (1) under the patches' displacements
+// `d`: the fitted size offset `whole`; of a pattern of cylinders, each fitted to its own
+// patches, the largest, as each is evaluated.
+double sizeChange(const Measured& m, const std::vector<double>& d, const Fitted& whole,
+                  double times) {
+  if (m.axes.size() < 2) return times * std::abs(whole.offset);
+  double largest = 0;
+  for (const AxisFit& a : m.axes) {
+    std::vector<double> mine;
+    for (std::size_t k : a.members) mine.push_back(d[k]);
+    largest = std::max(largest, times * std::abs(fitted(a.fit, mine).offset));
+  }
+  return largest;
+}
+
 // The change of an angle between faces under the patches' displacements `d`, degrees: as
 // the two faces' own fits see it; else (not two faces at an angle) the tilt the whole fit
 // leaves over its extent, `f` its displacements.
@@ -635,8 +650,8 @@ double noiseError(Effect effect, const Measured& m, std::mt19937_64& random,
   relativeToDatums(m, datum_d, d);
   const Fitted f = fitted(m.fit, d);
   switch (effect) {
-    case Effect::Diameter: return 2 * std::abs(f.offset);
-    case Effect::Radius: return std::abs(f.offset);
+    case Effect::Diameter: return sizeChange(m, d, f, 2);
+    case Effect::Radius: return sizeChange(m, d, f, 1);
     case Effect::Size: return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.at);
     case Effect::Form: return range(withPointNoise(f.at, m.feature_zone, extremes));
@@ -695,8 +710,8 @@ double registrationError(Effect effect, const Measured& m,
       return (relative ? range(f.at) : 0.0) + range(lookDisplacements(m, moves, fitted_at));
     case Effect::Profile:
       return 2 * largestMagnitude(lookDisplacements(m, moves, relative ? datum_shift : fitted_at));
-    case Effect::Diameter: return 2 * std::abs(f.offset);
-    case Effect::Radius: return std::abs(f.offset);
+    case Effect::Diameter: return sizeChange(m, d, f, 2);
+    case Effect::Radius: return sizeChange(m, d, f, 1);
     case Effect::Size:  // features moved alike keep their distance
       return distanceChange(featureOffsets(m, d));
     case Effect::Angle: return angleChange(m, d, f.residual);
@@ -832,22 +847,30 @@ void look(const Part& part, const ResolvedSpec& spec, const Plan& plan,
 }
 
 // Whether the measured patches of a diameter or radius on cylinders determine its fit:
-// they span kLeastArc of the circle about the faces' axis.
+// on each of its cylinders (one, or a pattern's), they span kLeastArc of the circle about
+// the cylinder's axis.
 bool cylinderFitted(const Part& part, const Characteristic& c, const std::vector<const Patch*>& all,
                     const std::vector<const Patch*>& measured) {
-  if (!c.dimension || (c.kind != "diameter" && c.kind != "radius") || all.size() < 5) return false;
+  if (!c.dimension || (c.kind != "diameter" && c.kind != "radius")) return false;
   for (int f : c.faces)
     if (f < 1 || f > static_cast<int>(part.faces.size()) ||
         part.faces[f - 1].type != SurfaceType::Cylinder)
       return false;
-  std::vector<Vec3> points, normals, seen;
-  for (const Patch* p : all) {
-    points.push_back(p->point.position);
-    normals.push_back(p->point.normal);
+  std::map<int, std::vector<const Patch*>> cylinders, seen;
+  for (const Patch* p : all) cylinders[p->feature].push_back(p);
+  for (const Patch* p : measured) seen[p->feature].push_back(p);
+  for (const auto& [feature, patches] : cylinders) {
+    if (patches.size() < 5) return false;
+    std::vector<Vec3> points, normals, on;
+    for (const Patch* p : patches) {
+      points.push_back(p->point.position);
+      normals.push_back(p->point.normal);
+    }
+    for (const Patch* p : seen[feature]) on.push_back(p->point.position);
+    const CylinderFit axis = cylinderFromNormals(points, normals);
+    if (!axis.determined || arcAbout(axis, on) < kLeastArc) return false;
   }
-  for (const Patch* p : measured) seen.push_back(p->point.position);
-  const CylinderFit axis = cylinderFromNormals(points, normals);
-  return axis.determined && arcAbout(axis, seen) >= kLeastArc;
+  return !cylinders.empty();
 }
 
 // A characteristic's patches as the views placed in one frame measure them: the frame whose

@@ -552,6 +552,31 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
   return {Twist(heldInverse(constraints.normal) * constraints.pull), {}};
 }
 
+namespace {
+
+// A diameter's or a radius' value: its cylinder's, fitted to its points; of a pattern of
+// cylinders (6X, say), each fitted to its own, the one farthest from the nominal value, as
+// each must lie within the limits.
+Evaluation sizeValue(const Characteristic& c, const std::vector<Feature>& features,
+                     const FacePoints& points) {
+  const double times = c.kind == "diameter" ? 2 : 1;
+  std::optional<double> farthest;
+  for (const Feature& f : features) {
+    if (f.type != SurfaceType::Cylinder)
+      return notFound("a " + c.kind + " of faces that are not cylinders is not evaluated");
+    const auto cylinder = cylinderOf(f, pointsOn(f.faces, points));
+    if (!cylinder)
+      return notFound(features.size() == 1 ? "its cylinder is not measured enough to fit"
+                                           : "a cylinder of its pattern is not measured "
+                                             "enough to fit");
+    const double size = times * cylinder->radius;
+    if (!farthest || std::abs(size - c.value) > std::abs(*farthest - c.value)) farthest = size;
+  }
+  return {farthest, {}};
+}
+
+}  // namespace
+
 bool orientationKind(const std::string& kind) {
   return kind == "perpendicularity" || kind == "parallelism" || kind == "angularity";
 }
@@ -562,13 +587,7 @@ Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nomi
   const std::vector<Feature> features = featuresOf(c.faces, nominal);
   if (features.empty()) return notFound("its faces are not known");
   if (c.dimension) {
-    if (c.kind == "diameter" || c.kind == "radius") {
-      if (features.size() != 1 || features.front().type != SurfaceType::Cylinder)
-        return notFound("a " + c.kind + " of faces that are not one cylinder is not evaluated");
-      const auto cylinder = cylinderOf(features.front(), pointsOn(c.faces, points));
-      if (!cylinder) return notFound("its cylinder is not measured enough to fit");
-      return {c.kind == "diameter" ? 2 * cylinder->radius : cylinder->radius, {}};
-    }
+    if (c.kind == "diameter" || c.kind == "radius") return sizeValue(c, features, points);
     return dimensionBetween(c, features, points);
   }
   if (c.datums.empty()) return toleranceValue(c, gdt, nominal, features, points);
