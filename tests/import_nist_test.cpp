@@ -190,6 +190,43 @@ TEST_P(NistImport, SizeDimensionsAreTheirCylindersSize) {
   EXPECT_GT(checked, 0u);
 }
 
+// A distance the file gives between faces that lie on two parallel planes is those planes'
+// distance apart as the B-Rep models them, within its tolerance and a hundredth of a
+// millimetre.
+TEST_P(NistImport, DistancesBetweenParallelPlanesAreTheirSpacing) {
+  const NistCase& c = GetParam();
+  std::string path = pathOf(c);
+  SHARED_FILE_OR_SKIP(path);
+  const Part& part = test::importedOnce(path);
+  for (const Dimension& d : part.gdt.dimensions) {
+    if (d.type != "linear_distance" || d.faces.empty()) continue;
+    std::vector<std::pair<Vec3, double>> planes;  // normal (one way), offset along it
+    bool all_planes = true;
+    for (int id : d.faces) {
+      const auto s = elementarySurface(part, id);
+      if (!s || s->type != SurfaceType::Plane) {
+        all_planes = false;
+        break;
+      }
+      Vec3 n = s->axis.normalized();
+      if (!planes.empty() && n.dot(planes.front().first) < 0) n = -n;
+      const double offset = n.dot(s->origin);
+      if (std::none_of(planes.begin(), planes.end(), [&](const auto& q) {
+            return q.first.dot(n) > 1 - 1e-9 && std::abs(q.second - offset) < 1e-6;
+          }))
+        planes.emplace_back(n, offset);
+    }
+    if (!all_planes || planes.size() != 2 || planes[0].first.dot(planes[1].first) < 1 - 1e-9)
+      continue;
+    RecordProperty("distance_" + std::to_string(&d - part.gdt.dimensions.data()),
+                   std::to_string(d.value) + " " +
+                       std::to_string(std::abs(planes[0].second - planes[1].second)));
+    EXPECT_NEAR(d.value, std::abs(planes[0].second - planes[1].second),
+                std::max(d.lower, d.upper) + 0.01)
+        << "faces " << testing::PrintToString(d.faces);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Nist, NistImport, testing::ValuesIn(kNistCases),
                          [](const auto& param_info) {
                            std::string name = param_info.param.file.substr(0, 11);
