@@ -18,6 +18,7 @@
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepTools.hxx>
 
 #include <algorithm>
@@ -453,8 +454,8 @@ Spec wholePlateSpec(int draws) {
 // height from the slot's floor (one face) to the top (two faces of one plane, one each
 // side), seen straight down by `views` views at one place, which see all of both (field
 // 250, point spacing 2, noise 0.01), the first the reference and the others placed by a
-// robot of accuracy 0.1 mm.
-Capability stepCase(const test::TempDir& dir, int views) {
+// robot of accuracy 0.1 mm. Without `floor`, the height is linked to the top alone.
+Capability stepCase(const test::TempDir& dir, int views, bool floor = true) {
   const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 10).Shape();
   const TopoDS_Shape slot = BRepPrimAPI_MakeBox(gp_Pnt(50, -1, 7), gp_Pnt(150, 101, 11)).Shape();
   BRepTools::Write(BRepAlgoAPI_Cut(plate, slot).Shape(), dir.file("step.brep").c_str());
@@ -464,9 +465,9 @@ Capability stepCase(const test::TempDir& dir, int views) {
   Characteristic step{1, "linear_distance", true, 3, 2.9, 3.1, {}, {}};
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Plane && f.bounds.size().z() < 1e-6 &&
-        (f.bounds.min.z() > 9.99 || std::abs(f.bounds.min.z() - 7) < 1e-6))
+        (f.bounds.min.z() > 9.99 || (floor && std::abs(f.bounds.min.z() - 7) < 1e-6)))
       step.faces.push_back(f.id);
-  EXPECT_EQ(step.faces.size(), 3u);
+  EXPECT_EQ(step.faces.size(), floor ? 3u : 2u);
   const Plan plan = robotPlacedViews(spec.scanner, std::vector<double>(views, 100));
   return capabilities(part, resolveSpec(part, spec), plan, {step}).front();
 }
@@ -490,6 +491,57 @@ TEST(Capability, AStepsHeightIsTwoFeaturesApartWhateverTheirFaces) {
   EXPECT_NEAR(one.budget.noise, analytic, 0.1 * analytic);
   EXPECT_NEAR(one.budget.registration, 0, 1e-12);
   EXPECT_LT(two.budget.registration, 0.01 * 1.96 * 0.1 / 2.7955);
+}
+
+// A Ø30 spherical pocket 10 mm deep in a plate's top (its centre 5 mm above it), seen by
+// four views tilted 50° into it from four sides and placed by a robot of 0.01 mm: its
+// spherical diameter is capable, the inspection fits a sphere to each face of it and
+// finds the designed 30 mm, and the model's U agrees with the inspection's within 20 %
+// (200 runs).
+TEST(Capability, ASphericalDiameterIsAsUncertainAsItsInspectionFindsIt) {
+  test::TempDir dir;
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 20).Shape();
+  const TopoDS_Shape ball = BRepPrimAPI_MakeSphere(gp_Pnt(100, 50, 25), 15).Shape();
+  BRepTools::Write(BRepAlgoAPI_Cut(plate, ball).Shape(), dir.file("pocket.brep").c_str());
+  const Part part = importPart(dir.file("pocket.brep"));
+  std::vector<int> pocket;
+  for (const Face& f : part.faces)
+    if (f.type == SurfaceType::Sphere) pocket.push_back(f.id);
+  ASSERT_FALSE(pocket.empty());
+  const Characteristic size{1, "spherical_diameter", true, 30, 29.9, 30.1, {}, pocket};
+  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
+  Plan plan = robotPlacedViews(spec.spec.scanner, std::vector<double>(5, 2000));
+  plan.part_faces = part.faces.size();
+  plan.characteristics = {size};
+  plan.registration->robot_accuracy = 0.01;
+  for (std::size_t v = 1; v < 5; ++v)
+    plan.views[v] = test::tiltedView(plan.views[v].id, {100, 50, 20}, plan.scanner.standoff,
+                                     static_cast<double>(v) * M_PI / 2);
+  const Capability k = capabilities(part, spec, plan, {size}).front();
+  EXPECT_EQ(k.verdict, Verdict::Capable) << toString(k.reason);
+  InspectionOptions options;
+  options.runs = 200;
+  const InspectedCharacteristic inspected =
+      inspectPlan(part, spec, plan, options).characteristics[0];
+  ASSERT_TRUE(inspected.evaluated) << inspected.not_evaluated;
+  RecordProperty("predicted_u_inspected_u_bias", std::to_string(k.uncertainty) + " " +
+                                                     std::to_string(inspected.uncertainty) + " " +
+                                                     std::to_string(inspected.bias));
+  EXPECT_NEAR(inspected.true_value, 30, 1e-3);
+  EXPECT_NEAR(k.uncertainty / (inspected.uncertainty + std::abs(inspected.bias)), 1, 0.2);
+}
+
+// A distance the file links to faces of one feature alone (NIST FTC 06 and 07 have six,
+// each on one face) has no second feature to be measured from, and the inspection cannot
+// evaluate it ("its faces are not two features"): it is not linked, and not capable,
+// however well its faces are measured; the step's height from its two features is capable.
+TEST(Capability, ADistanceLinkedToOneFeatureIsNotLinked) {
+  test::TempDir dir;
+  const Capability top = stepCase(dir, 1, false), step = stepCase(dir, 1);
+  EXPECT_EQ(top.verdict, Verdict::NotCapable);
+  EXPECT_EQ(top.reason, Shortfall::NotLinked);
+  EXPECT_GT(top.covered, 0.99);
+  EXPECT_EQ(step.verdict, Verdict::Capable) << toString(step.reason);
 }
 
 // A plate's top (flatness 0.2) seen whole by two views: the first placed by a robot of

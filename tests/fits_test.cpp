@@ -105,6 +105,52 @@ TEST(Fits, CylinderFitsRadiusSpreadIsTheClosedFormAndTheAxisIsFound) {
   EXPECT_NEAR(standardDeviation(radii), expected, 0.12 * expected);
 }
 
+// Points spread evenly over a sphere (a Fibonacci lattice of `count`) within `polar` of
+// its pole, with radial noise.
+std::vector<Vec3> onSphere(const Vec3& centre, double radius, double polar, int count,
+                           std::normal_distribution<double>& noise, std::mt19937_64& random) {
+  std::vector<Vec3> points;
+  const double lowest = std::cos(polar), golden = std::numbers::pi * (3 - std::sqrt(5.0));
+  for (int k = 0; k < count; ++k) {
+    const double z = 1 - (1 - lowest) * (k + 0.5) / count, ring = std::sqrt(1 - z * z);
+    const Vec3 u(ring * std::cos(golden * k), ring * std::sin(golden * k), z);
+    points.push_back(centre + (radius + noise(random)) * u);
+  }
+  return points;
+}
+
+// A sphere's radius fitted to 400 points all over it spreads as the noise over the root of
+// their count (the centre's directions orthogonal to the radius'), its centre found; a cap
+// 100° across fixes it too (without noise, exactly), a band 10° wide about its equator does
+// not (the centre is free along its axis).
+TEST(Fits, SphereFitsRadiusSpreadIsTheClosedFormAndOnlyACapFixesIt) {
+  std::mt19937_64 random(12);
+  const double radius = 15.875, sigma = 0.01;
+  const Vec3 centre(-114.3, 63.5, -107.95);
+  std::normal_distribution<double> noise(0, sigma);
+  std::vector<double> radii;
+  for (int draw = 0; draw < 300; ++draw) {
+    const SphereFit fit = fitSphere(onSphere(centre, radius, std::numbers::pi, 400, noise, random));
+    ASSERT_TRUE(fit.determined);
+    ASSERT_LT((fit.centre - centre).norm(), 0.01);
+    radii.push_back(fit.radius);
+  }
+  const double expected = sigma / std::sqrt(400.0);
+  EXPECT_NEAR(standardDeviation(radii), expected, 0.12 * expected);
+  std::normal_distribution<double> none(0, 0);
+  const SphereFit cap = fitSphere(onSphere(centre, radius, radians(50), 400, none, random));
+  EXPECT_TRUE(cap.determined);
+  EXPECT_NEAR(cap.radius, radius, 1e-9);
+  EXPECT_NEAR((cap.centre - centre).norm(), 0, 1e-9);
+  std::vector<Vec3> band;
+  for (int k = 0; k < 400; ++k) {
+    const double a = 2 * std::numbers::pi * k / 400, z = radians(5) * std::sin(7.0 * a);
+    band.push_back(
+        centre + radius * Vec3(std::cos(z) * std::cos(a), std::cos(z) * std::sin(a), std::sin(z)));
+  }
+  EXPECT_FALSE(fitSphere(band).determined);
+}
+
 // A hole's wall (normals towards the axis) over a third of its circle: the axis and radius
 // from the normals alone.
 TEST(Fits, ACylindersAxisAndRadiusFollowFromItsNormals) {

@@ -59,7 +59,7 @@ struct Patch {
   SurfacePoint point;
   double area = 0;
   std::vector<Look> looks;
-  int feature = 0;  // its face's feature: faces of one plane or cylinder share one
+  int feature = 0;  // its face's feature: faces of one plane, cylinder or sphere share one
   double points() const {
     double n = 0;
     for (const Look& l : looks) n += l.points;
@@ -83,10 +83,10 @@ enum class Effect { Form, Profile, Size, Diameter, Radius, Angle, AxisTilt, Axis
 // `on_cylinders`: the characteristic's features are cylinders.
 Effect effectOf(const Characteristic& c, bool on_cylinders) {
   if (c.dimension)
-    return c.kind == "diameter"                    ? Effect::Diameter
-           : c.kind == "radius"                    ? Effect::Radius
-           : c.kind.find("angular") != c.kind.npos ? Effect::Angle
-                                                   : Effect::Size;
+    return c.kind == "diameter" || c.kind == "spherical_diameter" ? Effect::Diameter
+           : c.kind == "radius" || c.kind == "spherical_radius"   ? Effect::Radius
+           : c.kind.find("angular") != c.kind.npos                ? Effect::Angle
+                                                                  : Effect::Size;
   if (on_cylinders && detail::orientationKind(c.kind)) return Effect::AxisTilt;
   const bool place = c.kind == "position" || c.kind == "concentricity" || c.kind == "coaxiality";
   if (on_cylinders && place) return Effect::AxisPlace;
@@ -452,12 +452,28 @@ std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches, d
 // What a characteristic's draws read: its measured patches, their features (faces of one
 // plane or cylinder alike) and their fit, its cylinders' axes, and its datum features'
 // patches (none without datums).
+// Each feature's patches among `patches` (their indices), with their own fit.
+std::vector<std::pair<std::vector<std::size_t>, Fit>> apartOf(
+    const std::vector<const Patch*>& patches) {
+  std::map<int, std::vector<std::size_t>> features;
+  for (std::size_t i = 0; i < patches.size(); ++i) features[patches[i]->feature].push_back(i);
+  std::vector<std::pair<std::vector<std::size_t>, Fit>> apart;
+  for (auto& [feature, members] : features) {
+    std::vector<const Patch*> on;
+    for (std::size_t i : members) on.push_back(patches[i]);
+    apart.emplace_back(std::move(members), fitOf(on));
+  }
+  return apart;
+}
+
 struct Measured {
   std::vector<const Patch*> feature, datum;
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
   std::vector<ZonePoints> feature_zone;
   Fit fit;
   std::vector<AxisFit> axes;
+  // Each feature's patches (indices into `feature`) fitted apart, as a pattern's sizes are.
+  std::vector<std::pair<std::vector<std::size_t>, Fit>> apart;
   DatumFit datum_motion;
   FacePair faces;
   bool planar;  // the patches lie on one plane
@@ -473,6 +489,7 @@ struct Measured {
         feature_zone(zonePointsOf(feature, zone_share)),
         fit(fitOf(feature)),
         axes(axesOf(feature, surfaces, !orientation)),
+        apart(apartOf(feature)),
         datum_motion(datum, datum_shares, surfaces),
         faces(feature),
         planar(std::all_of(feature.begin(), feature.end(), [&](const Patch* p) {
@@ -519,16 +536,24 @@ double largestMagnitude(const std::vector<double>& values) {
 }
 
 // The change of a diameter (`times` 2) or a radius (1) under the patches' displacements
-// `d`: the fitted size offset `whole`; of a pattern of cylinders, each fitted to its own
-// patches, the largest, as each is evaluated.
+// `d`: the fitted size offset `whole`; of a pattern (of cylinders or spheres), each fitted
+// to its own patches, the largest, as each is evaluated.
 double sizeChange(const Measured& m, const std::vector<double>& d, const Fitted& whole,
                   double times) {
-  if (m.axes.size() < 2) return times * std::abs(whole.offset);
   double largest = 0;
-  for (const AxisFit& a : m.axes) {
+  if (m.axes.size() > 1) {
+    for (const AxisFit& a : m.axes) {
+      std::vector<double> mine;
+      for (std::size_t k : a.members) mine.push_back(d[k]);
+      largest = std::max(largest, times * std::abs(fitted(a.fit, mine).offset));
+    }
+    return largest;
+  }
+  if (m.apart.size() < 2) return times * std::abs(whole.offset);
+  for (const auto& [members, fit] : m.apart) {
     std::vector<double> mine;
-    for (std::size_t k : a.members) mine.push_back(d[k]);
-    largest = std::max(largest, times * std::abs(fitted(a.fit, mine).offset));
+    for (std::size_t k : members) mine.push_back(d[k]);
+    largest = std::max(largest, times * std::abs(fitted(fit, mine).offset));
   }
   return largest;
 }
@@ -770,7 +795,7 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// The features of faces: faces whose B-Rep surfaces are one plane or cylinder share one
+// The features of faces: faces whose B-Rep surfaces are one plane, cylinder or sphere share one
 // (detail::oneFeature); a face without such a surface has its own.
 struct Features {
   std::map<int, int> of_face;  // face id: its feature's index
@@ -871,6 +896,17 @@ bool cylinderFitted(const Part& part, const Characteristic& c, const std::vector
     if (!axis.determined || arcAbout(axis, on) < kLeastArc) return false;
   }
   return !cylinders.empty();
+}
+
+// Whether `c` is not a distance or an angle between features, or is one whose faces'
+// patches `all` lie on two features, as the evaluation's definition needs.
+bool betweenTwo(const Characteristic& c, const std::vector<const Patch*>& all) {
+  static const std::set<std::string> between = {"linear_distance", "thickness", "angular_location",
+                                                "angular_size", "oriented_location"};
+  if (!c.dimension || between.count(c.kind) == 0) return true;
+  std::set<int> features;
+  for (const Patch* p : all) features.insert(p->feature);
+  return features.size() == 2;
 }
 
 // A characteristic's patches as the views placed in one frame measure them: the frame whose
@@ -1141,7 +1177,9 @@ Capability judgedOne(const Part& part, const ResolvedSpec& spec, const Plan& pla
     k.uncertainty = std::hypot(k.budget.noise, k.budget.registration, k.budget.scanner);
   }
   judge(c, k, options, cylinderFitted(part, c, mine, measured), datums_covered);
-  if (c.faces.empty() || !datumsLinked(part.gdt, c)) {  // nothing to fit, or no frame to fit in
+  // Nothing to fit, no frame to fit in, or a dimension between features linked to other
+  // than two of them (a distance on one face): none the evaluation can find.
+  if (c.faces.empty() || !datumsLinked(part.gdt, c) || !betweenTwo(c, all)) {
     k.verdict = c.width() > 0 ? Verdict::NotCapable : Verdict::Untoleranced;
     k.reason = Shortfall::NotLinked;
   } else if (k.reason == Shortfall::Uncovered || k.reason == Shortfall::TooSparse) {

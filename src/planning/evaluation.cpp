@@ -37,10 +37,12 @@ struct Feature {
 // than kApart mm, as the mesh gives them (each face's chords its own).
 constexpr double kAlong = 1e-3, kApart = 0.1;
 
-// A face as designed as the surface its points were fitted to (planes and cylinders).
+// A face as designed as the surface its points were fitted to (planes and cylinders), or
+// a sphere's as the B-Rep gives it.
 ElementarySurface surfaceOf(const NominalFace& f) {
   if (f.type == SurfaceType::Cylinder)
     return {SurfaceType::Cylinder, f.cylinder.point, f.cylinder.axis, f.cylinder.radius};
+  if (f.sphere) return *f.sphere;
   return {f.type, f.centroid, f.normal};
 }
 
@@ -58,6 +60,8 @@ bool oneFeature(const ElementarySurface& a, const ElementarySurface& b) {
   if (a.type == SurfaceType::Cylinder)
     return along && (apart - apart.dot(a.axis) * a.axis).norm() < kApart &&
            std::abs(a.radius - b.radius) < kApart;
+  if (a.type == SurfaceType::Sphere)
+    return apart.norm() < kApart && std::abs(a.radius - b.radius) < kApart;
   return false;
 }
 
@@ -418,6 +422,7 @@ Nominal::Nominal(const Part& part, std::span<const SurfacePoint> points)
       if (surface && surface->type != SurfaceType::Plane)
         exact_[p.face] = {*surface,
                           nearestOn(*surface, p.position).second.dot(p.normal) < 0 ? -1.0 : 1.0};
+      if (surface && surface->type == SurfaceType::Sphere) faces_[p.face].sphere = *surface;
     }
     NominalFace& f = faces_[p.face];
     const SurfacePoint on = onDesigned(p.face, p.position, p.normal);
@@ -554,22 +559,31 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
 
 namespace {
 
-// A diameter's or a radius' value: its cylinder's, fitted to its points; of a pattern of
-// cylinders (6X, say), each fitted to its own, the one farthest from the nominal value, as
-// each must lie within the limits.
+// A diameter's or a radius' value: its cylinder's (a spherical one's, its sphere's), fitted
+// to its points; of a pattern of them (6X, say), each fitted to its own, the one farthest
+// from the nominal value, as each must lie within the limits.
 Evaluation sizeValue(const Characteristic& c, const std::vector<Feature>& features,
                      const FacePoints& points) {
-  const double times = c.kind == "diameter" ? 2 : 1;
+  const bool spherical = c.kind.starts_with("spherical");
+  const double times = c.kind.ends_with("diameter") ? 2 : 1;
   std::optional<double> farthest;
   for (const Feature& f : features) {
-    if (f.type != SurfaceType::Cylinder)
-      return notFound("a " + c.kind + " of faces that are not cylinders is not evaluated");
-    const auto cylinder = cylinderOf(f, pointsOn(f.faces, points));
-    if (!cylinder)
-      return notFound(features.size() == 1 ? "its cylinder is not measured enough to fit"
-                                           : "a cylinder of its pattern is not measured "
-                                             "enough to fit");
-    const double size = times * cylinder->radius;
+    if (f.type != (spherical ? SurfaceType::Sphere : SurfaceType::Cylinder))
+      return notFound("a " + c.kind + " of faces that are not " +
+                      (spherical ? "spheres" : "cylinders") + " is not evaluated");
+    const std::vector<Vec3> on = pointsOn(f.faces, points);
+    std::optional<double> radius;
+    if (spherical) {
+      const SphereFit sphere = on.size() >= kLeastPoints ? fitSphere(on) : SphereFit{};
+      if (sphere.determined) radius = sphere.radius;
+    } else if (const auto cylinder = cylinderOf(f, on)) {
+      radius = cylinder->radius;
+    }
+    if (!radius)
+      return notFound(
+          std::string(features.size() == 1 ? "its " : "a ") + (spherical ? "sphere" : "cylinder") +
+          (features.size() == 1 ? "" : " of its pattern") + " is not measured enough to fit");
+    const double size = times * *radius;
     if (!farthest || std::abs(size - c.value) > std::abs(*farthest - c.value)) farthest = size;
   }
   return {farthest, {}};
@@ -587,7 +601,9 @@ Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nomi
   const std::vector<Feature> features = featuresOf(c.faces, nominal);
   if (features.empty()) return notFound("its faces are not known");
   if (c.dimension) {
-    if (c.kind == "diameter" || c.kind == "radius") return sizeValue(c, features, points);
+    if (c.kind == "diameter" || c.kind == "radius" || c.kind == "spherical_diameter" ||
+        c.kind == "spherical_radius")
+      return sizeValue(c, features, points);
     return dimensionBetween(c, features, points);
   }
   if (c.datums.empty()) return toleranceValue(c, gdt, nominal, features, points);

@@ -41,9 +41,10 @@ struct NominalFace {
   SurfaceType type = SurfaceType::Other;
   std::vector<Vec3> points, normals;
   Vec3 centroid = Vec3::Zero();
-  Vec3 normal = Vec3::UnitZ();  // a plane's
-  CylinderFit cylinder;         // a cylinder's
-  double rim = 0;               // the farthest its points lie from the centroid, across it
+  Vec3 normal = Vec3::UnitZ();              // a plane's
+  CylinderFit cylinder;                     // a cylinder's
+  std::optional<ElementarySurface> sphere;  // a sphere's, as the B-Rep gives it
+  double rim = 0;  // the farthest its points lie from the centroid, across it
 };
 
 // The part's faces as designed, from points sampled densely on them (part frame). Where a
@@ -95,9 +96,9 @@ class Nominal {
   std::unique_ptr<Trees> trees_;
 };
 
-// Whether two faces' surfaces are one feature's: one plane or one cylinder, to within the
-// mesh's chords. The evaluation groups faces so by the surfaces fitted to their designed
-// points; the capability model by their B-Rep surfaces.
+// Whether two faces' surfaces are one feature's: one plane, cylinder or sphere, to within
+// the mesh's chords. The evaluation groups faces so by the surfaces fitted to their designed
+// points (a sphere's by its B-Rep surface); the capability model by their B-Rep surfaces.
 bool oneFeature(const ElementarySurface& a, const ElementarySurface& b);
 
 // The value of `c` from `points`, or why it cannot be found: its features not measured or

@@ -289,6 +289,67 @@ Circle circleThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const E
 
 }  // namespace
 
+namespace {
+
+// The algebraic sphere of `points`: |p|² = 2 c·p + k by least squares, r² = k + |c|².
+SphereFit algebraicSphere(std::span<const Vec3> points) {
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d right = Eigen::Vector4d::Zero();
+  const Vec3 centre = centroidOf(points);
+  for (const Vec3& point : points) {
+    const Vec3 p = point - centre;
+    const Eigen::Vector4d row(2 * p.x(), 2 * p.y(), 2 * p.z(), 1);
+    normal += row * row.transpose();
+    right += row * p.squaredNorm();
+  }
+  const Eigen::Vector4d x = normal.ldlt().solve(right);
+  SphereFit fit;
+  fit.centre = centre + x.head<3>();
+  fit.radius = std::sqrt(std::max(x[3] + x.head<3>().squaredNorm(), 0.0));
+  return fit;
+}
+
+// The smallest eigenvalue of the mean outer product of the points' directions from `c`.
+double capSpread(std::span<const Vec3> points, const Vec3& c) {
+  Eigen::Matrix3d mean = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) {
+    const Vec3 u = (p - c).normalized();
+    mean += u * u.transpose() / static_cast<double>(points.size());
+  }
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(mean).eigenvalues()[0];
+}
+
+}  // namespace
+
+SphereFit fitSphere(std::span<const Vec3> points) {
+  if (points.size() < 5) return {};
+  SphereFit fit = algebraicSphere(points);
+  constexpr int kIterations = 50;
+  double last = std::numeric_limits<double>::infinity();  // the last step's size
+  for (int iteration = 0; iteration < kIterations && last > 1e-12 * (1 + fit.radius); ++iteration) {
+    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d gradient = Eigen::Vector4d::Zero();
+    for (const Vec3& p : points) {
+      const Vec3 d = p - fit.centre;
+      const double rho = std::max(d.norm(), 1e-12);
+      const Eigen::Vector4d row(-d.x() / rho, -d.y() / rho, -d.z() / rho, -1);
+      normal += row * row.transpose();
+      gradient += row * (rho - fit.radius);
+    }
+    const Eigen::Vector4d step = -normal.ldlt().solve(gradient);
+    if (!step.allFinite()) return fit;
+    fit.centre += step.head<3>();
+    fit.radius += step[3];
+    last = step.norm();
+  }
+  double squares = 0;
+  for (const Vec3& p : points) squares += std::pow((p - fit.centre).norm() - fit.radius, 2);
+  fit.rms = std::sqrt(squares / static_cast<double>(points.size()));
+  fit.radius = std::abs(fit.radius);
+  fit.determined = last < 1e-9 * (1 + fit.radius) && capSpread(points, fit.centre) >= kLeastCap;
+  return fit;
+}
+
 double enclosingCircleDiameter(std::span<const Eigen::Vector2d> points) {
   if (points.empty()) return 0;
   // Welzl's incremental construction: each point outside the circle so far lies on the

@@ -62,4 +62,20 @@ double arcAbout(const CylinderFit& cylinder, std::span<const Vec3> points);
 // The distance from `p` to the axis of `cylinder`, mm.
 double axisDistance(const CylinderFit& cylinder, const Vec3& p);
 
+// A sphere's points fix it when their directions from its centre span a cap 90° across:
+// the smallest eigenvalue of the mean of their outer products, 0.13 on such a cap (1/3 all
+// round, 0 along a band about a circle, which leaves the centre free along its axis).
+constexpr double kLeastCap = 0.12;
+
+struct SphereFit {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;        // mm
+  double rms = 0;           // of the points' radial residuals, mm
+  bool determined = false;  // the fit converged on points that span kLeastCap
+};
+
+// The least-squares sphere of `points` (the sum of squared radial residuals), by
+// Gauss-Newton from the algebraic fit (|p|² linear in the centre).
+SphereFit fitSphere(std::span<const Vec3> points);
+
 }  // namespace scanplan
