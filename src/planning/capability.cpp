@@ -449,9 +449,6 @@ std::vector<ZonePoints> zonePointsOf(const std::vector<const Patch*>& patches, d
   return zone;
 }
 
-// What a characteristic's draws read: its measured patches, their features (faces of one
-// plane or cylinder alike) and their fit, its cylinders' axes, and its datum features'
-// patches (none without datums).
 // Each feature's patches among `patches` (their indices), with their own fit.
 std::vector<std::pair<std::vector<std::size_t>, Fit>> apartOf(
     const std::vector<const Patch*>& patches) {
@@ -466,6 +463,9 @@ std::vector<std::pair<std::vector<std::size_t>, Fit>> apartOf(
   return apart;
 }
 
+// What a characteristic's draws read: its measured patches, their features (faces of one
+// plane, cylinder or sphere alike) and their fit, its cylinders' axes, each feature's own
+// fit, and its datum features' patches (none without datums).
 struct Measured {
   std::vector<const Patch*> feature, datum;
   std::vector<double> feature_sigmas, datum_sigmas;  // each patch's meanSigma()
@@ -535,6 +535,14 @@ double largestMagnitude(const std::vector<double>& values) {
   return m;
 }
 
+// The size offset `fit` of the patches `members` gives under displacements `d` (of all).
+double offsetOn(const Fit& fit, const std::vector<std::size_t>& members,
+                const std::vector<double>& d) {
+  std::vector<double> mine;
+  for (std::size_t k : members) mine.push_back(d[k]);
+  return fitted(fit, mine).offset;
+}
+
 // The change of a diameter (`times` 2) or a radius (1) under the patches' displacements
 // `d`: the fitted size offset `whole`; of a pattern (of cylinders or spheres), each fitted
 // to its own patches, the largest, as each is evaluated.
@@ -542,20 +550,15 @@ double sizeChange(const Measured& m, const std::vector<double>& d, const Fitted&
                   double times) {
   double largest = 0;
   if (m.axes.size() > 1) {
-    for (const AxisFit& a : m.axes) {
-      std::vector<double> mine;
-      for (std::size_t k : a.members) mine.push_back(d[k]);
-      largest = std::max(largest, times * std::abs(fitted(a.fit, mine).offset));
-    }
-    return largest;
+    for (const AxisFit& a : m.axes)
+      largest = std::max(largest, std::abs(offsetOn(a.fit, a.members, d)));
+  } else if (m.apart.size() > 1) {
+    for (const auto& [members, fit] : m.apart)
+      largest = std::max(largest, std::abs(offsetOn(fit, members, d)));
+  } else {
+    largest = std::abs(whole.offset);
   }
-  if (m.apart.size() < 2) return times * std::abs(whole.offset);
-  for (const auto& [members, fit] : m.apart) {
-    std::vector<double> mine;
-    for (std::size_t k : members) mine.push_back(d[k]);
-    largest = std::max(largest, times * std::abs(fitted(fit, mine).offset));
-  }
-  return largest;
+  return times * largest;
 }
 
 // The change of an angle between faces under the patches' displacements `d`, degrees: as
@@ -795,8 +798,8 @@ ErrorBudget budgetOf(const Characteristic& c, const Measured& m, const Scanner& 
           2 * acceptanceFigure(c, effect, scanner) / std::sqrt(3.0)};
 }
 
-// The features of faces: faces whose B-Rep surfaces are one plane, cylinder or sphere share one
-// (detail::oneFeature); a face without such a surface has its own.
+// The features of faces: faces whose B-Rep surfaces are one plane, cylinder or sphere
+// share one (detail::oneFeature); a face without such a surface has its own.
 struct Features {
   std::map<int, int> of_face;  // face id: its feature's index
   FeatureSurfaces surfaces;    // each feature's first face's surface

@@ -190,9 +190,11 @@ PlanCheck verifyPlacement(const Plan& plan, const Part& part, const ResolvedSpec
 // from an elementary surface, a little more than the edges of a STEP file lie off their
 // faces (up to 0.0009 mm on the NIST models); from the mesh, which cuts inside curved
 // faces by about its chordal tolerance, as many times that as leaves room past the most
-// seen (1.8 on NIST FTC 06's spheres).
+// seen (1.8 on NIST FTC 06's spheres), and a floor: a mesh part's samples lie on its
+// triangles, to rounding.
 constexpr double kExactSlack = 0.01;  // mm
 constexpr double kMeshSlack = 4;      // times the chordal tolerance
+constexpr double kMeshFloor = 0.001;  // mm
 
 // A face of the part as a sample is checked against: its triangles, and its surface where
 // that is elementary.
@@ -209,7 +211,7 @@ PartFit partFit(const Plan& plan, const Part& part) {
   PartFit fit;
   fit.samples = plan.samples.size();
   fit.exact_tolerance = kExactSlack;
-  fit.mesh_tolerance = kMeshSlack * part.linear_deflection + kExactSlack / 10;
+  fit.mesh_tolerance = kMeshSlack * part.linear_deflection + kMeshFloor;
   const Pose to_part = plan.part_to_world.inverse();
   std::map<int, FaceGeometry> faces;
   for (const PlannedSample& s : plan.samples) {
