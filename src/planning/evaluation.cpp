@@ -488,6 +488,12 @@ std::optional<SurfacePoint> Nominal::onExact(int id, const Vec3& p) const {
   return SurfacePoint{q, exact->second.side * out, id};
 }
 
+std::optional<std::pair<ElementarySurface, double>> Nominal::exactSurface(int id) const {
+  const auto exact = exact_.find(id);
+  if (exact == exact_.end()) return std::nullopt;
+  return std::pair{exact->second.surface, exact->second.side};
+}
+
 double Nominal::curvature(int id, const Vec3& p) const {
   const auto exact = exact_.find(id);
   return exact == exact_.end() ? 0 : exact->second.side * curvatureSum(exact->second.surface, p);
@@ -559,30 +565,73 @@ Alignment datumAlignment(const std::vector<std::string>& datums, const Gdt& gdt,
 
 namespace {
 
+// A radius on a torus (a fillet's): its designed minor radius changed by the uniform offset
+// along the face's normals that, with a small rigid motion, best explains the points'
+// distances from it (least squares); the ring's radius held as designed. None where the
+// points leave the offset loose: no better known than a cylinder's radius from a 90° arc
+// (kLeastArc) of its circle, as the evaluation fits cylinders.
+std::optional<double> tubeRadius(const Feature& f, const Nominal& nominal,
+                                 const FacePoints& points) {
+  using Row = Eigen::Matrix<double, 7, 1>;
+  Eigen::Matrix<double, 7, 7> normal = Eigen::Matrix<double, 7, 7>::Zero();
+  Row pull = Row::Zero();
+  std::optional<std::pair<ElementarySurface, double>> torus;
+  double count = 0;
+  for (int id : f.faces) {
+    torus = nominal.exactSurface(id);
+    const auto on = points.find(id);
+    if (!torus || torus->first.type != SurfaceType::Torus || on == points.end()) continue;
+    for (const Vec3& p : on->second) {
+      const auto [n, d] = nominal.nearest(id, p);
+      Row row;
+      row << torus->second, n, p.cross(n);
+      normal += row * row.transpose();
+      pull += row * d;
+      ++count;
+    }
+  }
+  if (!torus || count < kLeastPoints) return std::nullopt;
+  normal += 1e-9 * (normal.trace() + 1) * Eigen::Matrix<double, 7, 7>::Identity();
+  // How many times the offset's variance that of the points' mean: 1/(1 - c²/m) for a
+  // cylinder's arc of 90°, c = sin 45° / (π/4) and m = 1/2 + 1/π the means of cos and cos².
+  const double c = std::sin(std::numbers::pi / 4) / (std::numbers::pi / 4),
+               loosest = 1 / (1 - c * c / (0.5 + 1 / std::numbers::pi));
+  const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> solved(normal);
+  const Row unit = Row::Unit(0);
+  if (count * solved.solve(unit)[0] > loosest) return std::nullopt;
+  return torus->first.minor_radius + solved.solve(pull)[0];
+}
+
 // A diameter's or a radius' value: its cylinder's (a spherical one's, its sphere's), fitted
 // to its points; of a pattern of them (6X, say), each fitted to its own, the one farthest
 // from the nominal value, as each must lie within the limits.
 Evaluation sizeValue(const Characteristic& c, const std::vector<Feature>& features,
-                     const FacePoints& points) {
+                     const Nominal& nominal, const FacePoints& points) {
   const bool spherical = c.kind.starts_with("spherical");
   const double times = c.kind.ends_with("diameter") ? 2 : 1;
   std::optional<double> farthest;
   for (const Feature& f : features) {
-    if (f.type != (spherical ? SurfaceType::Sphere : SurfaceType::Cylinder))
+    const bool tube = c.kind == "radius" && f.type == SurfaceType::Torus;
+    if (!tube && f.type != (spherical ? SurfaceType::Sphere : SurfaceType::Cylinder))
       return notFound("a " + c.kind + " of faces that are not " +
-                      (spherical ? "spheres" : "cylinders") + " is not evaluated");
+                      (spherical ? "spheres" : "cylinders or tori") + " is not evaluated");
     const std::vector<Vec3> on = pointsOn(f.faces, points);
     std::optional<double> radius;
-    if (spherical) {
+    if (tube) {
+      radius = tubeRadius(f, nominal, points);
+    } else if (spherical) {
       const SphereFit sphere = on.size() >= kLeastPoints ? fitSphere(on) : SphereFit{};
       if (sphere.determined) radius = sphere.radius;
     } else if (const auto cylinder = cylinderOf(f, on)) {
       radius = cylinder->radius;
     }
     if (!radius)
-      return notFound(
-          std::string(features.size() == 1 ? "its " : "a ") + (spherical ? "sphere" : "cylinder") +
-          (features.size() == 1 ? "" : " of its pattern") + " is not measured enough to fit");
+      return notFound(std::string(features.size() == 1 ? "its " : "a ") +
+                      (spherical ? "sphere"
+                       : tube    ? "torus"
+                                 : "cylinder") +
+                      (features.size() == 1 ? "" : " of its pattern") +
+                      " is not measured enough to fit");
     const double size = times * *radius;
     if (!farthest || std::abs(size - c.value) > std::abs(*farthest - c.value)) farthest = size;
   }
@@ -603,7 +652,7 @@ Evaluation evaluate(const Characteristic& c, const Gdt& gdt, const Nominal& nomi
   if (c.dimension) {
     if (c.kind == "diameter" || c.kind == "radius" || c.kind == "spherical_diameter" ||
         c.kind == "spherical_radius")
-      return sizeValue(c, features, points);
+      return sizeValue(c, features, nominal, points);
     return dimensionBetween(c, features, points);
   }
   if (c.datums.empty()) return toleranceValue(c, gdt, nominal, features, points);

@@ -66,6 +66,9 @@ class Nominal {
   // The point of face `id`'s exact surface nearest `p`, with the face's outward normal
   // there; none for a face without one.
   std::optional<SurfacePoint> onExact(int id, const Vec3& p) const;
+  // Face `id`'s exact surface (none for a plane or a face without one), and which way its
+  // outward normal points from it: 1 away from its axis, centre or tube, -1 towards it.
+  std::optional<std::pair<ElementarySurface, double>> exactSurface(int id) const;
   // The sum of face `id`'s principal curvatures at its point nearest `p` (1/mm): positive
   // where the face bends away from its outward normal (a boss), negative where towards it
   // (a bore); 0 for a face without an exact surface.
