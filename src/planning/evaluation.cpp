@@ -592,8 +592,9 @@ std::optional<double> tubeRadius(const Feature& f, const Nominal& nominal,
   }
   if (!torus || count < kLeastPoints) return std::nullopt;
   normal += 1e-9 * (normal.trace() + 1) * Eigen::Matrix<double, 7, 7>::Identity();
-  // How many times the offset's variance that of the points' mean: 1/(1 - c²/m) for a
-  // cylinder's arc of 90°, c = sin 45° / (π/4) and m = 1/2 + 1/π the means of cos and cos².
+  // The most the offset's variance may be, in variances of the points' mean: a cylinder's
+  // radius from a 90° arc, 1/(1 - c²/m), c = sin 45° / (π/4) and m = 1/2 + 1/π the means of
+  // cos and cos² over the arc (about 105).
   const double c = std::sin(std::numbers::pi / 4) / (std::numbers::pi / 4),
                loosest = 1 / (1 - c * c / (0.5 + 1 / std::numbers::pi));
   const Eigen::LDLT<Eigen::Matrix<double, 7, 7>> solved(normal);
