@@ -499,11 +499,36 @@ TEST(Capability, AStepsHeightIsTwoFeaturesApartWhateverTheirFaces) {
   EXPECT_LT(two.budget.registration, 0.01 * 1.96 * 0.1 / 2.7955);
 }
 
-// A Ø30 spherical pocket 10 mm deep in a plate's top (its centre 5 mm above it), seen by
-// four views tilted 50° into it from four sides and placed by a robot of 0.01 mm: its
-// spherical diameter is capable, the inspection fits a sphere to each face of it and
-// finds the designed 30 mm, and the model's U agrees with the inspection's within 20 %
-// (200 runs).
+// `c` on `part`, seen by four views tilted 50° from four sides into (100, 50, 20), the
+// reference far off, placed by a robot of 0.01 mm: capable, and its inspection (200 runs)
+// finds `designed` and a U + |bias| the model's U agrees with within 20 %.
+void expectFourSidesAsInspected(const Part& part, const Characteristic& c, double designed) {
+  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
+  Plan plan = robotPlacedViews(spec.spec.scanner, std::vector<double>(5, 2000));
+  plan.part_faces = part.faces.size();
+  plan.characteristics = {c};
+  plan.registration->robot_accuracy = 0.01;
+  for (std::size_t v = 1; v < 5; ++v)
+    plan.views[v] = test::tiltedView(plan.views[v].id, {100, 50, 20}, plan.scanner.standoff,
+                                     static_cast<double>(v) * M_PI / 2);
+  const Capability k = capabilities(part, spec, plan, {c}).front();
+  EXPECT_EQ(k.verdict, Verdict::Capable) << toString(k.reason);
+  InspectionOptions options;
+  options.runs = 200;
+  const InspectedCharacteristic inspected =
+      inspectPlan(part, spec, plan, options).characteristics[0];
+  ASSERT_TRUE(inspected.evaluated) << inspected.not_evaluated;
+  testing::Test::RecordProperty("predicted_u_inspected_u_bias",
+                                std::to_string(k.uncertainty) + " " +
+                                    std::to_string(inspected.uncertainty) + " " +
+                                    std::to_string(inspected.bias));
+  EXPECT_NEAR(inspected.true_value, designed, 1e-3);
+  EXPECT_NEAR(k.uncertainty / (inspected.uncertainty + std::abs(inspected.bias)), 1, 0.2);
+}
+
+// A Ø30 spherical pocket 10 mm deep in a plate's top (its centre 5 mm above it), seen from
+// four sides: its spherical diameter is capable, the inspection fits a sphere to its faces
+// and finds the designed 30 mm, and the model's U agrees with the inspection's.
 TEST(Capability, ASphericalDiameterIsAsUncertainAsItsInspectionFindsIt) {
   test::TempDir dir;
   const TopoDS_Shape plate = BRepPrimAPI_MakeBox(200, 100, 20).Shape();
@@ -514,34 +539,13 @@ TEST(Capability, ASphericalDiameterIsAsUncertainAsItsInspectionFindsIt) {
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Sphere) pocket.push_back(f.id);
   ASSERT_FALSE(pocket.empty());
-  const Characteristic size{1, "spherical_diameter", true, 30, 29.9, 30.1, {}, pocket};
-  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
-  Plan plan = robotPlacedViews(spec.spec.scanner, std::vector<double>(5, 2000));
-  plan.part_faces = part.faces.size();
-  plan.characteristics = {size};
-  plan.registration->robot_accuracy = 0.01;
-  for (std::size_t v = 1; v < 5; ++v)
-    plan.views[v] = test::tiltedView(plan.views[v].id, {100, 50, 20}, plan.scanner.standoff,
-                                     static_cast<double>(v) * M_PI / 2);
-  const Capability k = capabilities(part, spec, plan, {size}).front();
-  EXPECT_EQ(k.verdict, Verdict::Capable) << toString(k.reason);
-  InspectionOptions options;
-  options.runs = 200;
-  const InspectedCharacteristic inspected =
-      inspectPlan(part, spec, plan, options).characteristics[0];
-  ASSERT_TRUE(inspected.evaluated) << inspected.not_evaluated;
-  RecordProperty("predicted_u_inspected_u_bias", std::to_string(k.uncertainty) + " " +
-                                                     std::to_string(inspected.uncertainty) + " " +
-                                                     std::to_string(inspected.bias));
-  EXPECT_NEAR(inspected.true_value, 30, 1e-3);
-  EXPECT_NEAR(k.uncertainty / (inspected.uncertainty + std::abs(inspected.bias)), 1, 0.2);
+  expectFourSidesAsInspected(part, {1, "spherical_diameter", true, 30, 29.9, 30.1, {}, pocket}, 30);
 }
 
 // A 200 x 100 x 20 mm plate with a Ø30 through hole at (100, 50) whose top edge is
-// rounded to R3 (a torus), seen by four views tilted 50° into the hole from four sides and
-// placed by a robot of 0.01 mm: the fillet's radius is capable, the inspection finds the
-// designed 3 mm from the torus' offset fitted to its points, and the model's U agrees with
-// the inspection's within 20 % (200 runs).
+// rounded to R3 (a torus), seen from four sides: the fillet's radius is capable, the
+// inspection finds the designed 3 mm from the torus' offset fitted to its points, and the
+// model's U agrees with the inspection's.
 TEST(Capability, AFilletsRadiusIsAsUncertainAsItsInspectionFindsIt) {
   test::TempDir dir;
   const TopoDS_Shape holed =
@@ -564,27 +568,7 @@ TEST(Capability, AFilletsRadiusIsAsUncertainAsItsInspectionFindsIt) {
   for (const Face& f : part.faces)
     if (f.type == SurfaceType::Torus) fillet.push_back(f.id);
   ASSERT_FALSE(fillet.empty());
-  const Characteristic radius{1, "radius", true, 3, 2.9, 3.1, {}, fillet};
-  const ResolvedSpec spec = resolveSpec(part, defaultSpec());
-  Plan plan = robotPlacedViews(spec.spec.scanner, std::vector<double>(5, 2000));
-  plan.part_faces = part.faces.size();
-  plan.characteristics = {radius};
-  plan.registration->robot_accuracy = 0.01;
-  for (std::size_t v = 1; v < 5; ++v)
-    plan.views[v] = test::tiltedView(plan.views[v].id, {100, 50, 20}, plan.scanner.standoff,
-                                     static_cast<double>(v) * M_PI / 2);
-  const Capability k = capabilities(part, spec, plan, {radius}).front();
-  EXPECT_EQ(k.verdict, Verdict::Capable) << toString(k.reason);
-  InspectionOptions options;
-  options.runs = 200;
-  const InspectedCharacteristic inspected =
-      inspectPlan(part, spec, plan, options).characteristics[0];
-  ASSERT_TRUE(inspected.evaluated) << inspected.not_evaluated;
-  RecordProperty("predicted_u_inspected_u_bias", std::to_string(k.uncertainty) + " " +
-                                                     std::to_string(inspected.uncertainty) + " " +
-                                                     std::to_string(inspected.bias));
-  EXPECT_NEAR(inspected.true_value, 3, 1e-3);
-  EXPECT_NEAR(k.uncertainty / (inspected.uncertainty + std::abs(inspected.bias)), 1, 0.2);
+  expectFourSidesAsInspected(part, {1, "radius", true, 3, 2.9, 3.1, {}, fillet}, 3);
 }
 
 // A distance the file links to faces of one feature alone (NIST FTC 06 and 07 have six,
